@@ -1,0 +1,63 @@
+#include "sampler/io/image_io.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <cmath>
+#include <filesystem>
+#include <stdexcept>
+
+#include "sampler/io/atomic_file.h"
+
+namespace nuld {
+
+double Image::luminance(int x, int y) const {
+  if (channels < 3) return at(x, y, 0);
+  return 0.2126 * at(x, y, 0) + 0.7152 * at(x, y, 1) + 0.0722 * at(x, y, 2);
+}
+
+Image readImage(const std::string &path, bool requireFinite) {
+  if (!std::filesystem::exists(path)) throw std::runtime_error(path + ": no such image file");
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) throw std::runtime_error(path + ": cannot read image (" + OIIO::geterror() + ")");
+  const OIIO::ImageSpec &spec = in->spec();
+  Image img;
+  img.width = spec.width;
+  img.height = spec.height;
+  img.channels = spec.nchannels;
+  if (img.width <= 0 || img.height <= 0 || img.channels <= 0)
+    throw std::runtime_error(path + ": image has no pixels");
+  img.pixels.resize(std::size_t(img.width) * img.height * img.channels);
+  if (!in->read_image(0, 0, 0, img.channels, OIIO::TypeDesc::FLOAT, img.pixels.data()))
+    throw std::runtime_error(path + ": cannot decode image (" + in->geterror() + ")");
+  in->close();
+  if (requireFinite) {
+    for (int y = 0; y < img.height; ++y)
+      for (int x = 0; x < img.width; ++x)
+        for (int c = 0; c < img.channels; ++c)
+          if (!std::isfinite(img.at(x, y, c)))
+            throw std::runtime_error(path + ": pixel (" + std::to_string(x) + ", " +
+                                     std::to_string(y) + ") channel " + std::to_string(c) +
+                                     " is not a finite number");
+  }
+  return img;
+}
+
+void writeImage(const std::string &path, const Image &image) {
+  AtomicFile file(path);
+  auto out = OIIO::ImageOutput::create(path);
+  if (!out) throw std::runtime_error(path + ": no writer for this format (" + OIIO::geterror() + ")");
+  OIIO::ImageSpec spec(image.width, image.height, image.channels, OIIO::TypeDesc::FLOAT);
+  const std::string ext = std::filesystem::path(path).extension().string();
+  if (ext == ".png" || ext == ".jpg" || ext == ".jpeg") spec.set_format(OIIO::TypeDesc::UINT8);
+  if (ext == ".exr") spec.attribute("compression", "zip");
+  // OpenImageIO picks the format from the name it is given, so the temporary
+  // file keeps the extension.
+  if (!out->open(file.tempPath(), spec))
+    throw std::runtime_error(path + ": cannot open for writing (" + out->geterror() + ")");
+  if (!out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data()))
+    throw std::runtime_error(path + ": cannot write image (" + out->geterror() + ")");
+  out->close();
+  file.commit();
+}
+
+}  // namespace nuld

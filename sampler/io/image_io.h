@@ -1,0 +1,29 @@
+#pragma once
+// Image files through OpenImageIO, kept to one translation unit. Reading
+// validates the pixels; writing goes through a temporary file and a rename,
+// so a reader never sees a half-written image.
+
+#include <string>
+#include <vector>
+
+namespace nuld {
+
+struct Image {
+  int width = 0, height = 0, channels = 0;
+  std::vector<float> pixels;  // row-major, row 0 at the top, interleaved channels
+
+  float &at(int x, int y, int c) { return pixels[(std::size_t(y) * width + x) * channels + c]; }
+  float at(int x, int y, int c) const { return pixels[(std::size_t(y) * width + x) * channels + c]; }
+  // Rec. 709 luminance (the single channel of a grey image).
+  double luminance(int x, int y) const;
+};
+
+// Throws std::runtime_error naming the file on failure. With `requireFinite`
+// a NaN or infinite pixel is an error naming the pixel.
+Image readImage(const std::string &path, bool requireFinite = true);
+
+// The format follows the extension (.exr, .png, .hdr, ...); 8-bit formats are
+// written with the values clamped to [0, 1] (no tone mapping here).
+void writeImage(const std::string &path, const Image &image);
+
+}  // namespace nuld

@@ -1,0 +1,186 @@
+#include "sampler/io/pointset_io.h"
+
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "sampler/io/atomic_file.h"
+
+namespace nuld {
+namespace {
+
+constexpr char kMagic[8] = {'N', 'U', 'L', 'D', 'P', 'T', 'S', '1'};
+
+bool endsWith(const std::string &s, const std::string &suffix) {
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+std::string trim(const std::string &s) {
+  const auto b = s.find_first_not_of(" \t\r");
+  if (b == std::string::npos) return "";
+  const auto e = s.find_last_not_of(" \t\r");
+  return s.substr(b, e - b + 1);
+}
+
+[[noreturn]] void fail(const std::string &path, std::size_t line, const std::string &what) {
+  throw std::runtime_error(path + (line ? ":" + std::to_string(line) : std::string()) + ": " + what);
+}
+
+void finishSets(PointSet &set, const std::vector<std::vector<Point2>> &sets, const std::string &path) {
+  std::size_t n = 0;
+  for (const auto &s : sets) {
+    if (s.empty()) continue;
+    if (n == 0) n = s.size();
+    if (s.size() != n)
+      fail(path, 0, "sets have different sizes (" + std::to_string(n) + " and " +
+                        std::to_string(s.size()) + " points); expected equal sizes");
+    set.points.insert(set.points.end(), s.begin(), s.end());
+  }
+  if (n == 0) fail(path, 0, "no points found; expected lines of 2 numbers");
+  set.n = n;
+}
+
+PointSet readText(const std::string &path, std::istream &in) {
+  PointSet set;
+  std::vector<std::vector<Point2>> sets(1);
+  std::string line;
+  std::size_t lineNo = 0;
+  while (std::getline(in, line)) {
+    ++lineNo;
+    const std::string t = trim(line);
+    if (t.empty()) continue;
+    if (t[0] == '#') {
+      const std::string body = trim(t.substr(1));
+      if (body.empty() || body == "set" || body.rfind("set ", 0) == 0) {
+        if (!sets.back().empty()) sets.emplace_back();
+        continue;
+      }
+      const auto colon = body.find(':');
+      if (colon != std::string::npos && colon > 0 && body.find(' ') > colon)
+        set.metadata[body.substr(0, colon)] = trim(body.substr(colon + 1));
+      continue;
+    }
+    double v[3];
+    int count = 0;
+    const char *p = t.data(), *end = t.data() + t.size();
+    while (p < end) {
+      while (p < end && (*p == ' ' || *p == '\t' || *p == ',')) ++p;
+      if (p >= end) break;
+      if (count == 3) break;
+      const auto [next, ec] = std::from_chars(p, end, v[count]);
+      if (ec != std::errc() || (next < end && *next != ' ' && *next != '\t' && *next != ','))
+        fail(path, lineNo, "'" + t + "' is not a list of numbers");
+      if (!std::isfinite(v[count])) fail(path, lineNo, "coordinate is not finite");
+      ++count;
+      p = next;
+    }
+    if (count != 2)
+      fail(path, lineNo, "expected 2 coordinates per point, found " + std::string(count == 3 ? "more than 2" : std::to_string(count)));
+    sets.back().push_back({v[0], v[1]});
+  }
+  finishSets(set, sets, path);
+  // Written by writePointSetText as a header, derived from the data.
+  for (const char *key : {"nuld-pointset", "n", "instances"}) set.metadata.erase(key);
+  return set;
+}
+
+template <typename T>
+void readRaw(std::istream &in, T &value, const std::string &path, const char *field) {
+  in.read(reinterpret_cast<char *>(&value), sizeof(T));
+  if (!in) fail(path, 0, std::string("truncated binary file while reading ") + field);
+}
+
+PointSet readBinary(const std::string &path, std::istream &in, std::uintmax_t fileSize) {
+  in.seekg(sizeof(kMagic));
+  std::uint32_t dim = 0, metaBytes = 0;
+  std::uint64_t n = 0, instances = 0;
+  readRaw(in, dim, path, "dimension");
+  readRaw(in, n, path, "point count");
+  readRaw(in, instances, path, "instance count");
+  readRaw(in, metaBytes, path, "metadata size");
+  if (dim != 2) fail(path, 0, "dimension " + std::to_string(dim) + "; expected 2");
+  if (n == 0 || instances == 0) fail(path, 0, "no points; expected N > 0 and instances > 0");
+  const std::uintmax_t header = sizeof(kMagic) + 4 + 8 + 8 + 4;
+  if (n > (std::uint64_t(1) << 40) / instances ||
+      fileSize != header + metaBytes + n * instances * 2 * sizeof(double))
+    fail(path, 0, "file size does not match its header (N = " + std::to_string(n) +
+                      ", instances = " + std::to_string(instances) + ")");
+  std::string meta(metaBytes, '\0');
+  in.read(meta.data(), metaBytes);
+  PointSet set;
+  std::istringstream ms(meta);
+  for (std::string line; std::getline(ms, line);) {
+    const auto eq = line.find('=');
+    if (eq != std::string::npos) set.metadata[line.substr(0, eq)] = line.substr(eq + 1);
+  }
+  set.n = n;
+  set.points.resize(n * instances);
+  in.read(reinterpret_cast<char *>(set.points.data()), std::streamsize(n * instances * sizeof(Point2)));
+  if (!in) fail(path, 0, "truncated binary file while reading points");
+  for (std::size_t i = 0; i < set.points.size(); ++i)
+    if (!isFinite(set.points[i])) fail(path, 0, "point " + std::to_string(i) + " is not finite");
+  return set;
+}
+
+}  // namespace
+
+PointSet readPointSet(const std::string &path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail(path, 0, "cannot open point-set file");
+  char magic[sizeof(kMagic)] = {};
+  in.read(magic, sizeof(magic));
+  const bool binary = in.gcount() == sizeof(magic) && std::memcmp(magic, kMagic, sizeof(kMagic)) == 0;
+  in.clear();
+  if (binary) {
+    in.seekg(0, std::ios::end);
+    const auto size = static_cast<std::uintmax_t>(in.tellg());
+    return readBinary(path, in, size);
+  }
+  in.seekg(0);
+  return readText(path, in);
+}
+
+void writePointSetText(std::ostream &out, const PointSet &set) {
+  out << "# nuld-pointset: 1\n";
+  out << "# n: " << set.n << "\n# instances: " << set.instances() << "\n";
+  for (const auto &[k, v] : set.metadata) out << "# " << k << ": " << v << "\n";
+  char buf[64];
+  for (std::size_t k = 0; k < set.instances(); ++k) {
+    out << "# set " << k << "\n";
+    for (const Point2 &p : set.instance(k)) {
+      auto r = std::to_chars(buf, buf + sizeof(buf), p.x);
+      *r.ptr++ = ' ';
+      r = std::to_chars(r.ptr, buf + sizeof(buf), p.y);
+      *r.ptr++ = '\n';
+      out.write(buf, r.ptr - buf);
+    }
+  }
+}
+
+void writePointSet(const std::string &path, const PointSet &set) {
+  if (set.n == 0 || set.points.size() % set.n != 0)
+    throw std::invalid_argument(path + ": refusing to write a malformed point set");
+  std::ostringstream out;
+  if (endsWith(path, ".ptsb")) {
+    std::string meta;
+    for (const auto &[k, v] : set.metadata) meta += k + "=" + v + "\n";
+    const std::uint32_t dim = 2, metaBytes = std::uint32_t(meta.size());
+    const std::uint64_t n = set.n, instances = set.instances();
+    out.write(kMagic, sizeof(kMagic));
+    out.write(reinterpret_cast<const char *>(&dim), 4);
+    out.write(reinterpret_cast<const char *>(&n), 8);
+    out.write(reinterpret_cast<const char *>(&instances), 8);
+    out.write(reinterpret_cast<const char *>(&metaBytes), 4);
+    out.write(meta.data(), std::streamsize(meta.size()));
+    out.write(reinterpret_cast<const char *>(set.points.data()),
+              std::streamsize(set.points.size() * sizeof(Point2)));
+  } else {
+    writePointSetText(out, set);
+  }
+  writeFileAtomically(path, out.str());
+}
+
+}  // namespace nuld

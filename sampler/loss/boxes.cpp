@@ -1,0 +1,56 @@
+#include "sampler/loss/boxes.h"
+
+#include <algorithm>
+#include <limits>
+#include <stdexcept>
+
+namespace nuld {
+
+BoxKind parseBoxKind(const std::string &s) {
+  if (s == "multicorner" || s == "multiple-corner") return BoxKind::MultipleCorner;
+  if (s == "anchored") return BoxKind::Anchored;
+  if (s == "twopoint" || s == "two-point") return BoxKind::TwoPoint;
+  throw std::invalid_argument("unknown box kind '" + s +
+                              "' (expected multicorner, anchored or twopoint)");
+}
+
+std::string toString(BoxKind k) {
+  switch (k) {
+    case BoxKind::MultipleCorner: return "multicorner";
+    case BoxKind::Anchored: return "anchored";
+    case BoxKind::TwoPoint: return "twopoint";
+  }
+  return "?";
+}
+
+Box2 sampleBox(BoxKind kind, Rng &rng) {
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  switch (kind) {
+    case BoxKind::MultipleCorner: {
+      const std::uint64_t corner = rng.nextBits() >> 62;
+      const Point2 y{rng.uniform(), rng.uniform()};
+      Box2 b;
+      for (int k = 0; k < 2; ++k) {
+        const bool high = (corner >> k) & 1;
+        b.lo[k] = high ? y[k] : -inf;
+        b.hi[k] = high ? inf : y[k];
+      }
+      return b;
+    }
+    case BoxKind::Anchored: {
+      const Point2 y{rng.uniform(), rng.uniform()};
+      return {{-inf, -inf}, y};
+    }
+    case BoxKind::TwoPoint: {
+      const Point2 a{rng.uniform(), rng.uniform()}, c{rng.uniform(), rng.uniform()};
+      return {{std::min(a.x, c.x), std::min(a.y, c.y)}, {std::max(a.x, c.x), std::max(a.y, c.y)}};
+    }
+  }
+  return {};
+}
+
+void sampleBoxes(BoxKind kind, Rng &rng, std::span<Box2> out) {
+  for (Box2 &b : out) b = sampleBox(kind, rng);
+}
+
+}  // namespace nuld

@@ -1,0 +1,29 @@
+#pragma once
+// Random test boxes for the sampled box discrepancy (DESIGN.md §3).
+//
+// A box side that lies on the boundary of the unit square is stored as
+// -inf / +inf: it is not a side at all, since every point of the domain is on
+// the inside of it. This keeps the soft indicator from counting points near
+// the domain edge as half inside.
+
+#include <span>
+#include <string>
+
+#include "sampler/point.h"
+#include "sampler/sequences/rng.h"
+
+namespace nuld {
+
+enum class BoxKind {
+  MultipleCorner,  // a random corner c of the square and a uniform opposite corner y
+  Anchored,        // [0, y]: the corner at the origin
+  TwoPoint,        // the bounding box of two uniform points
+};
+
+BoxKind parseBoxKind(const std::string &s);
+std::string toString(BoxKind k);
+
+Box2 sampleBox(BoxKind kind, Rng &rng);
+void sampleBoxes(BoxKind kind, Rng &rng, std::span<Box2> out);
+
+}  // namespace nuld

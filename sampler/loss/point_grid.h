@@ -1,0 +1,62 @@
+#pragma once
+// A uniform grid over the unit square that buckets (optionally weighted)
+// points, with a prefix table of per-cell totals. It answers "how much lies
+// in this box" by summing whole cells from the prefix table and testing only
+// the points of cells the box boundary crosses. The soft box loss uses it to
+// visit only the band of points near a box's boundary; Monte Carlo mass
+// estimation uses it to sum sample weights per box.
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "sampler/point.h"
+
+namespace nuld {
+
+class PointGrid {
+ public:
+  // Points are clamped into the unit square for bucketing only; their
+  // coordinates are kept as given. `cellsPerSide` 0 picks about two points
+  // per cell.
+  explicit PointGrid(std::span<const Point2> points, std::span<const double> weights = {},
+                     int cellsPerSide = 0);
+
+  int resolution() const { return g_; }
+  std::size_t size() const { return xs_.size(); }
+
+  // Cells [cx0, cx1] x [cy0, cy1] (inclusive) whose extent lies entirely
+  // inside `box`; empty (cx0 > cx1 or cy0 > cy1) when none does.
+  struct CellRange {
+    int cx0, cx1, cy0, cy1;
+    bool empty() const { return cx0 > cx1 || cy0 > cy1; }
+  };
+  CellRange cellsInside(const Box2 &box) const;  // cells fully inside
+  CellRange cellsTouching(const Box2 &box) const;  // cells that overlap
+
+  // Sum of weights (or count) over a rectangle of whole cells.
+  double cellSum(const CellRange &r) const;
+
+  // Sorted storage: the points of cell (cx, cy) are the indices
+  // [cellBegin(cx, cy), cellBegin(cx + 1, cy)) — cells of a row are contiguous.
+  std::uint32_t cellBegin(int cx, int cy) const { return start_[std::size_t(cy) * g_ + cx]; }
+  std::uint32_t rowEnd(int cx1, int cy) const { return start_[std::size_t(cy) * g_ + cx1 + 1]; }
+  const std::vector<double> &xs() const { return xs_; }
+  const std::vector<double> &ys() const { return ys_; }
+  const std::vector<double> &weights() const { return w_; }  // empty when unweighted
+  const std::vector<std::uint32_t> &originalIndex() const { return index_; }
+
+  // Exact total (weight) of the points inside the closed box.
+  double boxSum(const Box2 &box) const;
+
+ private:
+  int cellOf(double t) const;
+
+  int g_;
+  std::vector<std::uint32_t> start_;  // g*g + 1
+  std::vector<double> xs_, ys_, w_;
+  std::vector<std::uint32_t> index_;
+  std::vector<double> prefix_;        // (g+1)^2 inclusive prefix sums
+};
+
+}  // namespace nuld

@@ -1,0 +1,172 @@
+#include "sampler/loss/soft_box_loss.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "sampler/loss/point_grid.h"
+
+namespace nuld {
+namespace {
+
+void validate(std::span<const Point2> points, std::span<const Box2> boxes,
+              std::span<const double> masses) {
+  if (masses.size() != boxes.size())
+    throw std::invalid_argument("softBoxLoss: " + std::to_string(boxes.size()) + " boxes but " +
+                                std::to_string(masses.size()) + " masses");
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (!isFinite(points[i]))
+      throw std::invalid_argument("softBoxLoss: point " + std::to_string(i) + " is not finite");
+  for (std::size_t m = 0; m < masses.size(); ++m)
+    if (!std::isfinite(masses[m]))
+      throw std::invalid_argument("softBoxLoss: mass of box " + std::to_string(m) + " is not finite");
+}
+
+// Which side of the box is nearest, as the sign of dd/dx along its axis.
+enum Side : std::uint8_t { kLoX, kHiX, kLoY, kHiY };
+
+struct BandEntry {
+  std::uint32_t slot;  // index into the grid's sorted storage
+  Side side;
+  double dsigma;  // sigma'(alpha d)
+};
+
+// Number of partial sums: a function of the problem size only, never of the
+// thread count, so that results are bit-identical on any machine.
+std::size_t chunkCount(std::size_t n, std::size_t m) {
+  const std::size_t byBoxes = std::max<std::size_t>(1, m / 128);
+  const std::size_t byMemory = std::max<std::size_t>(1, (std::size_t(1) << 22) / std::max<std::size_t>(n, 1));
+  return std::min({byBoxes, byMemory, std::size_t(64)});
+}
+
+}  // namespace
+
+double softBoxLoss(std::span<const Point2> points, std::span<const Box2> boxes,
+                   std::span<const double> masses, const SoftBoxLossOptions &options,
+                   std::span<Point2> grad) {
+  validate(points, boxes, masses);
+  if (!(options.alpha > 0) || !std::isfinite(options.alpha))
+    throw std::invalid_argument("softBoxLoss: alpha must be finite and > 0");
+  const bool wantGrad = !grad.empty();
+  if (wantGrad && grad.size() != points.size())
+    throw std::invalid_argument("softBoxLoss: gradient size differs from the point count");
+  const std::size_t N = points.size(), M = boxes.size();
+  if (wantGrad) std::fill(grad.begin(), grad.end(), Point2{});
+  if (M == 0) return 0;
+  if (N == 0) {
+    double loss = 0;
+    for (double mu : masses) loss += mu * mu;
+    return loss / double(M);
+  }
+
+  const PointGrid grid(points);
+  const double alpha = options.alpha, cutoff = options.cutoff;
+  const double delta = cutoff / alpha;  // half-width of the band around each side
+  const auto &xs = grid.xs();
+  const auto &ys = grid.ys();
+  const double invN = 1.0 / double(N);
+  const double gradScale = 2.0 * alpha / (double(M) * double(N));
+
+  const std::size_t chunks = chunkCount(N, M);
+  std::vector<double> chunkLoss(chunks, 0.0);
+  std::vector<Point2> chunkGrad(wantGrad ? chunks * N : 0);
+
+  tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
+    const std::size_t m0 = M * c / chunks, m1 = M * (c + 1) / chunks;
+    Point2 *g = wantGrad ? &chunkGrad[c * N] : nullptr;
+    std::vector<BandEntry> band;
+    double lossSum = 0;
+    for (std::size_t m = m0; m < m1; ++m) {
+      const Box2 &A = boxes[m];
+      const Box2 inner{{A.lo.x + delta, A.lo.y + delta}, {A.hi.x - delta, A.hi.y - delta}};
+      const Box2 outer{{A.lo.x - delta, A.lo.y - delta}, {A.hi.x + delta, A.hi.y + delta}};
+      const PointGrid::CellRange touch = grid.cellsTouching(outer);
+      const PointGrid::CellRange in = grid.cellsInside(inner);
+      double count = grid.cellSum(in);  // whole cells deep inside: sigma = 1
+      double soft = 0;
+      band.clear();
+
+      auto scan = [&](int cx0, int cx1, int cy) {
+        if (cx0 > cx1) return;
+        for (std::uint32_t k = grid.cellBegin(cx0, cy), e = grid.rowEnd(cx1, cy); k < e; ++k) {
+          const double x = xs[k], y = ys[k];
+          double d = x - A.lo.x;
+          Side side = kLoX;
+          if (const double t = A.hi.x - x; t < d) { d = t; side = kHiX; }
+          if (const double t = y - A.lo.y; t < d) { d = t; side = kLoY; }
+          if (const double t = A.hi.y - y; t < d) { d = t; side = kHiY; }
+          const double at = alpha * d;
+          if (at > cutoff) {
+            count += 1;
+          } else if (at >= -cutoff) {
+            const double e = std::exp(-std::abs(at));
+            const double inv = 1 / (1 + e);
+            soft += at >= 0 ? inv : e * inv;
+            if (wantGrad) band.push_back({k, side, e * inv * inv});
+          }
+        }
+      };
+      if (!touch.empty()) {
+        for (int cy = touch.cy0; cy <= touch.cy1; ++cy) {
+          if (!in.empty() && cy >= in.cy0 && cy <= in.cy1) {
+            scan(touch.cx0, in.cx0 - 1, cy);
+            scan(in.cx1 + 1, touch.cx1, cy);
+          } else {
+            scan(touch.cx0, touch.cx1, cy);
+          }
+        }
+      }
+
+      const double r = (count + soft) * invN - masses[m];
+      lossSum += r * r;
+      if (wantGrad && r != 0) {
+        const double coef = gradScale * r;
+        for (const BandEntry &b : band) {
+          const double v = coef * b.dsigma;
+          switch (b.side) {
+            case kLoX: g[b.slot].x += v; break;
+            case kHiX: g[b.slot].x -= v; break;
+            case kLoY: g[b.slot].y += v; break;
+            case kHiY: g[b.slot].y -= v; break;
+          }
+        }
+      }
+    }
+    chunkLoss[c] = lossSum;
+  });
+
+  if (wantGrad) {
+    const auto &index = grid.originalIndex();
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, N, 1024), [&](const auto &r) {
+      for (std::size_t k = r.begin(); k < r.end(); ++k) {
+        Point2 sum{};
+        for (std::size_t c = 0; c < chunks; ++c) sum = sum + chunkGrad[c * N + k];
+        grad[index[k]] = sum;
+      }
+    });
+  }
+  double loss = 0;
+  for (double l : chunkLoss) loss += l;
+  return loss / double(M);
+}
+
+double hardBoxLoss(std::span<const Point2> points, std::span<const Box2> boxes,
+                   std::span<const double> masses) {
+  validate(points, boxes, masses);
+  if (boxes.empty()) return 0;
+  double loss = 0;
+  for (std::size_t m = 0; m < boxes.size(); ++m) {
+    std::size_t inside = 0;
+    for (const Point2 &p : points) inside += boxes[m].contains(p);
+    const double r = (points.empty() ? 0.0 : double(inside) / double(points.size())) - masses[m];
+    loss += r * r;
+  }
+  return loss / double(boxes.size());
+}
+
+}  // namespace nuld

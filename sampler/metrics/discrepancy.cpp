@@ -1,0 +1,181 @@
+#include "sampler/metrics/discrepancy.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+#include <vector>
+
+namespace nuld {
+namespace {
+
+// Deterministic parallel sum of f(i) over [0, n): fixed blocks summed in order.
+template <typename F>
+double orderedSum(std::size_t n, F f) {
+  constexpr std::size_t kBlock = 64;
+  const std::size_t blocks = (n + kBlock - 1) / kBlock;
+  std::vector<double> partial(blocks, 0.0);
+  tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t b) {
+    double s = 0;
+    for (std::size_t i = b * kBlock, e = std::min(n, (b + 1) * kBlock); i < e; ++i) s += f(i);
+    partial[b] = s;
+  });
+  return std::accumulate(partial.begin(), partial.end(), 0.0);
+}
+
+void requireNonEmpty(std::span<const Point2> points, const char *what) {
+  if (points.empty()) throw std::invalid_argument(std::string(what) + ": empty point set");
+}
+
+}  // namespace
+
+double l2StarDiscrepancy(std::span<const Point2> p) {
+  requireNonEmpty(p, "l2star");
+  const double N = double(p.size());
+  const double single = orderedSum(p.size(), [&](std::size_t i) {
+    return (1 - p[i].x * p[i].x) * (1 - p[i].y * p[i].y);
+  });
+  const double pairs = orderedSum(p.size(), [&](std::size_t i) {
+    double s = 0;
+    for (std::size_t j = 0; j < p.size(); ++j)
+      s += (1 - std::max(p[i].x, p[j].x)) * (1 - std::max(p[i].y, p[j].y));
+    return s;
+  });
+  const double t2 = 1.0 / 9.0 - single / (2 * N) + pairs / (N * N);
+  return std::sqrt(std::max(0.0, t2));
+}
+
+double l2asd(std::span<const Point2> p) {
+  requireNonEmpty(p, "l2asd");
+  const double N = double(p.size());
+  const double single = orderedSum(p.size(), [&](std::size_t i) {
+    return (1 + 2 * p[i].x - 2 * p[i].x * p[i].x) * (1 + 2 * p[i].y - 2 * p[i].y * p[i].y) / 16;
+  });
+  const double pairs = orderedSum(p.size(), [&](std::size_t i) {
+    double s = 0;
+    for (std::size_t j = 0; j < p.size(); ++j)
+      s += (1 - std::abs(p[i].x - p[j].x)) * (1 - std::abs(p[i].y - p[j].y));
+    return s;
+  });
+  const double d2 = 1.0 / 9.0 - 2 * single / N + pairs / (4 * N * N);
+  return std::sqrt(std::max(0.0, d2));
+}
+
+double starDiscrepancy(std::span<const Point2> p, const Target *target) {
+  requireNonEmpty(p, "dstar");
+  const std::size_t n = p.size();
+  const double N = double(n);
+  auto mu = [&](double a, double b) {
+    return target ? target->mass({{0, 0}, {a, b}}) : std::clamp(a, 0.0, 1.0) * std::clamp(b, 0.0, 1.0);
+  };
+  // Points in increasing y; the critical a values are every x and 1.
+  std::vector<Point2> byY(p.begin(), p.end());
+  std::sort(byY.begin(), byY.end(), [](Point2 a, Point2 b) { return a.y < b.y; });
+  std::vector<double> as;
+  as.reserve(n + 1);
+  for (const Point2 &q : p) as.push_back(std::clamp(q.x, 0.0, 1.0));
+  as.push_back(1.0);
+  std::sort(as.begin(), as.end());
+  as.erase(std::unique(as.begin(), as.end()), as.end());
+
+  std::vector<double> best(as.size(), 0.0);
+  tbb::parallel_for(std::size_t(0), as.size(), [&](std::size_t ia) {
+    const double a = as[ia];
+    std::size_t open = 0, closed = 0;  // counts with x < a (resp. <= a) and y below b
+    double d = 0;
+    for (std::size_t k = 0; k < n;) {
+      const double b = std::clamp(byY[k].y, 0.0, 1.0);
+      const double m = mu(a, b);
+      d = std::max(d, m - open / N);  // box [0,a) x [0,b): open counts so far
+      std::size_t k2 = k;
+      for (; k2 < n && byY[k2].y == byY[k].y; ++k2) {
+        open += byY[k2].x < a;
+        closed += byY[k2].x <= a;
+      }
+      d = std::max(d, closed / N - m);  // box [0,a] x [0,b]
+      k = k2;
+    }
+    d = std::max(d, mu(a, 1.0) - open / N);
+    best[ia] = d;
+  });
+  return *std::max_element(best.begin(), best.end());
+}
+
+namespace {
+
+// counts[(j) * (res + 1) + i] = number of points with x <= a_i and y <= b_j
+// for the midpoints a_i = (i + 1/2) / res (index i + 1; index 0 is "none").
+std::vector<double> midpointCounts(std::span<const Point2> p, int res) {
+  // Half-cells: a point on a midpoint belongs to the half below it.
+  const int bins = 2 * res;
+  std::vector<double> hist(std::size_t(bins) * bins, 0.0);
+  auto bin = [&](double t) { return std::clamp(int(std::ceil(t * bins)) - 1, 0, bins - 1); };
+  for (const Point2 &q : p) hist[std::size_t(bin(q.y)) * bins + bin(q.x)] += 1;
+  // Prefix sums over half-cells, sampled at odd half-cell boundaries.
+  std::vector<double> prefix(std::size_t(bins + 1) * (bins + 1), 0.0);
+  for (int y = 0; y < bins; ++y) {
+    double row = 0;
+    for (int x = 0; x < bins; ++x) {
+      row += hist[std::size_t(y) * bins + x];
+      prefix[std::size_t(y + 1) * (bins + 1) + x + 1] = prefix[std::size_t(y) * (bins + 1) + x + 1] + row;
+    }
+  }
+  std::vector<double> counts(std::size_t(res + 1) * (res + 1), 0.0);
+  for (int j = 0; j < res; ++j)
+    for (int i = 0; i < res; ++i)
+      counts[std::size_t(j + 1) * (res + 1) + i + 1] =
+          prefix[std::size_t(2 * j + 1) * (bins + 1) + 2 * i + 1];
+  return counts;
+}
+
+double nonuniformL2(std::span<const Point2> p, const Target &target, int res, bool allCorners) {
+  requireNonEmpty(p, "l2");
+  if (res < 1) throw std::invalid_argument("l2: grid resolution must be >= 1");
+  const double N = double(p.size());
+  const std::vector<double> C = midpointCounts(p, res);
+  const int W = res + 1;
+  auto count = [&](int i, int j) { return C[std::size_t(j) * W + i]; };  // i, j in 0..res
+  // Points outside the square are counted in the nearest row/column.
+  const double total = count(res, res);
+  std::vector<double> rowSum(res, 0.0);
+  tbb::parallel_for(0, res, [&](int j) {
+    const double b = (j + 0.5) / res;
+    double s = 0;
+    for (int i = 0; i < res; ++i) {
+      const double a = (i + 0.5) / res;
+      const double c00 = count(i + 1, j + 1);
+      const double m00 = target.mass({{0, 0}, {a, b}});
+      s += (c00 / N - m00) * (c00 / N - m00);
+      if (allCorners) {
+        // The other three corner boxes by inclusion-exclusion on counts and
+        // masses (boundaries have measure zero for both).
+        const double cx = count(i + 1, res), cy = count(res, j + 1);
+        const double mx = target.mass({{0, 0}, {a, 1}}), my = target.mass({{0, 0}, {1, b}});
+        const double c10 = cy - c00, m10 = my - m00;                   // [a,1] x [0,b]
+        const double c01 = cx - c00, m01 = mx - m00;                   // [0,a] x [b,1]
+        const double c11 = total - cx - cy + c00, m11 = 1 - mx - my + m00;  // [a,1] x [b,1]
+        s += (c10 / N - m10) * (c10 / N - m10) + (c01 / N - m01) * (c01 / N - m01) +
+             (c11 / N - m11) * (c11 / N - m11);
+      }
+    }
+    rowSum[j] = s;
+  });
+  const double integral = std::accumulate(rowSum.begin(), rowSum.end(), 0.0) / (double(res) * res);
+  return std::sqrt(integral / (allCorners ? 4.0 : 1.0));
+}
+
+}  // namespace
+
+double nonuniformL2Star(std::span<const Point2> p, const Target &target, int res) {
+  return nonuniformL2(p, target, res, false);
+}
+
+double nonuniformL2asd(std::span<const Point2> p, const Target &target, int res) {
+  return nonuniformL2(p, target, res, true);
+}
+
+}  // namespace nuld

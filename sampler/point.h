@@ -1,0 +1,68 @@
+#pragma once
+// Value types shared by the whole sampler module: a 2D point, an axis-aligned
+// box in the unit square, and a point set that may hold several instances.
+
+#include <cmath>
+#include <cstddef>
+#include <map>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace nuld {
+
+struct Point2 {
+  double x = 0, y = 0;
+
+  double operator[](int k) const { return k == 0 ? x : y; }
+  double &operator[](int k) { return k == 0 ? x : y; }
+  friend Point2 operator+(Point2 a, Point2 b) { return {a.x + b.x, a.y + b.y}; }
+  friend Point2 operator-(Point2 a, Point2 b) { return {a.x - b.x, a.y - b.y}; }
+  friend Point2 operator*(double s, Point2 a) { return {s * a.x, s * a.y}; }
+  friend bool operator==(Point2 a, Point2 b) = default;
+};
+
+inline bool isFinite(Point2 p) { return std::isfinite(p.x) && std::isfinite(p.y); }
+
+// A closed box [lo.x, hi.x] x [lo.y, hi.y]. Boxes with lo > hi are empty.
+struct Box2 {
+  Point2 lo, hi;
+
+  double area() const {
+    return std::max(0.0, hi.x - lo.x) * std::max(0.0, hi.y - lo.y);
+  }
+  bool contains(Point2 p) const {
+    return p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y;
+  }
+  // Clipped to the unit square.
+  Box2 clipped() const {
+    return {{std::max(lo.x, 0.0), std::max(lo.y, 0.0)},
+            {std::min(hi.x, 1.0), std::min(hi.y, 1.0)}};
+  }
+};
+
+// Where the points of a set live. The sphere is parameterized by the
+// cylindrical equal-area map (u,v) -> (phi = 2 pi u, cos theta = 1 - 2v);
+// the hemisphere is its v in [0, 1/2] half (DESIGN.md §3).
+enum class Domain { Square, Sphere, Hemisphere };
+
+std::string toString(Domain d);
+Domain parseDomain(const std::string &s);
+
+// A point set: `instances` sets of `n` points each, stored one after another.
+// Metadata is free-form text carried through files (target, settings, metrics).
+struct PointSet {
+  std::size_t n = 0;
+  std::vector<Point2> points;  // instances() * n points
+  std::map<std::string, std::string> metadata;
+
+  std::size_t instances() const { return n == 0 ? 0 : points.size() / n; }
+  std::span<const Point2> instance(std::size_t k) const {
+    return std::span<const Point2>(points).subspan(k * n, n);
+  }
+  std::span<Point2> instance(std::size_t k) {
+    return std::span<Point2>(points).subspan(k * n, n);
+  }
+};
+
+}  // namespace nuld

@@ -1,0 +1,108 @@
+#include "sampler/sequences/sequence.h"
+
+#include <stdexcept>
+#include <vector>
+
+#include "sampler/sequences/rng.h"
+#include "sampler/sequences/scrambling.h"
+#include "sampler/sequences/sobol.h"
+
+namespace nuld {
+
+SequenceKind parseSequenceKind(const std::string &s) {
+  if (s == "sobol") return SequenceKind::Sobol;
+  if (s == "halton") return SequenceKind::Halton;
+  if (s == "random" || s == "independent") return SequenceKind::Random;
+  throw std::invalid_argument("unknown sequence '" + s + "' (expected sobol, halton or random)");
+}
+
+Scramble parseScramble(const std::string &s) {
+  if (s == "none") return Scramble::None;
+  if (s == "owen") return Scramble::Owen;
+  if (s == "shift") return Scramble::Shift;
+  if (s == "cp") return Scramble::CranleyPatterson;
+  throw std::invalid_argument("unknown scrambling '" + s + "' (expected owen, shift, cp or none)");
+}
+
+std::string toString(SequenceKind k) {
+  switch (k) {
+    case SequenceKind::Sobol: return "sobol";
+    case SequenceKind::Halton: return "halton";
+    case SequenceKind::Random: return "random";
+  }
+  return "?";
+}
+
+std::string toString(Scramble s) {
+  switch (s) {
+    case Scramble::None: return "none";
+    case Scramble::Owen: return "owen";
+    case Scramble::Shift: return "shift";
+    case Scramble::CranleyPatterson: return "cp";
+  }
+  return "?";
+}
+
+std::uint32_t nthPrime(std::uint32_t p) {
+  static const std::vector<std::uint32_t> primes = [] {
+    std::vector<std::uint32_t> out;
+    for (std::uint32_t c = 2; out.size() < 1000; ++c) {
+      bool prime = true;
+      for (std::uint32_t q : out) {
+        if (q * q > c) break;
+        if (c % q == 0) { prime = false; break; }
+      }
+      if (prime) out.push_back(c);
+    }
+    return out;
+  }();
+  if (p >= primes.size()) throw std::out_of_range("Halton: too many dimensions");
+  return primes[p];
+}
+
+double sequenceSample(const SequenceOptions &o, std::uint64_t index, std::uint32_t dim,
+                      std::uint32_t instance) {
+  // One independent seed per (instance, dimension).
+  const std::uint64_t seed = hash3(o.seed, instance, dim);
+  switch (o.kind) {
+    case SequenceKind::Random:
+      return independentSample(hashCombine(o.seed, instance), index, dim);
+    case SequenceKind::Sobol: {
+      std::uint32_t bits = sobolBits(index, dim);
+      if (o.scramble == Scramble::Owen) bits = owenScramble(bits, seed);
+      if (o.scramble == Scramble::Shift) bits = digitalShift(bits, seed);
+      const double x = bits * 0x1.0p-32;
+      return o.scramble == Scramble::CranleyPatterson ? cranleyPatterson(x, seed) : x;
+    }
+    case SequenceKind::Halton: {
+      const std::uint32_t base = nthPrime(dim);
+      const DigitRandomization r = o.scramble == Scramble::Owen    ? DigitRandomization::Owen
+                                   : o.scramble == Scramble::Shift ? DigitRandomization::Shift
+                                                                   : DigitRandomization::None;
+      const double x = radicalInverse(index, base, r, seed);
+      return o.scramble == Scramble::CranleyPatterson ? cranleyPatterson(x, seed) : x;
+    }
+  }
+  return 0;
+}
+
+void generatePoints(const SequenceOptions &o, std::uint32_t instance, std::span<Point2> out,
+                    std::uint32_t firstDim) {
+  for (std::size_t i = 0; i < out.size(); ++i)
+    out[i] = {sequenceSample(o, i, firstDim, instance),
+              sequenceSample(o, i, firstDim + 1, instance)};
+}
+
+PointSet generatePointSet(const SequenceOptions &o, std::size_t n, std::size_t instances) {
+  PointSet set;
+  set.n = n;
+  set.points.resize(n * instances);
+  for (std::size_t k = 0; k < instances; ++k)
+    generatePoints(o, static_cast<std::uint32_t>(k), set.instance(k));
+  set.metadata["generator"] = toString(o.kind);
+  set.metadata["scramble"] = o.kind == SequenceKind::Random ? "none" : toString(o.scramble);
+  set.metadata["seed"] = std::to_string(o.seed);
+  return set;
+}
+
+}  // namespace nuld

@@ -1,0 +1,46 @@
+#pragma once
+// Low-discrepancy and random sequences behind one small interface: the value
+// of point `index`, dimension `dim`, of randomized instance `instance`.
+//
+// Index conventions (they change L2* by tens of percent, so they are fixed):
+//  - Sobol and Halton start at index 0, which is the origin when unscrambled;
+//    the first N points are indices 0..N-1.
+//  - Halton dimension j uses the j-th prime (2, 3, 5, ...).
+// Each instance k of a randomized sequence uses the seed hash(seed, k).
+
+#include <cstdint>
+#include <span>
+#include <string>
+
+#include "sampler/point.h"
+
+namespace nuld {
+
+enum class SequenceKind { Sobol, Halton, Random };
+enum class Scramble { None, Owen, Shift, CranleyPatterson };
+
+SequenceKind parseSequenceKind(const std::string &s);
+Scramble parseScramble(const std::string &s);
+std::string toString(SequenceKind k);
+std::string toString(Scramble s);
+
+struct SequenceOptions {
+  SequenceKind kind = SequenceKind::Sobol;
+  Scramble scramble = Scramble::Owen;
+  std::uint64_t seed = 0;
+};
+
+// The p-th prime, p = 0, 1, ... (at least the first 1000 are available).
+std::uint32_t nthPrime(std::uint32_t p);
+
+double sequenceSample(const SequenceOptions &o, std::uint64_t index, std::uint32_t dim,
+                      std::uint32_t instance = 0);
+
+// Points 0..out.size()-1 in dimensions (firstDim, firstDim + 1).
+void generatePoints(const SequenceOptions &o, std::uint32_t instance, std::span<Point2> out,
+                    std::uint32_t firstDim = 0);
+
+// K instances of N points each, metadata filled in.
+PointSet generatePointSet(const SequenceOptions &o, std::size_t n, std::size_t instances);
+
+}  // namespace nuld

@@ -1,0 +1,53 @@
+#pragma once
+// A piecewise-constant density on a rectilinear grid over the unit square
+// (cell edges need not be uniform: an environment map's rows are uneven in
+// the equal-area v). Mass is exact through a summed-area table: inside a cell
+// the mass is uniform, so the CDF at any point is a bilinear read of the table.
+// Images, environment maps and tabulated BRDF lobes are all grid targets.
+
+#include <string>
+#include <vector>
+
+#include "sampler/targets/target.h"
+
+namespace nuld {
+
+class GridTarget final : public Target {
+ public:
+  // `density[j * cols + i]` is the (unnormalized) density of the cell
+  // [xEdges[i], xEdges[i+1]] x [yEdges[j], yEdges[j+1]]. Edges run from 0 to
+  // 1, strictly increasing. Densities must be finite, >= 0, not all zero;
+  // `source` names where they came from for error messages.
+  GridTarget(std::vector<double> xEdges, std::vector<double> yEdges,
+             const std::vector<double> &density, std::string spec, Domain domain,
+             const std::string &source);
+
+  // Uniform cell edges.
+  static std::vector<double> uniformEdges(int cells);
+
+  std::string spec() const override { return spec_; }
+  Domain domain() const override { return domain_; }
+  double pdf(Point2 p) const override;
+  double mass(const Box2 &b) const override;
+  Inversion invert(Point2 u) const override;
+
+  int cols() const { return cols_; }
+  int rows() const { return rows_; }
+  // Normalized density of a cell (probability per unit area).
+  double cellDensity(int i, int j) const { return density_[std::size_t(j) * cols_ + i]; }
+
+ private:
+  double cumulative(double x, double y) const;  // mass of [0,x] x [0,y]
+  int findCell(const std::vector<double> &edges, double t) const;
+
+  std::vector<double> xEdges_, yEdges_;
+  int cols_, rows_;
+  std::vector<double> density_;  // normalized
+  std::vector<double> sat_;      // (rows+1) x (cols+1): mass of [0,x_i] x [0,y_j]
+  std::vector<double> rowCdf_;   // rows+1: marginal CDF over rows
+  std::vector<double> colCdf_;   // rows x (cols+1): conditional CDF in each row
+  std::string spec_;
+  Domain domain_;
+};
+
+}  // namespace nuld

@@ -1,0 +1,46 @@
+#include "sampler/targets/image_targets.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace nuld {
+namespace {
+
+// Negative luminance (from colour conversions of HDR data) carries no
+// probability; it is clamped to zero rather than rejected.
+double densityOf(const Image &img, int x, int y) { return std::max(0.0, img.luminance(x, y)); }
+
+}  // namespace
+
+std::unique_ptr<GridTarget> makeImageTarget(const Image &image, const std::string &source) {
+  const int W = image.width, H = image.height;
+  std::vector<double> density(std::size_t(W) * H);
+  for (int j = 0; j < H; ++j)
+    for (int i = 0; i < W; ++i) density[std::size_t(j) * W + i] = densityOf(image, i, H - 1 - j);
+  return std::make_unique<GridTarget>(GridTarget::uniformEdges(W), GridTarget::uniformEdges(H),
+                                      density, "image:" + source, Domain::Square, source);
+}
+
+std::unique_ptr<GridTarget> makeEnvmapTarget(const Image &latlong, const std::string &source) {
+  const int W = latlong.width, H = latlong.height;
+  std::vector<double> yEdges(H + 1);
+  for (int j = 0; j <= H; ++j) yEdges[j] = 0.5 * (1 - std::cos(std::numbers::pi * j / H));
+  yEdges.front() = 0.0;
+  yEdges.back() = 1.0;
+  std::vector<double> density(std::size_t(W) * H);
+  for (int j = 0; j < H; ++j)
+    for (int i = 0; i < W; ++i) density[std::size_t(j) * W + i] = densityOf(latlong, i, j);
+  return std::make_unique<GridTarget>(GridTarget::uniformEdges(W), std::move(yEdges), density,
+                                      "envmap:" + source, Domain::Sphere, source);
+}
+
+std::unique_ptr<GridTarget> loadImageTarget(const std::string &path) {
+  return makeImageTarget(readImage(path), path);
+}
+
+std::unique_ptr<GridTarget> loadEnvmapTarget(const std::string &path) {
+  return makeEnvmapTarget(readImage(path), path);
+}
+
+}  // namespace nuld

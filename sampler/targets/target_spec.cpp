@@ -1,0 +1,109 @@
+#include "sampler/targets/target_spec.h"
+
+#include <charconv>
+#include <cmath>
+#include <map>
+#include <mutex>
+#include <stdexcept>
+
+#include "sampler/targets/basic_targets.h"
+#include "sampler/targets/image_targets.h"
+
+namespace nuld {
+namespace {
+
+std::map<std::string, TargetFactory> &registry() {
+  static std::map<std::string, TargetFactory> r;
+  return r;
+}
+std::mutex &registryMutex() {
+  static std::mutex m;
+  return m;
+}
+
+}  // namespace
+
+void registerTargetFamily(const std::string &name, TargetFactory factory) {
+  std::lock_guard lock(registryMutex());
+  registry()[name] = std::move(factory);
+}
+
+std::vector<double> parseNumberList(const std::string &spec, const std::string &args,
+                                    std::size_t minCount, std::size_t maxCount,
+                                    const std::string &expected) {
+  std::vector<double> values;
+  std::size_t pos = 0;
+  while (!args.empty() && pos <= args.size()) {
+    const std::size_t comma = std::min(args.find(',', pos), args.size());
+    const std::string item = args.substr(pos, comma - pos);
+    double v = 0;
+    const auto [end, ec] = std::from_chars(item.data(), item.data() + item.size(), v);
+    if (item.empty() || ec != std::errc() || end != item.data() + item.size() || !std::isfinite(v))
+      throw std::invalid_argument("target '" + spec + "': '" + item + "' is not a number (expected " +
+                                  expected + ")");
+    values.push_back(v);
+    pos = comma + 1;
+  }
+  if (values.size() < minCount || values.size() > maxCount)
+    throw std::invalid_argument("target '" + spec + "': got " + std::to_string(values.size()) +
+                                " numbers, expected " + expected);
+  return values;
+}
+
+std::unique_ptr<Target> makeTarget(const std::string &spec) {
+  const std::size_t colon = spec.find(':');
+  const std::string family = spec.substr(0, colon);
+  const std::string args = colon == std::string::npos ? "" : spec.substr(colon + 1);
+  auto noArgs = [&] {
+    if (!args.empty())
+      throw std::invalid_argument("target '" + spec + "': '" + family + "' takes no parameters");
+  };
+  if (family == "uniform") {
+    noArgs();
+    return std::make_unique<UniformTarget>();
+  }
+  if (family == "quarterdisc") {
+    noArgs();
+    return std::make_unique<QuarterDiscTarget>();
+  }
+  try {
+    if (family == "bilinear") {
+      const auto w = parseNumberList(spec, args, 4, 4, "4 weights w00,w10,w01,w11");
+      return std::make_unique<BilinearTarget>(w[0], w[1], w[2], w[3]);
+    }
+    if (family == "gaussian") {
+      const auto g = parseNumberList(spec, args, 3, 3, "3 numbers mx,my,sigma");
+      return std::make_unique<GaussianTarget>(g[0], g[1], g[2]);
+    }
+    if (family == "step") {
+      const auto s = parseNumberList(spec, args, 1, 3, "x0 or x0,left,right");
+      return std::make_unique<StepTarget>(s[0], s.size() > 1 ? s[1] : 0.0,
+                                          s.size() > 2 ? s[2] : 1.0);
+    }
+  } catch (const std::invalid_argument &e) {
+    const std::string what = e.what();
+    if (what.rfind("target '", 0) == 0) throw;
+    throw std::invalid_argument("target '" + spec + "': " + what);
+  }
+  if (family == "image" || family == "envmap") {
+    if (args.empty())
+      throw std::invalid_argument("target '" + spec + "': expected a file path after '" + family + ":'");
+    return family == "image" ? std::unique_ptr<Target>(loadImageTarget(args))
+                             : std::unique_ptr<Target>(loadEnvmapTarget(args));
+  }
+  TargetFactory factory;
+  {
+    std::lock_guard lock(registryMutex());
+    auto it = registry().find(family);
+    if (it != registry().end()) factory = it->second;
+  }
+  if (factory) return factory(args);
+  std::string known = "uniform, bilinear, gaussian, quarterdisc, step, image, envmap";
+  {
+    std::lock_guard lock(registryMutex());
+    for (const auto &[name, f] : registry()) known += ", " + name;
+  }
+  throw std::invalid_argument("unknown target '" + spec + "' (expected one of: " + known + ")");
+}
+
+}  // namespace nuld

@@ -1,0 +1,29 @@
+#pragma once
+// Builds a target from its SPEC string (DESIGN.md §7):
+//   uniform | bilinear:w00,w10,w01,w11 | gaussian:mx,my,sigma | quarterdisc |
+//   step:x0[,left,right] | image:PATH | envmap:PATH
+// Other modules add families (the materials module adds `disney:`) through
+// registerTargetFamily, so the sampler never depends on them.
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "sampler/targets/target.h"
+
+namespace nuld {
+
+using TargetFactory = std::function<std::unique_ptr<Target>(const std::string &args)>;
+
+void registerTargetFamily(const std::string &name, TargetFactory factory);
+
+// Throws std::invalid_argument naming the spec and what was expected.
+std::unique_ptr<Target> makeTarget(const std::string &spec);
+
+// Parses "a,b,c" into exactly `count` numbers (or between min and max).
+std::vector<double> parseNumberList(const std::string &spec, const std::string &args,
+                                    std::size_t minCount, std::size_t maxCount,
+                                    const std::string &expected);
+
+}  // namespace nuld

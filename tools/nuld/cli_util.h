@@ -1,0 +1,19 @@
+#pragma once
+// Small helpers shared by the subcommands.
+
+#include <memory>
+#include <string>
+
+#include "sampler/point.h"
+#include "sampler/targets/target.h"
+
+namespace nuld::cli {
+
+// The target named on the command line, else the one recorded in the file's
+// metadata, else uniform.
+std::unique_ptr<Target> targetFor(const std::string &spec, const PointSet &set);
+
+// Maps every point of `set` through the target's inverse CDF.
+void mapByInverseCdf(PointSet &set, const Target &target);
+
+}  // namespace nuld::cli

@@ -1,0 +1,18 @@
+#pragma once
+// Subcommands of the `nuld` program. Each registers its options on the parser
+// and returns the function that runs it once the command line is parsed.
+
+#include <CLI/CLI.hpp>
+
+#include <functional>
+
+namespace nuld::cli {
+
+using Runner = std::function<int()>;
+
+Runner addGenerate(CLI::App &app);
+Runner addEval(CLI::App &app);
+Runner addPlot(CLI::App &app);
+Runner addSpectrum(CLI::App &app);
+
+}  // namespace nuld::cli

@@ -1,0 +1,46 @@
+// nuld: non-uniform low-discrepancy point sets and the renderer that uses them.
+// The command-line contract is DESIGN.md §7.
+
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+#include <map>
+
+#include "tools/nuld/commands.h"
+
+int main(int argc, char **argv) {
+  CLI::App app{"nuld: optimize, evaluate and render with non-uniform low-discrepancy point sets"};
+  app.require_subcommand(1);
+  app.set_help_all_flag("--help-all", "Print help for every subcommand");
+
+  std::map<CLI::App *, nuld::cli::Runner> runners;
+  auto add = [&](const char *name, const char *description, auto adder) {
+    CLI::App *sub = app.add_subcommand(name, description);
+    runners[sub] = adder(*sub);
+  };
+  add("generate", "Generate Sobol, Halton or random point sets, optionally mapped to a target",
+      nuld::cli::addGenerate);
+  add("eval", "Print discrepancies of a point-set file as 'NAME VALUE' lines", nuld::cli::addEval);
+  add("plot", "Draw a point set (over its target density) to a PNG", nuld::cli::addPlot);
+  add("spectrum", "Power spectrum of a point set: PNG image and radial-average CSV",
+      nuld::cli::addSpectrum);
+  CLI::App *help = app.add_subcommand("help", "Show this help");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError &e) {
+    return app.exit(e);
+  }
+  if (help->parsed()) {
+    std::cout << app.help();
+    return 0;
+  }
+  try {
+    for (auto &[sub, run] : runners)
+      if (sub->parsed()) return run();
+  } catch (const std::exception &e) {
+    std::cerr << "nuld: error: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
