@@ -50,6 +50,7 @@ PointGrid::PointGrid(std::span<const Point2> points, std::span<const double> wei
 
 int PointGrid::cellOf(double t) const {
   if (!(t > 0)) return 0;  // also catches NaN
+  if (t >= 1) return g_ - 1;  // also infinite sides: never convert inf to int
   return std::min(int(t * g_), g_ - 1);
 }
 

@@ -1,2 +1,82 @@
+// Sampler hot paths. Run: build/tests/bench_sampler [--benchmark_filter=...]
+// The soft-loss benchmarks report point-box pairs per second, counting pairs
+// skipped by band culling as evaluated (they are: their value is exact).
 #include <benchmark/benchmark.h>
+
+#include <vector>
+
+#include "sampler/loss/box_mass.h"
+#include "sampler/loss/boxes.h"
+#include "sampler/loss/soft_box_loss.h"
+#include "sampler/metrics/discrepancy.h"
+#include "sampler/sequences/sequence.h"
+#include "sampler/targets/basic_targets.h"
+
+namespace nuld {
+namespace {
+
+std::vector<Point2> owenSobol(std::size_t n) {
+  const PointSet s = generatePointSet({SequenceKind::Sobol, Scramble::Owen, 1}, n, 1);
+  return s.points;
+}
+
+// One optimizer epoch: fresh boxes, masses, loss and gradient.
+void BM_SoftBoxLoss(benchmark::State &state) {
+  const std::size_t n = state.range(0), m = state.range(1);
+  const double alpha = double(state.range(2));
+  const auto pts = owenSobol(n);
+  const UniformTarget uniform;
+  std::vector<Box2> boxes(m);
+  std::vector<double> masses(m);
+  std::vector<Point2> grad(n);
+  Rng rng(7);
+  sampleBoxes(BoxKind::MultipleCorner, rng, boxes);
+  exactBoxMasses(uniform, boxes, masses);
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(softBoxLoss(pts, boxes, masses, {alpha}, grad));
+  }
+  state.counters["pairs/s"] =
+      benchmark::Counter(double(n) * double(m), benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_SoftBoxLoss)
+    ->Args({2048, 16384, 20})
+    ->Args({2048, 16384, 6000})
+    ->Args({2048, 32768, 6000})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+void BM_BoxSamplingAndExactMass(benchmark::State &state) {
+  const std::size_t m = state.range(0);
+  const QuarterDiscTarget disc;
+  std::vector<Box2> boxes(m);
+  std::vector<double> masses(m);
+  Rng rng(3);
+  for (auto _ : state) {
+    sampleBoxes(BoxKind::MultipleCorner, rng, boxes);
+    exactBoxMasses(disc, boxes, masses);
+    benchmark::DoNotOptimize(masses.data());
+  }
+}
+BENCHMARK(BM_BoxSamplingAndExactMass)->Arg(16384)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_StarDiscrepancy(benchmark::State &state) {
+  const auto pts = owenSobol(state.range(0));
+  const QuarterDiscTarget disc;
+  const bool nonUniform = state.range(1);
+  for (auto _ : state) benchmark::DoNotOptimize(starDiscrepancy(pts, nonUniform ? &disc : nullptr));
+}
+BENCHMARK(BM_StarDiscrepancy)->Args({4096, 0})->Args({4096, 1})->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_L2(benchmark::State &state) {
+  const auto pts = owenSobol(state.range(0));
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(l2StarDiscrepancy(pts));
+    benchmark::DoNotOptimize(l2asd(pts));
+  }
+}
+BENCHMARK(BM_L2)->Arg(4096)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace
+}  // namespace nuld
+
 BENCHMARK_MAIN();

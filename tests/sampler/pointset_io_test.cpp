@@ -1,0 +1,90 @@
+// Point-set files: exact round trips and clear errors on malformed input.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <unistd.h>
+
+#include <fstream>
+
+#include "sampler/io/pointset_io.h"
+#include "sampler/sequences/sequence.h"
+
+namespace nuld {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path tempDir() {
+  const fs::path d = fs::temp_directory_path() / ("nuld_io_test_" + std::to_string(::getpid()));
+  fs::create_directories(d);
+  return d;
+}
+
+void writeText(const fs::path &p, const std::string &s) { std::ofstream(p) << s; }
+
+std::string errorOf(const fs::path &p) {
+  try {
+    readPointSet(p.string());
+  } catch (const std::exception &e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(PointSetIo, TextAndBinaryRoundTripsAreExact) {
+  PointSet set = generatePointSet({SequenceKind::Sobol, Scramble::Owen, 3}, 37, 3);
+  set.metadata["target"] = "quarterdisc";
+  for (const char *name : {"a.txt", "a.ptsb"}) {
+    const fs::path p = tempDir() / name;
+    writePointSet(p.string(), set);
+    const PointSet back = readPointSet(p.string());
+    EXPECT_EQ(back.n, 37u);
+    EXPECT_EQ(back.instances(), 3u);
+    EXPECT_EQ(back.points, set.points) << name;
+    EXPECT_EQ(back.metadata, set.metadata) << name;
+  }
+}
+
+TEST(PointSetIo, ReadsUtkStyleFiles) {
+  const fs::path p = tempDir() / "utk.dat";
+  writeText(p, "0.1 0.2\n0.3 0.4\n#\n0.5 0.6\n0.7 0.8\n");
+  const PointSet s = readPointSet(p.string());
+  EXPECT_EQ(s.n, 2u);
+  EXPECT_EQ(s.instances(), 2u);
+  EXPECT_EQ(s.points[3], (Point2{0.7, 0.8}));
+}
+
+TEST(PointSetIo, MalformedFilesNameFileLineAndProblem) {
+  const fs::path d = tempDir();
+  writeText(d / "three.txt", "0.1 0.2\n0.3 0.4 0.5\n");
+  EXPECT_NE(errorOf(d / "three.txt").find("three.txt:2"), std::string::npos);
+  writeText(d / "word.txt", "0.1 0.2\nabc 0.4\n");
+  EXPECT_NE(errorOf(d / "word.txt").find("word.txt:2"), std::string::npos);
+  writeText(d / "nan.txt", "0.1 nan\n");
+  EXPECT_NE(errorOf(d / "nan.txt").find("nan.txt:1"), std::string::npos);
+  writeText(d / "sizes.txt", "0 0\n1 1\n# set\n0.5 0.5\n");
+  EXPECT_NE(errorOf(d / "sizes.txt").find("different sizes"), std::string::npos);
+  writeText(d / "empty.txt", "# only: metadata\n");
+  EXPECT_NE(errorOf(d / "empty.txt").find("no points"), std::string::npos);
+  EXPECT_NE(errorOf(d / "missing.txt").find("missing.txt"), std::string::npos);
+  // Truncated binary.
+  PointSet set = generatePointSet({SequenceKind::Sobol, Scramble::Owen, 3}, 16, 1);
+  writePointSet((d / "t.ptsb").string(), set);
+  fs::resize_file(d / "t.ptsb", fs::file_size(d / "t.ptsb") - 5);
+  EXPECT_NE(errorOf(d / "t.ptsb").find("does not match"), std::string::npos);
+}
+
+TEST(PointSetIo, WriteIsAtomicAndLeavesNoTemporaries) {
+  const fs::path d = tempDir() / "atomic";
+  fs::create_directories(d);
+  PointSet set = generatePointSet({SequenceKind::Halton, Scramble::Owen, 1}, 10, 1);
+  writePointSet((d / "x.txt").string(), set);
+  writePointSet((d / "x.txt").string(), set);
+  int files = 0;
+  for (const auto &e : fs::directory_iterator(d)) files += e.is_regular_file();
+  EXPECT_EQ(files, 1);
+  EXPECT_THROW(writePointSet((d / "no_such_dir" / "x.txt").string(), set), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace nuld

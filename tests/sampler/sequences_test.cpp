@@ -1,0 +1,141 @@
+// Sequences: published values, index conventions, randomization invariants.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include "sampler/sequences/rng.h"
+#include "sampler/sequences/scrambling.h"
+#include "sampler/sequences/sequence.h"
+#include "sampler/sequences/sobol.h"
+
+namespace nuld {
+namespace {
+
+// Joe & Kuo's reference program (and e.g. Apache Commons Math's tests), index 0 included.
+TEST(Sobol, FirstPointsMatchPublishedValues) {
+  const double expected[10][3] = {
+      {0, 0, 0},           {0.5, 0.5, 0.5},         {0.75, 0.25, 0.25},    {0.25, 0.75, 0.75},
+      {0.375, 0.375, 0.625}, {0.875, 0.875, 0.125}, {0.625, 0.125, 0.875}, {0.125, 0.625, 0.375},
+      {0.1875, 0.3125, 0.9375}, {0.6875, 0.8125, 0.4375}};
+  for (int i = 0; i < 10; ++i)
+    for (int d = 0; d < 3; ++d) EXPECT_EQ(sobolSample(i, d), expected[i][d]) << i << "," << d;
+}
+
+TEST(Sobol, EveryDimensionIsANetInOneDimension) {
+  // Any 2^m consecutive-from-zero points hit each interval [k/2^m, (k+1)/2^m) once.
+  for (std::uint32_t d = 0; d < kSobolMaxDimensions; ++d) {
+    std::set<std::uint32_t> cells;
+    for (int i = 0; i < 1024; ++i) cells.insert(sobolBits(i, d) >> 22);
+    EXPECT_EQ(cells.size(), 1024u) << "dimension " << d;
+  }
+}
+
+TEST(Sobol, RejectsOutOfRangeDimension) {
+  EXPECT_THROW(sobolBits(0, kSobolMaxDimensions), std::out_of_range);
+}
+
+TEST(Halton, RadicalInverseValues) {
+  EXPECT_EQ(radicalInverse(0, 2, DigitRandomization::None, 0), 0.0);
+  EXPECT_EQ(radicalInverse(1, 2, DigitRandomization::None, 0), 0.5);
+  EXPECT_EQ(radicalInverse(6, 2, DigitRandomization::None, 0), 0.375);  // 110b -> .011b
+  EXPECT_NEAR(radicalInverse(5, 3, DigitRandomization::None, 0), 7.0 / 9.0, 1e-15);  // 12_3
+  EXPECT_EQ(nthPrime(0), 2u);
+  EXPECT_EQ(nthPrime(7), 19u);
+  SequenceOptions o{SequenceKind::Halton, Scramble::None, 0};
+  EXPECT_NEAR(sequenceSample(o, 4, 1), 4.0 / 9.0, 1e-15);  // 11_3 -> .11_3
+}
+
+// Owen scrambling in any base keeps the stratification: the first b^m points
+// of a randomized radical inverse hit each interval of width b^-m once.
+TEST(Halton, ScrambledDigitsKeepStratification) {
+  for (auto r : {DigitRandomization::Owen, DigitRandomization::Shift})
+    for (std::uint32_t base : {2u, 3u, 5u}) {
+      const int n = base == 2 ? 256 : base == 3 ? 243 : 125;
+      std::set<int> cells;
+      for (int i = 0; i < n; ++i) {
+        const double x = radicalInverse(i, base, r, 1234 + base);
+        ASSERT_GE(x, 0.0);
+        ASSERT_LT(x, 1.0);
+        cells.insert(int(x * n));
+      }
+      EXPECT_EQ(int(cells.size()), n) << "base " << base;
+    }
+}
+
+TEST(Scrambling, OwenPreservesElementaryIntervalsAndIsNotIdentity) {
+  int changed = 0;
+  for (std::uint32_t v = 0; v < 4096; ++v) {
+    const std::uint32_t s = owenScramble(v << 20, 99);
+    changed += (s >> 20) != v;
+    // Same prefix in, same prefix out: the scramble is nested.
+    EXPECT_EQ(owenScramble(v << 20, 99) >> 20, owenScramble((v << 20) | 0xfffffu, 99) >> 20);
+  }
+  EXPECT_GT(changed, 3000);
+}
+
+TEST(Scrambling, OwenIsUniformAcrossSeeds) {
+  // The scrambled image of a fixed point is uniform over seeds: check the
+  // first two digits' frequencies.
+  int counts[4] = {};
+  const int trials = 40000;
+  for (int s = 0; s < trials; ++s) ++counts[owenScramble(0x12345678u, s) >> 30];
+  for (int c : counts) EXPECT_NEAR(c, trials / 4.0, 5 * std::sqrt(trials * 0.1875));
+}
+
+TEST(Sequences, AllOutputsInUnitSquareAndDeterministic) {
+  for (auto kind : {SequenceKind::Sobol, SequenceKind::Halton, SequenceKind::Random})
+    for (auto scr : {Scramble::None, Scramble::Owen, Scramble::Shift, Scramble::CranleyPatterson}) {
+      SequenceOptions o{kind, scr, 42};
+      const PointSet a = generatePointSet(o, 1000, 3), b = generatePointSet(o, 1000, 3);
+      ASSERT_EQ(a.points.size(), 3000u);
+      for (std::size_t i = 0; i < a.points.size(); ++i) {
+        ASSERT_GE(a.points[i].x, 0.0);
+        ASSERT_LT(a.points[i].x, 1.0);
+        ASSERT_GE(a.points[i].y, 0.0);
+        ASSERT_LT(a.points[i].y, 1.0);
+        ASSERT_EQ(a.points[i], b.points[i]);
+      }
+      if (scr != Scramble::None || kind == SequenceKind::Random)
+        EXPECT_NE(a.instance(0)[5], a.instance(1)[5]) << "instances must differ";
+    }
+}
+
+TEST(Sequences, NonPowerOfTwoAndSinglePoint) {
+  SequenceOptions o{SequenceKind::Sobol, Scramble::Owen, 7};
+  const PointSet one = generatePointSet(o, 1, 4);
+  EXPECT_EQ(one.instances(), 4u);
+  const PointSet odd = generatePointSet(o, 1000, 1);
+  // The 1000 points are a prefix of the 1024-point net.
+  const PointSet net = generatePointSet(o, 1024, 1);
+  for (int i = 0; i < 1000; ++i) EXPECT_EQ(odd.points[i], net.points[i]);
+}
+
+TEST(Rng, UniformMomentsAndIndependentStreams) {
+  Rng a(1, 0), b(1, 1);
+  double sum = 0, sum2 = 0, cross = 0;
+  const int n = 100000;
+  for (int i = 0; i < n; ++i) {
+    const double x = a.uniform(), y = b.uniform();
+    sum += x;
+    sum2 += x * x;
+    cross += (x - 0.5) * (y - 0.5);
+  }
+  EXPECT_NEAR(sum / n, 0.5, 5 * std::sqrt(1.0 / 12 / n));
+  EXPECT_NEAR(sum2 / n, 1.0 / 3, 0.005);
+  EXPECT_NEAR(cross / n, 0.0, 5 * (1.0 / 12) / std::sqrt(double(n)));
+}
+
+TEST(Sequences, ParsingErrorsNameTheValue) {
+  try {
+    parseSequenceKind("sobel");
+    FAIL();
+  } catch (const std::invalid_argument &e) {
+    EXPECT_NE(std::string(e.what()).find("sobel"), std::string::npos);
+  }
+  EXPECT_THROW(parseScramble("xor"), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace nuld
