@@ -24,8 +24,9 @@ double l2asd(std::span<const Point2> points);
 double starDiscrepancy(std::span<const Point2> points, const Target *target = nullptr);
 
 // Non-uniform L2-star (anchored boxes) and L2asd (all 4 corners) against a
-// target, integrating the squared local discrepancy by the midpoint rule on a
-// res x res grid of box corners. Counts at the grid corners are exact.
+// target, integrated exactly against the bilinear interpolant of the target's
+// CDF on a grid: the target's own cells for grid targets (then exact), else a
+// res x res grid (exact for uniform targets, O(1/res^2) error otherwise).
 double nonuniformL2Star(std::span<const Point2> points, const Target &target, int res = 256);
 double nonuniformL2asd(std::span<const Point2> points, const Target &target, int res = 256);
 

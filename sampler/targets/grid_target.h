@@ -32,6 +32,8 @@ class GridTarget final : public Target {
   Inversion invert(Point2 u) const override;
 
   int cols() const { return cols_; }
+  const std::vector<double> &xEdges() const { return xEdges_; }
+  const std::vector<double> &yEdges() const { return yEdges_; }
   int rows() const { return rows_; }
   // Normalized density of a cell (probability per unit area).
   double cellDensity(int i, int j) const { return density_[std::size_t(j) * cols_ + i]; }

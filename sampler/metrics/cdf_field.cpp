@@ -1,0 +1,80 @@
+#include "sampler/metrics/cdf_field.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace nuld {
+
+CdfField::CdfField(const Target &target, std::vector<double> xNodes, std::vector<double> yNodes)
+    : xs_(std::move(xNodes)), ys_(std::move(yNodes)),
+      cols_(int(xs_.size()) - 1), rows_(int(ys_.size()) - 1) {
+  if (cols_ < 1 || rows_ < 1) throw std::invalid_argument("CdfField: needs at least one cell");
+  const int W = cols_ + 1;
+  f_.resize(std::size_t(W) * (rows_ + 1));
+  tbb::parallel_for(0, rows_ + 1, [&](int j) {
+    for (int i = 0; i <= cols_; ++i) f_[idx(i, j)] = target.mass({{0, 0}, {xs_[i], ys_[j]}});
+  });
+  hx_.assign(f_.size(), 0.0);
+  hy_.assign(f_.size(), 0.0);
+  g_.assign(f_.size(), 0.0);
+  for (int j = 0; j <= rows_; ++j)
+    for (int i = 1; i <= cols_; ++i)
+      hx_[idx(i, j)] = hx_[idx(i - 1, j)] + 0.5 * (xs_[i] - xs_[i - 1]) * (f_[idx(i - 1, j)] + f_[idx(i, j)]);
+  for (int i = 0; i <= cols_; ++i)
+    for (int j = 1; j <= rows_; ++j)
+      hy_[idx(i, j)] = hy_[idx(i, j - 1)] + 0.5 * (ys_[j] - ys_[j - 1]) * (f_[idx(i, j - 1)] + f_[idx(i, j)]);
+  // Cumulative integral: rows of cells, each cell the mean of its corners.
+  for (int j = 1; j <= rows_; ++j) {
+    double row = 0;
+    for (int i = 1; i <= cols_; ++i) {
+      row += (xs_[i] - xs_[i - 1]) * (ys_[j] - ys_[j - 1]) * 0.25 *
+             (f_[idx(i - 1, j - 1)] + f_[idx(i, j - 1)] + f_[idx(i - 1, j)] + f_[idx(i, j)]);
+      g_[idx(i, j)] = g_[idx(i, j - 1)] + row;
+    }
+  }
+}
+
+int CdfField::cellOf(const std::vector<double> &nodes, double t) const {
+  const int n = int(nodes.size()) - 1;
+  const auto it = std::upper_bound(nodes.begin(), nodes.end(), t);
+  return std::clamp(int(it - nodes.begin()) - 1, 0, n - 1);
+}
+
+double CdfField::lineX(int j, double x) const {
+  x = std::clamp(x, 0.0, 1.0);
+  const int i = cellOf(xs_, x);
+  const double dx = xs_[i + 1] - xs_[i], s = (x - xs_[i]) / dx;
+  return hx_[idx(i, j)] + dx * ((s - 0.5 * s * s) * f_[idx(i, j)] + 0.5 * s * s * f_[idx(i + 1, j)]);
+}
+
+double CdfField::lineY(int i, double y) const {
+  y = std::clamp(y, 0.0, 1.0);
+  const int j = cellOf(ys_, y);
+  const double dy = ys_[j + 1] - ys_[j], t = (y - ys_[j]) / dy;
+  return hy_[idx(i, j)] + dy * ((t - 0.5 * t * t) * f_[idx(i, j)] + 0.5 * t * t * f_[idx(i, j + 1)]);
+}
+
+double CdfField::cumulative(double x, double y) const {
+  x = std::clamp(x, 0.0, 1.0);
+  y = std::clamp(y, 0.0, 1.0);
+  const int i = cellOf(xs_, x), j = cellOf(ys_, y);
+  const double dx = xs_[i + 1] - xs_[i], dy = ys_[j + 1] - ys_[j];
+  const double s = (x - xs_[i]) / dx, t = (y - ys_[j]) / dy;
+  // Integrals of the hat functions over [0, s]: (1 - u) -> s - s^2/2, u -> s^2/2.
+  const double p0 = s - 0.5 * s * s, p1 = 0.5 * s * s, q0 = t - 0.5 * t * t, q1 = 0.5 * t * t;
+  // Strips below and left of the cell are linear in the free coordinate.
+  const double below = dx * (p0 * hy_[idx(i, j)] + p1 * hy_[idx(i + 1, j)]);
+  const double left = dy * (q0 * hx_[idx(i, j)] + q1 * hx_[idx(i, j + 1)]);
+  const double inside = dx * dy *
+                        (p0 * q0 * f_[idx(i, j)] + p1 * q0 * f_[idx(i + 1, j)] +
+                         p0 * q1 * f_[idx(i, j + 1)] + p1 * q1 * f_[idx(i + 1, j + 1)]);
+  return g_[idx(i, j)] + below + left + inside;
+}
+
+double CdfField::rectIntegral(double x0, double x1, double y0, double y1) const {
+  return cumulative(x1, y1) - cumulative(x0, y1) - cumulative(x1, y0) + cumulative(x0, y0);
+}
+
+}  // namespace nuld
