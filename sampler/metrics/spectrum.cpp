@@ -49,6 +49,7 @@ PowerSpectrum powerSpectrum(std::span<const Point2> points, int K) {
 }
 
 PowerSpectrum averagePowerSpectrum(const PointSet &set, int K) {
+  if (set.instances() == 0) throw std::invalid_argument("power spectrum: empty point set");
   PowerSpectrum sum;
   for (std::size_t k = 0; k < set.instances(); ++k) {
     PowerSpectrum one = powerSpectrum(set.instance(k), K);
