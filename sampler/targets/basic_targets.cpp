@@ -106,13 +106,15 @@ Inversion BilinearTarget::invert(Point2 u) const {
 // ---------------------------------------------------------------- gaussian
 
 namespace {
-// Standard normal mass of [a, b], accurate in both tails.
+// Standard normal mass of [a, b], accurate in both tails and near the mean:
+// erfc differences in the tails, erf differences elsewhere (erfc values near
+// 1 would cancel there).
 double normalInterval(double a, double b) {
   if (b <= a) return 0;
   constexpr double r = std::numbers::sqrt2;
-  if (a >= 0) return 0.5 * (std::erfc(a / r) - std::erfc(b / r));
-  if (b <= 0) return 0.5 * (std::erfc(-b / r) - std::erfc(-a / r));
-  return 1 - 0.5 * (std::erfc(-a / r) + std::erfc(b / r));
+  if (a >= 1) return 0.5 * (std::erfc(a / r) - std::erfc(b / r));
+  if (b <= -1) return 0.5 * (std::erfc(-b / r) - std::erfc(-a / r));
+  return 0.5 * (std::erf(b / r) - std::erf(a / r));
 }
 }  // namespace
 

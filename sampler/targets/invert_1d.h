@@ -10,15 +10,19 @@ namespace nuld {
 template <typename Cdf, typename Pdf>
 double invertMonotone(const Cdf &cdf, const Pdf &pdf, double t, double lo, double hi) {
   double x = 0.5 * (lo + hi);
+  double previousWidth = 2 * (hi - lo);
   for (int it = 0; it < 200; ++it) {
     const double f = cdf(x) - t;
     if (f == 0) return x;
     if (f < 0) lo = x; else hi = x;
-    if (hi - lo <= 1e-16 * std::max(1.0, std::abs(x))) break;
+    const double width = hi - lo;
+    if (width <= 4e-16 * std::max(1.0, std::abs(x))) break;
+    // Newton only while it shrinks the bracket fast; where the computed CDF
+    // is flat over many ulps (wide Gaussians) Newton stalls, bisection never does.
     const double d = pdf(x);
-    double next = d > 0 ? x - f / d : 0.5 * (lo + hi);
-    if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-    if (std::abs(next - x) <= 1e-17) return next;
+    double next = d > 0 ? x - f / d : lo;
+    if (!(next > lo && next < hi) || width > 0.5 * previousWidth) next = 0.5 * (lo + hi);
+    previousWidth = width;
     x = next;
   }
   return 0.5 * (lo + hi);

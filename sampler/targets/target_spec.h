@@ -18,7 +18,9 @@ using TargetFactory = std::function<std::unique_ptr<Target>(const std::string &a
 
 void registerTargetFamily(const std::string &name, TargetFactory factory);
 
-// Throws std::invalid_argument naming the spec and what was expected.
+// Throws std::invalid_argument naming the spec and what was expected; for
+// image: and envmap: a file that cannot be read gives std::runtime_error
+// naming the path.
 std::unique_ptr<Target> makeTarget(const std::string &spec);
 
 // Parses "a,b,c" into exactly `count` numbers (or between min and max).
