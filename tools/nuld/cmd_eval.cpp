@@ -4,6 +4,7 @@
 
 #include "sampler/io/pointset_io.h"
 #include "sampler/metrics/discrepancy.h"
+#include "sampler/metrics/integration.h"
 #include "tools/nuld/cli_util.h"
 #include "tools/nuld/commands.h"
 
@@ -11,7 +12,7 @@ namespace nuld::cli {
 
 Runner addEval(CLI::App &app) {
   struct Options {
-    std::string file, target, metric = "all";
+    std::string file, target, metric = "all", integrand;
     int grid = 256;
     bool perInstance = false;
   };
@@ -24,6 +25,9 @@ Runner addEval(CLI::App &app) {
   app.add_option("--grid", o->grid, "grid resolution of the non-uniform L2 measures")
       ->check(CLI::Range(1, 4096))->capture_default_str();
   app.add_flag("--per-instance", o->perInstance, "also print each instance's values");
+  app.add_option("--integrand", o->integrand,
+                 "also estimate the integral of a test integrand (step, disc, bilinear, gaussian) "
+                 "with the points as importance samples of the target; prints its RMSE and bias");
   app.footer(
       "Values are plain (not squared) discrepancies, averaged over the file's instances.\n"
       "Against a uniform target l2star and l2asd are exact closed forms; against a\n"
@@ -48,6 +52,17 @@ Runner addEval(CLI::App &app) {
         sum += v;
       }
       std::printf("%s %.9g\n", m.c_str(), sum / double(set.instances()));
+    }
+    if (!o->integrand.empty()) {
+      const TestIntegrand f = makeTestIntegrand(o->integrand);
+      double se = 0, bias = 0;
+      for (std::size_t k = 0; k < set.instances(); ++k) {
+        const double err = estimateIntegral(set.instance(k), *target, f.f) - f.integral;
+        se += err * err;
+        bias += err;
+      }
+      const double K = double(set.instances());
+      std::printf("integration_rmse %.9g\nintegration_bias %.9g\n", std::sqrt(se / K), bias / K);
     }
     return 0;
   };

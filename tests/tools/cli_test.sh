@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# End-to-end checks of the nuld command line: the documented commands work and
+# bad input fails with a message naming the problem (never a crash).
+set -uo pipefail
+nuld=$1
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+failures=0
+
+ok() { # ok DESCRIPTION COMMAND...
+  local what=$1; shift
+  if ! "$@" >"$dir/out" 2>"$dir/err"; then
+    echo "FAIL: $what: exited $?"; cat "$dir/err"; failures=$((failures + 1))
+  fi
+}
+fails_with() { # fails_with DESCRIPTION PATTERN COMMAND...
+  local what=$1 pattern=$2; shift 2
+  "$@" >"$dir/out" 2>"$dir/err"
+  local rc=$?
+  if [[ $rc -eq 0 || $rc -ge 128 ]] || ! grep -q -- "$pattern" "$dir/err"; then
+    echo "FAIL: $what: exit $rc, expected a message matching '$pattern', got:"; cat "$dir/err"
+    failures=$((failures + 1))
+  fi
+}
+
+ok "help" "$nuld" help
+ok "generate sobol" "$nuld" generate --sequence sobol --n 100 --instances 3 -o "$dir/s.txt"
+ok "generate mapped halton" "$nuld" generate --sequence halton --n 64 --target quarterdisc -o "$dir/q.ptsb"
+ok "eval" "$nuld" eval "$dir/s.txt"
+grep -q '^l2star [0-9.e-]*$' "$dir/out" || { echo "FAIL: eval output lines"; cat "$dir/out"; failures=$((failures + 1)); }
+[[ $(wc -l <"$dir/out") -eq 4 ]] || { echo "FAIL: eval all prints 4 metrics"; failures=$((failures + 1)); }
+ok "eval target from metadata" "$nuld" eval "$dir/q.ptsb" --metric dstar --integrand disc
+grep -q '^integration_rmse' "$dir/out" || { echo "FAIL: integrand output"; failures=$((failures + 1)); }
+ok "plot" "$nuld" plot "$dir/q.ptsb" -o "$dir/q.png"
+[[ -s "$dir/q.png" ]] || { echo "FAIL: plot wrote nothing"; failures=$((failures + 1)); }
+ok "spectrum" "$nuld" spectrum "$dir/s.txt" -o "$dir/ps.png" --csv "$dir/ps.csv" --half-size 8
+[[ $(head -1 "$dir/ps.csv") == "frequency,power" ]] || { echo "FAIL: spectrum csv header"; failures=$((failures + 1)); }
+
+fails_with "unknown target" "unknown target 'blob'" "$nuld" generate --n 4 --target blob -o "$dir/x.txt"
+fails_with "bad target numbers" "'x' is not a number" "$nuld" generate --n 4 --target gaussian:0.5,x,0.1 -o "$dir/x.txt"
+fails_with "missing image" "nope.png" "$nuld" generate --n 4 --target image:"$dir/nope.png" -o "$dir/x.txt"
+printf '0.1 0.2\n0.3\n' >"$dir/bad.txt"
+fails_with "malformed point file" "bad.txt:2" "$nuld" eval "$dir/bad.txt"
+fails_with "missing point file" "missing.txt" "$nuld" eval "$dir/missing.txt"
+fails_with "output directory missing" "does not exist" "$nuld" generate --n 4 -o "$dir/no/dir/x.txt"
+fails_with "bad N" "n" "$nuld" generate --n 0 -o "$dir/x.txt"
+
+echo "$((failures == 0 ? 1 : 0)) passed, $failures failed"
+exit $((failures > 0))
