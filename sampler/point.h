@@ -28,16 +28,11 @@ inline bool isFinite(Point2 p) { return std::isfinite(p.x) && std::isfinite(p.y)
 struct Box2 {
   Point2 lo, hi;
 
-  double area() const {
-    return std::max(0.0, hi.x - lo.x) * std::max(0.0, hi.y - lo.y);
-  }
-  bool contains(Point2 p) const {
-    return p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y;
-  }
+  double area() const { return std::max(0.0, hi.x - lo.x) * std::max(0.0, hi.y - lo.y); }
+  bool contains(Point2 p) const { return p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y; }
   // Clipped to the unit square.
   Box2 clipped() const {
-    return {{std::max(lo.x, 0.0), std::max(lo.y, 0.0)},
-            {std::min(hi.x, 1.0), std::min(hi.y, 1.0)}};
+    return {{std::max(lo.x, 0.0), std::max(lo.y, 0.0)}, {std::min(hi.x, 1.0), std::min(hi.y, 1.0)}};
   }
 };
 
@@ -60,9 +55,7 @@ struct PointSet {
   std::span<const Point2> instance(std::size_t k) const {
     return std::span<const Point2>(points).subspan(k * n, n);
   }
-  std::span<Point2> instance(std::size_t k) {
-    return std::span<Point2>(points).subspan(k * n, n);
-  }
+  std::span<Point2> instance(std::size_t k) { return std::span<Point2>(points).subspan(k * n, n); }
 };
 
 }  // namespace nuld

@@ -9,13 +9,17 @@
 namespace nuld {
 
 AtomicFile::AtomicFile(std::filesystem::path destination) : destination_(std::move(destination)) {
-  const auto dir = destination_.has_parent_path() ? destination_.parent_path()
-                                                  : std::filesystem::path(".");
+  const auto dir =
+      destination_.has_parent_path() ? destination_.parent_path() : std::filesystem::path(".");
   if (!std::filesystem::is_directory(dir))
     throw std::runtime_error(destination_.string() + ": directory " + dir.string() +
                              " does not exist");
-  temp_ = dir / ("." + destination_.stem().string() + ".tmp" + std::to_string(::getpid()) +
-                 destination_.extension().string());
+  // Hidden, per-process name; built by appending (GCC 12 warns falsely on "." + string).
+  std::string name = ".";
+  name += destination_.stem().string();
+  name += ".tmp" + std::to_string(::getpid());
+  name += destination_.extension().string();
+  temp_ = dir / name;
 }
 
 AtomicFile::~AtomicFile() {
@@ -28,7 +32,9 @@ AtomicFile::~AtomicFile() {
 void AtomicFile::commit() {
   std::error_code ec;
   std::filesystem::rename(temp_, destination_, ec);
-  if (ec) throw std::runtime_error(destination_.string() + ": cannot replace file (" + ec.message() + ")");
+  if (ec)
+    throw std::runtime_error(destination_.string() + ": cannot replace file (" + ec.message() +
+                             ")");
   committed_ = true;
 }
 

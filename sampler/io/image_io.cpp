@@ -45,7 +45,8 @@ Image readImage(const std::string &path, bool requireFinite) {
 void writeImage(const std::string &path, const Image &image) {
   AtomicFile file(path);
   auto out = OIIO::ImageOutput::create(path);
-  if (!out) throw std::runtime_error(path + ": no writer for this format (" + OIIO::geterror() + ")");
+  if (!out)
+    throw std::runtime_error(path + ": no writer for this format (" + OIIO::geterror() + ")");
   OIIO::ImageSpec spec(image.width, image.height, image.channels, OIIO::TypeDesc::FLOAT);
   const std::string ext = std::filesystem::path(path).extension().string();
   if (ext == ".png" || ext == ".jpg" || ext == ".jpeg") spec.set_format(OIIO::TypeDesc::UINT8);

@@ -13,7 +13,9 @@ struct Image {
   std::vector<float> pixels;  // row-major, row 0 at the top, interleaved channels
 
   float &at(int x, int y, int c) { return pixels[(std::size_t(y) * width + x) * channels + c]; }
-  float at(int x, int y, int c) const { return pixels[(std::size_t(y) * width + x) * channels + c]; }
+  float at(int x, int y, int c) const {
+    return pixels[(std::size_t(y) * width + x) * channels + c];
+  }
   // Rec. 709 luminance (the single channel of a grey image).
   double luminance(int x, int y) const;
 };

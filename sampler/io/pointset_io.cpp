@@ -15,7 +15,8 @@ namespace {
 constexpr char kMagic[8] = {'N', 'U', 'L', 'D', 'P', 'T', 'S', '1'};
 
 bool endsWith(const std::string &s, const std::string &suffix) {
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+  return s.size() >= suffix.size() &&
+         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 std::string trim(const std::string &s) {
@@ -26,17 +27,20 @@ std::string trim(const std::string &s) {
 }
 
 [[noreturn]] void fail(const std::string &path, std::size_t line, const std::string &what) {
-  throw std::runtime_error(path + (line ? ":" + std::to_string(line) : std::string()) + ": " + what);
+  throw std::runtime_error(path + (line ? ":" + std::to_string(line) : std::string()) + ": " +
+                           what);
 }
 
-void finishSets(PointSet &set, const std::vector<std::vector<Point2>> &sets, const std::string &path) {
+void finishSets(PointSet &set, const std::vector<std::vector<Point2>> &sets,
+                const std::string &path) {
   std::size_t n = 0;
   for (const auto &s : sets) {
     if (s.empty()) continue;
     if (n == 0) n = s.size();
     if (s.size() != n)
-      fail(path, 0, "sets have different sizes (" + std::to_string(n) + " and " +
-                        std::to_string(s.size()) + " points); expected equal sizes");
+      fail(path, 0,
+           "sets have different sizes (" + std::to_string(n) + " and " + std::to_string(s.size()) +
+               " points); expected equal sizes");
     set.points.insert(set.points.end(), s.begin(), s.end());
   }
   if (n == 0) fail(path, 0, "no points found; expected lines of 2 numbers");
@@ -78,7 +82,9 @@ PointSet readText(const std::string &path, std::istream &in) {
       p = next;
     }
     if (count != 2)
-      fail(path, lineNo, "expected 2 coordinates per point, found " + std::string(count == 3 ? "more than 2" : std::to_string(count)));
+      fail(path, lineNo,
+           "expected 2 coordinates per point, found " +
+               std::string(count == 3 ? "more than 2" : std::to_string(count)));
     sets.back().push_back({v[0], v[1]});
   }
   finishSets(set, sets, path);
@@ -106,8 +112,9 @@ PointSet readBinary(const std::string &path, std::istream &in, std::uintmax_t fi
   const std::uintmax_t header = sizeof(kMagic) + 4 + 8 + 8 + 4;
   if (n > (std::uint64_t(1) << 40) / instances ||
       fileSize != header + metaBytes + n * instances * 2 * sizeof(double))
-    fail(path, 0, "file size does not match its header (N = " + std::to_string(n) +
-                      ", instances = " + std::to_string(instances) + ")");
+    fail(path, 0,
+         "file size does not match its header (N = " + std::to_string(n) +
+             ", instances = " + std::to_string(instances) + ")");
   std::string meta(metaBytes, '\0');
   in.read(meta.data(), metaBytes);
   PointSet set;
@@ -118,7 +125,8 @@ PointSet readBinary(const std::string &path, std::istream &in, std::uintmax_t fi
   }
   set.n = n;
   set.points.resize(n * instances);
-  in.read(reinterpret_cast<char *>(set.points.data()), std::streamsize(n * instances * sizeof(Point2)));
+  in.read(reinterpret_cast<char *>(set.points.data()),
+          std::streamsize(n * instances * sizeof(Point2)));
   if (!in) fail(path, 0, "truncated binary file while reading points");
   for (std::size_t i = 0; i < set.points.size(); ++i)
     if (!isFinite(set.points[i])) fail(path, 0, "point " + std::to_string(i) + " is not finite");
@@ -132,7 +140,8 @@ PointSet readPointSet(const std::string &path) {
   if (!in) fail(path, 0, "cannot open point-set file");
   char magic[sizeof(kMagic)] = {};
   in.read(magic, sizeof(magic));
-  const bool binary = in.gcount() == sizeof(magic) && std::memcmp(magic, kMagic, sizeof(kMagic)) == 0;
+  const bool binary =
+      in.gcount() == sizeof(magic) && std::memcmp(magic, kMagic, sizeof(kMagic)) == 0;
   in.clear();
   if (binary) {
     in.seekg(0, std::ios::end);

@@ -25,7 +25,8 @@ void MonteCarloBoxMass::estimate(std::span<const Box2> boxes, std::span<double> 
   for (Point2 &s : samples) s = {rng.uniform(), rng.uniform()};
   std::vector<double> weights(k_);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, k_, 4096), [&](const auto &r) {
-    for (std::size_t k = r.begin(); k < r.end(); ++k) weights[k] = target_.pdf(samples[k]) / double(k_);
+    for (std::size_t k = r.begin(); k < r.end(); ++k)
+      weights[k] = target_.pdf(samples[k]) / double(k_);
   });
   const PointGrid grid(samples, weights);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, boxes.size(), 256), [&](const auto &r) {

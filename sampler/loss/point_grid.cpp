@@ -39,7 +39,8 @@ PointGrid::PointGrid(std::span<const Point2> points, std::span<const double> wei
     for (int cx = 0; cx < g_; ++cx) {
       const std::uint32_t b = cellBegin(cx, cy), e = start_[std::size_t(cy) * g_ + cx + 1];
       double total = 0;
-      if (w_.empty()) total = double(e - b);
+      if (w_.empty())
+        total = double(e - b);
       else
         for (std::uint32_t k = b; k < e; ++k) total += w_[k];
       row += total;
@@ -49,7 +50,7 @@ PointGrid::PointGrid(std::span<const Point2> points, std::span<const double> wei
 }
 
 int PointGrid::cellOf(double t) const {
-  if (!(t > 0)) return 0;  // also catches NaN
+  if (!(t > 0)) return 0;     // also catches NaN
   if (t >= 1) return g_ - 1;  // also infinite sides: never convert inf to int
   return std::min(int(t * g_), g_ - 1);
 }
@@ -57,7 +58,9 @@ int PointGrid::cellOf(double t) const {
 PointGrid::CellRange PointGrid::cellsInside(const Box2 &box) const {
   // Cell c spans [c/g, (c+1)/g]; it is inside when c/g >= lo and (c+1)/g <= hi.
   auto first = [&](double lo) { return lo <= 0 ? 0 : int(std::ceil(std::min(lo, 2.0) * g_)); };
-  auto last = [&](double hi) { return hi >= 1 ? g_ - 1 : int(std::floor(std::max(hi, -1.0) * g_)) - 1; };
+  auto last = [&](double hi) {
+    return hi >= 1 ? g_ - 1 : int(std::floor(std::max(hi, -1.0) * g_)) - 1;
+  };
   return {first(box.lo.x), last(box.hi.x), first(box.lo.y), last(box.hi.y)};
 }
 

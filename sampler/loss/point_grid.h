@@ -31,7 +31,7 @@ class PointGrid {
     int cx0, cx1, cy0, cy1;
     bool empty() const { return cx0 > cx1 || cy0 > cy1; }
   };
-  CellRange cellsInside(const Box2 &box) const;  // cells fully inside
+  CellRange cellsInside(const Box2 &box) const;    // cells fully inside
   CellRange cellsTouching(const Box2 &box) const;  // cells that overlap
 
   // Sum of weights (or count) over a rectangle of whole cells.
@@ -56,7 +56,7 @@ class PointGrid {
   std::vector<std::uint32_t> start_;  // g*g + 1
   std::vector<double> xs_, ys_, w_;
   std::vector<std::uint32_t> index_;
-  std::vector<double> prefix_;        // (g+1)^2 inclusive prefix sums
+  std::vector<double> prefix_;  // (g+1)^2 inclusive prefix sums
 };
 
 }  // namespace nuld

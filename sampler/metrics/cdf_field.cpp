@@ -8,8 +8,10 @@
 namespace nuld {
 
 CdfField::CdfField(const Target &target, std::vector<double> xNodes, std::vector<double> yNodes)
-    : xs_(std::move(xNodes)), ys_(std::move(yNodes)),
-      cols_(int(xs_.size()) - 1), rows_(int(ys_.size()) - 1) {
+    : xs_(std::move(xNodes)),
+      ys_(std::move(yNodes)),
+      cols_(int(xs_.size()) - 1),
+      rows_(int(ys_.size()) - 1) {
   if (cols_ < 1 || rows_ < 1) throw std::invalid_argument("CdfField: needs at least one cell");
   const int W = cols_ + 1;
   f_.resize(std::size_t(W) * (rows_ + 1));
@@ -21,10 +23,12 @@ CdfField::CdfField(const Target &target, std::vector<double> xNodes, std::vector
   g_.assign(f_.size(), 0.0);
   for (int j = 0; j <= rows_; ++j)
     for (int i = 1; i <= cols_; ++i)
-      hx_[idx(i, j)] = hx_[idx(i - 1, j)] + 0.5 * (xs_[i] - xs_[i - 1]) * (f_[idx(i - 1, j)] + f_[idx(i, j)]);
+      hx_[idx(i, j)] =
+          hx_[idx(i - 1, j)] + 0.5 * (xs_[i] - xs_[i - 1]) * (f_[idx(i - 1, j)] + f_[idx(i, j)]);
   for (int i = 0; i <= cols_; ++i)
     for (int j = 1; j <= rows_; ++j)
-      hy_[idx(i, j)] = hy_[idx(i, j - 1)] + 0.5 * (ys_[j] - ys_[j - 1]) * (f_[idx(i, j - 1)] + f_[idx(i, j)]);
+      hy_[idx(i, j)] =
+          hy_[idx(i, j - 1)] + 0.5 * (ys_[j] - ys_[j - 1]) * (f_[idx(i, j - 1)] + f_[idx(i, j)]);
   // Cumulative integral: rows of cells, each cell the mean of its corners.
   for (int j = 1; j <= rows_; ++j) {
     double row = 0;
@@ -46,14 +50,16 @@ double CdfField::lineX(int j, double x) const {
   x = std::clamp(x, 0.0, 1.0);
   const int i = cellOf(xs_, x);
   const double dx = xs_[i + 1] - xs_[i], s = (x - xs_[i]) / dx;
-  return hx_[idx(i, j)] + dx * ((s - 0.5 * s * s) * f_[idx(i, j)] + 0.5 * s * s * f_[idx(i + 1, j)]);
+  return hx_[idx(i, j)] +
+         dx * ((s - 0.5 * s * s) * f_[idx(i, j)] + 0.5 * s * s * f_[idx(i + 1, j)]);
 }
 
 double CdfField::lineY(int i, double y) const {
   y = std::clamp(y, 0.0, 1.0);
   const int j = cellOf(ys_, y);
   const double dy = ys_[j + 1] - ys_[j], t = (y - ys_[j]) / dy;
-  return hy_[idx(i, j)] + dy * ((t - 0.5 * t * t) * f_[idx(i, j)] + 0.5 * t * t * f_[idx(i, j + 1)]);
+  return hy_[idx(i, j)] +
+         dy * ((t - 0.5 * t * t) * f_[idx(i, j)] + 0.5 * t * t * f_[idx(i, j + 1)]);
 }
 
 double CdfField::cumulative(double x, double y) const {

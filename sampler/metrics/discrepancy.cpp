@@ -1,8 +1,8 @@
 #include "sampler/metrics/discrepancy.h"
 
 #include <tbb/blocked_range.h>
-#include <tbb/parallel_reduce.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include <algorithm>
 #include <cmath>
@@ -36,9 +36,8 @@ void requireNonEmpty(std::span<const Point2> points, const char *what) {
 double l2StarDiscrepancy(std::span<const Point2> p) {
   requireNonEmpty(p, "l2star");
   const double N = double(p.size());
-  const double single = orderedSum(p.size(), [&](std::size_t i) {
-    return (1 - p[i].x * p[i].x) * (1 - p[i].y * p[i].y);
-  });
+  const double single = orderedSum(
+      p.size(), [&](std::size_t i) { return (1 - p[i].x * p[i].x) * (1 - p[i].y * p[i].y); });
   const double pairs = orderedSum(p.size(), [&](std::size_t i) {
     double s = 0;
     for (std::size_t j = 0; j < p.size(); ++j)
@@ -70,7 +69,8 @@ double starDiscrepancy(std::span<const Point2> p, const Target *target) {
   const std::size_t n = p.size();
   const double N = double(n);
   auto mu = [&](double a, double b) {
-    return target ? target->mass({{0, 0}, {a, b}}) : std::clamp(a, 0.0, 1.0) * std::clamp(b, 0.0, 1.0);
+    return target ? target->mass({{0, 0}, {a, b}})
+                  : std::clamp(a, 0.0, 1.0) * std::clamp(b, 0.0, 1.0);
   };
   // Points in increasing y; the critical a values are every x and 1.
   std::vector<Point2> byY(p.begin(), p.end());

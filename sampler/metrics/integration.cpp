@@ -9,13 +9,15 @@ namespace nuld {
 TestIntegrand makeTestIntegrand(const std::string &name) {
   if (name == "step") return {name, [](Point2 p) { return p.x < 0.5 ? 1.0 : 0.0; }, 0.5};
   if (name == "disc")
-    return {name, [](Point2 p) { return p.x * p.x + p.y * p.y <= 1 ? 1.0 : 0.0; }, std::numbers::pi / 4};
+    return {name, [](Point2 p) { return p.x * p.x + p.y * p.y <= 1 ? 1.0 : 0.0; },
+            std::numbers::pi / 4};
   if (name == "bilinear") return {name, [](Point2 p) { return p.x * p.y; }, 0.25};
   if (name == "gaussian") {
     constexpr double s = 0.15, cx = 0.4, cy = 0.6;
     auto axis = [](double c) {
       return s * std::sqrt(std::numbers::pi / 2) *
-             (std::erf((1 - c) / (s * std::numbers::sqrt2)) + std::erf(c / (s * std::numbers::sqrt2)));
+             (std::erf((1 - c) / (s * std::numbers::sqrt2)) +
+              std::erf(c / (s * std::numbers::sqrt2)));
     };
     return {name,
             [](Point2 p) {
@@ -24,7 +26,8 @@ TestIntegrand makeTestIntegrand(const std::string &name) {
             },
             axis(cx) * axis(cy)};
   }
-  throw std::invalid_argument("unknown integrand '" + name + "' (expected step, disc, bilinear or gaussian)");
+  throw std::invalid_argument("unknown integrand '" + name +
+                              "' (expected step, disc, bilinear or gaussian)");
 }
 
 double estimateIntegral(std::span<const Point2> points, const Target &target,

@@ -32,7 +32,8 @@ PowerSpectrum powerSpectrum(std::span<const Point2> points, int K) {
         f *= step;
       }
     }
-    for (int i = 0; i < S; ++i) ps.power[std::size_t(row) * S + i] = std::norm(acc[i]) / double(points.size());
+    for (int i = 0; i < S; ++i)
+      ps.power[std::size_t(row) * S + i] = std::norm(acc[i]) / double(points.size());
   });
   ps.radial.assign(K + 1, 0.0);
   std::vector<int> hits(K + 1, 0);

@@ -10,10 +10,12 @@
 namespace nuld {
 
 struct PowerSpectrum {
-  int halfSize = 0;              // K
-  std::vector<double> power;     // (2K+1)^2, row-major, k = (i - K, j - K); DC included
-  std::vector<double> radial;    // mean power in rings |k| in [r - 1/2, r + 1/2), r = 0..K
-  double at(int kx, int ky) const { return power[std::size_t(ky + halfSize) * (2 * halfSize + 1) + kx + halfSize]; }
+  int halfSize = 0;            // K
+  std::vector<double> power;   // (2K+1)^2, row-major, k = (i - K, j - K); DC included
+  std::vector<double> radial;  // mean power in rings |k| in [r - 1/2, r + 1/2), r = 0..K
+  double at(int kx, int ky) const {
+    return power[std::size_t(ky + halfSize) * (2 * halfSize + 1) + kx + halfSize];
+  }
 };
 
 PowerSpectrum powerSpectrum(std::span<const Point2> points, int halfSize);

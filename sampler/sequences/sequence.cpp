@@ -50,7 +50,10 @@ std::uint32_t nthPrime(std::uint32_t p) {
       bool prime = true;
       for (std::uint32_t q : out) {
         if (q * q > c) break;
-        if (c % q == 0) { prime = false; break; }
+        if (c % q == 0) {
+          prime = false;
+          break;
+        }
       }
       if (prime) out.push_back(c);
     }
@@ -65,8 +68,7 @@ double sequenceSample(const SequenceOptions &o, std::uint64_t index, std::uint32
   // One independent seed per (instance, dimension).
   const std::uint64_t seed = hash3(o.seed, instance, dim);
   switch (o.kind) {
-    case SequenceKind::Random:
-      return independentSample(hashCombine(o.seed, instance), index, dim);
+    case SequenceKind::Random: return independentSample(hashCombine(o.seed, instance), index, dim);
     case SequenceKind::Sobol: {
       std::uint32_t bits = sobolBits(index, dim);
       if (o.scramble == Scramble::Owen) bits = owenScramble(bits, seed);

@@ -54,7 +54,9 @@ BilinearTarget::BilinearTarget(double w00, double w10, double w01, double w11)
   if (norm_ <= 0) throw std::invalid_argument("bilinear target: all weights are zero");
 }
 
-std::string BilinearTarget::spec() const { return formatSpec("bilinear", {w_[0], w_[1], w_[2], w_[3]}); }
+std::string BilinearTarget::spec() const {
+  return formatSpec("bilinear", {w_[0], w_[1], w_[2], w_[3]});
+}
 
 double BilinearTarget::pdf(Point2 p) const {
   if (!inUnitSquare(p)) return 0;
@@ -71,7 +73,8 @@ double BilinearTarget::mass(const Box2 &box) const {
   auto upper = [](double lo, double hi) { return 0.5 * (hi * hi - lo * lo); };
   const double x0 = lower(b.lo.x, b.hi.x), x1 = upper(b.lo.x, b.hi.x);
   const double y0 = lower(b.lo.y, b.hi.y), y1 = upper(b.lo.y, b.hi.y);
-  return std::max(0.0, (w_[0] * x0 * y0 + w_[1] * x1 * y0 + w_[2] * x0 * y1 + w_[3] * x1 * y1) / norm_);
+  return std::max(0.0,
+                  (w_[0] * x0 * y0 + w_[1] * x1 * y0 + w_[2] * x0 * y1 + w_[3] * x1 * y1) / norm_);
 }
 
 Inversion BilinearTarget::invert(Point2 u) const {
@@ -153,8 +156,10 @@ double GaussianTarget::pdf(Point2 p) const { return ax_.pdf(p.x) * ay_.pdf(p.y);
 double GaussianTarget::mass(const Box2 &box) const {
   const Box2 b = box.clipped();
   if (b.area() <= 0) return 0;
-  const double mx = normalInterval((b.lo.x - ax_.mean) / ax_.sigma, (b.hi.x - ax_.mean) / ax_.sigma);
-  const double my = normalInterval((b.lo.y - ay_.mean) / ay_.sigma, (b.hi.y - ay_.mean) / ay_.sigma);
+  const double mx =
+      normalInterval((b.lo.x - ax_.mean) / ax_.sigma, (b.hi.x - ax_.mean) / ax_.sigma);
+  const double my =
+      normalInterval((b.lo.y - ay_.mean) / ay_.sigma, (b.hi.y - ay_.mean) / ay_.sigma);
   return mx / ax_.total * (my / ay_.total);
 }
 
@@ -199,9 +204,9 @@ double QuarterDiscTarget::mass(const Box2 &box) const {
 
 Inversion QuarterDiscTarget::invert(Point2 u) const {
   const double t = clamp01(u.x) * (std::numbers::pi / 4);
-  const double x = invertMonotone(discColumnIntegral,
-                                  [](double s) { return std::sqrt(std::max(0.0, 1 - s * s)); },
-                                  t, 0.0, 1.0);
+  const double x = invertMonotone(
+      discColumnIntegral, [](double s) { return std::sqrt(std::max(0.0, 1 - s * s)); }, t, 0.0,
+      1.0);
   const double h = std::max(std::sqrt(std::max(0.0, 1 - x * x)), kTinyDensity);
   Inversion out;
   out.x = {x, clamp01(u.y) * h};
@@ -245,8 +250,10 @@ Inversion StepTarget::invert(Point2 u) const {
   const double t = clamp01(u.x) * norm_;
   const double leftMass = left_ * x0_;
   double x;
-  if (t < leftMass) x = t / left_;
-  else x = right_ > 0 ? std::min(1.0, x0_ + (t - leftMass) / right_) : x0_;
+  if (t < leftMass)
+    x = t / left_;
+  else
+    x = right_ > 0 ? std::min(1.0, x0_ + (t - leftMass) / right_) : x0_;
   const double density = std::max(x < x0_ ? left_ : right_, kTinyDensity * norm_);
   Inversion out;
   out.x = {x, clamp01(u.y)};

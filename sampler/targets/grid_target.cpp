@@ -16,9 +16,12 @@ std::vector<double> GridTarget::uniformEdges(int cells) {
 GridTarget::GridTarget(std::vector<double> xEdges, std::vector<double> yEdges,
                        const std::vector<double> &density, std::string spec, Domain domain,
                        const std::string &source)
-    : xEdges_(std::move(xEdges)), yEdges_(std::move(yEdges)),
-      cols_(int(xEdges_.size()) - 1), rows_(int(yEdges_.size()) - 1),
-      spec_(std::move(spec)), domain_(domain) {
+    : xEdges_(std::move(xEdges)),
+      yEdges_(std::move(yEdges)),
+      cols_(int(xEdges_.size()) - 1),
+      rows_(int(yEdges_.size()) - 1),
+      spec_(std::move(spec)),
+      domain_(domain) {
   auto checkEdges = [&](const std::vector<double> &e, const char *axis) {
     if (e.size() < 2 || e.front() != 0.0 || e.back() != 1.0)
       throw std::invalid_argument(source + ": " + axis + " cell edges must run from 0 to 1");

@@ -14,7 +14,10 @@ double invertMonotone(const Cdf &cdf, const Pdf &pdf, double t, double lo, doubl
   for (int it = 0; it < 200; ++it) {
     const double f = cdf(x) - t;
     if (f == 0) return x;
-    if (f < 0) lo = x; else hi = x;
+    if (f < 0)
+      lo = x;
+    else
+      hi = x;
     const double width = hi - lo;
     if (width <= 4e-16 * std::max(1.0, std::abs(x))) break;
     // Newton only while it shrinks the bracket fast; where the computed CDF

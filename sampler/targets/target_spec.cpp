@@ -39,8 +39,8 @@ std::vector<double> parseNumberList(const std::string &spec, const std::string &
     double v = 0;
     const auto [end, ec] = std::from_chars(item.data(), item.data() + item.size(), v);
     if (item.empty() || ec != std::errc() || end != item.data() + item.size() || !std::isfinite(v))
-      throw std::invalid_argument("target '" + spec + "': '" + item + "' is not a number (expected " +
-                                  expected + ")");
+      throw std::invalid_argument("target '" + spec + "': '" + item +
+                                  "' is not a number (expected " + expected + ")");
     values.push_back(v);
     pos = comma + 1;
   }
@@ -87,7 +87,8 @@ std::unique_ptr<Target> makeTarget(const std::string &spec) {
   }
   if (family == "image" || family == "envmap") {
     if (args.empty())
-      throw std::invalid_argument("target '" + spec + "': expected a file path after '" + family + ":'");
+      throw std::invalid_argument("target '" + spec + "': expected a file path after '" + family +
+                                  ":'");
     return family == "image" ? std::unique_ptr<Target>(loadImageTarget(args))
                              : std::unique_ptr<Target>(loadEnvmapTarget(args));
   }

@@ -65,7 +65,11 @@ void BM_StarDiscrepancy(benchmark::State &state) {
   const bool nonUniform = state.range(1);
   for (auto _ : state) benchmark::DoNotOptimize(starDiscrepancy(pts, nonUniform ? &disc : nullptr));
 }
-BENCHMARK(BM_StarDiscrepancy)->Args({4096, 0})->Args({4096, 1})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_StarDiscrepancy)
+    ->Args({4096, 0})
+    ->Args({4096, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 void BM_L2(benchmark::State &state) {
   const auto pts = owenSobol(state.range(0));

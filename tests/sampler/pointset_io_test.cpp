@@ -1,12 +1,12 @@
 // Point-set files: exact round trips and clear errors on malformed input.
-#include <gtest/gtest.h>
+#include "sampler/io/pointset_io.h"
 
-#include <filesystem>
+#include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <filesystem>
 #include <fstream>
 
-#include "sampler/io/pointset_io.h"
 #include "sampler/sequences/sequence.h"
 
 namespace nuld {

@@ -15,10 +15,16 @@ namespace {
 
 // Joe & Kuo's reference program (and e.g. Apache Commons Math's tests), index 0 included.
 TEST(Sobol, FirstPointsMatchPublishedValues) {
-  const double expected[10][3] = {
-      {0, 0, 0},           {0.5, 0.5, 0.5},         {0.75, 0.25, 0.25},    {0.25, 0.75, 0.75},
-      {0.375, 0.375, 0.625}, {0.875, 0.875, 0.125}, {0.625, 0.125, 0.875}, {0.125, 0.625, 0.375},
-      {0.1875, 0.3125, 0.9375}, {0.6875, 0.8125, 0.4375}};
+  const double expected[10][3] = {{0, 0, 0},
+                                  {0.5, 0.5, 0.5},
+                                  {0.75, 0.25, 0.25},
+                                  {0.25, 0.75, 0.75},
+                                  {0.375, 0.375, 0.625},
+                                  {0.875, 0.875, 0.125},
+                                  {0.625, 0.125, 0.875},
+                                  {0.125, 0.625, 0.375},
+                                  {0.1875, 0.3125, 0.9375},
+                                  {0.6875, 0.8125, 0.4375}};
   for (int i = 0; i < 10; ++i)
     for (int d = 0; d < 3; ++d) EXPECT_EQ(sobolSample(i, d), expected[i][d]) << i << "," << d;
 }
@@ -97,8 +103,9 @@ TEST(Sequences, AllOutputsInUnitSquareAndDeterministic) {
         ASSERT_LT(a.points[i].y, 1.0);
         ASSERT_EQ(a.points[i], b.points[i]);
       }
-      if (scr != Scramble::None || kind == SequenceKind::Random)
+      if (scr != Scramble::None || kind == SequenceKind::Random) {
         EXPECT_NE(a.instance(0)[5], a.instance(1)[5]) << "instances must differ";
+      }
     }
 }
 

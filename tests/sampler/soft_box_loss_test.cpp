@@ -1,5 +1,7 @@
 // The soft box loss against its oracles: the hard loss, the closed-form
 // L2asd, central finite differences, and an unculled evaluation.
+#include "sampler/loss/soft_box_loss.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -11,7 +13,6 @@
 #include "sampler/loss/box_mass.h"
 #include "sampler/loss/boxes.h"
 #include "sampler/loss/point_grid.h"
-#include "sampler/loss/soft_box_loss.h"
 #include "sampler/metrics/discrepancy.h"
 #include "sampler/sequences/sequence.h"
 #include "sampler/targets/basic_targets.h"
@@ -65,7 +66,9 @@ TEST(SoftBoxLoss, TendsToHardLossAsAlphaGrows) {
     bound /= double(pr.boxes.size());
     const double gap = std::abs(softBoxLoss(pts, pr.boxes, pr.masses, {alpha}) - hard);
     EXPECT_LE(gap, bound * (1 + 1e-9) + 1e-16) << "alpha " << alpha;
-    if (alpha == 1e9) EXPECT_LT(gap, 1e-9 * hard);
+    if (alpha == 1e9) {
+      EXPECT_LT(gap, 1e-9 * hard);
+    }
   }
 }
 

@@ -9,13 +9,15 @@ namespace nuld::cli {
 
 std::unique_ptr<Target> targetFor(const std::string &spec, const PointSet &set) {
   if (!spec.empty()) return makeTarget(spec);
-  if (auto it = set.metadata.find("target"); it != set.metadata.end()) return makeTarget(it->second);
+  if (auto it = set.metadata.find("target"); it != set.metadata.end())
+    return makeTarget(it->second);
   return std::make_unique<UniformTarget>();
 }
 
 void mapByInverseCdf(PointSet &set, const Target &target) {
   if (!target.hasInverse())
-    throw std::invalid_argument("target '" + target.spec() + "' has no inverse CDF to map points with");
+    throw std::invalid_argument("target '" + target.spec() +
+                                "' has no inverse CDF to map points with");
   for (Point2 &p : set.points) p = target.invert(p).x;
   set.metadata["target"] = target.spec();
   set.metadata["domain"] = toString(target.domain());

@@ -21,9 +21,11 @@ Runner addEval(CLI::App &app) {
   app.add_option("--target", o->target, "target SPEC (default: the file's, else uniform)");
   app.add_option("--metric", o->metric,
                  "l2star, l2asd, dstar, l2 (grid L2asd against the target) or all")
-      ->check(CLI::IsMember({"l2star", "l2asd", "dstar", "l2", "all"}))->capture_default_str();
+      ->check(CLI::IsMember({"l2star", "l2asd", "dstar", "l2", "all"}))
+      ->capture_default_str();
   app.add_option("--grid", o->grid, "grid resolution of the non-uniform L2 measures")
-      ->check(CLI::Range(1, 4096))->capture_default_str();
+      ->check(CLI::Range(1, 4096))
+      ->capture_default_str();
   app.add_flag("--per-instance", o->perInstance, "also print each instance's values");
   app.add_option("--integrand", o->integrand,
                  "also estimate the integral of a test integrand (step, disc, bilinear, gaussian) "
@@ -37,14 +39,17 @@ Runner addEval(CLI::App &app) {
     const auto target = targetFor(o->target, set);
     const bool uniform = target->isUniform();
     std::vector<std::string> metrics;
-    if (o->metric == "all") metrics = {"l2star", "l2asd", "dstar", "l2"};
-    else metrics = {o->metric};
+    if (o->metric == "all")
+      metrics = {"l2star", "l2asd", "dstar", "l2"};
+    else
+      metrics = {o->metric};
     for (const std::string &m : metrics) {
       double sum = 0;
       for (std::size_t k = 0; k < set.instances(); ++k) {
         const auto pts = set.instance(k);
         double v = 0;
-        if (m == "l2star") v = uniform ? l2StarDiscrepancy(pts) : nonuniformL2Star(pts, *target, o->grid);
+        if (m == "l2star")
+          v = uniform ? l2StarDiscrepancy(pts) : nonuniformL2Star(pts, *target, o->grid);
         if (m == "l2asd") v = uniform ? l2asd(pts) : nonuniformL2asd(pts, *target, o->grid);
         if (m == "dstar") v = starDiscrepancy(pts, uniform ? nullptr : target.get());
         if (m == "l2") v = nonuniformL2asd(pts, *target, o->grid);

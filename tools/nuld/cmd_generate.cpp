@@ -16,15 +16,21 @@ Runner addGenerate(CLI::App &app) {
   };
   auto o = std::make_shared<Options>();
   app.add_option("--sequence", o->sequence, "sobol, halton or random")
-      ->check(CLI::IsMember({"sobol", "halton", "random"}))->capture_default_str();
+      ->check(CLI::IsMember({"sobol", "halton", "random"}))
+      ->capture_default_str();
   app.add_option("--scramble", o->scramble, "owen, shift (digital), cp (Cranley-Patterson) or none")
-      ->check(CLI::IsMember({"owen", "shift", "cp", "none"}))->capture_default_str();
-  app.add_option("--n", o->n, "points per set (any N >= 1)")->required()->check(CLI::PositiveNumber);
+      ->check(CLI::IsMember({"owen", "shift", "cp", "none"}))
+      ->capture_default_str();
+  app.add_option("--n", o->n, "points per set (any N >= 1)")
+      ->required()
+      ->check(CLI::PositiveNumber);
   app.add_option("--seed", o->seed, "randomization seed")->capture_default_str();
   app.add_option("--instances", o->instances, "number of independently randomized sets")
-      ->check(CLI::PositiveNumber)->capture_default_str();
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   app.add_option("--target", o->target, "map the points to this target by inverse CDF (SPEC)");
-  app.add_option("-o,--output", o->output, "output file (.ptsb: binary; otherwise text)")->required();
+  app.add_option("-o,--output", o->output, "output file (.ptsb: binary; otherwise text)")
+      ->required();
   return [o] {
     SequenceOptions so{parseSequenceKind(o->sequence), parseScramble(o->scramble), o->seed};
     if (so.kind != SequenceKind::Random && so.scramble == Scramble::None && o->instances > 1)
@@ -32,7 +38,8 @@ Runner addGenerate(CLI::App &app) {
     PointSet set = generatePointSet(so, o->n, o->instances);
     if (!o->target.empty()) mapByInverseCdf(set, *makeTarget(o->target));
     writePointSet(o->output, set);
-    std::cerr << "wrote " << set.instances() << " x " << set.n << " points to " << o->output << "\n";
+    std::cerr << "wrote " << set.instances() << " x " << set.n << " points to " << o->output
+              << "\n";
     return 0;
   };
 }

@@ -22,15 +22,19 @@ Runner addPlot(CLI::App &app) {
   auto o = std::make_shared<Options>();
   app.add_option("file", o->file, "point-set file")->required();
   app.add_option("-o,--output", o->output, "PNG to write")->required();
-  app.add_option("--target", o->target, "draw this target's density underneath (default: the file's)");
-  app.add_option("--size", o->size, "image size in pixels")->check(CLI::Range(16, 8192))->capture_default_str();
+  app.add_option("--target", o->target,
+                 "draw this target's density underneath (default: the file's)");
+  app.add_option("--size", o->size, "image size in pixels")
+      ->check(CLI::Range(16, 8192))
+      ->capture_default_str();
   app.add_option("--instance", o->instance, "which set of the file")->capture_default_str();
   app.add_option("--radius", o->radius, "dot radius in pixels (default from N)");
   return [o] {
     const PointSet set = readPointSet(o->file);
     if (o->instance >= set.instances())
       throw std::invalid_argument(o->file + ": has " + std::to_string(set.instances()) +
-                                  " sets; --instance " + std::to_string(o->instance) + " is out of range");
+                                  " sets; --instance " + std::to_string(o->instance) +
+                                  " is out of range");
     const auto target = targetFor(o->target, set);
     const int S = o->size;
     Image img{S, S, 3, std::vector<float>(std::size_t(S) * S * 3, 1.0f)};
@@ -38,7 +42,8 @@ Runner addPlot(CLI::App &app) {
     if (!target->isUniform()) {
       std::vector<double> d(std::size_t(S) * S);
       for (int y = 0; y < S; ++y)
-        for (int x = 0; x < S; ++x) d[std::size_t(y) * S + x] = target->pdf({(x + 0.5) / S, 1 - (y + 0.5) / S});
+        for (int x = 0; x < S; ++x)
+          d[std::size_t(y) * S + x] = target->pdf({(x + 0.5) / S, 1 - (y + 0.5) / S});
       const double peak = std::max(*std::max_element(d.begin(), d.end()), 1e-300);
       for (std::size_t i = 0; i < d.size(); ++i) {
         const float t = float(std::sqrt(d[i] / peak));
@@ -47,7 +52,8 @@ Runner addPlot(CLI::App &app) {
         img.pixels[3 * i + 2] = 1.0f;
       }
     }
-    const double r = o->radius > 0 ? o->radius : std::clamp(0.35 * S / std::sqrt(double(set.n)), 1.0, 6.0);
+    const double r =
+        o->radius > 0 ? o->radius : std::clamp(0.35 * S / std::sqrt(double(set.n)), 1.0, 6.0);
     for (const Point2 &p : set.instance(o->instance)) {
       const double cx = p.x * S, cy = (1 - p.y) * S;
       for (int y = int(cy - r - 1); y <= int(cy + r + 1); ++y)
@@ -73,7 +79,9 @@ Runner addSpectrum(CLI::App &app) {
   app.add_option("file", o->file, "point-set file (all instances are averaged)")->required();
   app.add_option("-o,--output", o->output, "spectrum image (PNG or EXR)")->required();
   app.add_option("--csv", o->csv, "radial average as CSV (columns: frequency,power)");
-  app.add_option("--half-size", o->half, "frequencies -K..K per axis")->check(CLI::Range(1, 1024))->capture_default_str();
+  app.add_option("--half-size", o->half, "frequencies -K..K per axis")
+      ->check(CLI::Range(1, 1024))
+      ->capture_default_str();
   return [o] {
     const PointSet set = readPointSet(o->file);
     const PowerSpectrum ps = averagePowerSpectrum(set, o->half);

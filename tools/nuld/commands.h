@@ -3,7 +3,6 @@
 // and returns the function that runs it once the command line is parsed.
 
 #include <CLI/CLI.hpp>
-
 #include <functional>
 
 namespace nuld::cli {

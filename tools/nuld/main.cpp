@@ -2,7 +2,6 @@
 // The command-line contract is DESIGN.md §7.
 
 #include <CLI/CLI.hpp>
-
 #include <iostream>
 #include <map>
 
