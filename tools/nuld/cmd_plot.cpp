@@ -37,16 +37,21 @@ Runner addPlot(CLI::App &app) {
                                   " is out of range");
     const auto target = targetFor(o->target, set);
     const int S = o->size;
+    // Lat-long convention on the sphere: zenith (v = 0) at the top; the square upright (y up).
+    const bool vDown = target->domain() != Domain::Square;
+    auto toV = [&](double rowCenter) { return vDown ? rowCenter : 1 - rowCenter; };
     Image img{S, S, 3, std::vector<float>(std::size_t(S) * S * 3, 1.0f)};
     // Background: the density in light blue, normalized to its maximum.
     if (!target->isUniform()) {
       std::vector<double> d(std::size_t(S) * S);
       for (int y = 0; y < S; ++y)
         for (int x = 0; x < S; ++x)
-          d[std::size_t(y) * S + x] = target->pdf({(x + 0.5) / S, 1 - (y + 0.5) / S});
+          d[std::size_t(y) * S + x] = target->pdf({(x + 0.5) / S, toV((y + 0.5) / S)});
+      // Log scale relative to the mean density: HDR maps span many decades.
       const double peak = std::max(*std::max_element(d.begin(), d.end()), 1e-300);
+      const double scale = std::log1p(peak);
       for (std::size_t i = 0; i < d.size(); ++i) {
-        const float t = float(std::sqrt(d[i] / peak));
+        const float t = float(std::log1p(d[i]) / scale);
         img.pixels[3 * i + 0] = 1 - 0.45f * t;
         img.pixels[3 * i + 1] = 1 - 0.25f * t;
         img.pixels[3 * i + 2] = 1.0f;
@@ -55,7 +60,7 @@ Runner addPlot(CLI::App &app) {
     const double r =
         o->radius > 0 ? o->radius : std::clamp(0.35 * S / std::sqrt(double(set.n)), 1.0, 6.0);
     for (const Point2 &p : set.instance(o->instance)) {
-      const double cx = p.x * S, cy = (1 - p.y) * S;
+      const double cx = p.x * S, cy = (vDown ? p.y : 1 - p.y) * S;
       for (int y = int(cy - r - 1); y <= int(cy + r + 1); ++y)
         for (int x = int(cx - r - 1); x <= int(cx + r + 1); ++x) {
           if (x < 0 || y < 0 || x >= S || y >= S) continue;
