@@ -45,5 +45,23 @@ fails_with "missing point file" "missing.txt" "$nuld" eval "$dir/missing.txt"
 fails_with "output directory missing" "does not exist" "$nuld" generate --n 4 -o "$dir/no/dir/x.txt"
 fails_with "bad N" "n" "$nuld" generate --n 0 -o "$dir/x.txt"
 
+# optimize: an interrupted and resumed run ends identical to an uninterrupted one.
+opt=(--target quarterdisc --n 32 --epochs 40 --boxes 512 --instances 2 --seed 5 -q)
+ok "optimize" "$nuld" optimize "${opt[@]}" -o "$dir/full.txt"
+ok "optimize, stopped" "$nuld" optimize "${opt[@]}" --stop-after 17 -o "$dir/resumed.txt"
+[[ -f "$dir/resumed.txt.ckpt" && ! -f "$dir/resumed.txt" ]] || { echo "FAIL: stop-after leaves only a checkpoint"; failures=$((failures + 1)); }
+ok "optimize, resumed" "$nuld" optimize "${opt[@]}" --resume -o "$dir/resumed.txt"
+cmp -s "$dir/full.txt" "$dir/resumed.txt" || { echo "FAIL: resumed run differs from the uninterrupted one"; failures=$((failures + 1)); }
+[[ ! -f "$dir/resumed.txt.ckpt" ]] || { echo "FAIL: checkpoint left after completion"; failures=$((failures + 1)); }
+grep -q '^# final_metrics: l2asd=' "$dir/full.txt" || { echo "FAIL: final metrics metadata"; failures=$((failures + 1)); }
+ok "optimize, stopped early" "$nuld" optimize "${opt[@]}" --stop-after 5 -o "$dir/o.txt"
+fails_with "optimize resume with other settings" "other settings" \
+  "$nuld" optimize --target quarterdisc --n 32 --epochs 40 --boxes 512 --instances 2 --seed 6 -q --resume -o "$dir/o.txt"
+fails_with "optimize unknown target" "unknown target 'disk'" "$nuld" optimize --target disk --n 8 -o "$dir/x.txt"
+fails_with "optimize bad mass" "expected mc:K" "$nuld" optimize --target uniform --n 8 --mass mc:lots -o "$dir/x.txt"
+fails_with "optimize bad lr" "learning rates" "$nuld" optimize --target uniform --n 8 --lr -3 -o "$dir/x.txt"
+fails_with "optimize unreadable image" "nope.exr" "$nuld" optimize --target image:"$dir/nope.exr" --n 8 -o "$dir/x.txt"
+fails_with "optimize unknown preset" "unknown preset" "$nuld" optimize --target uniform --n 8 --preset turbo -o "$dir/x.txt"
+
 echo "$((failures == 0 ? 1 : 0)) passed, $failures failed"
 exit $((failures > 0))

@@ -13,5 +13,6 @@ Runner addGenerate(CLI::App &app);
 Runner addEval(CLI::App &app);
 Runner addPlot(CLI::App &app);
 Runner addSpectrum(CLI::App &app);
+Runner addOptimize(CLI::App &app);
 
 }  // namespace nuld::cli

@@ -20,6 +20,8 @@ int main(int argc, char **argv) {
   add("generate", "Generate Sobol, Halton or random point sets, optionally mapped to a target",
       nuld::cli::addGenerate);
   add("eval", "Print discrepancies of a point-set file as 'NAME VALUE' lines", nuld::cli::addEval);
+  add("optimize", "Optimize point sets for a target by gradient descent (Algorithm 1)",
+      nuld::cli::addOptimize);
   add("plot", "Draw a point set (over its target density) to a PNG", nuld::cli::addPlot);
   add("spectrum", "Power spectrum of a point set: PNG image and radial-average CSV",
       nuld::cli::addSpectrum);

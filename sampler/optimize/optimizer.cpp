@@ -1,0 +1,317 @@
+#include "sampler/optimize/optimizer.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "sampler/io/atomic_file.h"
+#include "sampler/loss/box_mass.h"
+#include "sampler/loss/soft_box_loss.h"
+#include "sampler/optimize/adam.h"
+#include "sampler/optimize/exact_l2asd.h"
+#include "sampler/optimize/schedule.h"
+#include "sampler/sequences/rng.h"
+#include "sampler/sequences/sequence.h"
+
+namespace nuld {
+
+Mapping parseMapping(const std::string &s) {
+  if (s == "mapped") return Mapping::Mapped;
+  if (s == "clamp") return Mapping::Clamp;
+  if (s == "toroidal") return Mapping::Toroidal;
+  throw std::invalid_argument("unknown mapping '" + s + "' (expected mapped, clamp or toroidal)");
+}
+
+std::string toString(Mapping m) {
+  switch (m) {
+    case Mapping::Mapped: return "mapped";
+    case Mapping::Clamp: return "clamp";
+    case Mapping::Toroidal: return "toroidal";
+  }
+  return "?";
+}
+
+Objective parseObjective(const std::string &s) {
+  if (s == "soft") return Objective::SoftBoxes;
+  if (s == "l2asd") return Objective::ExactL2asd;
+  throw std::invalid_argument("unknown objective '" + s + "' (expected soft or l2asd)");
+}
+
+std::string toString(Objective o) { return o == Objective::SoftBoxes ? "soft" : "l2asd"; }
+
+std::string OptimizerSettings::describe() const {
+  std::ostringstream s;
+  s.precision(17);
+  s << "preset=" << preset << " n=" << n << " instances=" << instances << " epochs=" << epochs
+    << " boxes=" << boxes << " box_kind=" << toString(boxKind)
+    << " mass=" << (mcSamples ? "mc:" + std::to_string(mcSamples) : std::string("exact"))
+    << " mapping=" << toString(mapping) << " objective=" << toString(objective) << " lr=" << lrStart
+    << ".." << lrEnd << " alpha=" << alphaStart << ".." << alphaEnd << " ramp=" << rampFraction
+    << " cutoff=" << cutoff << " seed=" << seed;
+  return s.str();
+}
+
+void OptimizerSettings::validate() const {
+  auto bad = [](const std::string &what) { throw std::invalid_argument("optimizer: " + what); };
+  if (n < 1) bad("n must be >= 1");
+  if (instances < 1) bad("instances must be >= 1");
+  if (epochs < 1) bad("epochs must be >= 1");
+  if (objective == Objective::SoftBoxes && boxes < 1) bad("boxes must be >= 1");
+  if (!(lrStart > 0 && lrEnd > 0) || !std::isfinite(lrStart) || !std::isfinite(lrEnd))
+    bad("learning rates must be finite and > 0");
+  if (!(alphaStart > 0 && alphaEnd > 0) || !std::isfinite(alphaStart) || !std::isfinite(alphaEnd))
+    bad("alpha must be finite and > 0");
+  if (!(rampFraction >= 0 && rampFraction <= 1)) bad("ramp fraction must lie in [0, 1]");
+  if (!(cutoff > 0)) bad("cutoff must be > 0");
+}
+
+OptimizerSettings presetSettings(const std::string &name, std::size_t n) {
+  OptimizerSettings s;
+  s.preset = name;
+  s.n = n;
+  const bool large = n >= 2048;
+  if (name == "uniform") {
+    s.epochs = 2000;
+    s.boxes = large ? 32768 : 8192;
+    s.lrStart = large ? 1e-4 : 1e-3;
+    s.alphaEnd = large ? 6000 : 2000;
+  } else if (name == "nonuniform" || name == "nonuniform-mc") {
+    s.epochs = 1000;
+    s.lrStart = 1e-4;
+    s.alphaEnd = large ? 6000 : 2000;
+    s.boxes = large ? 32768 : 8192;
+    if (name == "nonuniform-mc") {
+      s.mcSamples = std::size_t(1) << 17;
+      if (!large) s.boxes = 4096;
+    }
+  } else if (name == "sphere" || name == "sphere-mc") {
+    s.epochs = 5000;
+    s.boxes = 16384;
+    s.lrStart = 1e-4;
+    s.alphaEnd = 6000;
+    if (name == "sphere-mc") s.mcSamples = 65536;
+  } else {
+    throw std::invalid_argument(
+        "unknown preset '" + name +
+        "' (expected uniform, nonuniform, nonuniform-mc, sphere or sphere-mc)");
+  }
+  s.lrEnd = 1e-7;
+  s.alphaStart = 20;
+  s.rampFraction = 0.5;
+  return s;
+}
+
+std::string defaultPreset(const Target &target) {
+  if (target.domain() != Domain::Square) return "sphere";
+  return target.isUniform() ? "uniform" : "nonuniform";
+}
+
+DirectOptimizer::DirectOptimizer(const Target &target, OptimizerSettings settings)
+    : target_(target), settings_(std::move(settings)) {
+  settings_.validate();
+  if (settings_.mapping == Mapping::Mapped && !target.hasInverse())
+    throw std::invalid_argument("optimizer: target '" + target.spec() +
+                                "' has no inverse CDF; use --mapping clamp or toroidal");
+  if (settings_.objective == Objective::ExactL2asd && !target.isUniform())
+    throw std::invalid_argument("optimizer: the exact l2asd objective needs a uniform target");
+}
+
+OptimizerState DirectOptimizer::initialState() const {
+  const std::size_t n = settings_.n, K = settings_.instances;
+  OptimizerState s;
+  const PointSet init =
+      generatePointSet({SequenceKind::Sobol, Scramble::Owen, settings_.seed}, n, K);
+  s.params = init.points;
+  // Unmapped optimization starts from the inverse-CDF image of the same points.
+  if (settings_.mapping != Mapping::Mapped && target_.hasInverse() && !target_.isUniform())
+    for (Point2 &p : s.params) p = target_.invert(p).x;
+  s.m.assign(n * K, Point2{});
+  s.v.assign(n * K, Point2{});
+  s.lastLoss.assign(K, 0.0);
+  return s;
+}
+
+double DirectOptimizer::instanceEpoch(std::size_t k, int epoch, std::span<Point2> params,
+                                      std::span<Point2> grad) const {
+  const OptimizerSettings &s = settings_;
+  const std::size_t n = s.n;
+  const bool mapped = s.mapping == Mapping::Mapped && !target_.isUniform();
+  std::vector<Point2> x(params.begin(), params.end());
+  std::vector<Jacobian2> jac(mapped ? n : 0);
+  if (mapped)
+    for (std::size_t i = 0; i < n; ++i) {
+      const Inversion inv = target_.invert(params[i]);
+      x[i] = inv.x;
+      jac[i] = inv.jacobian;
+    }
+  double loss;
+  if (s.objective == Objective::ExactL2asd) {
+    loss = l2asdSquaredWithGradient(x, grad);
+  } else {
+    Rng rng(hashCombine(s.seed, k), std::uint64_t(epoch));
+    std::vector<Box2> boxes(s.boxes);
+    std::vector<double> masses(s.boxes);
+    sampleBoxes(s.boxKind, rng, boxes);
+    if (s.mcSamples)
+      MonteCarloBoxMass(target_, s.mcSamples).estimate(boxes, masses, rng);
+    else
+      exactBoxMasses(target_, boxes, masses);
+    const double alpha = linearRamp(s.alphaStart, s.alphaEnd, s.rampFraction, epoch, s.epochs);
+    loss = softBoxLoss(x, boxes, masses, {alpha, s.cutoff}, grad);
+  }
+  if (mapped)
+    for (std::size_t i = 0; i < n; ++i) grad[i] = jac[i].transposeTimes(grad[i]);
+  return loss;
+}
+
+void DirectOptimizer::constrain(std::span<Point2> params) const {
+  constexpr double kBelowOne = 0x1.fffffffffffffp-1;
+  auto wrap = [](double t) {
+    t -= std::floor(t);
+    return t < 1 ? t : 0.0;
+  };
+  const bool sphere = target_.domain() != Domain::Square;
+  for (Point2 &p : params) {
+    if (!isFinite(p)) throw std::runtime_error("optimizer: a point became non-finite");
+    if (settings_.mapping == Mapping::Mapped) {
+      // u lives in the unit square; the inverse CDF is not periodic in u.
+      p = {std::clamp(p.x, 0.0, kBelowOne), std::clamp(p.y, 0.0, kBelowOne)};
+    } else if (sphere) {
+      // Through a pole: the same meridian plane, half a turn around; longitude is periodic.
+      if (p.y < 0)
+        p = {p.x + 0.5, -p.y};
+      else if (p.y > 1)
+        p = {p.x + 0.5, 2 - p.y};
+      p = {wrap(p.x), std::clamp(p.y, 0.0, kBelowOne)};
+    } else if (settings_.mapping == Mapping::Toroidal) {
+      p = {wrap(p.x), wrap(p.y)};
+    } else {
+      p = {std::clamp(p.x, 0.0, kBelowOne), std::clamp(p.y, 0.0, kBelowOne)};
+    }
+  }
+}
+
+void DirectOptimizer::run(OptimizerState &state, int untilEpoch,
+                          const std::function<void(const EpochReport &)> &progress) const {
+  const OptimizerSettings &s = settings_;
+  const std::size_t n = s.n, K = s.instances;
+  if (state.params.size() != n * K || state.m.size() != n * K || state.v.size() != n * K)
+    throw std::invalid_argument("optimizer: state does not match the settings");
+  state.lastLoss.resize(K, 0.0);
+  untilEpoch = std::min(untilEpoch, s.epochs);
+  std::vector<Point2> grad(n * K);
+  for (int epoch = state.epoch; epoch < untilEpoch; ++epoch) {
+    const double lr = logLinear(s.lrStart, s.lrEnd, epoch, s.epochs);
+    // Instances are independent: run them side by side (the loss kernel is
+    // parallel inside too; TBB balances the two levels).
+    tbb::parallel_for(std::size_t(0), K, [&](std::size_t k) {
+      const auto params = std::span(state.params).subspan(k * n, n);
+      const auto g = std::span(grad).subspan(k * n, n);
+      state.lastLoss[k] = instanceEpoch(k, epoch, params, g);
+      adamStep(params, g, std::span(state.m).subspan(k * n, n),
+               std::span(state.v).subspan(k * n, n), epoch + 1, lr);
+      constrain(params);
+    });
+    state.epoch = epoch + 1;
+    if (progress) {
+      EpochReport r;
+      r.epoch = epoch + 1;
+      r.epochs = s.epochs;
+      for (double l : state.lastLoss) r.loss += l / double(K);
+      r.alpha = s.objective == Objective::SoftBoxes
+                    ? linearRamp(s.alphaStart, s.alphaEnd, s.rampFraction, epoch, s.epochs)
+                    : 0.0;
+      r.lr = lr;
+      progress(r);
+    }
+  }
+}
+
+PointSet DirectOptimizer::points(const OptimizerState &state) const {
+  PointSet set;
+  set.n = settings_.n;
+  set.points = state.params;
+  if (settings_.mapping == Mapping::Mapped && !target_.isUniform())
+    for (Point2 &p : set.points) p = target_.invert(p).x;
+  set.metadata["target"] = target_.spec();
+  set.metadata["domain"] = toString(target_.domain());
+  set.metadata["generator"] = "optimized";
+  set.metadata["settings"] = settings_.describe();
+  set.metadata["epochs_done"] = std::to_string(state.epoch);
+  return set;
+}
+
+namespace {
+constexpr char kCheckpointMagic[8] = {'N', 'U', 'L', 'D', 'C', 'K', 'P', '1'};
+
+void writeBlock(std::ostream &out, const void *data, std::size_t bytes) {
+  out.write(static_cast<const char *>(data), std::streamsize(bytes));
+}
+void readBlock(std::istream &in, void *data, std::size_t bytes, const std::string &path) {
+  in.read(static_cast<char *>(data), std::streamsize(bytes));
+  if (!in) throw std::runtime_error(path + ": truncated checkpoint");
+}
+std::string fingerprint(const DirectOptimizer &opt, const std::string &targetSpec) {
+  return opt.settings().describe() + " target=" + targetSpec;
+}
+}  // namespace
+
+void saveCheckpoint(const std::string &path, const DirectOptimizer &opt,
+                    const std::string &targetSpec, const OptimizerState &state) {
+  std::ostringstream out;
+  const std::string fp = fingerprint(opt, targetSpec);
+  const std::uint64_t fpBytes = fp.size(), count = state.params.size(), K = state.lastLoss.size();
+  const std::int64_t epoch = state.epoch;
+  writeBlock(out, kCheckpointMagic, sizeof(kCheckpointMagic));
+  writeBlock(out, &fpBytes, 8);
+  writeBlock(out, fp.data(), fp.size());
+  writeBlock(out, &epoch, 8);
+  writeBlock(out, &count, 8);
+  writeBlock(out, &K, 8);
+  for (const auto *v : {&state.params, &state.m, &state.v})
+    writeBlock(out, v->data(), count * sizeof(Point2));
+  writeBlock(out, state.lastLoss.data(), K * sizeof(double));
+  writeFileAtomically(path, out.str());
+}
+
+OptimizerState loadCheckpoint(const std::string &path, const DirectOptimizer &opt,
+                              const std::string &targetSpec) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error(path + ": cannot open checkpoint");
+  char magic[8];
+  readBlock(in, magic, 8, path);
+  if (std::memcmp(magic, kCheckpointMagic, 8) != 0)
+    throw std::runtime_error(path + ": not a nuld optimizer checkpoint");
+  std::uint64_t fpBytes = 0, count = 0, K = 0;
+  std::int64_t epoch = 0;
+  readBlock(in, &fpBytes, 8, path);
+  if (fpBytes > (1u << 20)) throw std::runtime_error(path + ": corrupt checkpoint header");
+  std::string fp(fpBytes, '\0');
+  readBlock(in, fp.data(), fpBytes, path);
+  const std::string expected = fingerprint(opt, targetSpec);
+  if (fp != expected)
+    throw std::runtime_error(path + ": checkpoint was made with other settings:\n  checkpoint: " +
+                             fp + "\n  requested:  " + expected);
+  readBlock(in, &epoch, 8, path);
+  readBlock(in, &count, 8, path);
+  readBlock(in, &K, 8, path);
+  const OptimizerSettings &s = opt.settings();
+  if (count != s.n * s.instances || K != s.instances || epoch < 0 || epoch > s.epochs)
+    throw std::runtime_error(path + ": checkpoint sizes do not match its settings");
+  OptimizerState state;
+  state.epoch = int(epoch);
+  for (auto *v : {&state.params, &state.m, &state.v}) {
+    v->resize(count);
+    readBlock(in, v->data(), count * sizeof(Point2), path);
+  }
+  state.lastLoss.resize(K);
+  readBlock(in, state.lastLoss.data(), K * sizeof(double), path);
+  return state;
+}
+
+}  // namespace nuld

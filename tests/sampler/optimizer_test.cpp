@@ -1,0 +1,180 @@
+// The direct optimizer: it improves discrepancy, stays in the domain, never
+// produces NaN, and resumes bit-identically from a checkpoint.
+#include "sampler/optimize/optimizer.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "sampler/metrics/discrepancy.h"
+#include "sampler/optimize/exact_l2asd.h"
+#include "sampler/optimize/schedule.h"
+#include "sampler/sequences/sequence.h"
+#include "sampler/targets/basic_targets.h"
+#include "sampler/targets/grid_target.h"
+
+namespace nuld {
+namespace {
+
+OptimizerSettings small(std::size_t n, int epochs) {
+  OptimizerSettings s = presetSettings("uniform", n);
+  s.epochs = epochs;
+  s.boxes = 2048;
+  s.instances = 2;
+  s.seed = 3;
+  return s;
+}
+
+double meanL2asd(const PointSet &set) {
+  double sum = 0;
+  for (std::size_t k = 0; k < set.instances(); ++k) sum += l2asd(set.instance(k));
+  return sum / double(set.instances());
+}
+
+TEST(Schedule, EndpointsAndShape) {
+  EXPECT_DOUBLE_EQ(logLinear(1e-3, 1e-7, 0, 100), 1e-3);
+  EXPECT_DOUBLE_EQ(logLinear(1e-3, 1e-7, 99, 100), 1e-7);
+  EXPECT_NEAR(logLinear(1e-3, 1e-7, 33, 67), 1e-5, 1e-12);  // geometric midpoint
+  EXPECT_DOUBLE_EQ(linearRamp(20, 2000, 0.5, 0, 1000), 20);
+  EXPECT_DOUBLE_EQ(linearRamp(20, 2000, 0.5, 499, 1000), 2000);
+  EXPECT_DOUBLE_EQ(linearRamp(20, 2000, 0.5, 900, 1000), 2000);
+}
+
+TEST(ExactL2asdObjective, ValueAndGradientMatchOracles) {
+  const PointSet set = generatePointSet({SequenceKind::Random, Scramble::None, 4}, 23, 1);
+  std::vector<Point2> pts = set.points, grad(pts.size());
+  const double value = l2asdSquaredWithGradient(pts, grad);
+  EXPECT_NEAR(value, std::pow(l2asd(pts), 2), 1e-15);
+  // The objective is piecewise quadratic, so central differences are exact
+  // up to rounding (about 1e-16 / h) unless a kink |x_i - x_j| lies within h.
+  const double h = 1e-5;
+  for (std::size_t i = 0; i < pts.size(); ++i)
+    for (int k = 0; k < 2; ++k) {
+      const double x0 = pts[i][k];
+      pts[i][k] = x0 + h;
+      const double up = l2asdSquaredWithGradient(pts);
+      pts[i][k] = x0 - h;
+      const double down = l2asdSquaredWithGradient(pts);
+      pts[i][k] = x0;
+      EXPECT_NEAR(grad[i][k], (up - down) / (2 * h), 1e-7 * std::abs(grad[i][k]) + 1e-10);
+    }
+}
+
+TEST(DirectOptimizer, LowersL2asdFromItsSobolStart) {
+  const UniformTarget uniform;
+  for (Objective obj : {Objective::SoftBoxes, Objective::ExactL2asd}) {
+    OptimizerSettings s = small(64, 300);
+    s.objective = obj;
+    const DirectOptimizer opt(uniform, s);
+    OptimizerState state = opt.initialState();
+    const double before = meanL2asd(opt.points(state));
+    opt.run(state, s.epochs);
+    const double after = meanL2asd(opt.points(state));
+    EXPECT_LT(after, 0.9 * before) << toString(obj);
+  }
+}
+
+TEST(DirectOptimizer, MappedNonUniformImprovesDiscrepancy) {
+  const QuarterDiscTarget disc;
+  OptimizerSettings s = presetSettings("nonuniform", 64);
+  s.epochs = 300;
+  s.boxes = 2048;
+  s.lrStart = 1e-3;
+  const DirectOptimizer opt(disc, s);
+  OptimizerState state = opt.initialState();
+  const double before = nonuniformL2asd(opt.points(state).instance(0), disc);
+  opt.run(state, s.epochs);
+  const PointSet out = opt.points(state);
+  EXPECT_LT(nonuniformL2asd(out.instance(0), disc), 0.9 * before);
+  for (const Point2 &p : out.points) EXPECT_GT(disc.pdf(p), 0.0);
+}
+
+// Every mapping keeps points in the unit square, on the square and the sphere.
+TEST(DirectOptimizer, PointsStayInTheDomain) {
+  std::vector<double> density(16, 1.0);
+  density[5] = 0;
+  const GridTarget sphere(GridTarget::uniformEdges(4), GridTarget::uniformEdges(4), density,
+                          "test-sphere", Domain::Sphere, "test");
+  const StepTarget step(0.5, 0.0, 1.0);  // empty left half
+  for (const Target *t : {static_cast<const Target *>(&sphere), static_cast<const Target *>(&step)})
+    for (Mapping m : {Mapping::Mapped, Mapping::Clamp, Mapping::Toroidal}) {
+      OptimizerSettings s = small(50, 60);
+      s.mapping = m;
+      s.lrStart = 0.05;  // large steps push points across the boundary
+      const DirectOptimizer opt(*t, s);
+      OptimizerState state = opt.initialState();
+      opt.run(state, s.epochs);
+      for (const Point2 &p : opt.points(state).points) {
+        ASSERT_TRUE(p.x >= 0 && p.x < 1 && p.y >= 0 && p.y < 1)
+            << t->spec() << " " << toString(m) << " (" << p.x << ", " << p.y << ")";
+      }
+    }
+}
+
+TEST(DirectOptimizer, NoNaNUnderExtremeSettings) {
+  const StepTarget step(0.5, 0.0, 1.0);
+  const QuarterDiscTarget disc;
+  for (const Target *t : {static_cast<const Target *>(&step), static_cast<const Target *>(&disc)})
+    for (std::size_t n : {1u, 7u}) {
+      OptimizerSettings s = small(n, 40);
+      s.alphaStart = s.alphaEnd = 1e4;
+      s.lrStart = s.lrEnd = 0.1;
+      const DirectOptimizer opt(*t, s);
+      OptimizerState state = opt.initialState();
+      opt.run(state, s.epochs, [&](const EpochReport &r) { ASSERT_TRUE(std::isfinite(r.loss)); });
+      for (const Point2 &p : opt.points(state).points) ASSERT_TRUE(isFinite(p));
+    }
+}
+
+TEST(DirectOptimizer, ResumeFromCheckpointIsBitIdentical) {
+  const BilinearTarget target(1, 2, 0.5, 3);
+  OptimizerSettings s = small(100, 50);
+  s.mcSamples = 4096;  // the Monte Carlo path must resume exactly too
+  const DirectOptimizer opt(target, s);
+  OptimizerState full = opt.initialState();
+  opt.run(full, s.epochs);
+
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("nuld_ckpt_test_" + std::to_string(::getpid()) + ".ckpt");
+  OptimizerState part = opt.initialState();
+  opt.run(part, 23);
+  saveCheckpoint(path.string(), opt, target.spec(), part);
+  OptimizerState resumed = loadCheckpoint(path.string(), opt, target.spec());
+  EXPECT_EQ(resumed.epoch, 23);
+  opt.run(resumed, s.epochs);
+  EXPECT_EQ(resumed.params, full.params);
+  EXPECT_EQ(resumed.m, full.m);
+  EXPECT_EQ(resumed.v, full.v);
+
+  // Other settings: a clear refusal.
+  OptimizerSettings other = s;
+  other.seed = 4;
+  const DirectOptimizer opt2(target, other);
+  try {
+    loadCheckpoint(path.string(), opt2, target.spec());
+    FAIL() << "expected an error";
+  } catch (const std::runtime_error &e) {
+    EXPECT_NE(std::string(e.what()).find("other settings"), std::string::npos);
+  }
+  std::filesystem::remove(path);
+}
+
+TEST(DirectOptimizer, RejectsBadSettings) {
+  const UniformTarget u;
+  OptimizerSettings s = small(10, 10);
+  s.lrStart = -1;
+  EXPECT_THROW(DirectOptimizer(u, s), std::invalid_argument);
+  s = small(10, 10);
+  s.rampFraction = 2;
+  EXPECT_THROW(DirectOptimizer(u, s), std::invalid_argument);
+  EXPECT_THROW(presetSettings("fast", 10), std::invalid_argument);
+  const QuarterDiscTarget disc;
+  s = small(10, 10);
+  s.objective = Objective::ExactL2asd;
+  EXPECT_THROW(DirectOptimizer(disc, s), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace nuld

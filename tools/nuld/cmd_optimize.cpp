@@ -1,0 +1,144 @@
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+
+#include "sampler/io/pointset_io.h"
+#include "sampler/metrics/discrepancy.h"
+#include "sampler/optimize/optimizer.h"
+#include "sampler/targets/target_spec.h"
+#include "tools/nuld/commands.h"
+#include "tools/nuld/progress.h"
+
+namespace nuld::cli {
+namespace {
+
+std::string fmt(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", v);
+  return buf;
+}
+
+}  // namespace
+
+Runner addOptimize(CLI::App &app) {
+  struct Options {
+    std::string target, preset, mass, mapping, objective, boxKind, output;
+    std::size_t n = 0, instances = 1;
+    long epochs = -1, boxes = -1, checkpointEvery = 0, stopAfter = -1;
+    double lr = -1, lrEnd = -1, alpha = -1, alphaEnd = -1, ramp = -1;
+    std::uint64_t seed = 0;
+    bool resume = false, quiet = false;
+  };
+  auto o = std::make_shared<Options>();
+  app.add_option("--target", o->target, "target SPEC")->required();
+  app.add_option("--n", o->n, "points per set")->required()->check(CLI::PositiveNumber);
+  app.add_option("--preset", o->preset,
+                 "uniform, nonuniform, nonuniform-mc, sphere or sphere-mc (default: by target)");
+  app.add_option("--epochs", o->epochs, "override the preset's epochs")->check(CLI::PositiveNumber);
+  app.add_option("--boxes", o->boxes, "boxes per epoch")->check(CLI::PositiveNumber);
+  app.add_option("--box-kind", o->boxKind, "multicorner, anchored or twopoint");
+  app.add_option("--mass", o->mass, "exact or mc:K (Monte Carlo with K space samples)");
+  app.add_option("--mapping", o->mapping, "mapped, clamp or toroidal");
+  app.add_option("--objective", o->objective,
+                 "soft (Algorithm 1) or l2asd (exact closed form, uniform)");
+  app.add_option("--lr", o->lr, "initial learning rate");
+  app.add_option("--lr-end", o->lrEnd, "final learning rate");
+  app.add_option("--alpha", o->alpha, "initial sigmoid scale");
+  app.add_option("--alpha-end", o->alphaEnd, "final sigmoid scale");
+  app.add_option("--ramp", o->ramp, "fraction of the epochs over which alpha rises");
+  app.add_option("--instances", o->instances, "sets optimized together")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--seed", o->seed, "seed of the Sobol start and of the boxes");
+  app.add_option("--checkpoint-every", o->checkpointEvery,
+                 "epochs between checkpoints (default: about every 5 %)");
+  app.add_flag("--resume", o->resume, "continue from OUTPUT.ckpt if it exists");
+  app.add_option("--stop-after", o->stopAfter, "stop (with a checkpoint) after this epoch");
+  app.add_flag("-q,--quiet", o->quiet, "no progress bar");
+  app.add_option("-o,--output", o->output, "point-set file to write")->required();
+  return [o] {
+    const auto target = makeTarget(o->target);
+    OptimizerSettings s =
+        presetSettings(o->preset.empty() ? defaultPreset(*target) : o->preset, o->n);
+    s.instances = o->instances;
+    s.seed = o->seed;
+    if (o->epochs > 0) s.epochs = int(o->epochs);
+    if (o->boxes > 0) s.boxes = std::size_t(o->boxes);
+    if (!o->boxKind.empty()) s.boxKind = parseBoxKind(o->boxKind);
+    if (!o->mapping.empty()) s.mapping = parseMapping(o->mapping);
+    if (!o->objective.empty()) s.objective = parseObjective(o->objective);
+    if (o->mass == "exact")
+      s.mcSamples = 0;
+    else if (o->mass.rfind("mc:", 0) == 0) {
+      try {
+        s.mcSamples = std::stoul(o->mass.substr(3));
+      } catch (...) {
+        s.mcSamples = 0;
+      }
+      if (s.mcSamples == 0)
+        throw std::invalid_argument("--mass '" + o->mass +
+                                    "': expected mc:K with K a positive integer");
+    } else if (!o->mass.empty()) {
+      throw std::invalid_argument("--mass '" + o->mass + "': expected exact or mc:K");
+    }
+    if (o->lr != -1) s.lrStart = o->lr;
+    if (o->lrEnd != -1) s.lrEnd = o->lrEnd;
+    if (o->alpha != -1) s.alphaStart = o->alpha;
+    if (o->alphaEnd != -1) s.alphaEnd = o->alphaEnd;
+    if (o->ramp != -1) s.rampFraction = o->ramp;
+    const DirectOptimizer opt(*target, s);
+
+    const std::string ckpt = o->output + ".ckpt";
+    OptimizerState state;
+    if (o->resume && std::filesystem::exists(ckpt)) {
+      state = loadCheckpoint(ckpt, opt, target->spec());
+      std::cerr << "resuming from " << ckpt << " at epoch " << state.epoch << "\n";
+    } else {
+      if (o->resume) std::cerr << "no checkpoint at " << ckpt << "; starting fresh\n";
+      state = opt.initialState();
+    }
+    std::cerr << "optimize " << target->spec() << ": " << s.describe() << "\n";
+    const long every = o->checkpointEvery > 0 ? o->checkpointEvery : std::max(1, s.epochs / 20);
+    const int until = o->stopAfter >= 0 ? int(std::min<long>(o->stopAfter, s.epochs)) : s.epochs;
+    ProgressBar bar("epoch", s.epochs, state.epoch, o->quiet);
+    EpochReport last;
+    while (state.epoch < until) {
+      const int next = int(std::min<long>(until, (state.epoch / every + 1) * every));
+      opt.run(state, next, [&](const EpochReport &r) {
+        last = r;
+        bar.update(r.epoch,
+                   "loss " + fmt(r.loss) + "  alpha " + fmt(r.alpha) + "  lr " + fmt(r.lr));
+      });
+      if (state.epoch < s.epochs) saveCheckpoint(ckpt, opt, target->spec(), state);
+    }
+    if (state.epoch < s.epochs) {
+      std::cerr << "\nstopped after epoch " << state.epoch << "; checkpoint in " << ckpt
+                << " (continue with --resume)\n";
+      return 0;
+    }
+    bar.finish("loss " + fmt(last.loss));
+
+    PointSet set = opt.points(state);
+    // Final metrics, averaged over instances, recorded with the points.
+    const bool uniform = target->isUniform();
+    double l2 = 0, dstar = 0;
+    for (std::size_t k = 0; k < set.instances(); ++k) {
+      l2 += (uniform ? l2asd(set.instance(k)) : nonuniformL2asd(set.instance(k), *target)) /
+            double(set.instances());
+      dstar += starDiscrepancy(set.instance(k), uniform ? nullptr : target.get()) /
+               double(set.instances());
+    }
+    std::ostringstream m;
+    m.precision(9);
+    m << "l2asd=" << l2 << " dstar=" << dstar;
+    set.metadata["final_metrics"] = m.str();
+    writePointSet(o->output, set);
+    std::filesystem::remove(ckpt);
+    std::printf("l2asd %.9g\ndstar %.9g\n", l2, dstar);
+    std::cerr << "wrote " << set.instances() << " x " << set.n << " points to " << o->output
+              << "\n";
+    return 0;
+  };
+}
+
+}  // namespace nuld::cli
