@@ -11,10 +11,28 @@ PointGrid::PointGrid(std::span<const Point2> points, std::span<const double> wei
   g_ = cellsPerSide > 0 ? cellsPerSide
                         : std::clamp(int(std::lround(std::sqrt(double(n) / 2.0))), 1, 2048);
   const std::size_t cells = std::size_t(g_) * g_;
+  // Quantile edges, halfway between neighbouring sorted coordinates.
+  auto quantileEdges = [&](auto coordinate) {
+    std::vector<double> c(n);
+    for (std::size_t i = 0; i < n; ++i) c[i] = coordinate(points[i]);
+    std::sort(c.begin(), c.end());
+    std::vector<double> e(g_ + 1);
+    e[0] = n ? std::min(0.0, c.front()) : 0.0;
+    e[g_] = n ? std::max(1.0, c.back()) : 1.0;
+    for (int k = 1; k < g_; ++k) {
+      const std::size_t q = std::size_t(k) * n / g_;
+      e[k] = std::clamp(0.5 * (c[q - 1] + c[q]), e[k - 1], e[g_]);
+    }
+    return e;
+  };
+  xEdges_ = quantileEdges([](Point2 p) { return p.x; });
+  yEdges_ = quantileEdges([](Point2 p) { return p.y; });
+  xCells_ = EdgeLocator(xEdges_);
+  yCells_ = EdgeLocator(yEdges_);
   std::vector<std::uint32_t> cellOfPoint(n);
   start_.assign(cells + 1, 0);
   for (std::size_t i = 0; i < n; ++i) {
-    const std::uint32_t c = std::uint32_t(cellOf(points[i].y)) * g_ + cellOf(points[i].x);
+    const std::uint32_t c = std::uint32_t(cellOfY(points[i].y)) * g_ + cellOfX(points[i].x);
     cellOfPoint[i] = c;
     ++start_[c + 1];
   }
@@ -49,26 +67,23 @@ PointGrid::PointGrid(std::span<const Point2> points, std::span<const double> wei
   }
 }
 
-int PointGrid::cellOf(double t) const {
-  if (!(t > 0)) return 0;     // also catches NaN
-  if (t >= 1) return g_ - 1;  // also infinite sides: never convert inf to int
-  return std::min(int(t * g_), g_ - 1);
-}
-
 PointGrid::CellRange PointGrid::cellsInside(const Box2 &box) const {
-  // Cell c spans [c/g, (c+1)/g]; it is inside when c/g >= lo and (c+1)/g <= hi.
-  auto first = [&](double lo) { return lo <= 0 ? 0 : int(std::ceil(std::min(lo, 2.0) * g_)); };
-  auto last = [&](double hi) {
-    return hi >= 1 ? g_ - 1 : int(std::floor(std::max(hi, -1.0) * g_)) - 1;
+  // Cell c spans [e[c], e[c+1]]; it is inside when e[c] >= lo and e[c+1] <= hi.
+  auto first = [](const std::vector<double> &e, double lo) {
+    return int(std::lower_bound(e.begin(), e.end(), lo) - e.begin());
   };
-  return {first(box.lo.x), last(box.hi.x), first(box.lo.y), last(box.hi.y)};
+  auto last = [](const std::vector<double> &e, double hi) {
+    return int(std::upper_bound(e.begin(), e.end(), hi) - e.begin()) - 2;
+  };
+  return {first(xEdges_, box.lo.x), last(xEdges_, box.hi.x), first(yEdges_, box.lo.y),
+          last(yEdges_, box.hi.y)};
 }
 
 PointGrid::CellRange PointGrid::cellsTouching(const Box2 &box) const {
-  if (box.lo.x > 1 || box.lo.y > 1 || box.hi.x < 0 || box.hi.y < 0 || box.lo.x > box.hi.x ||
-      box.lo.y > box.hi.y)
+  if (box.lo.x > xEdges_.back() || box.lo.y > yEdges_.back() || box.hi.x < xEdges_.front() ||
+      box.hi.y < yEdges_.front() || box.lo.x > box.hi.x || box.lo.y > box.hi.y)
     return {0, -1, 0, -1};
-  return {cellOf(box.lo.x), cellOf(box.hi.x), cellOf(box.lo.y), cellOf(box.hi.y)};
+  return {cellOfX(box.lo.x), cellOfX(box.hi.x), cellOfY(box.lo.y), cellOfY(box.hi.y)};
 }
 
 double PointGrid::cellSum(const CellRange &r) const {

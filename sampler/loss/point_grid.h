@@ -1,6 +1,8 @@
 #pragma once
-// A uniform grid over the unit square that buckets (optionally weighted)
-// points, with a prefix table of per-cell totals. It answers "how much lies
+// A grid over the unit square that buckets (optionally weighted) points, with
+// a prefix table of per-cell totals. Cell edges sit at the quantiles of the
+// points' coordinates, so clustered points (a target's dense regions) still
+// get about two points per cell row and column. It answers "how much lies
 // in this box" by summing whole cells from the prefix table and testing only
 // the points of cells the box boundary crosses. The soft box loss uses it to
 // visit only the band of points near a box's boundary; Monte Carlo mass
@@ -11,19 +13,18 @@
 #include <vector>
 
 #include "sampler/point.h"
+#include "sampler/targets/edge_locator.h"
 
 namespace nuld {
 
 class PointGrid {
  public:
-  // Points are clamped into the unit square for bucketing only; their
-  // coordinates are kept as given. `cellsPerSide` 0 picks about two points
-  // per cell.
+  // `cellsPerSide` 0 picks about two points per cell.
   explicit PointGrid(std::span<const Point2> points, std::span<const double> weights = {},
                      int cellsPerSide = 0);
 
   int resolution() const { return g_; }
-  std::size_t size() const { return xs_.size(); }
+  std::size_t size() const { return index_.size(); }
 
   // Cells [cx0, cx1] x [cy0, cy1] (inclusive) whose extent lies entirely
   // inside `box`; empty (cx0 > cx1 or cy0 > cy1) when none does.
@@ -50,9 +51,12 @@ class PointGrid {
   double boxSum(const Box2 &box) const;
 
  private:
-  int cellOf(double t) const;
+  int cellOfX(double t) const { return xCells_.cell(xEdges_, t); }
+  int cellOfY(double t) const { return yCells_.cell(yEdges_, t); }
 
   int g_;
+  std::vector<double> xEdges_, yEdges_;  // g + 1 each, covering [0, 1] and every point
+  EdgeLocator xCells_, yCells_;
   std::vector<std::uint32_t> start_;  // g*g + 1
   std::vector<double> xs_, ys_, w_;
   std::vector<std::uint32_t> index_;

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "sampler/targets/edge_locator.h"
 #include "sampler/targets/target.h"
 
 namespace nuld {
@@ -40,9 +41,9 @@ class GridTarget final : public Target {
 
  private:
   double cumulative(double x, double y) const;  // mass of [0,x] x [0,y]
-  int findCell(const std::vector<double> &edges, double t) const;
 
   std::vector<double> xEdges_, yEdges_;
+  EdgeLocator xCells_, yCells_;
   int cols_, rows_;
   std::vector<double> density_;  // normalized
   std::vector<double> sat_;      // (rows+1) x (cols+1): mass of [0,x_i] x [0,y_j]

@@ -3,6 +3,8 @@
 // skipped by band culling as evaluated (they are: their value is exact).
 #include <benchmark/benchmark.h>
 
+#include <filesystem>
+#include <memory>
 #include <vector>
 
 #include "sampler/loss/box_mass.h"
@@ -11,6 +13,7 @@
 #include "sampler/metrics/discrepancy.h"
 #include "sampler/sequences/sequence.h"
 #include "sampler/targets/basic_targets.h"
+#include "sampler/targets/image_targets.h"
 
 namespace nuld {
 namespace {
@@ -42,6 +45,40 @@ BENCHMARK(BM_SoftBoxLoss)
     ->Args({2048, 16384, 20})
     ->Args({2048, 16384, 6000})
     ->Args({2048, 32768, 6000})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+// The spherical environment-map instance: points clustered by the target.
+void BM_SoftBoxLossEnvmap(benchmark::State &state) {
+  const char *path = "../shared/assets/envmaps/grace_latlong.exr";
+  std::unique_ptr<GridTarget> target;
+  for (const char *prefix : {"", "../", "../../"})
+    if (std::filesystem::exists(std::string(prefix) + path))
+      target = loadEnvmapTarget(std::string(prefix) + path);
+  if (!target) {
+    state.SkipWithError("grace_latlong.exr not found (run from the build directory)");
+    return;
+  }
+  const std::size_t n = 2048, m = 16384;
+  auto pts = owenSobol(n);
+  for (Point2 &p : pts) p = target->invert(p).x;
+  std::vector<Box2> boxes(m);
+  std::vector<double> masses(m);
+  std::vector<Point2> grad(n);
+  Rng rng(7);
+  const double alpha = double(state.range(0));
+  for (auto _ : state) {
+    sampleBoxes(BoxKind::MultipleCorner, rng, boxes);
+    exactBoxMasses(*target, boxes, masses);
+    benchmark::DoNotOptimize(softBoxLoss(pts, boxes, masses, {alpha}, grad));
+  }
+  state.counters["pairs/s"] =
+      benchmark::Counter(double(n) * double(m), benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_SoftBoxLossEnvmap)
+    ->Arg(20)
+    ->Arg(600)
+    ->Arg(6000)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
