@@ -14,7 +14,7 @@ Runner addEval(CLI::App &app) {
   struct Options {
     std::string file, target, metric = "all", integrand;
     int grid = 256;
-    bool perInstance = false;
+    bool perInstance = false, zeroDensity = false;
   };
   auto o = std::make_shared<Options>();
   app.add_option("file", o->file, "point-set file")->required();
@@ -27,6 +27,8 @@ Runner addEval(CLI::App &app) {
       ->check(CLI::Range(1, 4096))
       ->capture_default_str();
   app.add_flag("--per-instance", o->perInstance, "also print each instance's values");
+  app.add_flag("--zero-density", o->zeroDensity,
+               "print only zero_density_fraction: the share of points where the target's density is 0");
   app.add_option("--integrand", o->integrand,
                  "also estimate the integral of a test integrand (step, disc, bilinear, gaussian) "
                  "with the points as importance samples of the target; prints its RMSE and bias");
@@ -38,6 +40,12 @@ Runner addEval(CLI::App &app) {
     const PointSet set = readPointSet(o->file);
     const auto target = targetFor(o->target, set);
     const bool uniform = target->isUniform();
+    if (o->zeroDensity) {
+      std::size_t zero = 0;
+      for (const Point2 &p : set.points) zero += target->pdf(p) <= 0;
+      std::printf("zero_density_fraction %.9g\n", double(zero) / double(set.points.size()));
+      return 0;
+    }
     std::vector<std::string> metrics;
     if (o->metric == "all")
       metrics = {"l2star", "l2asd", "dstar", "l2"};

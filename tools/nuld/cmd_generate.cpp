@@ -44,4 +44,25 @@ Runner addGenerate(CLI::App &app) {
   };
 }
 
+Runner addMap(CLI::App &app) {
+  struct Options {
+    std::string input, target, output;
+  };
+  auto o = std::make_shared<Options>();
+  app.add_option("file", o->input, "point-set file of uniform points")->required();
+  app.add_option("--target", o->target, "target SPEC to map to by inverse CDF")->required();
+  app.add_option("-o,--output", o->output, "output file")->required();
+  return [o] {
+    PointSet set = readPointSet(o->input);
+    if (auto it = set.metadata.find("target"); it != set.metadata.end() && it->second != "uniform")
+      throw std::invalid_argument(o->input + ": holds points for target '" + it->second +
+                                  "'; expected uniform points to map");
+    if (set.metadata.count("generator")) set.metadata["generator"] += "+inverse-cdf";
+    mapByInverseCdf(set, *makeTarget(o->target));
+    writePointSet(o->output, set);
+    std::cerr << "wrote " << set.instances() << " x " << set.n << " points to " << o->output << "\n";
+    return 0;
+  };
+}
+
 }  // namespace nuld::cli

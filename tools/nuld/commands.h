@@ -14,5 +14,6 @@ Runner addEval(CLI::App &app);
 Runner addPlot(CLI::App &app);
 Runner addSpectrum(CLI::App &app);
 Runner addOptimize(CLI::App &app);
+Runner addMap(CLI::App &app);
 
 }  // namespace nuld::cli

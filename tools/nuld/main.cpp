@@ -19,6 +19,7 @@ int main(int argc, char **argv) {
   };
   add("generate", "Generate Sobol, Halton or random point sets, optionally mapped to a target",
       nuld::cli::addGenerate);
+  add("map", "Map uniform point sets to a target by its inverse CDF", nuld::cli::addMap);
   add("eval", "Print discrepancies of a point-set file as 'NAME VALUE' lines", nuld::cli::addEval);
   add("optimize", "Optimize point sets for a target by gradient descent (Algorithm 1)",
       nuld::cli::addOptimize);

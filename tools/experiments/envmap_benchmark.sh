@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# The optimizer's performance benchmark: one 2048-point instance for
+# envmap:grace_latlong.exr on the sphere, 16384 boxes, 5000 epochs, with exact
+# mass (our default) and with the paper's Monte Carlo mass (65536 space
+# samples), side by side in one run: wall time, peak memory, final L2asd and D*.
+# Usage: envmap_benchmark.sh OUT [ASSET_ROOT]
+source "$(dirname "$0")/common.sh"
+out=${1:?output directory}
+assets=${2:-${NULD_ASSETS:-"$root/../shared/assets"}}
+map="$assets/envmaps/grace_latlong.exr"
+[[ -f "$map" ]] || { echo "missing $map (pass the asset root)" >&2; exit 1; }
+mkdir -p "$out"
+csv="$out/envmap_benchmark.csv"
+echo "mass,seconds,peak_mb,l2asd,dstar" >"$csv"
+for preset in sphere sphere-mc; do
+  f="$out/grace_$preset.ptsb"
+  /usr/bin/time -f "%e %M" -o "$out/time_$preset.txt" \
+    "$nuld" optimize --target "envmap:$map" --n 2048 --preset "$preset" --seed 1 -q -o "$f" >/dev/null
+  read -r secs kb <"$out/time_$preset.txt"
+  vals=$("$nuld" eval "$f" --metric all | awk '{v[$1]=$2} END {printf "%s,%s", v["l2asd"], v["dstar"]}')
+  mass=exact; [[ $preset == sphere-mc ]] && mass=mc:65536
+  echo "$mass,$secs,$((kb / 1024)),$vals" >>"$csv"
+done
+"$nuld" generate --sequence sobol --n 2048 --instances 16 --seed 1 --target "envmap:$map" -o "$out/grace_sobol.ptsb" 2>/dev/null
+vals=$("$nuld" eval "$out/grace_sobol.ptsb" --metric all | awk '{v[$1]=$2} END {printf "%s,%s", v["l2asd"], v["dstar"]}')
+echo "sobol+icdf (16 instances),0,0,$vals" >>"$csv"
+column -s, -t "$csv"

@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Result 3 of the optimizer issue (the supplement's Fig. 3): optimizing with
+# density mapping, unmapped with clamping, and unmapped with toroidal
+# wrapping, on the quarter-disc and image targets. Writes OUT/mapping.csv
+# (final L2asd, D*, and the fraction of points where the density is zero)
+# and one picture per variant. Usage: mapping_study.sh OUT [N]
+source "$(dirname "$0")/common.sh"
+out=${1:?output directory}
+n=${2:-256}
+mkdir -p "$out"
+"$python" "$root/tools/experiments/make_test_image.py" "$out/test_image.pfm"
+csv="$out/mapping.csv"
+echo "target,mapping,l2asd,dstar,zero_density_fraction" >"$csv"
+for spec in quarterdisc "image:$out/test_image.pfm"; do
+  name=${spec%%:*}
+  for mapping in mapped clamp toroidal; do
+    f="$out/${name}_$mapping.ptsb"
+    "$nuld" optimize --target "$spec" --n "$n" --instances 8 --seed 1 --mapping "$mapping" -q -o "$f" >/dev/null
+    "$nuld" plot "$f" -o "$out/${name}_$mapping.png" --size 384 2>/dev/null
+    vals=$("$nuld" eval "$f" --target "$spec" --metric all |
+      awk '{v[$1]=$2} END {printf "%s,%s", v["l2asd"], v["dstar"]}')
+    zero=$("$nuld" eval "$f" --target "$spec" --zero-density | awk '{print $2}')
+    echo "$name,$mapping,$vals,$zero" >>"$csv"
+  done
+done
+column -s, -t "$csv"
