@@ -79,6 +79,29 @@ double CdfField::cumulative(double x, double y) const {
   return g_[idx(i, j)] + below + left + inside;
 }
 
+double CdfField::value(double x, double y) const {
+  x = std::clamp(x, 0.0, 1.0);
+  y = std::clamp(y, 0.0, 1.0);
+  const int i = cellOf(xs_, x), j = cellOf(ys_, y);
+  const double s = (x - xs_[i]) / (xs_[i + 1] - xs_[i]), t = (y - ys_[j]) / (ys_[j + 1] - ys_[j]);
+  return (1 - s) * (1 - t) * f_[idx(i, j)] + s * (1 - t) * f_[idx(i + 1, j)] +
+         (1 - s) * t * f_[idx(i, j + 1)] + s * t * f_[idx(i + 1, j + 1)];
+}
+
+double CdfField::columnIntegral(double x, double y) const {
+  x = std::clamp(x, 0.0, 1.0);
+  const int i = cellOf(xs_, x);
+  const double s = (x - xs_[i]) / (xs_[i + 1] - xs_[i]);
+  return (1 - s) * lineY(i, y) + s * lineY(i + 1, y);  // F~ is linear in x between columns
+}
+
+double CdfField::rowIntegral(double y, double x) const {
+  y = std::clamp(y, 0.0, 1.0);
+  const int j = cellOf(ys_, y);
+  const double t = (y - ys_[j]) / (ys_[j + 1] - ys_[j]);
+  return (1 - t) * lineX(j, x) + t * lineX(j + 1, x);
+}
+
 double CdfField::rectIntegral(double x0, double x1, double y0, double y1) const {
   return cumulative(x1, y1) - cumulative(x0, y1) - cumulative(x1, y0) + cumulative(x0, y0);
 }

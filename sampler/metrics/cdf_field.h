@@ -22,6 +22,12 @@ class CdfField {
   double topIntegral(double x) const { return lineX(rows_, x); }
   double rightIntegral(double y) const { return lineY(cols_, y); }
 
+  // F~ itself, and its integrals along a vertical or horizontal line through
+  // any point: int_0^y F~(x, b) db and int_0^x F~(a, y) da.
+  double value(double x, double y) const;
+  double columnIntegral(double x, double y) const;
+  double rowIntegral(double y, double x) const;
+
   int cols() const { return cols_; }
   int rows() const { return rows_; }
   double xNode(int i) const { return xs_[i]; }

@@ -4,6 +4,8 @@
 // where R_c(x) is the set of box corners whose box contains x and P_c the
 // area of the boxes containing both points: the same pair term as Warnock's
 // formula. For uniform and piecewise-constant targets this is exact.
+#include "sampler/metrics/nonuniform_l2.h"
+
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -81,42 +83,90 @@ double crossTerm(const CdfField &F, int c, Point2 p) {
   }
 }
 
-// Sum over i, j of the corner-box areas containing both points.
-double pairTerm(std::span<const Point2> p, bool allCorners) {
+// Gradient of the sum over the 4 corners of crossTerm with respect to p.
+Point2 crossGradient(const CdfField &F, Point2 p) {
+  const double x = std::clamp(p.x, 0.0, 1.0), y = std::clamp(p.y, 0.0, 1.0);
+  const double colBelow = F.columnIntegral(x, y), colAll = F.columnIntegral(x, 1);
+  const double rowLeft = F.rowIntegral(y, x), rowAll = F.rowIntegral(y, 1);
+  const double R1 = F.rightIntegral(1), Ry = F.rightIntegral(y);
+  const double T1 = F.topIntegral(1), Tx = F.topIntegral(x);
+  const double Fx1 = F.value(x, 1), F1y = F.value(1, y);
+  // Corners 0..3 as in crossTerm, differentiated term by term.
+  const double gx = -(colAll - colBelow) + (R1 - Ry) - (colAll - colBelow) + (-y * Fx1 + colBelow) +
+                    (y - y * Fx1 - Ry + colBelow);
+  const double gy = -(rowAll - rowLeft) + (-x * F1y + rowLeft) + (T1 - Tx) - (rowAll - rowLeft) +
+                    (x - Tx - x * F1y + rowLeft);
+  return {gx, gy};
+}
+
+// Sum over i, j of the anchored-box areas containing both points (Warnock's pair term).
+double starPairTerm(std::span<const Point2> p) {
   std::vector<double> rows(p.size());
   tbb::parallel_for(std::size_t(0), p.size(), [&](std::size_t i) {
     const double xi = std::clamp(p[i].x, 0.0, 1.0), yi = std::clamp(p[i].y, 0.0, 1.0);
     double s = 0;
-    for (std::size_t j = 0; j < p.size(); ++j) {
-      const double xj = std::clamp(p[j].x, 0.0, 1.0), yj = std::clamp(p[j].y, 0.0, 1.0);
-      s += allCorners ? (1 - std::abs(xi - xj)) * (1 - std::abs(yi - yj))
-                      : (1 - std::max(xi, xj)) * (1 - std::max(yi, yj));
-    }
+    for (std::size_t j = 0; j < p.size(); ++j)
+      s += (1 - std::max(xi, std::clamp(p[j].x, 0.0, 1.0))) *
+           (1 - std::max(yi, std::clamp(p[j].y, 0.0, 1.0)));
     rows[i] = s;
   });
   return std::accumulate(rows.begin(), rows.end(), 0.0);
 }
 
-double nonuniformL2(std::span<const Point2> p, const Target &target, int res, bool allCorners) {
+}  // namespace
+
+NonuniformL2asd::NonuniformL2asd(const Target &target, int res)
+    : field_(fieldFor(target, res)), massSquared_(squaredMassTerm(field_, {0, 1, 2, 3})) {}
+
+double NonuniformL2asd::squared(std::span<const Point2> p, std::span<Point2> grad) const {
+  if (p.empty()) throw std::invalid_argument("l2asd objective: empty point set");
+  if (!grad.empty() && grad.size() != p.size())
+    throw std::invalid_argument("l2asd objective: gradient size differs from the point count");
+  const std::size_t n = p.size();
+  const double N = double(n);
+  std::vector<double> rowTerm(n);
+  tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
+    double cross = 0;
+    for (int c = 0; c < 4; ++c) cross += crossTerm(field_, c, p[i]);
+    const double xi = std::clamp(p[i].x, 0.0, 1.0), yi = std::clamp(p[i].y, 0.0, 1.0);
+    double pair = 0, gx = 0, gy = 0;
+    for (std::size_t j = 0; j < n; ++j) {
+      const double dx = xi - std::clamp(p[j].x, 0.0, 1.0), dy = yi - std::clamp(p[j].y, 0.0, 1.0);
+      const double hx = 1 - std::abs(dx), hy = 1 - std::abs(dy);
+      pair += hx * hy;
+      gx -= (dx > 0 ? 1.0 : dx < 0 ? -1.0 : 0.0) * hy;
+      gy -= (dy > 0 ? 1.0 : dy < 0 ? -1.0 : 0.0) * hx;
+    }
+    rowTerm[i] = -2 * cross / N + pair / (N * N);
+    if (!grad.empty()) {
+      const Point2 gc = crossGradient(field_, p[i]);
+      // Symmetric pair terms count twice; the 1/4 averages the corners.
+      grad[i] = {0.25 * (-2 * gc.x / N + 2 * gx / (N * N)),
+                 0.25 * (-2 * gc.y / N + 2 * gy / (N * N))};
+    }
+  });
+  return 0.25 * (massSquared_ + std::accumulate(rowTerm.begin(), rowTerm.end(), 0.0));
+}
+
+namespace {
+
+double nonuniformL2StarSquared(std::span<const Point2> p, const Target &target, int res) {
   if (p.empty()) throw std::invalid_argument("l2: empty point set");
   const CdfField F = fieldFor(target, res);
-  const std::vector<int> corners = allCorners ? std::vector<int>{0, 1, 2, 3} : std::vector<int>{0};
   const double N = double(p.size());
   double cross = 0;
-  for (const Point2 &q : p)
-    for (int c : corners) cross += crossTerm(F, c, q);
-  const double d2 = squaredMassTerm(F, corners) - 2 * cross / N + pairTerm(p, allCorners) / (N * N);
-  return std::sqrt(std::max(0.0, d2 / double(corners.size())));
+  for (const Point2 &q : p) cross += crossTerm(F, 0, q);
+  return squaredMassTerm(F, {0}) - 2 * cross / N + starPairTerm(p) / (N * N);
 }
 
 }  // namespace
 
 double nonuniformL2Star(std::span<const Point2> p, const Target &target, int res) {
-  return nonuniformL2(p, target, res, false);
+  return std::sqrt(std::max(0.0, nonuniformL2StarSquared(p, target, res)));
 }
 
 double nonuniformL2asd(std::span<const Point2> p, const Target &target, int res) {
-  return nonuniformL2(p, target, res, true);
+  return std::sqrt(std::max(0.0, NonuniformL2asd(target, res).squared(p)));
 }
 
 }  // namespace nuld

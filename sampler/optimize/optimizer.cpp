@@ -17,6 +17,7 @@
 #include "sampler/optimize/schedule.h"
 #include "sampler/sequences/rng.h"
 #include "sampler/sequences/sequence.h"
+#include "sampler/targets/grid_target.h"
 
 namespace nuld {
 
@@ -117,8 +118,14 @@ DirectOptimizer::DirectOptimizer(const Target &target, OptimizerSettings setting
   if (settings_.mapping == Mapping::Mapped && !target.hasInverse())
     throw std::invalid_argument("optimizer: target '" + target.spec() +
                                 "' has no inverse CDF; use --mapping clamp or toroidal");
-  if (settings_.objective == Objective::ExactL2asd && !target.isUniform())
-    throw std::invalid_argument("optimizer: the exact l2asd objective needs a uniform target");
+  if (settings_.objective == Objective::ExactL2asd && !target.isUniform()) {
+    if (!dynamic_cast<const GridTarget *>(&target))
+      throw std::invalid_argument(
+          "optimizer: the exact l2asd objective needs a uniform or a grid (image, envmap) target; "
+          "'" +
+          target.spec() + "' is neither");
+    exactObjective_ = std::make_shared<NonuniformL2asd>(target);
+  }
 }
 
 OptimizerState DirectOptimizer::initialState() const {
@@ -151,7 +158,7 @@ double DirectOptimizer::instanceEpoch(std::size_t k, int epoch, std::span<Point2
     }
   double loss;
   if (s.objective == Objective::ExactL2asd) {
-    loss = l2asdSquaredWithGradient(x, grad);
+    loss = exactObjective_ ? exactObjective_->squared(x, grad) : l2asdSquaredWithGradient(x, grad);
   } else {
     Rng rng(hashCombine(s.seed, k), std::uint64_t(epoch));
     std::vector<Box2> boxes(s.boxes);

@@ -16,16 +16,20 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "sampler/loss/boxes.h"
+#include "sampler/metrics/nonuniform_l2.h"
 #include "sampler/point.h"
 #include "sampler/targets/target.h"
 
 namespace nuld {
 
 enum class Mapping { Mapped, Clamp, Toroidal };
+// ExactL2asd: the closed-form expectation of the hard box loss, for uniform
+// and piecewise-constant (grid) targets.
 enum class Objective { SoftBoxes, ExactL2asd };
 
 Mapping parseMapping(const std::string &s);
@@ -100,6 +104,7 @@ class DirectOptimizer {
 
   const Target &target_;
   OptimizerSettings settings_;
+  std::shared_ptr<const NonuniformL2asd> exactObjective_;  // grid targets, objective l2asd
 };
 
 // Checkpoints: the settings description, the target spec and the state.

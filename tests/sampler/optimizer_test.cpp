@@ -9,6 +9,7 @@
 #include <fstream>
 
 #include "sampler/metrics/discrepancy.h"
+#include "sampler/metrics/nonuniform_l2.h"
 #include "sampler/optimize/exact_l2asd.h"
 #include "sampler/optimize/schedule.h"
 #include "sampler/sequences/sequence.h"
@@ -74,6 +75,22 @@ TEST(DirectOptimizer, LowersL2asdFromItsSobolStart) {
     const double after = meanL2asd(opt.points(state));
     EXPECT_LT(after, 0.9 * before) << toString(obj);
   }
+}
+
+TEST(DirectOptimizer, ExactObjectiveOnAGridTargetImprovesDiscrepancy) {
+  std::vector<double> density(64, 1.0);
+  for (int i = 0; i < 64; i += 3) density[i] = 5.0;
+  density[9] = 0;
+  const GridTarget grid(GridTarget::uniformEdges(8), GridTarget::uniformEdges(8), density, "grid",
+                        Domain::Square, "test");
+  OptimizerSettings s = small(64, 200);
+  s.objective = Objective::ExactL2asd;
+  s.lrStart = 1e-3;
+  const DirectOptimizer opt(grid, s);
+  OptimizerState state = opt.initialState();
+  const double before = nonuniformL2asd(opt.points(state).instance(0), grid);
+  opt.run(state, s.epochs);
+  EXPECT_LT(nonuniformL2asd(opt.points(state).instance(0), grid), 0.9 * before);
 }
 
 TEST(DirectOptimizer, MappedNonUniformImprovesDiscrepancy) {
@@ -173,7 +190,47 @@ TEST(DirectOptimizer, RejectsBadSettings) {
   const QuarterDiscTarget disc;
   s = small(10, 10);
   s.objective = Objective::ExactL2asd;
-  EXPECT_THROW(DirectOptimizer(disc, s), std::invalid_argument);
+  EXPECT_THROW(DirectOptimizer(disc, s), std::invalid_argument);  // neither uniform nor a grid
+}
+
+}  // namespace
+}  // namespace nuld
+
+namespace nuld {
+namespace {
+
+// The non-uniform objective: its value is the metric, it reduces to the
+// uniform closed form, and its gradient matches central differences.
+TEST(NonuniformL2asdObjective, ValueGradientAndUniformLimit) {
+  const PointSet set = generatePointSet({SequenceKind::Random, Scramble::None, 9}, 19, 1);
+  std::vector<Point2> pts = set.points, grad(pts.size()), uniformGrad(pts.size());
+  const UniformTarget uniform;
+  const NonuniformL2asd onUniform(uniform, 8);
+  EXPECT_NEAR(onUniform.squared(pts, grad), l2asdSquaredWithGradient(pts, uniformGrad), 1e-15);
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    EXPECT_NEAR(grad[i].x, uniformGrad[i].x, 1e-13);
+    EXPECT_NEAR(grad[i].y, uniformGrad[i].y, 1e-13);
+  }
+  std::vector<double> density = {1, 0, 3, 2, 0.5, 4, 1, 1, 0, 2, 2, 7};
+  const GridTarget grid({0, 0.3, 0.45, 1}, {0, 0.2, 0.5, 0.9, 1}, density, "grid", Domain::Square,
+                        "test");
+  const NonuniformL2asd objective(grid);
+  const double value = objective.squared(pts, grad);
+  EXPECT_NEAR(std::sqrt(value), nonuniformL2asd(pts, grid), 1e-15);
+  // Piecewise smooth: central differences are accurate unless a kink (another
+  // point's coordinate or a cell edge) lies within h.
+  const double h = 1e-6;
+  for (std::size_t i = 0; i < pts.size(); ++i)
+    for (int k = 0; k < 2; ++k) {
+      const double x0 = pts[i][k];
+      pts[i][k] = x0 + h;
+      const double up = objective.squared(pts);
+      pts[i][k] = x0 - h;
+      const double down = objective.squared(pts);
+      pts[i][k] = x0;
+      EXPECT_NEAR(grad[i][k], (up - down) / (2 * h), 1e-6 * std::abs(grad[i][k]) + 1e-9)
+          << i << " " << k;
+    }
 }
 
 }  // namespace

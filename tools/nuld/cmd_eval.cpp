@@ -27,8 +27,9 @@ Runner addEval(CLI::App &app) {
       ->check(CLI::Range(1, 4096))
       ->capture_default_str();
   app.add_flag("--per-instance", o->perInstance, "also print each instance's values");
-  app.add_flag("--zero-density", o->zeroDensity,
-               "print only zero_density_fraction: the share of points where the target's density is 0");
+  app.add_flag(
+      "--zero-density", o->zeroDensity,
+      "print only zero_density_fraction: the share of points where the target's density is 0");
   app.add_option("--integrand", o->integrand,
                  "also estimate the integral of a test integrand (step, disc, bilinear, gaussian) "
                  "with the points as importance samples of the target; prints its RMSE and bias");

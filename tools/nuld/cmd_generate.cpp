@@ -60,7 +60,8 @@ Runner addMap(CLI::App &app) {
     if (set.metadata.count("generator")) set.metadata["generator"] += "+inverse-cdf";
     mapByInverseCdf(set, *makeTarget(o->target));
     writePointSet(o->output, set);
-    std::cerr << "wrote " << set.instances() << " x " << set.n << " points to " << o->output << "\n";
+    std::cerr << "wrote " << set.instances() << " x " << set.n << " points to " << o->output
+              << "\n";
     return 0;
   };
 }
