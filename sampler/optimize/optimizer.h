@@ -88,7 +88,8 @@ class DirectOptimizer {
   DirectOptimizer(const Target &target, OptimizerSettings settings);
 
   const OptimizerSettings &settings() const { return settings_; }
-  // Owen-scrambled Sobol (instance k scrambled with seed hash(seed, k)).
+  // Owen-scrambled Sobol (instance k scrambled with seed hash(seed, k)), as u
+  // when mapped and as the points themselves when not.
   OptimizerState initialState() const;
   // Runs epochs [state.epoch, untilEpoch). `progress` is called after each
   // epoch.

@@ -16,3 +16,9 @@ row() {
     awk '{v[$1]=$2} END {printf "%s,%s,%s", v["l2star"], v["l2asd"], v["dstar"]}')
   echo "$n,$sampler,$vals" >>"$csv"
 }
+
+# l2_dstar FILE TARGET -> "l2asd,dstar" (means over the file's instances)
+l2_dstar() {
+  "$nuld" eval "$1" --target "$2" --metric all |
+    awk '{v[$1]=$2} END {printf "%s,%s", v["l2asd"], v["dstar"]}'
+}

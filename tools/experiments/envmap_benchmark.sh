@@ -17,11 +17,9 @@ for preset in sphere sphere-mc; do
   /usr/bin/time -f "%e %M" -o "$out/time_$preset.txt" \
     "$nuld" optimize --target "envmap:$map" --n 2048 --preset "$preset" --seed 1 -q -o "$f" >/dev/null
   read -r secs kb <"$out/time_$preset.txt"
-  vals=$("$nuld" eval "$f" --metric all | awk '{v[$1]=$2} END {printf "%s,%s", v["l2asd"], v["dstar"]}')
   mass=exact; [[ $preset == sphere-mc ]] && mass=mc:65536
-  echo "$mass,$secs,$((kb / 1024)),$vals" >>"$csv"
+  echo "$mass,$secs,$((kb / 1024)),$(l2_dstar "$f" "envmap:$map")" >>"$csv"
 done
 "$nuld" generate --sequence sobol --n 2048 --instances 16 --seed 1 --target "envmap:$map" -o "$out/grace_sobol.ptsb" 2>/dev/null
-vals=$("$nuld" eval "$out/grace_sobol.ptsb" --metric all | awk '{v[$1]=$2} END {printf "%s,%s", v["l2asd"], v["dstar"]}')
-echo "sobol+icdf (16 instances),0,0,$vals" >>"$csv"
+echo "sobol+icdf (16 instances),0,0,$(l2_dstar "$out/grace_sobol.ptsb" "envmap:$map")" >>"$csv"
 column -s, -t "$csv"

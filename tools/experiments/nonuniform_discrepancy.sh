@@ -33,9 +33,7 @@ for n in "${ns[@]}"; do
     "$nuld" map "$uni" --target "$spec" -o "$out/uniopt_${name}_$n.ptsb" 2>/dev/null
     "$nuld" optimize --target "$spec" --n "$n" --instances "$k" --seed 1 -q -o "$out/optimized_${name}_$n.ptsb" >/dev/null
     for s in sobol halton uniopt optimized; do
-      vals=$("$nuld" eval "$out/${s}_${name}_$n.ptsb" --target "$spec" --metric all |
-        awk '{v[$1]=$2} END {printf "%s,%s", v["l2asd"], v["dstar"]}')
-      echo "$n,$name,$s,$vals" >>"$csv"
+      echo "$n,$name,$s,$(l2_dstar "$out/${s}_${name}_$n.ptsb" "$spec")" >>"$csv"
     done
   done
   echo "N = $n done" >&2

@@ -18,9 +18,7 @@ for spec in uniform "image:$out/test_image.pfm"; do
       start=$(date +%s%N)
       "$nuld" optimize --target "$spec" --n "$n" --instances 4 --seed 1 --objective "$objective" -q -o "$f" >/dev/null
       secs=$(awk -v ns=$(($(date +%s%N) - start)) 'BEGIN {printf "%.1f", ns / 1e9}')
-      vals=$("$nuld" eval "$f" --target "$spec" --metric all |
-        awk '{v[$1]=$2} END {printf "%s,%s", v["l2asd"], v["dstar"]}')
-      echo "$name,$n,$objective,$secs,$vals" >>"$csv"
+      echo "$name,$n,$objective,$secs,$(l2_dstar "$f" "$spec")" >>"$csv"
     done
   done
 done
