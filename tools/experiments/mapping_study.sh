@@ -27,3 +27,23 @@ for spec in quarterdisc "image:$out/test_image.pfm"; do
   done
 done
 column -s, -t "$csv"
+# One figure: the three variants side by side for each target and learning rate.
+"$python" - "$out" <<'PY'
+import os, sys
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.image as mpimg
+import matplotlib.pyplot as plt
+out = sys.argv[1]
+rows = [(t, lr) for t in ("quarterdisc", "image") for lr in ("1e-4", "1e-3")]
+fig, axes = plt.subplots(len(rows), 3, figsize=(9, 3 * len(rows)))
+for r, (t, lr) in enumerate(rows):
+    for c, m in enumerate(("mapped", "clamp", "toroidal")):
+        ax = axes[r][c]
+        ax.imshow(mpimg.imread(f"{out}/{t}_{m}_{lr}.png"))
+        ax.set_title(f"{t}, {m}, lr {lr}", fontsize=9)
+        ax.axis("off")
+fig.tight_layout()
+fig.savefig(f"{out}/mapping.tmp.png", dpi=90)
+os.replace(f"{out}/mapping.tmp.png", f"{out}/mapping.png")
+PY
