@@ -49,6 +49,26 @@ PointGrid::PointGrid(std::span<const Point2> points, std::span<const double> wei
     index_[slot] = std::uint32_t(i);
     if (!weights.empty()) w_[slot] = weights[i];
   }
+  // The same points in column-major cell order: a column of cells is then
+  // one contiguous run (the band along a box's vertical side).
+  colStart_.assign(cells + 1, 0);
+  std::vector<std::uint32_t> colCell(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint32_t c = cellOfPoint[i], cx = c % g_, cy = c / g_;
+    colCell[i] = cx * g_ + cy;
+    ++colStart_[colCell[i] + 1];
+  }
+  for (std::size_t c = 0; c < cells; ++c) colStart_[c + 1] += colStart_[c];
+  colXs_.resize(n);
+  colYs_.resize(n);
+  colIndex_.resize(n);
+  std::vector<std::uint32_t> colFill(colStart_.begin(), colStart_.end() - 1);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint32_t slot = colFill[colCell[i]]++;
+    colXs_[slot] = points[i].x;
+    colYs_[slot] = points[i].y;
+    colIndex_[slot] = std::uint32_t(i);
+  }
   // Inclusive 2D prefix sums of cell totals.
   const int W = g_ + 1;
   prefix_.assign(std::size_t(W) * W, 0.0);

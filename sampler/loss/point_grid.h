@@ -47,6 +47,16 @@ class PointGrid {
   const std::vector<double> &weights() const { return w_; }  // empty when unweighted
   const std::vector<std::uint32_t> &originalIndex() const { return index_; }
 
+  // Column-major storage of the same points: the points of cells
+  // (cx, cy0..cy1) are [columnBegin(cx, cy0), columnEnd(cx, cy1)).
+  std::uint32_t columnBegin(int cx, int cy) const { return colStart_[std::size_t(cx) * g_ + cy]; }
+  std::uint32_t columnEnd(int cx, int cy1) const {
+    return colStart_[std::size_t(cx) * g_ + cy1 + 1];
+  }
+  const std::vector<double> &columnXs() const { return colXs_; }
+  const std::vector<double> &columnYs() const { return colYs_; }
+  const std::vector<std::uint32_t> &columnIndex() const { return colIndex_; }
+
   // Exact total (weight) of the points inside the closed box.
   double boxSum(const Box2 &box) const;
 
@@ -60,6 +70,8 @@ class PointGrid {
   std::vector<std::uint32_t> start_;  // g*g + 1
   std::vector<double> xs_, ys_, w_;
   std::vector<std::uint32_t> index_;
+  std::vector<std::uint32_t> colStart_, colIndex_;
+  std::vector<double> colXs_, colYs_;
   std::vector<double> prefix_;  // (g+1)^2 inclusive prefix sums
 };
 

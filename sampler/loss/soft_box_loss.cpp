@@ -33,7 +33,7 @@ void validate(std::span<const Point2> points, std::span<const Box2> boxes,
 enum Side : std::uint8_t { kLoX, kHiX, kLoY, kHiY };
 
 struct BandEntry {
-  std::uint32_t slot;  // index into the grid's sorted storage
+  std::uint32_t slot;  // the point's index in the caller's array
   Side side;
   double dsigma;  // sigma'(alpha d)
 };
@@ -96,14 +96,16 @@ double softBoxLoss(std::span<const Point2> points, std::span<const Box2> boxes,
 
       // Points of a row segment go through a branch-free, vectorizable pass
       // in blocks; only band points (sigma' > 0) are kept for the gradient.
-      auto scan = [&](int cx0, int cx1, int cy) {
-        if (cx0 > cx1) return;
+      // Evaluates the contiguous run [begin, end) of one storage order (xs,
+      // ys, original indices) in branch-free, vectorizable blocks; only band
+      // points (sigma' > 0) are kept for the gradient.
+      auto scan = [&](const double *sx, const double *sy, const std::uint32_t *original,
+                      std::uint32_t begin, std::uint32_t end) {
         constexpr int kBlock = 64;
         alignas(64) double value[kBlock], slope[kBlock];
-        for (std::uint32_t k0 = grid.cellBegin(cx0, cy), end = grid.rowEnd(cx1, cy); k0 < end;
-             k0 += kBlock) {
+        for (std::uint32_t k0 = begin; k0 < end; k0 += kBlock) {
           const int n = int(std::min<std::uint32_t>(kBlock, end - k0));
-          const double *bx = xs.data() + k0, *by = ys.data() + k0;
+          const double *bx = sx + k0, *by = sy + k0;
           for (int j = 0; j < n; ++j) {
             const double d = std::min(std::min(bx[j] - A.lo.x, A.hi.x - bx[j]),
                                       std::min(by[j] - A.lo.y, A.hi.y - by[j]));
@@ -133,18 +135,29 @@ double softBoxLoss(std::span<const Point2> points, std::span<const Box2> boxes,
               side = kLoY;
             }
             if (const double t = A.hi.y - y; t < d) side = kHiY;
-            band.push_back({k0 + std::uint32_t(j), side, slope[j]});
+            band.push_back({original[k0 + j], side, slope[j]});
           }
         }
       };
+      const double *rx = xs.data(), *ry = ys.data(), *cx = grid.columnXs().data(),
+                   *cy = grid.columnYs().data();
+      const std::uint32_t *ri = grid.originalIndex().data(), *ci = grid.columnIndex().data();
       if (!touch.empty()) {
-        for (int cy = touch.cy0; cy <= touch.cy1; ++cy) {
-          if (!in.empty() && cy >= in.cy0 && cy <= in.cy1) {
-            scan(touch.cx0, in.cx0 - 1, cy);
-            scan(in.cx1 + 1, touch.cx1, cy);
-          } else {
-            scan(touch.cx0, touch.cx1, cy);
-          }
+        if (in.empty()) {
+          for (int row = touch.cy0; row <= touch.cy1; ++row)
+            scan(rx, ry, ri, grid.cellBegin(touch.cx0, row), grid.rowEnd(touch.cx1, row));
+        } else {
+          // Rows above and below the interior: whole rows of the touched range.
+          for (int row = touch.cy0; row < in.cy0; ++row)
+            scan(rx, ry, ri, grid.cellBegin(touch.cx0, row), grid.rowEnd(touch.cx1, row));
+          for (int row = in.cy1 + 1; row <= touch.cy1; ++row)
+            scan(rx, ry, ri, grid.cellBegin(touch.cx0, row), grid.rowEnd(touch.cx1, row));
+          // Columns left and right of the interior, over the interior's rows:
+          // one contiguous run each in the column-major order.
+          for (int col = touch.cx0; col < in.cx0; ++col)
+            scan(cx, cy, ci, grid.columnBegin(col, in.cy0), grid.columnEnd(col, in.cy1));
+          for (int col = in.cx1 + 1; col <= touch.cx1; ++col)
+            scan(cx, cy, ci, grid.columnBegin(col, in.cy0), grid.columnEnd(col, in.cy1));
         }
       }
 
@@ -167,12 +180,11 @@ double softBoxLoss(std::span<const Point2> points, std::span<const Box2> boxes,
   });
 
   if (wantGrad) {
-    const auto &index = grid.originalIndex();
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, N, 1024), [&](const auto &r) {
-      for (std::size_t k = r.begin(); k < r.end(); ++k) {
+      for (std::size_t i = r.begin(); i < r.end(); ++i) {
         Point2 sum{};
-        for (std::size_t c = 0; c < chunks; ++c) sum = sum + chunkGrad[c * N + k];
-        grad[index[k]] = sum;
+        for (std::size_t c = 0; c < chunks; ++c) sum = sum + chunkGrad[c * N + i];
+        grad[i] = sum;
       }
     });
   }
