@@ -6,7 +6,7 @@
 namespace nuld {
 
 PointGrid::PointGrid(std::span<const Point2> points, std::span<const double> weights,
-                     int cellsPerSide) {
+                     int cellsPerSide, bool columnOrder) {
   const std::size_t n = points.size();
   g_ = cellsPerSide > 0 ? cellsPerSide
                         : std::clamp(int(std::lround(std::sqrt(double(n) / 2.0))), 1, 2048);
@@ -51,6 +51,29 @@ PointGrid::PointGrid(std::span<const Point2> points, std::span<const double> wei
   }
   // The same points in column-major cell order: a column of cells is then
   // one contiguous run (the band along a box's vertical side).
+  if (columnOrder) buildColumnOrder(cellOfPoint, points);
+
+  // Inclusive 2D prefix sums of cell totals.
+  const int W = g_ + 1;
+  prefix_.assign(std::size_t(W) * W, 0.0);
+  for (int cy = 0; cy < g_; ++cy) {
+    double row = 0;
+    for (int cx = 0; cx < g_; ++cx) {
+      const std::uint32_t b = cellBegin(cx, cy), e = start_[std::size_t(cy) * g_ + cx + 1];
+      double total = 0;
+      if (w_.empty())
+        total = double(e - b);
+      else
+        for (std::uint32_t k = b; k < e; ++k) total += w_[k];
+      row += total;
+      prefix_[std::size_t(cy + 1) * W + cx + 1] = prefix_[std::size_t(cy) * W + cx + 1] + row;
+    }
+  }
+}
+
+void PointGrid::buildColumnOrder(const std::vector<std::uint32_t> &cellOfPoint,
+                                 std::span<const Point2> points) {
+  const std::size_t n = points.size(), cells = std::size_t(g_) * g_;
   colStart_.assign(cells + 1, 0);
   std::vector<std::uint32_t> colCell(n);
   for (std::size_t i = 0; i < n; ++i) {
@@ -68,22 +91,6 @@ PointGrid::PointGrid(std::span<const Point2> points, std::span<const double> wei
     colXs_[slot] = points[i].x;
     colYs_[slot] = points[i].y;
     colIndex_[slot] = std::uint32_t(i);
-  }
-  // Inclusive 2D prefix sums of cell totals.
-  const int W = g_ + 1;
-  prefix_.assign(std::size_t(W) * W, 0.0);
-  for (int cy = 0; cy < g_; ++cy) {
-    double row = 0;
-    for (int cx = 0; cx < g_; ++cx) {
-      const std::uint32_t b = cellBegin(cx, cy), e = start_[std::size_t(cy) * g_ + cx + 1];
-      double total = 0;
-      if (w_.empty())
-        total = double(e - b);
-      else
-        for (std::uint32_t k = b; k < e; ++k) total += w_[k];
-      row += total;
-      prefix_[std::size_t(cy + 1) * W + cx + 1] = prefix_[std::size_t(cy) * W + cx + 1] + row;
-    }
   }
 }
 

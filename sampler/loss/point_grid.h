@@ -20,8 +20,10 @@ namespace nuld {
 class PointGrid {
  public:
   // `cellsPerSide` 0 picks about two points per cell.
+  // `columnOrder` also builds the column-major copy (the soft loss scans
+  // vertical bands in it; box sums do not need it).
   explicit PointGrid(std::span<const Point2> points, std::span<const double> weights = {},
-                     int cellsPerSide = 0);
+                     int cellsPerSide = 0, bool columnOrder = false);
 
   int resolution() const { return g_; }
   std::size_t size() const { return index_.size(); }
@@ -61,6 +63,8 @@ class PointGrid {
   double boxSum(const Box2 &box) const;
 
  private:
+  void buildColumnOrder(const std::vector<std::uint32_t> &cellOfPoint,
+                        std::span<const Point2> points);
   int cellOfX(double t) const { return xCells_.cell(xEdges_, t); }
   int cellOfY(double t) const { return yCells_.cell(yEdges_, t); }
 

@@ -67,7 +67,7 @@ double softBoxLoss(std::span<const Point2> points, std::span<const Box2> boxes,
     return loss / double(M);
   }
 
-  const PointGrid grid(points);
+  const PointGrid grid(points, {}, 0, /*columnOrder=*/true);
   const double alpha = options.alpha, cutoff = options.cutoff;
   const double delta = cutoff / alpha;  // half-width of the band around each side
   const auto &xs = grid.xs();
