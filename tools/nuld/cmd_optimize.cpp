@@ -54,7 +54,7 @@ Runner addOptimize(CLI::App &app) {
                  "epochs between checkpoints (default: about every 5 %)");
   app.add_flag("--resume", o->resume, "continue from OUTPUT.ckpt if it exists");
   app.add_option("--stop-after", o->stopAfter, "stop (with a checkpoint) after this epoch");
-  app.add_flag("-q,--quiet", o->quiet, "no progress bar");
+  app.add_flag("-q,--quiet", o->quiet, "no progress bar or messages (results still print)");
   app.add_option("-o,--output", o->output, "point-set file to write")->required();
   return [o] {
     const auto target = makeTarget(o->target);
@@ -97,7 +97,7 @@ Runner addOptimize(CLI::App &app) {
       if (o->resume) std::cerr << "no checkpoint at " << ckpt << "; starting fresh\n";
       state = opt.initialState();
     }
-    std::cerr << "optimize " << target->spec() << ": " << s.describe() << "\n";
+    if (!o->quiet) std::cerr << "optimize " << target->spec() << ": " << s.describe() << "\n";
     const long every = o->checkpointEvery > 0 ? o->checkpointEvery : std::max(1, s.epochs / 20);
     const int until = o->stopAfter >= 0 ? int(std::min<long>(o->stopAfter, s.epochs)) : s.epochs;
     ProgressBar bar("epoch", s.epochs, state.epoch, o->quiet);
