@@ -94,8 +94,6 @@ double softBoxLoss(std::span<const Point2> points, std::span<const Box2> boxes,
       double soft = 0;
       band.clear();
 
-      // Points of a row segment go through a branch-free, vectorizable pass
-      // in blocks; only band points (sigma' > 0) are kept for the gradient.
       // Evaluates the contiguous run [begin, end) of one storage order (xs,
       // ys, original indices) in branch-free, vectorizable blocks; only band
       // points (sigma' > 0) are kept for the gradient.
