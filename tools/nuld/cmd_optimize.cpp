@@ -135,8 +135,9 @@ Runner addOptimize(CLI::App &app) {
     writePointSet(o->output, set);
     std::filesystem::remove(ckpt);
     std::printf("l2asd %.9g\ndstar %.9g\n", l2, dstar);
-    std::cerr << "wrote " << set.instances() << " x " << set.n << " points to " << o->output
-              << "\n";
+    if (!o->quiet)
+      std::cerr << "wrote " << set.instances() << " x " << set.n << " points to " << o->output
+                << "\n";
     return 0;
   };
 }
