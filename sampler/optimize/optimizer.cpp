@@ -13,7 +13,6 @@
 #include "sampler/loss/box_mass.h"
 #include "sampler/loss/soft_box_loss.h"
 #include "sampler/optimize/adam.h"
-#include "sampler/optimize/exact_l2asd.h"
 #include "sampler/optimize/schedule.h"
 #include "sampler/sequences/rng.h"
 #include "sampler/sequences/sequence.h"
@@ -118,13 +117,15 @@ DirectOptimizer::DirectOptimizer(const Target &target, OptimizerSettings setting
   if (settings_.mapping == Mapping::Mapped && !target.hasInverse())
     throw std::invalid_argument("optimizer: target '" + target.spec() +
                                 "' has no inverse CDF; use --mapping clamp or toroidal");
-  if (settings_.objective == Objective::ExactL2asd && !target.isUniform()) {
-    if (!dynamic_cast<const GridTarget *>(&target))
+  if (settings_.objective == Objective::ExactL2asd) {
+    if (!target.isUniform() && !dynamic_cast<const GridTarget *>(&target))
       throw std::invalid_argument(
           "optimizer: the exact l2asd objective needs a uniform or a grid (image, envmap) target; "
           "'" +
           target.spec() + "' is neither");
-    exactObjective_ = std::make_shared<NonuniformL2asd>(target);
+    // Exact for both: the uniform CDF ab is bilinear on a single cell, and a
+    // grid target's CDF is bilinear on its own cells.
+    exactObjective_ = std::make_shared<NonuniformL2asd>(target, 1);
   }
 }
 
@@ -158,7 +159,7 @@ double DirectOptimizer::instanceEpoch(std::size_t k, int epoch, std::span<Point2
     }
   double loss;
   if (s.objective == Objective::ExactL2asd) {
-    loss = exactObjective_ ? exactObjective_->squared(x, grad) : l2asdSquaredWithGradient(x, grad);
+    loss = exactObjective_->squared(x, grad);
   } else {
     Rng rng(hashCombine(s.seed, k), std::uint64_t(epoch));
     std::vector<Box2> boxes(s.boxes);

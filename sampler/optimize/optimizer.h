@@ -105,7 +105,7 @@ class DirectOptimizer {
 
   const Target &target_;
   OptimizerSettings settings_;
-  std::shared_ptr<const NonuniformL2asd> exactObjective_;  // grid targets, objective l2asd
+  std::shared_ptr<const NonuniformL2asd> exactObjective_;  // objective l2asd only
 };
 
 // Checkpoints: the settings description, the target spec and the state.
