@@ -4,6 +4,21 @@
 #include <cmath>
 
 namespace nuld {
+namespace {
+
+// Counting sort of item indices by key: items with key k end up in
+// order[start[k] .. start[k + 1]), in their original order.
+void bucketByKey(const std::vector<std::uint32_t> &key, std::size_t buckets,
+                 std::vector<std::uint32_t> &start, std::vector<std::uint32_t> &order) {
+  start.assign(buckets + 1, 0);
+  for (std::uint32_t k : key) ++start[k + 1];
+  for (std::size_t b = 0; b < buckets; ++b) start[b + 1] += start[b];
+  order.resize(key.size());
+  std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+  for (std::size_t i = 0; i < key.size(); ++i) order[fill[key[i]]++] = std::uint32_t(i);
+}
+
+}  // namespace
 
 PointGrid::PointGrid(std::span<const Point2> points, std::span<const double> weights,
                      int cellsPerSide, bool columnOrder) {
@@ -30,23 +45,16 @@ PointGrid::PointGrid(std::span<const Point2> points, std::span<const double> wei
   xCells_ = EdgeLocator(xEdges_);
   yCells_ = EdgeLocator(yEdges_);
   std::vector<std::uint32_t> cellOfPoint(n);
-  start_.assign(cells + 1, 0);
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::uint32_t c = std::uint32_t(cellOfY(points[i].y)) * g_ + cellOfX(points[i].x);
-    cellOfPoint[i] = c;
-    ++start_[c + 1];
-  }
-  for (std::size_t c = 0; c < cells; ++c) start_[c + 1] += start_[c];
+  for (std::size_t i = 0; i < n; ++i)
+    cellOfPoint[i] = std::uint32_t(cellOfY(points[i].y)) * g_ + cellOfX(points[i].x);
+  bucketByKey(cellOfPoint, cells, start_, index_);
   xs_.resize(n);
   ys_.resize(n);
-  index_.resize(n);
   if (!weights.empty()) w_.resize(n);
-  std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::uint32_t slot = fill[cellOfPoint[i]]++;
+  for (std::size_t slot = 0; slot < n; ++slot) {
+    const std::uint32_t i = index_[slot];
     xs_[slot] = points[i].x;
     ys_[slot] = points[i].y;
-    index_[slot] = std::uint32_t(i);
     if (!weights.empty()) w_[slot] = weights[i];
   }
   // The same points in column-major cell order: a column of cells is then
@@ -73,24 +81,18 @@ PointGrid::PointGrid(std::span<const Point2> points, std::span<const double> wei
 
 void PointGrid::buildColumnOrder(const std::vector<std::uint32_t> &cellOfPoint,
                                  std::span<const Point2> points) {
-  const std::size_t n = points.size(), cells = std::size_t(g_) * g_;
-  colStart_.assign(cells + 1, 0);
-  std::vector<std::uint32_t> colCell(n);
+  const std::size_t n = points.size();
+  std::vector<std::uint32_t> columnCell(n);
   for (std::size_t i = 0; i < n; ++i) {
-    const std::uint32_t c = cellOfPoint[i], cx = c % g_, cy = c / g_;
-    colCell[i] = cx * g_ + cy;
-    ++colStart_[colCell[i] + 1];
+    const std::uint32_t cx = cellOfPoint[i] % g_, cy = cellOfPoint[i] / g_;
+    columnCell[i] = cx * g_ + cy;
   }
-  for (std::size_t c = 0; c < cells; ++c) colStart_[c + 1] += colStart_[c];
+  bucketByKey(columnCell, std::size_t(g_) * g_, colStart_, colIndex_);
   colXs_.resize(n);
   colYs_.resize(n);
-  colIndex_.resize(n);
-  std::vector<std::uint32_t> colFill(colStart_.begin(), colStart_.end() - 1);
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::uint32_t slot = colFill[colCell[i]]++;
-    colXs_[slot] = points[i].x;
-    colYs_[slot] = points[i].y;
-    colIndex_[slot] = std::uint32_t(i);
+  for (std::size_t slot = 0; slot < n; ++slot) {
+    colXs_[slot] = points[colIndex_[slot]].x;
+    colYs_[slot] = points[colIndex_[slot]].y;
   }
 }
 
