@@ -7,8 +7,7 @@
 source "$(dirname "$0")/common.sh"
 out=${1:?output directory}
 n=${2:-256}
-mkdir -p "$out"
-"$python" "$root/tools/experiments/make_test_image.py" "$out/test_image.pfm"
+prepare_output "$out"
 csv="$out/mapping.csv"
 echo "target,mapping,lr,l2asd,dstar,zero_density_fraction" >"$csv"
 # Unmapped points start uniform and must travel to the target: the preset's

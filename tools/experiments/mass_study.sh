@@ -6,8 +6,7 @@
 source "$(dirname "$0")/common.sh"
 out=${1:?output directory}; shift
 ns=("$@"); ((${#ns[@]})) || ns=(256 1024)
-mkdir -p "$out"
-"$python" "$root/tools/experiments/make_test_image.py" "$out/test_image.pfm"
+prepare_output "$out"
 csv="$out/mass.csv"
 echo "target,n,mass,boxes,seconds,l2asd,dstar" >"$csv"
 for spec in quarterdisc "image:$out/test_image.pfm"; do
@@ -17,12 +16,10 @@ for spec in quarterdisc "image:$out/test_image.pfm"; do
       f="$out/${name}_${n}_$preset.ptsb"
       start=$(date +%s%N)
       "$nuld" optimize --target "$spec" --n "$n" --instances 4 --seed 1 --preset "$preset" -q -o "$f" >/dev/null
-      secs=$(awk -v ns=$(($(date +%s%N) - start)) 'BEGIN {printf "%.1f", ns / 1e9}')
+      secs=$(seconds_since "$start")
       mass=exact; boxes=$( ((n >= 2048)) && echo 32768 || echo 8192)
       [[ $preset == nonuniform-mc ]] && { mass=mc:131072; ((n < 2048)) && boxes=4096; }
-      vals=$("$nuld" eval "$f" --target "$spec" --metric all |
-        awk '{v[$1]=$2} END {printf "%s,%s", v["l2asd"], v["dstar"]}')
-      echo "$name,$n,$mass,$boxes,$secs,$vals" >>"$csv"
+      echo "$name,$n,$mass,$boxes,$secs,$(l2_dstar "$f" "$spec")" >>"$csv"
     done
   done
 done

@@ -13,8 +13,7 @@ out=${1:?output directory}
 uniform=${2:-}
 shift $(($# >= 2 ? 2 : 1))
 ns=("$@"); ((${#ns[@]})) || ns=(16 32 64 128 256 512 1024)
-mkdir -p "$out"
-"$python" "$root/tools/experiments/make_test_image.py" "$out/test_image.pfm"
+prepare_output "$out"
 targets=("bilinear:0.2,1,1,3" quarterdisc "image:$out/test_image.pfm")
 names=(bilinear quarterdisc image)
 csv="$out/nonuniform.csv"

@@ -6,8 +6,7 @@
 source "$(dirname "$0")/common.sh"
 out=${1:?output directory}; shift
 ns=("$@"); ((${#ns[@]})) || ns=(64 256 1024)
-mkdir -p "$out"
-"$python" "$root/tools/experiments/make_test_image.py" "$out/test_image.pfm"
+prepare_output "$out"
 csv="$out/objective.csv"
 echo "target,n,objective,seconds,l2asd,dstar" >"$csv"
 for spec in uniform "image:$out/test_image.pfm"; do
@@ -17,7 +16,7 @@ for spec in uniform "image:$out/test_image.pfm"; do
       f="$out/${name}_${n}_$objective.ptsb"
       start=$(date +%s%N)
       "$nuld" optimize --target "$spec" --n "$n" --instances 4 --seed 1 --objective "$objective" -q -o "$f" >/dev/null
-      secs=$(awk -v ns=$(($(date +%s%N) - start)) 'BEGIN {printf "%.1f", ns / 1e9}')
+      secs=$(seconds_since "$start")
       echo "$name,$n,$objective,$secs,$(l2_dstar "$f" "$spec")" >>"$csv"
     done
   done

@@ -21,7 +21,9 @@ for n in "${ns[@]}"; do
     "$nuld" optimize --target uniform --n "$n" --instances "$k" --seed 1 -o "$out/optimized_$n.ptsb" >/dev/null
   [[ -f "$out/exact_$n.ptsb" ]] ||
     "$nuld" optimize --target uniform --n "$n" --instances "$k" --seed 1 --objective l2asd -q -o "$out/exact_$n.ptsb" >/dev/null
-  for s in sobol halton optimized exact; do row "$csv" "$n" "$s" "$out/${s}_$n.ptsb" uniform; done
+  for s in sobol halton optimized exact; do
+    echo "$n,$s,$(metrics "$out/${s}_$n.ptsb" uniform l2star l2asd dstar)" >>"$csv"
+  done
   echo "N = $n done" >&2
 done
 "$python" "$root/tools/experiments/plot_discrepancy.py" "$csv" "$out/uniform.png" --title "uniform target"
