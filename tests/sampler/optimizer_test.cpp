@@ -50,6 +50,23 @@ double closedFormL2asdSquared(std::span<const Point2> p, std::span<Point2> grad 
   return 1.0 / 9.0 - 2 * single / N + pair / (4 * N * N);
 }
 
+// Every gradient component against a central difference of step h, within
+// rel * |gradient| + abs.
+void expectCentralDifferences(const NonuniformL2asd &objective, std::vector<Point2> pts,
+                              const std::vector<Point2> &grad, double h, double rel, double abs) {
+  for (std::size_t i = 0; i < pts.size(); ++i)
+    for (int k = 0; k < 2; ++k) {
+      const double x0 = pts[i][k];
+      pts[i][k] = x0 + h;
+      const double up = objective.squared(pts);
+      pts[i][k] = x0 - h;
+      const double down = objective.squared(pts);
+      pts[i][k] = x0;
+      EXPECT_NEAR(grad[i][k], (up - down) / (2 * h), rel * std::abs(grad[i][k]) + abs)
+          << "point " << i << " axis " << k;
+    }
+}
+
 double meanL2asd(const PointSet &set) {
   double sum = 0;
   for (std::size_t k = 0; k < set.instances(); ++k) sum += l2asd(set.instance(k));
@@ -74,17 +91,7 @@ TEST(ExactL2asdObjective, ValueAndGradientMatchOracles) {
   EXPECT_NEAR(value, std::pow(l2asd(pts), 2), 1e-15);
   // The objective is piecewise quadratic, so central differences are exact
   // up to rounding (about 1e-16 / h) unless a kink |x_i - x_j| lies within h.
-  const double h = 1e-5;
-  for (std::size_t i = 0; i < pts.size(); ++i)
-    for (int k = 0; k < 2; ++k) {
-      const double x0 = pts[i][k];
-      pts[i][k] = x0 + h;
-      const double up = objective.squared(pts);
-      pts[i][k] = x0 - h;
-      const double down = objective.squared(pts);
-      pts[i][k] = x0;
-      EXPECT_NEAR(grad[i][k], (up - down) / (2 * h), 1e-7 * std::abs(grad[i][k]) + 1e-10);
-    }
+  expectCentralDifferences(objective, pts, grad, 1e-5, 1e-7, 1e-10);
 }
 
 TEST(DirectOptimizer, LowersL2asdFromItsSobolStart) {
@@ -243,18 +250,7 @@ TEST(NonuniformL2asdObjective, ValueGradientAndUniformLimit) {
   EXPECT_NEAR(std::sqrt(value), nonuniformL2asd(pts, grid), 1e-15);
   // Piecewise smooth: central differences are accurate unless a kink (another
   // point's coordinate or a cell edge) lies within h.
-  const double h = 1e-6;
-  for (std::size_t i = 0; i < pts.size(); ++i)
-    for (int k = 0; k < 2; ++k) {
-      const double x0 = pts[i][k];
-      pts[i][k] = x0 + h;
-      const double up = objective.squared(pts);
-      pts[i][k] = x0 - h;
-      const double down = objective.squared(pts);
-      pts[i][k] = x0;
-      EXPECT_NEAR(grad[i][k], (up - down) / (2 * h), 1e-6 * std::abs(grad[i][k]) + 1e-9)
-          << i << " " << k;
-    }
+  expectCentralDifferences(objective, pts, grad, 1e-6, 1e-6, 1e-9);
 }
 
 }  // namespace
