@@ -15,5 +15,7 @@ Runner addPlot(CLI::App &app);
 Runner addSpectrum(CLI::App &app);
 Runner addOptimize(CLI::App &app);
 Runner addMap(CLI::App &app);
+Runner addRender(CLI::App &app);
+Runner addCompare(CLI::App &app);
 
 }  // namespace nuld::cli

@@ -1,0 +1,37 @@
+#pragma once
+// The material interface the renderer shades with. Everything is in the local
+// shading frame (normal +z, tangent +x); wo and wi point away from the
+// surface. A material reflects only: wo.z <= 0 or wi.z <= 0 gives f = 0 and
+// pdf = 0 (the renderer flips the frame to the side of wo for two-sided
+// surfaces).
+
+#include <optional>
+#include <string>
+
+#include "materials/rgb.h"
+#include "materials/vec3.h"
+#include "sampler/point.h"
+
+namespace nuld {
+
+struct BsdfSample {
+  Vec3 wi;       // unit, local frame
+  Rgb f;         // the BRDF value f(wo, wi), without the cosine
+  double pdf{};  // per unit solid angle, > 0
+};
+
+class Bsdf {
+ public:
+  virtual ~Bsdf() = default;
+
+  virtual std::string name() const = 0;
+  // f(wo, wi), without the cosine factor.
+  virtual Rgb eval(Vec3 wo, Vec3 wi) const = 0;
+  // The density per unit solid angle with which sample() produces wi.
+  virtual double pdf(Vec3 wo, Vec3 wi) const = 0;
+  // Maps u in [0,1)^2 to a direction; nullopt when none is produced (for
+  // example a microfacet reflection that points below the surface).
+  virtual std::optional<BsdfSample> sample(Vec3 wo, Point2 u) const = 0;
+};
+
+}  // namespace nuld

@@ -1,0 +1,184 @@
+#include "materials/disney.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "materials/sampling.h"
+
+namespace nuld {
+namespace {
+
+// The roughness-derived alphas of Burley's anisotropic GGX: the aspect ratio
+// stretches the lobe along the tangent, at most 1 : 0.19 in alpha^2.
+GgxDistribution burleyGgx(const DisneyParams &p) {
+  const double aspect = std::sqrt(1 - 0.9 * p.anisotropic);
+  const double alpha = p.roughness * p.roughness;
+  return {alpha / aspect, alpha * aspect};  // GgxDistribution clamps to kMinAlpha
+}
+
+double lerp(double t, double a, double b) { return (1 - t) * a + t * b; }
+
+const DisneyParams &validated(const DisneyParams &p) {
+  validate(p);
+  return p;
+}
+
+}  // namespace
+
+void validate(const DisneyParams &p) {
+  auto check = [](const char *name, double v) {
+    if (!(v >= 0 && v <= 1))
+      throw std::invalid_argument(std::string("Disney BRDF: ") + name + " = " +
+                                  std::to_string(v) + " (expected a value in [0, 1])");
+  };
+  check("baseColor.r", p.baseColor.r);
+  check("baseColor.g", p.baseColor.g);
+  check("baseColor.b", p.baseColor.b);
+  check("metallic", p.metallic);
+  check("subsurface", p.subsurface);
+  check("specular", p.specular);
+  check("roughness", p.roughness);
+  check("specularTint", p.specularTint);
+  check("anisotropic", p.anisotropic);
+  check("sheen", p.sheen);
+  check("sheenTint", p.sheenTint);
+  check("clearcoat", p.clearcoat);
+  check("clearcoatGloss", p.clearcoatGloss);
+}
+
+std::string toString(DisneyLobe lobe) {
+  switch (lobe) {
+    case DisneyLobe::Diffuse: return "diffuse";
+    case DisneyLobe::Subsurface: return "subsurface";
+    case DisneyLobe::Specular: return "specular";
+    case DisneyLobe::Clearcoat: return "clearcoat";
+  }
+  return "unknown";
+}
+
+DisneyBrdf::DisneyBrdf(const DisneyParams &params)
+    : params_(validated(params)),
+      lobeCount_(params.clearcoat > 0 ? 4 : 3),
+      specular_(burleyGgx(params)),
+      clearcoat_(lerp(params.clearcoatGloss, 0.1, 0.001)),
+      clearcoatMasking_(0.25, 0.25) {
+  const Rgb base = params.baseColor;
+  // Tints carry the hue of the base colour, not its brightness. Burley weighs
+  // luminance .3/.6/.1; we use Rec. 709 like the rest of the renderer.
+  const double lum = base.luminance();
+  tint_ = lum > 0 ? base / lum : Rgb::grey(1);
+  specular0_ = lerp(params.metallic,
+                    params.specular * 0.08 * lerp(params.specularTint, Rgb::grey(1), tint_), base);
+  sheenColor_ = lerp(params.sheenTint, Rgb::grey(1), tint_);
+}
+
+std::optional<DisneyBrdf::Geometry> DisneyBrdf::geometry(Vec3 wo, Vec3 wi) {
+  if (!(wo.z > 0) || !(wi.z > 0)) return std::nullopt;
+  const auto h = halfVector(wo, wi);
+  if (!h) return std::nullopt;
+  Geometry g;
+  g.h = *h;
+  g.cosO = wo.z;
+  g.cosI = wi.z;
+  g.cosD = std::clamp(dot(wi, *h), 0.0, 1.0);
+  g.fo = schlickWeight(g.cosO);
+  g.fi = schlickWeight(g.cosI);
+  g.fd = schlickWeight(g.cosD);
+  return g;
+}
+
+Rgb DisneyBrdf::lobeValue(DisneyLobe lobe, Vec3 wo, Vec3 wi, const Geometry &g) const {
+  const DisneyParams &p = params_;
+  const double cosD2 = g.cosD * g.cosD;
+  switch (lobe) {
+    case DisneyLobe::Diffuse: {
+      // Retro-reflection: grazing light and view brighten rough surfaces
+      // (fd90 > 1) and darken smooth ones (fd90 < 1).
+      const double fd90 = 0.5 + 2 * p.roughness * cosD2;
+      const double fd = (1 + (fd90 - 1) * g.fi) * (1 + (fd90 - 1) * g.fo);
+      const Rgb sheen = p.sheen * g.fd * sheenColor_;
+      return (1 - p.metallic) * ((1 - p.subsurface) * fd * kInvPi * p.baseColor + sheen);
+    }
+    case DisneyLobe::Subsurface: {
+      // Burley's Hanrahan-Krueger-like flattening; the 1/(cos + cos) term
+      // lifts grazing response the way thin scattering layers do.
+      const double fss90 = p.roughness * cosD2;
+      const double fss = (1 + (fss90 - 1) * g.fi) * (1 + (fss90 - 1) * g.fo);
+      const double ss = 1.25 * (fss * (1 / (g.cosI + g.cosO) - 0.5) + 0.5);
+      return (1 - p.metallic) * p.subsurface * ss * kInvPi * p.baseColor;
+    }
+    case DisneyLobe::Specular: {
+      const Rgb fresnel = lerp(g.fd, specular0_, Rgb::grey(1));
+      return specular_.D(g.h) * specular_.visibility(wo, wi) * fresnel;
+    }
+    case DisneyLobe::Clearcoat: {
+      if (!(p.clearcoat > 0)) return {};
+      // A fixed-IOR (1.5, F0 = 0.04) varnish whose weight 0.25 Burley chose
+      // to keep the coat subtle.
+      const double fresnel = lerp(g.fd, 0.04, 1.0);
+      return Rgb::grey(0.25 * p.clearcoat * fresnel * clearcoat_.D(g.h) *
+                       clearcoatMasking_.visibility(wo, wi));
+    }
+  }
+  return {};
+}
+
+Rgb DisneyBrdf::eval(Vec3 wo, Vec3 wi) const {
+  const auto g = geometry(wo, wi);
+  if (!g) return {};
+  Rgb f;
+  for (int k = 0; k < lobeCount_; ++k) f += lobeValue(lobe(k), wo, wi, *g);
+  return f;
+}
+
+Rgb DisneyBrdf::evalLobe(int k, Vec3 wo, Vec3 wi) const {
+  const auto g = geometry(wo, wi);
+  if (!g || k < 0 || k >= lobeCount_) return {};
+  return lobeValue(lobe(k), wo, wi, *g);
+}
+
+double DisneyBrdf::lobePdf(int k, Vec3 wo, Vec3 wi) const {
+  if (!(wo.z > 0) || !(wi.z > 0) || k < 0 || k >= lobeCount_) return 0;
+  switch (lobe(k)) {
+    case DisneyLobe::Diffuse:
+    case DisneyLobe::Subsurface: return cosineHemispherePdf(wi.z);
+    case DisneyLobe::Specular: return specular_.reflectionPdf(wo, wi);
+    case DisneyLobe::Clearcoat: return clearcoat_.reflectionPdf(wo, wi);
+  }
+  return 0;
+}
+
+double DisneyBrdf::pdf(Vec3 wo, Vec3 wi) const {
+  double sum = 0;
+  for (int k = 0; k < lobeCount_; ++k) sum += lobePdf(k, wo, wi);
+  return sum / lobeCount_;
+}
+
+std::optional<Vec3> DisneyBrdf::sampleLobe(int k, Vec3 wo, Point2 u) const {
+  if (!(wo.z > 0) || k < 0 || k >= lobeCount_) return std::nullopt;
+  switch (lobe(k)) {
+    case DisneyLobe::Diffuse:
+    case DisneyLobe::Subsurface: return cosineHemisphere(u);
+    case DisneyLobe::Specular: return specular_.sampleReflection(wo, u);
+    case DisneyLobe::Clearcoat: return clearcoat_.sampleReflection(wo, u);
+  }
+  return std::nullopt;
+}
+
+std::optional<BsdfSample> DisneyBrdf::sample(Vec3 wo, Point2 u) const {
+  if (!(wo.z > 0)) return std::nullopt;
+  // The supplement's mapping: u.x chooses the lobe and, rescaled, stays the
+  // lobe's first coordinate.
+  const double scaled = std::clamp(u.x, 0.0, 1.0) * lobeCount_;
+  const int k = std::min(int(scaled), lobeCount_ - 1);
+  const double ux = std::clamp(scaled - k, 0.0, std::nextafter(1.0, 0.0));
+  const auto wi = sampleLobe(k, wo, {ux, u.y});
+  if (!wi || !(wi->z > 0)) return std::nullopt;
+  const double p = pdf(wo, *wi);
+  const Rgb f = eval(wo, *wi);
+  if (!(p > 0) || !std::isfinite(p) || !f.isFinite()) return std::nullopt;
+  return BsdfSample{*wi, f, p};
+}
+
+}  // namespace nuld

@@ -1,0 +1,87 @@
+#pragma once
+// Burley's 2012 "principled" Disney BRDF, reflection only (DESIGN.md §4).
+//
+// Lobes, each a term of f:
+//   diffuse     (1 - metallic) ((1 - subsurface) Fd base / pi + sheen)
+//   subsurface  (1 - metallic) subsurface ss base / pi
+//               (the two sum to Burley's lerp(Fd, ss, subsurface) term)
+//   specular    anisotropic GGX, D F G2 / (4 cos cos), Schlick F from Cspec0
+//   clearcoat   GTR1, present only when clearcoat > 0
+// Sampling follows the supplement (§3): u.x picks one lobe uniformly and is
+// rescaled to [0,1); diffuse and subsurface sample the cosine-weighted
+// hemisphere, specular the GGX visible normals (Heitz 2018), clearcoat the
+// GTR1 normals; the pdf is the plain average of the lobe pdfs. The per-lobe
+// functions let a caller combine the lobes differently (MIS over lobes).
+
+#include <array>
+#include <optional>
+#include <string>
+
+#include "materials/bsdf.h"
+#include "materials/microfacet.h"
+
+namespace nuld {
+
+// Every parameter of Burley 2012, with his defaults; all in [0, 1].
+struct DisneyParams {
+  Rgb baseColor{1, 1, 1};
+  double metallic = 0, subsurface = 0, specular = 0.5, roughness = 0.5, specularTint = 0,
+         anisotropic = 0, sheen = 0, sheenTint = 0, clearcoat = 0, clearcoatGloss = 1;
+
+  friend bool operator==(const DisneyParams &, const DisneyParams &) = default;
+};
+
+// Throws std::invalid_argument naming the first parameter that is not a
+// finite value in [0, 1] (base colour components included).
+void validate(const DisneyParams &params);
+
+enum class DisneyLobe { Diffuse, Subsurface, Specular, Clearcoat };
+std::string toString(DisneyLobe lobe);
+
+class DisneyBrdf final : public Bsdf {
+ public:
+  // Validates the parameters (see validate).
+  explicit DisneyBrdf(const DisneyParams &params);
+
+  const DisneyParams &params() const { return params_; }
+  const GgxDistribution &specularDistribution() const { return specular_; }
+
+  std::string name() const override { return "disney"; }
+  Rgb eval(Vec3 wo, Vec3 wi) const override;
+  // The average of lobePdf over the lobes.
+  double pdf(Vec3 wo, Vec3 wi) const override;
+  // f is the full eval (all lobes) and pdf the full mixture pdf.
+  std::optional<BsdfSample> sample(Vec3 wo, Point2 u) const override;
+
+  // Lobes in sampling order: diffuse, subsurface, specular, then clearcoat
+  // when clearcoat > 0.
+  int lobeCount() const { return lobeCount_; }
+  DisneyLobe lobe(int k) const { return DisneyLobe(k); }
+  // Lobe k's term of f; the terms sum to eval.
+  Rgb evalLobe(int k, Vec3 wo, Vec3 wi) const;
+  // The density of sampleLobe(k, ...) per unit solid angle.
+  double lobePdf(int k, Vec3 wo, Vec3 wi) const;
+  // A direction from lobe k alone; nullopt when it points below the surface.
+  std::optional<Vec3> sampleLobe(int k, Vec3 wo, Point2 u) const;
+
+ private:
+  // The angles every lobe reads, for wo and wi above the surface.
+  struct Geometry {
+    Vec3 h;                    // half vector
+    double cosO, cosI, cosD;   // wo.n, wi.n, wi.h (= wo.h)
+    double fo, fi, fd;         // Schlick weights of those cosines
+  };
+  static std::optional<Geometry> geometry(Vec3 wo, Vec3 wi);
+  Rgb lobeValue(DisneyLobe lobe, Vec3 wo, Vec3 wi, const Geometry &g) const;
+
+  DisneyParams params_;
+  int lobeCount_;
+  Rgb tint_;        // base colour normalized to luminance 1
+  Rgb specular0_;   // Cspec0: specular colour at normal incidence
+  Rgb sheenColor_;  // Csheen
+  GgxDistribution specular_;
+  Gtr1Distribution clearcoat_;
+  GgxDistribution clearcoatMasking_;  // Burley's fixed alpha 0.25 for the clearcoat's G
+};
+
+}  // namespace nuld

@@ -1,0 +1,72 @@
+#pragma once
+// A Disney BRDF lobe as a sampler target (DESIGN.md §4): the hemisphere
+// density proportional to luminance(f(wo, wi)) cos theta_i, tabulated on the
+// equal-area sphere map (materials/sphere_map.h) as a GridTarget, so box
+// masses are exact reads of its summed-area table.
+//
+// Layout: the grid covers the whole unit square (Domain::Hemisphere): phiCells
+// uniform columns in u, thetaRows uniform rows over v in [0, 1/2] (the
+// hemisphere), and one last zero-density row [1/2, 1] (the lower hemisphere).
+// Rows are uniform in v, not refined toward the lobe, because the map is
+// equal-area: every cell then covers the same solid angle 2 pi /
+// (phiCells thetaRows), the table's resolution is the same in every
+// direction, and the lobe's peak moves with wo anyway, so no fixed
+// refinement would follow it. A cell's density is the average of f cos over
+// 4 x 4 sub-cell midpoints; the map's Jacobian is constant (4 pi), so that
+// average is the cell's mass over its area up to the normalization.
+//
+// Spec: `disney` or `disney:key=value,...` with keys basecolor (a grey value,
+// or r/g/b), metallic, subsurface, specular, roughness, speculartint,
+// anisotropic, sheen, sheentint, clearcoat, clearcoatgloss (all in [0, 1]),
+// theta and phi (the polar and azimuthal angle of wo in degrees; theta in
+// [0, 90)), res (phiCells) and rows (thetaRows, default res / 2). Keys left
+// out take the supplement's instance (supplementDisneyParams) and wo at
+// theta 45, phi 0.
+
+#include <memory>
+#include <string>
+
+#include "materials/disney.h"
+#include "materials/vec3.h"
+#include "sampler/targets/grid_target.h"
+
+namespace nuld {
+
+// The supplement's test instance (§3): roughness .58, metallic .2, subsurface
+// .5, anisotropic .15, base colour (1, 1, 1). "Other parameters are all zero"
+// is taken literally: specular, specular tint, sheen, sheen tint, clearcoat
+// and clearcoat gloss are 0 (so the dielectric specular F0 is 0 and the
+// specular colour is metallic * base = 0.2).
+DisneyParams supplementDisneyParams();
+// The supplement's view direction (sqrt(2)/2, 0, sqrt(2)/2).
+Vec3 supplementWo();
+
+// What a `disney` target spec says.
+struct DisneyTargetSpec {
+  DisneyParams params = supplementDisneyParams();
+  double thetaDegrees = 45, phiDegrees = 0;
+  int phiCells = 256, thetaRows = 128;
+
+  Vec3 wo() const;
+};
+
+// Parses the part after `disney:` (empty for plain `disney`). Throws
+// std::invalid_argument naming the spec, the key and what was expected.
+DisneyTargetSpec parseDisneyTargetArgs(const std::string &args);
+// The canonical spec: `disney`, plus every key that differs from the defaults.
+std::string toSpec(const DisneyTargetSpec &spec);
+
+// f(wo, .) cos theta of `params` tabulated as above. wo is normalized and
+// must point above the surface. The tabulation resolves lobes wider than a
+// few cells (a cell spans about 2 pi / phiCells in azimuth); sharper
+// specular peaks (alpha = roughness^2 below ~0.05 at the default size) are
+// aliased by the 4 x 4 sub-sampling.
+std::unique_ptr<GridTarget> makeDisneyTarget(const DisneyParams &params, Vec3 wo,
+                                             int phiCells = 256, int thetaRows = 128);
+// The same from a parsed spec; the target reports toSpec(spec).
+std::unique_ptr<GridTarget> makeDisneyTarget(const DisneyTargetSpec &spec);
+
+// Registers the `disney` target family with makeTarget.
+void registerMaterialTargets();
+
+}  // namespace nuld

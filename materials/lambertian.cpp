@@ -1,0 +1,24 @@
+#include "materials/lambertian.h"
+
+#include "materials/sampling.h"
+
+namespace nuld {
+
+Rgb Lambertian::eval(Vec3 wo, Vec3 wi) const {
+  if (!(wo.z > 0) || !(wi.z > 0)) return {};
+  return albedo_ * kInvPi;
+}
+
+double Lambertian::pdf(Vec3 wo, Vec3 wi) const {
+  if (!(wo.z > 0)) return 0;
+  return cosineHemispherePdf(wi.z);
+}
+
+std::optional<BsdfSample> Lambertian::sample(Vec3 wo, Point2 u) const {
+  if (!(wo.z > 0)) return std::nullopt;
+  const Vec3 wi = cosineHemisphere(u);
+  if (!(wi.z > 0)) return std::nullopt;  // only for u.x = 1, outside [0,1)
+  return BsdfSample{wi, albedo_ * kInvPi, cosineHemispherePdf(wi.z)};
+}
+
+}  // namespace nuld

@@ -1,0 +1,31 @@
+#pragma once
+// Hemisphere sampling shared by the Lambertian and the Disney diffuse and
+// subsurface lobes.
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "materials/vec3.h"
+#include "sampler/point.h"
+
+namespace nuld {
+
+inline constexpr double kInvPi = std::numbers::inv_pi;
+
+// Cosine-weighted direction about +z by inversion of its CDF: sin^2 theta =
+// u.x, phi = 2 pi u.y. Unlike the concentric-disc map, this is the plain
+// inverse CDF the supplement's "deterministic mapping" refers to, and every
+// u in [0,1)^2 gives cos theta = sqrt(1 - u.x) > 0, so a point such as
+// Sobol's (0, 0) never yields a horizon direction with zero pdf.
+inline Vec3 cosineHemisphere(Point2 u) {
+  const double sin2 = std::clamp(u.x, 0.0, 1.0);
+  const double sinTheta = std::sqrt(sin2), cosTheta = std::sqrt(1 - sin2);
+  const double phi = 2 * std::numbers::pi * u.y;
+  return {sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta};
+}
+
+// The density of cosineHemisphere per unit solid angle.
+inline double cosineHemispherePdf(double cosTheta) { return cosTheta > 0 ? cosTheta * kInvPi : 0; }
+
+}  // namespace nuld

@@ -1,0 +1,51 @@
+// The classic backends: independent random numbers, Owen-scrambled Sobol and
+// randomized (Owen-permuted) Halton. Sobol and Halton are padded: every
+// (pixel, pair) gets its own independently scrambled copy of the first N
+// points of dimensions (0, 1), so pairs never correlate with each other.
+
+#include <stdexcept>
+
+#include "renderer/sampler_backend.h"
+#include "sampler/sequences/rng.h"
+#include "sampler/sequences/sequence.h"
+
+namespace nuld {
+namespace {
+
+class IndependentBackend final : public SamplerBackend {
+ public:
+  explicit IndependentBackend(std::uint64_t seed) : seed_(seed) {}
+  std::string name() const override { return "independent"; }
+  void primary(std::uint64_t pixel, std::uint32_t pair, std::span<Point2> out) const override {
+    Rng rng(hashCombine(seed_, pixel), pair);
+    for (Point2 &p : out) p = {rng.uniform(), rng.uniform()};
+  }
+
+ private:
+  std::uint64_t seed_;
+};
+
+class SequenceBackend final : public SamplerBackend {
+ public:
+  SequenceBackend(SequenceKind kind, std::uint64_t seed) : kind_(kind), seed_(seed) {}
+  std::string name() const override { return kind_ == SequenceKind::Sobol ? "sobol" : "halton"; }
+  void primary(std::uint64_t pixel, std::uint32_t pair, std::span<Point2> out) const override {
+    const SequenceOptions o{kind_, Scramble::Owen, hash3(seed_, pixel, pair)};
+    generatePoints(o, 0, out, 0);
+  }
+
+ private:
+  SequenceKind kind_;
+  std::uint64_t seed_;
+};
+
+}  // namespace
+
+std::unique_ptr<SamplerBackend> makeClassicBackend(const std::string &name, std::uint64_t seed) {
+  if (name == "independent" || name == "random") return std::make_unique<IndependentBackend>(seed);
+  if (name == "sobol") return std::make_unique<SequenceBackend>(SequenceKind::Sobol, seed);
+  if (name == "halton") return std::make_unique<SequenceBackend>(SequenceKind::Halton, seed);
+  return nullptr;
+}
+
+}  // namespace nuld

@@ -1,0 +1,61 @@
+#pragma once
+// Triangle meshes in an Embree 3 BVH. Embree's handles are wrapped in RAII
+// types so a scene can be moved and destroyed like any value; the meshes are
+// kept for shading (vertex normals) after Embree has built its BVH.
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "materials/vec3.h"
+#include "renderer/triangle_mesh.h"
+
+namespace nuld {
+
+struct Ray {
+  Vec3 origin, direction;
+  double tMax = std::numeric_limits<double>::infinity();
+};
+
+struct SurfaceHit {
+  double t = 0;
+  Vec3 position;
+  Vec3 geometricNormal;  // unit, as Embree's winding gives it
+  Vec3 shadingNormal;    // unit, interpolated vertex normals (or the geometric one)
+  std::uint32_t mesh = 0, triangle = 0;
+};
+
+class EmbreeScene {
+ public:
+  explicit EmbreeScene(std::vector<TriangleMesh> meshes);
+  ~EmbreeScene();
+  EmbreeScene(EmbreeScene &&) noexcept;
+  EmbreeScene &operator=(EmbreeScene &&) noexcept;
+
+  std::optional<SurfaceHit> intersect(const Ray &ray) const;
+  // True when anything blocks the segment (origin, origin + tMax * direction).
+  bool occluded(const Ray &ray) const;
+
+  const std::vector<TriangleMesh> &meshes() const { return meshes_; }
+  std::size_t triangleCount() const;
+  Vec3 boundsMin() const { return lo_; }
+  Vec3 boundsMax() const { return hi_; }
+
+  // The raw Embree query, for the benchmark that compares the renderer with
+  // Embree alone: returns the hit distance or infinity.
+  float rawIntersect(const float origin[3], const float direction[3]) const;
+
+ private:
+  struct Handles;
+  std::unique_ptr<Handles> handles_;
+  std::vector<TriangleMesh> meshes_;
+  Vec3 lo_, hi_;
+};
+
+// Moves a ray origin off the surface along the geometric normal, on the side
+// of `direction`, by an offset that scales with the coordinates' magnitude
+// (Embree intersects in single precision).
+Vec3 offsetRayOrigin(Vec3 p, Vec3 geometricNormal, Vec3 direction);
+
+}  // namespace nuld

@@ -1,0 +1,94 @@
+#include "renderer/image_metrics.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <stdexcept>
+
+namespace nuld {
+namespace {
+
+constexpr double kRelEpsilon = 0.01;
+
+void requireSameSize(const Image &a, const Image &b) {
+  if (a.width != b.width || a.height != b.height)
+    throw std::invalid_argument("images differ in size: " + std::to_string(a.width) + "x" +
+                                std::to_string(a.height) + " vs reference " +
+                                std::to_string(b.width) + "x" + std::to_string(b.height));
+}
+
+double channel(const Image &img, int x, int y, int c) {
+  return img.at(x, y, img.channels >= 3 ? c : 0);
+}
+
+double pixelRelError(const Image &img, const Image &ref, int x, int y) {
+  double e = 0;
+  for (int c = 0; c < 3; ++c) {
+    const double r = channel(ref, x, y, c), d = channel(img, x, y, c) - r;
+    e += d * d / (r * r + kRelEpsilon);
+  }
+  return e / 3;
+}
+
+}  // namespace
+
+ImageError compareImages(const Image &img, const Image &ref) {
+  requireSameSize(img, ref);
+  ImageError err;
+  double se = 0, rel = 0;
+  std::size_t count = 0;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      bool finite = true;
+      for (int c = 0; c < 3; ++c) finite = finite && std::isfinite(channel(img, x, y, c));
+      if (!finite) {
+        ++err.nonFinitePixels;
+        continue;
+      }
+      for (int c = 0; c < 3; ++c) {
+        const double r = channel(ref, x, y, c), d = channel(img, x, y, c) - r;
+        se += d * d;
+        rel += d * d / (r * r + kRelEpsilon);
+      }
+      count += 3;
+    }
+  err.mse = count ? se / count : 0;
+  err.relmse = count ? rel / count : 0;
+  return err;
+}
+
+Image errorMap(const Image &img, const Image &ref) {
+  requireSameSize(img, ref);
+  // Piecewise-linear ramp: dark blue, blue, green, yellow, white.
+  static constexpr std::array<std::array<double, 3>, 5> ramp{
+      {{0.02, 0.02, 0.15}, {0.1, 0.3, 0.9}, {0.1, 0.8, 0.3}, {1.0, 0.9, 0.1}, {1, 1, 1}}};
+  Image out{img.width, img.height, 3, std::vector<float>(std::size_t(img.width) * img.height * 3)};
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const double e = pixelRelError(img, ref, x, y);
+      const double t = std::isfinite(e) ? std::clamp((std::log10(std::max(e, 1e-12)) + 4) / 4, 0.0, 1.0)
+                                        : 1.0;
+      const double f = t * (ramp.size() - 1);
+      const int i = std::min(int(f), int(ramp.size()) - 2);
+      for (int c = 0; c < 3; ++c)
+        out.at(x, y, c) = float(ramp[i][c] + (f - i) * (ramp[i + 1][c] - ramp[i][c]));
+    }
+  return out;
+}
+
+Image toneMap(const Image &linear, double exposure) {
+  Image out = linear;
+  for (float &v : out.pixels) {
+    const double x = std::isfinite(v) ? std::clamp(double(v) * exposure, 0.0, 1.0) : 0.0;
+    v = float(x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1 / 2.4) - 0.055);
+  }
+  return out;
+}
+
+void writeRender(const std::string &exrPath, const Image &image) {
+  writeImage(exrPath, image);
+  writeImage(std::filesystem::path(exrPath).replace_extension(".png").string(), toneMap(image));
+}
+
+}  // namespace nuld

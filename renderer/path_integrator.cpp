@@ -1,0 +1,110 @@
+#include "renderer/path_integrator.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "materials/frame.h"
+
+namespace nuld {
+
+IntegratorKind parseIntegrator(const std::string &name) {
+  if (name == "path") return IntegratorKind::Path;
+  if (name == "direct") return IntegratorKind::Direct;
+  throw std::invalid_argument("unknown integrator '" + name + "': expected path or direct");
+}
+
+std::string toString(IntegratorKind k) { return k == IntegratorKind::Path ? "path" : "direct"; }
+
+PathIntegrator::PathIntegrator(const Scene &scene, IntegratorKind kind, int maxDepth)
+    : scene_(scene), maxDepth_(kind == IntegratorKind::Direct ? 1 : maxDepth) {
+  if (maxDepth < 1) throw std::invalid_argument("max depth must be at least 1");
+}
+
+namespace {
+
+// The shading frame at a hit, turned to the side the path arrives from (every
+// material is two-sided). A shading normal that faces away from wo is
+// replaced by the geometric one, which always faces wo.
+struct Shading {
+  Frame frame;
+  Vec3 ng;
+};
+
+Shading shadingAt(const SurfaceHit &hit, Vec3 wo) {
+  Vec3 ng = hit.geometricNormal, ns = hit.shadingNormal;
+  if (dot(wo, ng) < 0) ng = -ng, ns = -ns;
+  if (dot(wo, ns) <= 0) ns = ng;
+  return {Frame::fromNormal(ns), ng};
+}
+
+}  // namespace
+
+Rgb PathIntegrator::radiance(const Ray &cameraRay, PixelSamples &samples, std::size_t index,
+                             PathCounters &counters) const {
+  const EnvironmentLight *light = scene_.environment ? &*scene_.environment : nullptr;
+  Rgb L, beta{1, 1, 1};
+  Ray ray = cameraRay;
+  double lastBsdfPdf = 0;  // 0: the camera ray (no MIS on what it sees)
+  for (int depth = 0;; ++depth) {
+    ++counters.rays;
+    const auto hit = scene_.geometry.intersect(ray);
+    if (!hit) {
+      if (light) {
+        const double w = lastBsdfPdf > 0 ? powerHeuristic(lastBsdfPdf, light->pdf(ray.direction))
+                                         : 1.0;
+        L += w * beta * light->radiance(ray.direction);
+      }
+      break;
+    }
+    if (depth >= maxDepth_) break;
+
+    const Bsdf &bsdf = *scene_.materials[hit->mesh];
+    const Vec3 woWorld = -ray.direction;
+    const Shading sh = shadingAt(*hit, woWorld);
+    const Vec3 wo = sh.frame.toLocal(woWorld);
+    if (!(wo.z > 0)) break;
+
+    // Next-event estimation of the environment.
+    if (light && light->target()) {
+      const std::uint32_t pair = SamplePairs::light(depth);
+      const Point2 *x = samples.distributed(*light->target(), pair, index);
+      const auto ls = x ? light->sampleTarget(*x) : light->sample(samples.primary(pair, index));
+      if (ls && dot(ls->wi, sh.ng) > 0) {
+        const Vec3 wi = sh.frame.toLocal(ls->wi);
+        const Rgb f = bsdf.eval(wo, wi);
+        if (wi.z > 0 && !f.isBlack()) {
+          ++counters.rays;
+          const Ray shadow{offsetRayOrigin(hit->position, sh.ng, ls->wi), ls->wi};
+          if (!scene_.geometry.occluded(shadow)) {
+            const double w = powerHeuristic(ls->pdf, bsdf.pdf(wo, wi));
+            L += (w * wi.z / ls->pdf) * beta * f * ls->radiance;
+          }
+        }
+      }
+    }
+
+    // The continuation direction by BSDF sampling.
+    const auto bs = bsdf.sample(wo, samples.primary(SamplePairs::bsdf(depth), index));
+    if (!bs || !(bs->pdf > 0)) break;
+    const Vec3 wiWorld = sh.frame.toWorld(bs->wi);
+    if (dot(wiWorld, sh.ng) <= 0) break;  // below the geometric surface: a light leak
+    beta *= (bs->wi.z / bs->pdf) * bs->f;
+    lastBsdfPdf = bs->pdf;
+    ray = {offsetRayOrigin(hit->position, sh.ng, wiWorld), wiWorld};
+
+    // Russian roulette (pbrt-v4's rule) once the path has bounced twice.
+    if (depth >= 1 && beta.maxComponent() < 1) {
+      const double q = std::max(0.0, 1 - beta.maxComponent());
+      if (samples.primary(SamplePairs::roulette(depth), index).x < q) break;
+      beta = beta / (1 - q);
+    }
+    if (beta.isBlack()) break;
+  }
+  if (!L.isFinite()) {
+    ++counters.rejected;
+    return {};
+  }
+  return L;
+}
+
+}  // namespace nuld

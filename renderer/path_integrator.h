@@ -1,0 +1,46 @@
+#pragma once
+// A unidirectional path tracer with next-event estimation of the environment
+// light and BSDF sampling, combined by multiple importance sampling with the
+// power heuristic (Veach 1997), and Russian roulette after the second bounce.
+// The direct-lighting mode stops after the first bounce: it isolates the
+// estimator that the sampler backends differ in.
+
+#include <cstdint>
+#include <string>
+
+#include "materials/rgb.h"
+#include "renderer/pixel_samples.h"
+#include "renderer/scene.h"
+
+namespace nuld {
+
+enum class IntegratorKind { Path, Direct };
+IntegratorKind parseIntegrator(const std::string &name);  // "path" | "direct"
+std::string toString(IntegratorKind k);
+
+struct PathCounters {
+  std::uint64_t rays = 0;     // intersection and shadow rays traced
+  std::uint64_t rejected = 0; // non-finite sample values dropped (should stay 0)
+};
+
+class PathIntegrator {
+ public:
+  PathIntegrator(const Scene &scene, IntegratorKind kind, int maxDepth);
+
+  // Radiance along `ray` for sample `index` of the current pixel.
+  Rgb radiance(const Ray &ray, PixelSamples &samples, std::size_t index,
+               PathCounters &counters) const;
+
+  int maxDepth() const { return maxDepth_; }
+
+ private:
+  const Scene &scene_;
+  int maxDepth_;
+};
+
+inline double powerHeuristic(double pdfA, double pdfB) {
+  const double a = pdfA * pdfA, b = pdfB * pdfB;
+  return a > 0 ? a / (a + b) : 0.0;
+}
+
+}  // namespace nuld

@@ -1,0 +1,39 @@
+#pragma once
+// The render loop: TBB over 16x16 tiles, each pixel integrated in one task in
+// sample order, so an image is a pure function of (scene, settings, backend)
+// for any thread count.
+
+#include <cstdint>
+#include <functional>
+#include <string>
+
+#include "renderer/path_integrator.h"
+#include "renderer/sampler_backend.h"
+#include "renderer/scene.h"
+#include "sampler/io/image_io.h"
+
+namespace nuld {
+
+struct RenderSettings {
+  int width = 256, height = 256;
+  std::size_t spp = 16;
+  IntegratorKind integrator = IntegratorKind::Path;
+  int maxDepth = 5;
+};
+
+struct RenderStats {
+  double seconds = 0;
+  std::uint64_t rays = 0;
+  std::uint64_t rejectedSamples = 0;  // non-finite values dropped
+  double raysPerSecond() const { return seconds > 0 ? rays / seconds : 0; }
+};
+
+// Called after each finished tile with (tiles done, tiles in all); calls are
+// serialized.
+using RenderProgress = std::function<void(std::size_t, std::size_t)>;
+
+// Returns a linear RGB image (3 channels, row 0 at the top).
+Image render(const Scene &scene, const RenderSettings &settings, SamplerBackend &backend,
+             RenderStats *stats = nullptr, const RenderProgress &progress = {});
+
+}  // namespace nuld

@@ -1,0 +1,69 @@
+#pragma once
+// The swap point between the sampler module and the renderer (DESIGN.md §4).
+//
+// For every pixel and every *dimension pair* (camera jitter, then per bounce a
+// light pair, a BSDF pair and a Russian-roulette pair; see SamplePairs) a
+// backend hands out N 2D samples, N = spp; sample i of a pixel uses point i
+// of each pair. A backend gives either
+//  - primary-sample-space points, uniform in [0,1)^2, which the light or the
+//    BSDF maps by its own inverse CDF; or
+//  - for a pair and a target it knows, points already distributed by that
+//    target (optimized or neural sets), which the light uses with the
+//    target's pdf.
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+
+#include "sampler/point.h"
+#include "sampler/targets/target.h"
+
+namespace nuld {
+
+// Dimension pairs of a path. Pair 0 places the sample in the pixel; bounce d
+// uses light(d) for next-event estimation, bsdf(d) for the continuation
+// direction and roulette(d) (x only) for Russian roulette.
+struct SamplePairs {
+  static constexpr std::uint32_t camera = 0;
+  static constexpr std::uint32_t light(int depth) { return 1 + 3 * std::uint32_t(depth); }
+  static constexpr std::uint32_t bsdf(int depth) { return 2 + 3 * std::uint32_t(depth); }
+  static constexpr std::uint32_t roulette(int depth) { return 3 + 3 * std::uint32_t(depth); }
+};
+
+class SamplerBackend {
+ public:
+  virtual ~SamplerBackend() = default;
+
+  // The name as given on the command line (e.g. "sobol", "optimized:FILE").
+  virtual std::string name() const = 0;
+
+  // Checks that the backend can serve `spp` samples per pixel in a scene
+  // whose environment light samples `lightTarget` (null without one); throws
+  // std::invalid_argument saying why not (a point-set file of another N, or
+  // points that follow a target the scene does not use).
+  virtual void prepare(std::size_t spp, const Target *lightTarget) {}
+
+  // N = out.size() uniform points in [0,1)^2 for (pixel, pair). A pure
+  // function of its arguments, so renders are deterministic for any thread
+  // count.
+  virtual void primary(std::uint64_t pixel, std::uint32_t pair, std::span<Point2> out) const = 0;
+
+  // Fills `out` with points distributed by `target` (in its unit-square
+  // parameterization) and returns true, or returns false when this backend
+  // has no such points for the pair: the caller then maps primary() points
+  // through target.invert().
+  virtual bool distributed(const Target &target, std::uint64_t pixel, std::uint32_t pair,
+                           std::span<Point2> out) const {
+    return false;
+  }
+};
+
+// independent | sobol | halton; null for any other name.
+std::unique_ptr<SamplerBackend> makeClassicBackend(const std::string &name, std::uint64_t seed);
+
+// A classic backend, or `optimized:FILE` / `points:FILE` (a point-set file,
+// see PointSetBackend). Throws std::invalid_argument listing the choices.
+std::unique_ptr<SamplerBackend> makeBackend(const std::string &spec, std::uint64_t seed);
+
+}  // namespace nuld

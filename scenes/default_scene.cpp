@@ -1,0 +1,114 @@
+#include "scenes/default_scene.h"
+
+#include <cmath>
+#include <numbers>
+
+#include "materials/disney.h"
+#include "materials/lambertian.h"
+
+namespace nuld {
+
+TriangleMesh makeSphere(Vec3 center, double radius, int rings, int segments, std::string name) {
+  TriangleMesh m;
+  m.name = std::move(name);
+  for (int r = 0; r <= rings; ++r) {
+    const double theta = std::numbers::pi * r / rings;
+    for (int s = 0; s <= segments; ++s) {
+      const double phi = 2 * std::numbers::pi * s / segments;
+      const Vec3 n{std::sin(theta) * std::cos(phi), std::cos(theta),
+                   std::sin(theta) * std::sin(phi)};
+      m.positions.push_back(center + radius * n);
+      m.normals.push_back(n);
+    }
+  }
+  const auto id = [&](int r, int s) { return std::uint32_t(r * (segments + 1) + s); };
+  for (int r = 0; r < rings; ++r)
+    for (int s = 0; s < segments; ++s) {
+      // Counter-clockwise seen from outside; the pole rows give degenerate
+      // triangles, which the renderer must (and does) cope with.
+      m.triangles.push_back({id(r, s), id(r, s + 1), id(r + 1, s)});
+      m.triangles.push_back({id(r, s + 1), id(r + 1, s + 1), id(r + 1, s)});
+    }
+  return m;
+}
+
+TriangleMesh makeFloor(double h, double y, std::string name) {
+  TriangleMesh m;
+  m.name = std::move(name);
+  m.positions = {{-h, y, -h}, {h, y, -h}, {h, y, h}, {-h, y, h}};
+  m.normals.assign(4, Vec3{0, 1, 0});
+  m.triangles = {{0, 2, 1}, {0, 3, 2}};
+  return m;
+}
+
+Image proceduralSky(int width, int height, double sunRadiance) {
+  Image sky{width, height, 3, std::vector<float>(std::size_t(width) * height * 3)};
+  // The sun: 35 degrees above the horizon, towards -X and +Z (behind the
+  // viewer's left shoulder), about 3 degrees wide.
+  const double sunElevation = 35 * std::numbers::pi / 180, sunAzimuth = 0.62;
+  const Vec3 sun{std::cos(sunElevation) * std::sin(2 * std::numbers::pi * sunAzimuth),
+                 std::sin(sunElevation),
+                 -std::cos(sunElevation) * std::cos(2 * std::numbers::pi * sunAzimuth)};
+  const double cosSun = std::cos(1.5 * std::numbers::pi / 180);
+  for (int y = 0; y < height; ++y) {
+    const double theta = std::numbers::pi * (y + 0.5) / height;
+    for (int x = 0; x < width; ++x) {
+      const double phi = 2 * std::numbers::pi * (x + 0.5) / width;
+      // Same convention as EnvironmentLight: u = 0 faces -Z, u = 1/4 faces +X.
+      const Vec3 d{std::sin(theta) * std::sin(phi), std::cos(theta),
+                   -std::sin(theta) * std::cos(phi)};
+      Rgb c;
+      if (d.y > 0) {
+        const double t = std::pow(1 - d.y, 3);
+        c = lerp(t, Rgb{0.25, 0.45, 0.95}, Rgb{0.9, 0.95, 1.0});
+      } else {
+        c = Rgb{0.25, 0.22, 0.2};
+      }
+      if (dot(d, sun) > cosSun) c = Rgb{1.0, 0.95, 0.85} * sunRadiance;
+      sky.at(x, y, 0) = float(c.r), sky.at(x, y, 1) = float(c.g), sky.at(x, y, 2) = float(c.b);
+    }
+  }
+  return sky;
+}
+
+LoadedScene makeDefaultScene() {
+  std::vector<TriangleMesh> meshes;
+  std::vector<std::shared_ptr<const Bsdf>> materials;
+  const auto add = [&](TriangleMesh mesh, std::shared_ptr<const Bsdf> bsdf) {
+    meshes.push_back(std::move(mesh));
+    materials.push_back(std::move(bsdf));
+  };
+  DisneyParams glossy;
+  glossy.baseColor = {0.8, 0.15, 0.1};
+  glossy.roughness = 0.25;
+  glossy.specular = 0.5;
+  glossy.clearcoat = 0.5;
+  add(makeSphere({-1.1, 0.5, 0}, 0.5, 48, 96, "glossy"), std::make_shared<DisneyBrdf>(glossy));
+  DisneyParams metal;
+  metal.baseColor = {0.95, 0.8, 0.5};
+  metal.metallic = 1;
+  metal.roughness = 0.35;
+  metal.anisotropic = 0.5;
+  add(makeSphere({0, 0.5, 0}, 0.5, 48, 96, "metal"), std::make_shared<DisneyBrdf>(metal));
+  DisneyParams skin;
+  skin.baseColor = {0.9, 0.85, 0.8};
+  skin.roughness = 0.6;
+  skin.subsurface = 0.8;
+  skin.sheen = 0.5;
+  add(makeSphere({1.1, 0.5, 0}, 0.5, 48, 96, "subsurface"), std::make_shared<DisneyBrdf>(skin));
+  add(makeFloor(20, 0, "floor"), std::make_shared<Lambertian>(Rgb::grey(0.5)));
+
+  LoadedScene out{"default", Scene{EmbreeScene(std::move(meshes)), std::move(materials),
+                                   std::nullopt, {}},
+                  {}, "sobol", 0};
+  out.scene.environment.emplace(proceduralSky(512, 256), 1.0, 0.0, "procedural-sky");
+  out.scene.camera = {{0, 1.6, 4.2}, {0, 0.45, 0}, {0, 1, 0}, 36, false};
+  out.settings.width = 192;
+  out.settings.height = 128;
+  out.settings.spp = 16;
+  out.settings.integrator = IntegratorKind::Path;
+  out.settings.maxDepth = 5;
+  return out;
+}
+
+}  // namespace nuld

@@ -1,0 +1,23 @@
+#pragma once
+// The built-in scene `default`: three spheres (glossy Disney, rough metal and
+// a subsurface-tinted diffuse) on a grey floor under a procedural sky with a
+// small bright sun. It needs no files, so `nuld render default` works
+// anywhere, and the sun makes environment-map importance sampling matter.
+
+#include "scenes/scene_file.h"
+
+namespace nuld {
+
+LoadedScene makeDefaultScene();
+
+// The procedural sky: a lat-long map (row 0 = zenith) with a blue gradient, a
+// darker ground and a sun disc of `sunRadiance` (so the dynamic range can be
+// made extreme for stability tests).
+Image proceduralSky(int width, int height, double sunRadiance = 2000.0);
+
+// A UV sphere with smooth normals.
+TriangleMesh makeSphere(Vec3 center, double radius, int rings, int segments, std::string name);
+// An axis-aligned square in the plane y = height, facing +y.
+TriangleMesh makeFloor(double halfSize, double height, std::string name);
+
+}  // namespace nuld

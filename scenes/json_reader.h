@@ -1,0 +1,50 @@
+#pragma once
+// Typed reads from a parsed JSON document that report bad input as
+// "FILE: field 'camera.fov': expected a number in (0, 180), got "wide"".
+// nlohmann::json stays inside the scenes module's .cpp files.
+
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "materials/rgb.h"
+#include "materials/vec3.h"
+
+namespace nuld {
+
+class JsonReader {
+ public:
+  JsonReader(const nlohmann::json &value, std::string file, std::string path = "")
+      : value_(value), file_(std::move(file)), path_(std::move(path)) {}
+
+  bool has(const std::string &key) const;
+  JsonReader operator[](const std::string &key) const;  // the field must exist
+  JsonReader at(std::size_t index) const;
+  std::size_t size() const;               // of an array (error otherwise)
+  std::vector<std::string> keys() const;  // of an object (error otherwise)
+  // Every key must be one of `known` (catches typos such as "rougness").
+  void allowOnly(const std::vector<std::string> &known) const;
+
+  double number(double lo = -1e300, double hi = 1e300) const;
+  int integer(int lo, int hi) const;
+  bool boolean() const;
+  std::string string() const;
+  Vec3 vec3() const;
+  Rgb rgb() const;                           // [r, g, b] or one grey number, each >= 0
+  std::vector<std::string> strings() const;  // a string or an array of strings
+
+  double number(const std::string &key, double fallback, double lo = -1e300,
+                double hi = 1e300) const;
+  std::string string(const std::string &key, const std::string &fallback) const;
+
+  [[noreturn]] void fail(const std::string &expected) const;
+  const std::string &file() const { return file_; }
+  const std::string &path() const { return path_; }
+
+ private:
+  const nlohmann::json &value_;
+  std::string file_, path_;
+};
+
+}  // namespace nuld

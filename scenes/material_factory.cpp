@@ -1,0 +1,34 @@
+#include "scenes/material_factory.h"
+
+#include "materials/disney.h"
+#include "materials/lambertian.h"
+
+namespace nuld {
+
+std::shared_ptr<const Bsdf> makeMaterial(const JsonReader &m) {
+  const std::string type = m["type"].string();
+  if (type == "lambertian") {
+    m.allowOnly({"type", "albedo"});
+    return std::make_shared<Lambertian>(m.has("albedo") ? m["albedo"].rgb() : Rgb::grey(0.5));
+  }
+  if (type != "disney") m["type"].fail("\"disney\" or \"lambertian\"");
+  m.allowOnly({"type", "base_color", "metallic", "subsurface", "specular", "roughness",
+               "specular_tint", "anisotropic", "sheen", "sheen_tint", "clearcoat",
+               "clearcoat_gloss"});
+  DisneyParams p;
+  if (m.has("base_color")) p.baseColor = m["base_color"].rgb();
+  const auto unit = [&](const char *key, double &value) { value = m.number(key, value, 0, 1); };
+  unit("metallic", p.metallic);
+  unit("subsurface", p.subsurface);
+  unit("specular", p.specular);
+  unit("roughness", p.roughness);
+  unit("specular_tint", p.specularTint);
+  unit("anisotropic", p.anisotropic);
+  unit("sheen", p.sheen);
+  unit("sheen_tint", p.sheenTint);
+  unit("clearcoat", p.clearcoat);
+  unit("clearcoat_gloss", p.clearcoatGloss);
+  return std::make_shared<DisneyBrdf>(p);
+}
+
+}  // namespace nuld

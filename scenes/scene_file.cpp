@@ -1,0 +1,161 @@
+#include "scenes/scene_file.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <numbers>
+#include <set>
+#include <stdexcept>
+
+#include "scenes/default_scene.h"
+#include "scenes/gltf_loader.h"
+#include "scenes/json_reader.h"
+#include "scenes/material_factory.h"
+#include "scenes/ply_loader.h"
+
+namespace fs = std::filesystem;
+
+namespace nuld {
+
+std::string resolveAssetRoot(const std::string &explicitRoot) {
+  if (!explicitRoot.empty()) return explicitRoot;
+  if (const char *env = std::getenv("NULD_ASSETS"); env && *env) return env;
+  return (fs::path(NULD_SOURCE_DIR) / ".." / "shared" / "assets").lexically_normal().string();
+}
+
+namespace {
+
+std::string assetPath(const std::string &root, const std::string &relative) {
+  const fs::path p(relative);
+  return p.is_absolute() ? p.string() : (fs::path(root) / p).string();
+}
+
+std::vector<TriangleMesh> loadMeshFile(const std::string &path, const JsonReader &field) {
+  if (!fs::exists(path))
+    throw std::runtime_error(field.file() + ": field '" + field.path() + "': mesh file '" + path +
+                             "' does not exist (check --assets or NULD_ASSETS)");
+  const std::string ext = fs::path(path).extension().string();
+  if (ext == ".glb" || ext == ".gltf") return loadGltf(path);
+  if (ext == ".ply") return {loadPly(path)};
+  field.fail("a .glb, .gltf or .ply file");
+}
+
+// Scale, then rotation about +Y, then translation.
+void applyTransform(TriangleMesh &mesh, const JsonReader &t) {
+  t.allowOnly({"scale", "rotate_y", "translate"});
+  const double s = t.number("scale", 1.0, 1e-12, 1e12);
+  const double a = t.number("rotate_y", 0.0) * std::numbers::pi / 180;
+  const Vec3 d = t.has("translate") ? t["translate"].vec3() : Vec3{};
+  const double c = std::cos(a), sn = std::sin(a);
+  const auto rotate = [&](Vec3 v) { return Vec3{c * v.x + sn * v.z, v.y, -sn * v.x + c * v.z}; };
+  for (Vec3 &p : mesh.positions) p = rotate(s * p) + d;
+  for (Vec3 &n : mesh.normals) n = rotate(n);
+}
+
+CameraSettings readCamera(const JsonReader &c) {
+  c.allowOnly({"eye", "look_at", "up", "fov", "mirror_x"});
+  CameraSettings cam;
+  cam.eye = c["eye"].vec3();
+  cam.target = c["look_at"].vec3();
+  if (c.has("up")) cam.up = c["up"].vec3();
+  cam.fovDegrees = c["fov"].number(1e-3, 179.9);
+  if (c.has("mirror_x")) cam.mirrorX = c["mirror_x"].boolean();
+  if (!(length(cam.target - cam.eye) > 0)) c["look_at"].fail("a point different from 'eye'");
+  if (!(length(cross(cam.target - cam.eye, cam.up)) > 0))
+    c["up"].fail("a direction not parallel to the view");
+  return cam;
+}
+
+void readRender(const JsonReader &r, LoadedScene &out) {
+  r.allowOnly({"spp", "integrator", "max_depth", "backend", "seed"});
+  if (r.has("spp")) out.settings.spp = std::size_t(r["spp"].integer(1, 1 << 24));
+  if (r.has("integrator")) {
+    const std::string name = r["integrator"].string();
+    if (name != "path" && name != "direct") r["integrator"].fail("\"path\" or \"direct\"");
+    out.settings.integrator = parseIntegrator(name);
+  }
+  if (r.has("max_depth")) out.settings.maxDepth = r["max_depth"].integer(1, 1000);
+  out.backend = r.string("backend", out.backend);
+  if (r.has("seed")) out.seed = std::uint64_t(r["seed"].integer(0, 2147483647));
+}
+
+}  // namespace
+
+LoadedScene loadScene(const std::string &path, const std::string &assetRoot) {
+  if (path == "default") return makeDefaultScene();
+
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path + ": cannot open the scene file");
+  nlohmann::json doc;
+  try {
+    doc = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::parse_error &e) {
+    throw std::invalid_argument(path + ": malformed JSON: " + e.what());
+  }
+  const JsonReader root(doc, path);
+  root.allowOnly({"camera", "film", "render", "environment", "materials", "meshes", "comment"});
+
+  LoadedScene out{path, Scene{EmbreeScene({}), {}, std::nullopt, {}}, {}, "sobol", 0};
+  out.scene.camera = readCamera(root["camera"]);
+  if (root.has("film")) {
+    const JsonReader film = root["film"];
+    film.allowOnly({"width", "height"});
+    out.settings.width = film["width"].integer(1, 1 << 15);
+    out.settings.height = film["height"].integer(1, 1 << 15);
+  }
+  if (root.has("render")) readRender(root["render"], out);
+
+  // Meshes, and the materials they name.
+  const JsonReader materials = root["materials"];
+  const std::vector<std::string> materialNames = materials.keys();
+  const std::set<std::string> known(materialNames.begin(), materialNames.end());
+  std::map<std::string, std::shared_ptr<const Bsdf>> built;
+  std::vector<TriangleMesh> meshes;
+  const JsonReader meshList = root["meshes"];
+  for (std::size_t i = 0; i < meshList.size(); ++i) {
+    const JsonReader entry = meshList.at(i);
+    entry.allowOnly({"file", "material", "skip", "transform"});
+    const std::string file = assetPath(assetRoot, entry["file"].string());
+    const std::vector<std::string> skip =
+        entry.has("skip") ? entry["skip"].strings() : std::vector<std::string>{};
+    const std::string forced = entry.has("material") ? entry["material"].string() : "";
+    if (!forced.empty() && !known.count(forced))
+      entry["material"].fail("the name of an entry in 'materials'");
+    for (TriangleMesh &mesh : loadMeshFile(file, entry["file"])) {
+      const auto skipped = [&](const std::string &n) {
+        return !n.empty() && std::find(skip.begin(), skip.end(), n) != skip.end();
+      };
+      if (skipped(mesh.material) || skipped(mesh.name)) continue;
+      std::string name = forced;
+      for (const std::string &candidate : {mesh.material, mesh.name, std::string("default")})
+        if (name.empty() && !candidate.empty() && known.count(candidate)) name = candidate;
+      if (name.empty())
+        throw std::invalid_argument(path + ": no material for mesh '" + mesh.name +
+                                    "' (material '" + mesh.material + "') from '" + file +
+                                    "': add it to 'materials', add a \"default\" material, or "
+                                    "set \"material\" in its 'meshes' entry");
+      if (!built.count(name)) built[name] = makeMaterial(materials[name]);
+      if (entry.has("transform")) applyTransform(mesh, entry["transform"]);
+      out.scene.materials.push_back(built[name]);
+      meshes.push_back(std::move(mesh));
+    }
+  }
+  if (meshes.empty()) meshList.fail("at least one mesh that is not skipped");
+  out.scene.geometry = EmbreeScene(std::move(meshes));
+
+  if (root.has("environment")) {
+    const JsonReader env = root["environment"];
+    env.allowOnly({"file", "scale", "rotation"});
+    const std::string file = assetPath(assetRoot, env["file"].string());
+    if (!fs::exists(file))
+      throw std::runtime_error(path + ": field 'environment.file': '" + file +
+                               "' does not exist (check --assets or NULD_ASSETS)");
+    out.scene.environment.emplace(readImage(file), env.number("scale", 1.0, 0, 1e12),
+                                  env.number("rotation", 0.0), file);
+  }
+  return out;
+}
+
+}  // namespace nuld

@@ -1,0 +1,54 @@
+#pragma once
+// Scene files: JSON naming meshes (glTF, PLY) by path under an asset root,
+// Disney or Lambertian materials by the meshes' material or mesh names, the
+// camera, an environment map and default render settings. The built-in scene
+// `default` needs no files at all.
+//
+//   {
+//     "camera":      {"eye": [x,y,z], "look_at": [x,y,z], "up": [0,1,0], "fov": 37,
+//                     "mirror_x": false},
+//     "film":        {"width": 512, "height": 512},
+//     "render":      {"spp": 64, "integrator": "path", "max_depth": 5,
+//                     "backend": "sobol", "seed": 0},
+//     "environment": {"file": "envmaps/grace_latlong.exr", "scale": 1, "rotation": 0},
+//     "materials":   {"OuterMat": {"type": "disney", "base_color": [.9,.9,.9],
+//                                  "metallic": 1, "roughness": .2}, ...},
+//     "meshes":      [{"file": "lte_orb/lte_orb.glb", "skip": ["Material"]},
+//                     {"file": "cup/geometry_mesh_00002.ply", "material": "floor",
+//                      "transform": {"scale": 1, "rotate_y": 0, "translate": [0,0,0]}}]
+//   }
+//
+// A mesh gets the entry's "material" if given, else the material named like
+// its file material, else the one named like the mesh, else "default"; with
+// none of these the loader stops and names the mesh. A scene builds only what
+// it uses: unused materials are never instantiated, and without an
+// "environment" no map is read.
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "renderer/render.h"
+#include "renderer/scene.h"
+
+namespace nuld {
+
+struct LoadedScene {
+  std::string name;  // file path, or "default"
+  Scene scene;
+  RenderSettings settings;  // the file's defaults; the CLI may override them
+  std::string backend = "sobol";
+  std::uint64_t seed = 0;
+};
+
+// The asset root: `explicitRoot` if not empty, else $NULD_ASSETS, else
+// shared/assets beside the checkout (../shared/assets from the source tree).
+std::string resolveAssetRoot(const std::string &explicitRoot);
+
+// `path` is a JSON scene file or "default". Throws std::invalid_argument or
+// std::runtime_error naming the file, the field and what was expected.
+LoadedScene loadScene(const std::string &path, const std::string &assetRoot);
+
+}  // namespace nuld

@@ -1,0 +1,173 @@
+#pragma once
+// Chi-square goodness-of-fit of a direction sampler against its claimed pdf,
+// the pbrt-v4 / Mitsuba way: histogram the sampled directions on the
+// equal-area hemisphere (u = phi / 2 pi, v = (1 - cos theta) / 2 in [0, 1/2]),
+// integrate the pdf over every bin for the expected counts, count the
+// failures (nullopt) against the mass the pdf leaves out, pool bins expected
+// below 5, and compare the statistic with a Sidak-corrected significance.
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <numbers>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "materials/sphere_map.h"
+#include "materials/vec3.h"
+#include "sampler/sequences/rng.h"
+#include "tests/materials/quadrature.h"
+
+namespace nuld::test {
+
+// Upper bound on the number of chi-square tests in the materials suite; each
+// runs at the Sidak-corrected level, so the whole suite fails by chance with
+// probability at most 1 %.
+inline constexpr int kChiSquareTests = 64;
+inline double sidakLevel(double overall = 0.01, int tests = kChiSquareTests) {
+  return 1 - std::pow(1 - overall, 1.0 / tests);
+}
+
+// Regularized upper incomplete gamma Q(a, x): the series for P when
+// x < a + 1, the continued fraction (modified Lentz) otherwise.
+inline double regularizedGammaQ(double a, double x) {
+  if (!(x > 0)) return 1;
+  const double logPrefix = -x + a * std::log(x) - std::lgamma(a);
+  if (x < a + 1) {
+    double term = 1 / a, sum = term;
+    for (int n = 1; n < 100000 && std::abs(term) > 1e-17 * std::abs(sum); ++n) {
+      term *= x / (a + n);
+      sum += term;
+    }
+    return std::clamp(1 - sum * std::exp(logPrefix), 0.0, 1.0);
+  }
+  constexpr double kTiny = 1e-300;
+  double b = x + 1 - a, c = 1 / kTiny, d = 1 / b, h = d;
+  for (int i = 1; i < 100000; ++i) {
+    const double an = -i * (i - a);
+    b += 2;
+    d = an * d + b;
+    if (std::abs(d) < kTiny) d = kTiny;
+    c = b + an / c;
+    if (std::abs(c) < kTiny) c = kTiny;
+    d = 1 / d;
+    const double delta = d * c;
+    h *= delta;
+    if (std::abs(delta - 1) < 1e-16) break;
+  }
+  return std::clamp(std::exp(logPrefix) * h, 0.0, 1.0);
+}
+
+struct ChiSquare {
+  double statistic = 0;
+  int dof = 0;
+  double pValue = 1;
+  std::string note;  // why the test failed outright, if it did
+};
+
+// Pearson's statistic with bins expected below `minExpected` pooled into one.
+inline ChiSquare pooledChiSquare(const std::vector<double> &observed,
+                                 const std::vector<double> &expected, double minExpected = 5) {
+  ChiSquare r;
+  double pooledObs = 0, pooledExp = 0;
+  int bins = 0;
+  for (std::size_t k = 0; k < observed.size(); ++k) {
+    if (expected[k] <= 0 && observed[k] > 0) {
+      r.note = "bin " + std::to_string(k) + " has " + std::to_string(int(observed[k])) +
+               " samples where the pdf integrates to 0";
+      r.pValue = 0;
+      r.statistic = std::numeric_limits<double>::infinity();
+      return r;
+    }
+    if (expected[k] < minExpected) {
+      pooledObs += observed[k];
+      pooledExp += expected[k];
+      continue;
+    }
+    const double d = observed[k] - expected[k];
+    r.statistic += d * d / expected[k];
+    ++bins;
+  }
+  if (pooledExp > 0) {
+    const double d = pooledObs - pooledExp;
+    r.statistic += d * d / pooledExp;
+    ++bins;
+  }
+  r.dof = std::max(1, bins - 1);
+  r.pValue = regularizedGammaQ(0.5 * r.dof, 0.5 * r.statistic);
+  return r;
+}
+
+// A direction sampler (nullopt: no sample) and the pdf it claims, per unit
+// solid angle.
+using DirectionSampler = std::function<std::optional<Vec3>(Point2)>;
+using DirectionPdf = std::function<double(Vec3)>;
+
+struct DirectionTest {
+  ChiSquare chi;
+  double pdfMass = 0;       // integral of the pdf over the hemisphere
+  double failedFraction = 0;  // nullopt samples / samples
+  double belowFraction = 0;   // samples returned below the horizon (never allowed)
+  std::string describe() const {
+    std::ostringstream s;
+    s << "chi^2 = " << chi.statistic << ", dof " << chi.dof << ", p = " << chi.pValue
+      << ", pdf mass " << pdfMass << ", failed " << failedFraction << " " << chi.note;
+    return s.str();
+  }
+};
+
+// Where a lobe peaks on the equal-area square: at the direction `w`, graded
+// only in v at the pole (there the lobe spans every u).
+inline Peak peakAt(Vec3 w) {
+  const Point2 p = spherePoint(normalize(w));
+  if (p.y < 1e-9) return {std::nullopt, 0.0};
+  return {p.x, p.y};
+}
+
+// Bins: `cols` in phi, `rows` in v over the upper hemisphere, plus one bin
+// for failed samples expected to hold n (1 - pdf mass).
+inline DirectionTest testDirections(const DirectionSampler &sample, const DirectionPdf &pdf,
+                                    int n, std::uint64_t seed, Peak peak = {}, int cols = 80,
+                                    int rows = 40) {
+  const auto xEdges = uniformEdges(0, 1, cols), yEdges = uniformEdges(0, 0.5, rows);
+  const std::size_t bins = std::size_t(cols) * rows;
+  std::vector<double> observed(bins + 1, 0.0), expected(bins + 1, 0.0);
+  Rng rng(seed);
+  DirectionTest t;
+  int below = 0;
+  for (int s = 0; s < n; ++s) {
+    const Point2 u{rng.uniform(), rng.uniform()};
+    const auto w = sample(u);
+    if (!w) {
+      observed[bins] += 1;
+      continue;
+    }
+    if (!(w->z > 0)) {
+      ++below;
+      continue;
+    }
+    const Point2 p = spherePoint(*w);
+    const int i = std::min(cols - 1, int(p.x * cols));
+    const int j = std::min(rows - 1, int(p.y * 2 * rows));
+    observed[std::size_t(j) * cols + i] += 1;
+  }
+  // Density on the square = density per steradian * 4 pi (equal-area map).
+  const auto cells = integrateCells(
+      [&](Point2 p) { return 4 * std::numbers::pi * pdf(sphereDirection(p)); }, xEdges, yEdges,
+      peak);
+  for (std::size_t k = 0; k < bins; ++k) {
+    expected[k] = n * cells[k];
+    t.pdfMass += cells[k];
+  }
+  expected[bins] = n * std::max(0.0, 1 - t.pdfMass);
+  t.failedFraction = observed[bins] / n;
+  t.belowFraction = double(below) / n;
+  t.chi = pooledChiSquare(observed, expected);
+  return t;
+}
+
+}  // namespace nuld::test

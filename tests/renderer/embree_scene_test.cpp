@@ -1,0 +1,108 @@
+// Ray queries against hand-placed triangles, where the answers are known.
+
+#include <gtest/gtest.h>
+
+#include "renderer/camera.h"
+#include "renderer/embree_scene.h"
+
+namespace nuld {
+namespace {
+
+// A unit square in the plane z = 0, wound to face +z, plus a degenerate
+// triangle (all three vertices on a line).
+std::vector<TriangleMesh> quadAndDegenerate() {
+  TriangleMesh quad;
+  quad.name = "quad";
+  quad.positions = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};
+  quad.triangles = {{0, 1, 2}, {0, 2, 3}};
+  TriangleMesh line;
+  line.name = "degenerate";
+  line.positions = {{0, 0, 2}, {1, 0, 2}, {2, 0, 2}};
+  line.triangles = {{0, 1, 2}};
+  return {quad, line};
+}
+
+TEST(EmbreeScene, HitsAtTheExpectedDistanceWithTheWindingNormal) {
+  const EmbreeScene scene(quadAndDegenerate());
+  const auto hit = scene.intersect({{0.25, 0.5, 3}, {0, 0, -1}});
+  ASSERT_TRUE(hit);
+  EXPECT_NEAR(hit->t, 3, 1e-6);
+  EXPECT_EQ(hit->mesh, 0u);
+  EXPECT_NEAR(hit->position.x, 0.25, 1e-6);
+  EXPECT_NEAR(hit->position.y, 0.5, 1e-6);
+  EXPECT_NEAR(hit->geometricNormal.z, 1, 1e-12);
+  EXPECT_NEAR(hit->shadingNormal.z, 1, 1e-12);
+}
+
+TEST(EmbreeScene, MissesAndRespectsTMax) {
+  const EmbreeScene scene(quadAndDegenerate());
+  EXPECT_FALSE(scene.intersect({{1.5, 0, 3}, {0, 0, -1}}));
+  EXPECT_FALSE(scene.intersect({{0, 0, 3}, {0, 0, 1}}));
+  EXPECT_FALSE(scene.intersect({{0, 0, 3}, {0, 0, -1}, 2.5}));
+  EXPECT_TRUE(scene.occluded({{0, 0, 3}, {0, 0, -1}}));
+  EXPECT_FALSE(scene.occluded({{0, 0, 3}, {0, 0, -1}, 2.5}));
+  EXPECT_FALSE(scene.occluded({{3, 3, 3}, {0, 0, 1}}));
+}
+
+TEST(EmbreeScene, DegenerateTrianglesNeverProduceNonFiniteNormals) {
+  const EmbreeScene scene(quadAndDegenerate());
+  // Rays along the degenerate triangle's line and through it.
+  for (const Ray &r : {Ray{{-1, 0, 2}, {1, 0, 0}}, Ray{{1, 0, 4}, {0, 0, -1}}}) {
+    if (const auto hit = scene.intersect(r)) {
+      EXPECT_TRUE(isFinite(hit->geometricNormal));
+      EXPECT_TRUE(isFinite(hit->shadingNormal));
+    }
+  }
+}
+
+TEST(EmbreeScene, InterpolatesVertexNormalsAndKeepsTheGeometricNormalOnTheirSide) {
+  TriangleMesh tri;
+  tri.positions = {{-1, -1, 0}, {1, -1, 0}, {0, 1, 0}};
+  tri.triangles = {{0, 2, 1}};  // wound to face -z ...
+  tri.normals = {{0, 0, 1}, {0, 0, 1}, normalize(Vec3{0, 1, 1})};  // ... normals say +z
+  const EmbreeScene scene({tri});
+  const auto hit = scene.intersect({{0, 0, 1}, {0, 0, -1}});
+  ASSERT_TRUE(hit);
+  EXPECT_GT(hit->geometricNormal.z, 0.999);
+  EXPECT_GT(hit->shadingNormal.y, 0.01);
+  EXPECT_NEAR(length(hit->shadingNormal), 1, 1e-12);
+}
+
+TEST(EmbreeScene, RejectsOutOfRangeIndicesAndNonFiniteVertices) {
+  TriangleMesh bad;
+  bad.name = "bad";
+  bad.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  bad.triangles = {{0, 1, 3}};
+  EXPECT_THROW(EmbreeScene({bad}), std::invalid_argument);
+  bad.triangles = {{0, 1, 2}};
+  bad.positions[1].x = std::nan("");
+  EXPECT_THROW(EmbreeScene({bad}), std::invalid_argument);
+}
+
+TEST(Camera, CentreRayLooksAtTheTargetAndMirrorFlipsX) {
+  const CameraSettings s{{0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 60, false};
+  const PerspectiveCamera cam(s, 200, 100);
+  const Ray centre = cam.generateRay({100, 50});
+  EXPECT_NEAR(centre.direction.z, -1, 1e-12);
+  // Right side of the image is +x for a right-handed camera looking down -z.
+  EXPECT_GT(cam.generateRay({200, 50}).direction.x, 0);
+  EXPECT_GT(cam.generateRay({100, 0}).direction.y, 0);  // row 0 is the top
+  CameraSettings m = s;
+  m.mirrorX = true;
+  EXPECT_LT(PerspectiveCamera(m, 200, 100).generateRay({200, 50}).direction.x, 0);
+  // fov spans the shorter side (the height here): the top edge is 30 degrees up.
+  const Vec3 top = cam.generateRay({100, 0}).direction;
+  EXPECT_NEAR(std::atan2(top.y, -top.z), std::numbers::pi / 6, 1e-12);
+}
+
+TEST(Camera, RejectsDegenerateSettings) {
+  EXPECT_THROW(PerspectiveCamera({{0, 0, 0}, {0, 0, 0}, {0, 1, 0}, 40, false}, 10, 10),
+               std::invalid_argument);
+  EXPECT_THROW(PerspectiveCamera({{0, 0, 5}, {0, 0, 0}, {0, 0, 1}, 40, false}, 10, 10),
+               std::invalid_argument);
+  EXPECT_THROW(PerspectiveCamera({{0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 180, false}, 10, 10),
+               std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace nuld

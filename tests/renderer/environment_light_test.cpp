@@ -1,0 +1,168 @@
+// The environment light against its own definition: radiance over pdf is the
+// same constant everywhere (sampling is proportional to luminance), sampling
+// follows pdf() (chi-square on the equal-area square, expected counts by
+// integrating pdf() over each bin), and degenerate maps behave.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+
+#include "materials/sphere_map.h"
+#include "renderer/environment_light.h"
+#include "sampler/sequences/rng.h"
+#include "tests/renderer/chi_square.h"
+
+namespace nuld {
+namespace {
+
+Image randomMap(int w, int h, std::uint64_t seed) {
+  Image img{w, h, 3, std::vector<float>(std::size_t(w) * h * 3)};
+  Rng rng(seed);
+  for (float &v : img.pixels) v = float(std::pow(rng.uniform(), 4) * 10);
+  return img;
+}
+
+// A map with black rows (the top quarter and one row in the middle) and one
+// pixel 1e6 times brighter than the rest.
+Image hardMap() {
+  Image img = randomMap(32, 16, 7);
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 32; ++x)
+      for (int c = 0; c < 3; ++c)
+        if (y < 4 || y == 9) img.at(x, y, c) = 0;
+  for (int c = 0; c < 3; ++c) img.at(20, 12, c) = 1e6f;
+  return img;
+}
+
+std::string probePath() {
+  return std::string(NULD_SOURCE_DIR) + "/../shared/assets/envmaps/grace_probulator_256x128.hdr";
+}
+
+void expectRadianceOverPdfConstant(const EnvironmentLight &light) {
+  Rng rng(3);
+  double ratio = -1;
+  int checked = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const Vec3 w = sphereDirection({rng.uniform(), rng.uniform()});
+    const double pdf = light.pdf(w), lum = light.radiance(w).luminance();
+    if (pdf == 0) {
+      EXPECT_EQ(lum, 0) << "radiance where the light never samples";
+      continue;
+    }
+    if (ratio < 0) ratio = lum / pdf;
+    EXPECT_NEAR(lum / pdf, ratio, 1e-6 * ratio);
+    ++checked;
+  }
+  EXPECT_GT(checked, 1000);
+}
+
+TEST(EnvironmentLight, RadianceOverPdfIsConstantForAnyRotation) {
+  for (double rotation : {0.0, 37.0, -120.0}) {
+    const EnvironmentLight light(randomMap(64, 32, 1), 2.5, rotation, "random");
+    expectRadianceOverPdfConstant(light);
+    const EnvironmentLight hard(hardMap(), 1.0, rotation, "hard");
+    expectRadianceOverPdfConstant(hard);
+  }
+}
+
+// The pdf is constant over each map pixel; summing pdf x solid angle over the
+// pixels (a closed form) must give 1, hot pixel and black rows included.
+double pixelSolidAngle(int y, int W, int H) {
+  const double t0 = std::numbers::pi * y / H, t1 = std::numbers::pi * (y + 1) / H;
+  return 2 * std::numbers::pi / W * (std::cos(t0) - std::cos(t1));
+}
+
+double pixelPdf(const EnvironmentLight &light, int x, int y) {
+  const int W = light.width(), H = light.height();
+  const double theta = std::numbers::pi * (y + 0.5) / H;
+  return light.pdf(light.toWorld(sphereDirection({(x + 0.5) / W, 0.5 * (1 - std::cos(theta))})));
+}
+
+TEST(EnvironmentLight, PdfIntegratesToOne) {
+  for (double rotation : {0.0, 10.0}) {
+    const EnvironmentLight light(hardMap(), 1.0, rotation, "hard");
+    double sum = 0;
+    for (int y = 0; y < light.height(); ++y)
+      for (int x = 0; x < light.width(); ++x)
+        sum += pixelPdf(light, x, y) * pixelSolidAngle(y, light.width(), light.height());
+    EXPECT_NEAR(sum, 1.0, 1e-9);
+  }
+}
+
+// Bins are the map's own pixels, whose pdf is constant: the expected count
+// of pixel (x, y) is n * pdf * its solid angle (2 pi / W)(cos theta0 - cos theta1),
+// a closed form independent of the sampling code.
+void chiSquareLight(const EnvironmentLight &light, const char *what) {
+  const int W = light.width(), H = light.height();
+  test::ChiSquareBins bins(std::size_t(W) * H);
+  const auto pixelOf = [&](Vec3 world) {
+    const Point2 p = spherePoint(light.toLocal(world));
+    const int x = std::min(W - 1, int(p.x * W));
+    const int y = std::min(H - 1, int(std::acos(1 - 2 * p.y) / std::numbers::pi * H));
+    return std::size_t(y) * W + x;
+  };
+  Rng rng(11);
+  const int n = 400000;
+  for (int i = 0; i < n; ++i) {
+    const auto s = light.sample({rng.uniform(), rng.uniform()});
+    ASSERT_TRUE(s.has_value());
+    ASSERT_NEAR(s->pdf, light.pdf(s->wi), 1e-9 * s->pdf);
+    bins.add(pixelOf(s->wi));
+  }
+  std::vector<double> expected(std::size_t(W) * H);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x)
+      expected[std::size_t(y) * W + x] = n * pixelPdf(light, x, y) * pixelSolidAngle(y, W, H);
+  EXPECT_GT(bins.pValue(expected), 0.01 / 3) << what;  // Sidak-style: three maps at 1 %
+}
+
+TEST(EnvironmentLight, SamplingFollowsPdfChiSquare) {
+  chiSquareLight(EnvironmentLight(randomMap(64, 32, 2), 1.0, 25.0, "random"), "random map");
+  chiSquareLight(EnvironmentLight(hardMap(), 1.0, 0.0, "hard"), "zero rows and a hot pixel");
+  if (!std::filesystem::exists(probePath())) GTEST_SKIP() << "no probe at " << probePath();
+  chiSquareLight(EnvironmentLight(readImage(probePath()), 1.0, 0.0, probePath()), "grace probe");
+}
+
+TEST(EnvironmentLight, SamplesNeverComeFromBlackRows) {
+  const EnvironmentLight light(hardMap(), 1.0, 0.0, "hard");
+  Rng rng(5);
+  for (int i = 0; i < 100000; ++i) {
+    const auto s = light.sample({rng.uniform(), rng.uniform()});
+    ASSERT_TRUE(s);
+    EXPECT_GT(s->radiance.luminance(), 0);
+    EXPECT_TRUE(std::isfinite(s->pdf) && s->pdf > 0);
+  }
+}
+
+TEST(EnvironmentLight, BlackMapHasNoSamplesAndZeroPdf) {
+  const EnvironmentLight light(Image{8, 4, 3, std::vector<float>(96, 0.0f)}, 1.0, 0.0, "black");
+  EXPECT_EQ(light.target(), nullptr);
+  EXPECT_FALSE(light.sample({0.3, 0.7}));
+  EXPECT_EQ(light.pdf({0, 1, 0}), 0);
+  EXPECT_TRUE(light.radiance({0, 1, 0}).isBlack());
+}
+
+TEST(EnvironmentLight, MapOrientation) {
+  // Row 0 is the zenith (+Y); column u = 0 faces -Z and u = 1/4 faces +X.
+  Image img{4, 2, 3, std::vector<float>(24, 0.0f)};
+  img.at(0, 0, 0) = 1;  // top row, first column: red
+  img.at(1, 1, 1) = 1;  // bottom row, second column: green
+  const EnvironmentLight light(img, 1.0, 0.0, "tiny");
+  EXPECT_GT(light.radiance(normalize(Vec3{0.1, 1, -1})).r, 0);
+  EXPECT_GT(light.radiance(normalize(Vec3{1, -1, 0.3})).g, 0);
+  // Rotating the map by 90 degrees about +Y turns -Z into -X.
+  const EnvironmentLight turned(img, 1.0, 90.0, "tiny");
+  EXPECT_GT(turned.radiance(normalize(Vec3{-1, 1, -0.1})).r, 0);
+}
+
+TEST(EnvironmentLight, RejectsBadInput) {
+  Image nan = randomMap(8, 4, 1);
+  nan.at(3, 2, 1) = std::nanf("");
+  EXPECT_THROW(EnvironmentLight(nan, 1.0, 0.0, "nan"), std::invalid_argument);
+  EXPECT_THROW(EnvironmentLight(randomMap(8, 4, 1), -1.0, 0.0, "neg"), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace nuld

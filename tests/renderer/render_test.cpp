@@ -1,0 +1,154 @@
+// The path tracer end to end on scenes whose answers are known: white
+// furnaces, stiff cases that must stay finite, and determinism.
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+
+#include "materials/disney.h"
+#include "renderer/image_metrics.h"
+#include "renderer/render.h"
+#include "tests/renderer/test_scenes.h"
+
+namespace nuld {
+namespace {
+
+using test::constantMap;
+using test::sceneWith;
+using test::unitSphere;
+
+const CameraSettings kLookAtSphere{{0, 0, 4}, {0, 0, 0}, {0, 1, 0}, 40, false};
+
+double meanOf(const Image &img) {
+  double s = 0;
+  for (float v : img.pixels) s += v;
+  return s / img.pixels.size();
+}
+
+bool allFinite(const Image &img) {
+  for (float v : img.pixels)
+    if (!std::isfinite(v)) return false;
+  return true;
+}
+
+// A convex sphere of albedo a in a uniform environment of radiance 1
+// reflects exactly a everywhere: light that leaves it never returns.
+TEST(Render, WhiteFurnaceLambertianSphere) {
+  for (double albedo : {1.0, 0.5}) {
+    const Scene scene = sceneWith({unitSphere()}, {std::make_shared<Lambertian>(Rgb::grey(albedo))},
+                                  constantMap(1.0f), kLookAtSphere);
+    for (IntegratorKind kind : {IntegratorKind::Path, IntegratorKind::Direct}) {
+      RenderSettings s{32, 32, 64, kind, 5};
+      auto backend = makeBackend("sobol", 1);
+      RenderStats stats;
+      const Image img = render(scene, s, *backend, &stats);
+      EXPECT_EQ(stats.rejectedSamples, 0u);
+      // The centre 8x8 pixels all see the sphere.
+      double sum = 0;
+      for (int y = 12; y < 20; ++y)
+        for (int x = 12; x < 20; ++x) sum += img.at(x, y, 0) + img.at(x, y, 1) + img.at(x, y, 2);
+      EXPECT_NEAR(sum / (64 * 3), albedo, 0.01 * albedo) << toString(kind);
+      // The background is the environment itself.
+      EXPECT_NEAR(img.at(0, 0, 1), 1.0, 1e-6);
+    }
+  }
+}
+
+// A white, non-metallic Disney material with no specular reflects at most
+// what comes in; its furnace value is bounded by 1 (Burley's diffuse is not
+// exactly energy conserving, so only the bound is asserted).
+TEST(Render, DisneySphereInFurnaceStaysBelowOne) {
+  DisneyParams p;
+  p.specular = 0;
+  p.roughness = 0.5;
+  const Scene scene = sceneWith({unitSphere()}, {std::make_shared<DisneyBrdf>(p)},
+                                constantMap(1.0f), kLookAtSphere);
+  RenderSettings s{24, 24, 64, IntegratorKind::Path, 5};
+  auto backend = makeBackend("sobol", 2);
+  const Image img = render(scene, s, *backend);
+  EXPECT_TRUE(allFinite(img));
+  double sum = 0;
+  for (int y = 9; y < 15; ++y)
+    for (int x = 9; x < 15; ++x) sum += img.at(x, y, 1);
+  EXPECT_LT(sum / 36, 1.05);
+  EXPECT_GT(sum / 36, 0.5);
+}
+
+// Stiff cases: mirror-like and fully rough materials, every lobe, grazing
+// views, a black sky and a sun 1e6 times brighter than the sky.
+TEST(Render, StiffCasesStayFinite) {
+  Image sun = constantMap(1.0f, 64, 32);
+  for (int c = 0; c < 3; ++c) sun.at(40, 6, c) = 1e6f;
+  std::vector<std::pair<std::string, Image>> maps = {
+      {"black", constantMap(0.0f)}, {"sun", sun}, {"grey", constantMap(0.5f)}};
+  std::vector<DisneyParams> materials;
+  for (double roughness : {0.0, 1.0})
+    for (double metallic : {0.0, 1.0}) {
+      DisneyParams p;
+      p.roughness = roughness;
+      p.metallic = metallic;
+      p.anisotropic = 0.9;
+      p.subsurface = 1;
+      p.clearcoat = 1;
+      p.sheen = 1;
+      materials.push_back(p);
+    }
+  // A camera that grazes the sphere's silhouette, and one inside the sphere.
+  const std::vector<CameraSettings> cameras = {
+      {{0, 1.0, 4}, {0, 1.0, 0}, {0, 1, 0}, 5, false}, {{0, 0, 0.5}, {0, 0, -1}, {0, 1, 0}, 90, false}};
+  for (const auto &[name, map] : maps)
+    for (const DisneyParams &p : materials)
+      for (const CameraSettings &cam : cameras) {
+        const Scene scene = sceneWith({unitSphere(8, 16)}, {std::make_shared<DisneyBrdf>(p)}, map, cam);
+        RenderSettings s{12, 12, 8, IntegratorKind::Path, 8};
+        auto backend = makeBackend("independent", 3);
+        RenderStats stats;
+        const Image img = render(scene, s, *backend, &stats);
+        EXPECT_TRUE(allFinite(img)) << name;
+        EXPECT_EQ(stats.rejectedSamples, 0u) << name << " roughness " << p.roughness;
+        if (name == "black") EXPECT_EQ(meanOf(img), 0.0);
+      }
+}
+
+TEST(Render, DeterministicForAnyThreadCount) {
+  const Scene scene = sceneWith({unitSphere()}, {std::make_shared<Lambertian>(Rgb::grey(0.7))},
+                                constantMap(1.0f), kLookAtSphere);
+  RenderSettings s{40, 24, 8, IntegratorKind::Path, 5};
+  Image one, many;
+  {
+    tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
+    auto b = makeBackend("halton", 9);
+    one = render(scene, s, *b);
+  }
+  auto b = makeBackend("halton", 9);
+  many = render(scene, s, *b);
+  EXPECT_EQ(one.pixels, many.pixels);
+}
+
+// Against a high-spp reference, the error of every backend falls as spp grows.
+TEST(Render, ErrorFallsWithSppForEveryBackend) {
+  Image sky = constantMap(0.3f, 32, 16);
+  for (int y = 2; y < 5; ++y)
+    for (int c = 0; c < 3; ++c) sky.at(9, y, c) = 60.0f;
+  DisneyParams p;
+  p.roughness = 0.4;
+  p.metallic = 0.5;
+  const Scene scene = sceneWith({unitSphere()}, {std::make_shared<DisneyBrdf>(p)}, sky,
+                                kLookAtSphere);
+  auto refBackend = makeBackend("sobol", 1234);
+  const Image reference = render(scene, {16, 16, 2048, IntegratorKind::Direct, 1}, *refBackend);
+  for (const char *name : {"independent", "sobol", "halton"}) {
+    double previous = 1e300;
+    for (std::size_t spp : {4, 32, 256}) {
+      auto backend = makeBackend(name, 7);
+      const Image img = render(scene, {16, 16, spp, IntegratorKind::Direct, 1}, *backend);
+      const double mse = compareImages(img, reference).mse;
+      EXPECT_LT(mse, previous) << name << " at spp " << spp;
+      previous = mse;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace nuld

@@ -1,0 +1,115 @@
+// nuld render: a scene file (or the built-in `default`) with a chosen sampler
+// backend to an EXR plus a tone-mapped PNG preview.
+
+#include <cstdio>
+#include <regex>
+
+#include "renderer/image_metrics.h"
+#include "renderer/render.h"
+#include "scenes/scene_file.h"
+#include "tools/nuld/commands.h"
+#include "tools/nuld/progress.h"
+
+namespace nuld::cli {
+
+namespace {
+
+void parseResolution(const std::string &text, RenderSettings &s) {
+  static const std::regex re(R"((\d+)(?:x(\d+))?)");
+  std::smatch m;
+  if (!std::regex_match(text, m, re))
+    throw std::invalid_argument("--res '" + text + "': expected W or WxH, e.g. 512 or 640x480");
+  s.width = std::stoi(m[1]);
+  s.height = m[2].matched ? std::stoi(m[2]) : s.width;
+  if (s.width < 1 || s.height < 1 || s.width > 32768 || s.height > 32768)
+    throw std::invalid_argument("--res '" + text + "': each side must be in [1, 32768]");
+}
+
+}  // namespace
+
+Runner addRender(CLI::App &app) {
+  struct Options {
+    std::string scene, backend, res, assets, integrator, output;
+    std::size_t spp = 0;
+    int maxDepth = 0;
+    std::int64_t seed = -1;
+    bool quiet = false;
+  };
+  auto o = std::make_shared<Options>();
+  app.add_option("scene", o->scene, "scene file (JSON) or 'default' (built in, needs no files)")
+      ->required();
+  app.add_option("--backend", o->backend,
+                 "sampler backend: independent, sobol, halton, optimized:FILE "
+                 "(default: the scene's, else sobol)");
+  app.add_option("--spp", o->spp, "samples per pixel (default: the scene's)")
+      ->check(CLI::Range(std::size_t(1), std::size_t(1) << 24));
+  app.add_option("--res", o->res, "resolution W or WxH (default: the scene's)");
+  app.add_option("--assets", o->assets,
+                 "asset root for the scene's meshes and maps (default: $NULD_ASSETS, else "
+                 "../shared/assets beside the checkout)");
+  app.add_option("--integrator", o->integrator, "path or direct (first bounce only)")
+      ->check(CLI::IsMember({"path", "direct"}));
+  app.add_option("--max-depth", o->maxDepth, "maximum path length in bounces")
+      ->check(CLI::Range(1, 1000));
+  app.add_option("--seed", o->seed, "seed of the backend's randomization")
+      ->check(CLI::Range(std::int64_t(0), std::int64_t(1) << 62));
+  app.add_option("-o,--output", o->output, "output EXR (a tone-mapped PNG is written beside it)")
+      ->required();
+  app.add_flag("-q,--quiet", o->quiet, "no progress bar");
+  return [o] {
+    LoadedScene loaded = loadScene(o->scene, resolveAssetRoot(o->assets));
+    RenderSettings s = loaded.settings;
+    if (o->spp) s.spp = o->spp;
+    if (!o->res.empty()) parseResolution(o->res, s);
+    if (!o->integrator.empty()) s.integrator = parseIntegrator(o->integrator);
+    if (o->maxDepth) s.maxDepth = o->maxDepth;
+    const std::uint64_t seed = o->seed >= 0 ? std::uint64_t(o->seed) : loaded.seed;
+    const auto backend = makeBackend(o->backend.empty() ? loaded.backend : o->backend, seed);
+
+    ProgressBar bar("render", 1000, 0, o->quiet);
+    RenderStats stats;
+    const Image image = render(loaded.scene, s, *backend, &stats, [&](std::size_t d, std::size_t n) {
+      bar.update(long(1000 * d / n), std::to_string(d) + "/" + std::to_string(n) + " tiles");
+    });
+    bar.finish(formatDuration(stats.seconds));
+    writeRender(o->output, image);
+    std::printf("scene %s\nbackend %s\nspp %zu\nresolution %dx%d\nintegrator %s\n",
+                loaded.name.c_str(), backend->name().c_str(), s.spp, s.width, s.height,
+                toString(s.integrator).c_str());
+    std::printf("seconds %.3f\nrays %llu\nrays_per_second %.4g\nrejected_samples %llu\n",
+                stats.seconds, (unsigned long long)stats.rays, stats.raysPerSecond(),
+                (unsigned long long)stats.rejectedSamples);
+    return 0;
+  };
+}
+
+Runner addCompare(CLI::App &app) {
+  struct Options {
+    std::string image, reference, errorMapPath;
+  };
+  auto o = std::make_shared<Options>();
+  app.add_option("image", o->image, "rendered image (EXR)")->required();
+  app.add_option("reference", o->reference, "reference image (EXR)")->required();
+  app.add_option("--error-map", o->errorMapPath,
+                 "false-colour relative-error PNG (default: IMAGE_error.png)");
+  app.footer(
+      "Prints 'mse VALUE' and 'relmse VALUE' over pixels and RGB channels;\n"
+      "relmse divides each squared error by (reference^2 + 0.01).");
+  return [o] {
+    const Image img = readImage(o->image, false), ref = readImage(o->reference);
+    const ImageError e = compareImages(img, ref);
+    std::printf("mse %.9g\nrelmse %.9g\n", e.mse, e.relmse);
+    if (e.nonFinitePixels)
+      std::printf("nonfinite_pixels %zu\n", e.nonFinitePixels);
+    std::string path = o->errorMapPath;
+    if (path.empty()) {
+      path = o->image;
+      const auto dot = path.find_last_of('.');
+      path = (dot == std::string::npos ? path : path.substr(0, dot)) + "_error.png";
+    }
+    writeImage(path, errorMap(img, ref));
+    return e.nonFinitePixels ? 2 : 0;
+  };
+}
+
+}  // namespace nuld::cli
