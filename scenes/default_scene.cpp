@@ -98,9 +98,11 @@ LoadedScene makeDefaultScene() {
   add(makeSphere({1.1, 0.5, 0}, 0.5, 48, 96, "subsurface"), std::make_shared<DisneyBrdf>(skin));
   add(makeFloor(20, 0, "floor"), std::make_shared<Lambertian>(Rgb::grey(0.5)));
 
-  LoadedScene out{"default", Scene{EmbreeScene(std::move(meshes)), std::move(materials),
-                                   std::nullopt, {}},
-                  {}, "sobol", 0};
+  LoadedScene out{"default",
+                  Scene{EmbreeScene(std::move(meshes)), std::move(materials), std::nullopt, {}},
+                  {},
+                  "sobol",
+                  0};
   out.scene.environment.emplace(proceduralSky(512, 256), 1.0, 0.0, "procedural-sky");
   out.scene.camera = {{0, 1.6, 4.2}, {0, 0.45, 0}, {0, 1, 0}, 36, false};
   out.settings.width = 192;

@@ -2,9 +2,19 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 namespace nuld {
+namespace {
+
+std::string shortNumber(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+}  // namespace
 
 void JsonReader::fail(const std::string &expected) const {
   std::string got = value_.dump();
@@ -56,7 +66,7 @@ void JsonReader::allowOnly(const std::vector<std::string> &known) const {
 
 double JsonReader::number(double lo, double hi) const {
   const auto range = [&] {
-    return "a number in [" + nlohmann::json(lo).dump() + ", " + nlohmann::json(hi).dump() + "]";
+    return "a number in [" + shortNumber(lo) + ", " + shortNumber(hi) + "]";
   };
   if (!value_.is_number()) fail(lo <= -1e300 && hi >= 1e300 ? "a number" : range());
   const double v = value_.get<double>();

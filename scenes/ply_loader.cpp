@@ -278,18 +278,33 @@ std::vector<Role> rolesOf(const std::string &path, const Element &e) {
   return roles;
 }
 
+// What the loader takes from each property of each element, checked against
+// the header before any data is read.
+std::vector<std::vector<Role>> planElements(const std::string &path, const Header &header) {
+  std::vector<std::vector<Role>> plan;
+  int vertexElements = 0, faceElements = 0;
+  for (const Element &e : header.elements) {
+    plan.push_back(rolesOf(path, e));
+    vertexElements += e.name == "vertex";
+    faceElements += e.name == "face";
+  }
+  if (vertexElements > 1 || faceElements > 1)
+    fail(path, "element 'vertex' or 'face' appears twice in the header");
+  if (vertexElements == 0) fail(path, "no 'vertex' element; expected a triangle mesh");
+  if (faceElements == 0)
+    fail(path, "no 'face' element; expected a triangle mesh, not a point cloud");
+  return plan;
+}
+
 template <typename Source>
 void readElements(const std::string &path, const Header &header, Source &source,
                   TriangleMesh &mesh) {
-  bool sawVertex = false, sawFace = false;
+  const std::vector<std::vector<Role>> plan = planElements(path, header);
   std::vector<std::uint32_t> polygon;
-  for (const Element &e : header.elements) {
-    const std::vector<Role> roles = rolesOf(path, e);
+  for (std::size_t elementIndex = 0; elementIndex < header.elements.size(); ++elementIndex) {
+    const Element &e = header.elements[elementIndex];
+    const std::vector<Role> &roles = plan[elementIndex];
     const bool isVertex = e.name == "vertex", isFace = e.name == "face";
-    if ((isVertex && sawVertex) || (isFace && sawFace))
-      fail(path, "element '" + e.name + "' appears twice in the header");
-    sawVertex |= isVertex;
-    sawFace |= isFace;
     // Cap the reservation: a corrupt count must not allocate before the data runs out.
     const std::size_t plausible = std::min<std::size_t>(e.count, 1 << 24);
     if (isVertex) mesh.positions.reserve(plausible);
@@ -299,7 +314,7 @@ void readElements(const std::string &path, const Header &header, Source &source,
 
     for (std::size_t i = 0; i < e.count; ++i) {
       const auto where = [&] {
-        return "element '" + e.name + "' item " + std::to_string(i) + " of " +
+        return "element '" + e.name + "' item " + std::to_string(i + 1) + " of " +
                std::to_string(e.count) + ": ";
       };
       const auto next = [&](Scalar type) {
@@ -347,8 +362,6 @@ void readElements(const std::string &path, const Header &header, Source &source,
       mesh.normals.push_back(normal / len);
     }
   }
-  if (!sawVertex) fail(path, "no 'vertex' element; expected a triangle mesh");
-  if (!sawFace) fail(path, "no 'face' element; expected a triangle mesh, not a point cloud");
 }
 
 std::string readFile(const std::string &path) {

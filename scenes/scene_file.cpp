@@ -54,6 +54,19 @@ void applyTransform(TriangleMesh &mesh, const JsonReader &t) {
   for (Vec3 &n : mesh.normals) n = rotate(n);
 }
 
+// {"shape": "floor", "half_size": 20, "height": 0} or
+// {"shape": "sphere", "center": [x, y, z], "radius": 1}.
+TriangleMesh builtinShape(const JsonReader &entry) {
+  const std::string shape = entry["shape"].string();
+  if (shape == "floor")
+    return makeFloor(entry.number("half_size", 20.0, 1e-9, 1e9), entry.number("height", 0.0),
+                     "floor");
+  if (shape == "sphere")
+    return makeSphere(entry.has("center") ? entry["center"].vec3() : Vec3{},
+                      entry.number("radius", 1.0, 1e-9, 1e9), 64, 128, "sphere");
+  entry["shape"].fail("\"floor\" or \"sphere\"");
+}
+
 CameraSettings readCamera(const JsonReader &c) {
   c.allowOnly({"eye", "look_at", "up", "fov", "mirror_x"});
   CameraSettings cam;
@@ -116,14 +129,18 @@ LoadedScene loadScene(const std::string &path, const std::string &assetRoot) {
   const JsonReader meshList = root["meshes"];
   for (std::size_t i = 0; i < meshList.size(); ++i) {
     const JsonReader entry = meshList.at(i);
-    entry.allowOnly({"file", "material", "skip", "transform"});
-    const std::string file = assetPath(assetRoot, entry["file"].string());
+    entry.allowOnly({"file", "shape", "material", "skip", "transform", "half_size", "height",
+                     "center", "radius"});
+    if (entry.has("file") == entry.has("shape"))
+      entry.fail("an object with either a \"file\" or a \"shape\" (floor or sphere)");
+    const std::string file = entry.has("file") ? assetPath(assetRoot, entry["file"].string()) : "";
     const std::vector<std::string> skip =
         entry.has("skip") ? entry["skip"].strings() : std::vector<std::string>{};
     const std::string forced = entry.has("material") ? entry["material"].string() : "";
     if (!forced.empty() && !known.count(forced))
       entry["material"].fail("the name of an entry in 'materials'");
-    for (TriangleMesh &mesh : loadMeshFile(file, entry["file"])) {
+    for (TriangleMesh &mesh :
+         entry.has("file") ? loadMeshFile(file, entry["file"]) : std::vector{builtinShape(entry)}) {
       const auto skipped = [&](const std::string &n) {
         return !n.empty() && std::find(skip.begin(), skip.end(), n) != skip.end();
       };

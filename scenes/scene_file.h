@@ -15,7 +15,9 @@
 //                                  "metallic": 1, "roughness": .2}, ...},
 //     "meshes":      [{"file": "lte_orb/lte_orb.glb", "skip": ["Material"]},
 //                     {"file": "cup/geometry_mesh_00002.ply", "material": "floor",
-//                      "transform": {"scale": 1, "rotate_y": 0, "translate": [0,0,0]}}]
+//                      "transform": {"scale": 1, "rotate_y": 0, "translate": [0,0,0]}},
+//                     {"shape": "floor", "half_size": 20, "height": 0, "material": "floor"},
+//                     {"shape": "sphere", "center": [0,1,0], "radius": 1}]
 //   }
 //
 // A mesh gets the entry's "material" if given, else the material named like

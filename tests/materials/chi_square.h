@@ -120,18 +120,24 @@ struct DirectionTest {
   }
 };
 
-// Where a lobe peaks on the equal-area square: at the direction `w`, graded
-// only in v at the pole (there the lobe spans every u).
-inline Peak peakAt(Vec3 w) {
-  const Point2 p = spherePoint(normalize(w));
-  if (p.y < 1e-9) return {std::nullopt, 0.0};
-  return {p.x, p.y};
+// Mesh grading for a lobe peaking at the direction `w`, and always toward
+// the pole v = 0, where functions of direction vary like sqrt(v) on the
+// square. A peak at the pole spans every u, so it is graded in v only.
+inline Peak peakAt(std::optional<Vec3> w = std::nullopt) {
+  Peak peak{{}, {0.0}};
+  if (!w) return peak;
+  const Point2 p = spherePoint(normalize(*w));
+  if (p.y < 1e-9) return peak;
+  peak.x.push_back(p.x);
+  peak.y.push_back(p.y);
+  return peak;
 }
 
 // Bins: `cols` in phi, `rows` in v over the upper hemisphere, plus one bin
 // for failed samples expected to hold n (1 - pdf mass).
 inline DirectionTest testDirections(const DirectionSampler &sample, const DirectionPdf &pdf,
-                                    int n, std::uint64_t seed, Peak peak = {}, int cols = 80,
+                                    int n, std::uint64_t seed, const Peak &peak = peakAt(),
+                                    int cols = 80,
                                     int rows = 40) {
   const auto xEdges = uniformEdges(0, 1, cols), yEdges = uniformEdges(0, 0.5, rows);
   const std::size_t bins = std::size_t(cols) * rows;

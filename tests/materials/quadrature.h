@@ -14,7 +14,6 @@
 #include <cmath>
 #include <cstddef>
 #include <functional>
-#include <optional>
 #include <vector>
 
 #include "sampler/point.h"
@@ -61,21 +60,21 @@ inline double integrateAdaptive(const Integrand &f, const Box2 &b, double whole,
   return refined;
 }
 
-// Where a sharp feature sits, per axis (nullopt: none along that axis).
+// Where sharp features sit: mesh lines are graded toward each x and y.
 struct Peak {
-  std::optional<double> x, y;
+  std::vector<double> x, y;
 };
 
-// Mesh lines: `edges` plus lines at c +- h for h = h0, h0/2, ... down to
-// hMin, clipped to [edges.front(), edges.back()].
-inline std::vector<double> meshLines(const std::vector<double> &edges, std::optional<double> c,
-                                     double h0, double hMin) {
+// Mesh lines: `edges` plus lines at c +- h for every centre c and h = h0,
+// h0/2, ... down to hMin, clipped to [edges.front(), edges.back()].
+inline std::vector<double> meshLines(const std::vector<double> &edges,
+                                     const std::vector<double> &centres, double h0, double hMin) {
   std::vector<double> lines = edges;
-  if (c) {
-    lines.push_back(*c);
+  for (const double c : centres) {
+    lines.push_back(c);
     for (double h = h0; h >= hMin; h *= 0.5) {
-      lines.push_back(*c - h);
-      lines.push_back(*c + h);
+      lines.push_back(c - h);
+      lines.push_back(c + h);
     }
   }
   const double lo = edges.front(), hi = edges.back();
@@ -88,10 +87,10 @@ inline std::vector<double> meshLines(const std::vector<double> &edges, std::opti
 // The integral of f over each cell of the grid with the given edges
 // (row-major, rows along y), resolving `peak` with graded mesh lines.
 inline std::vector<double> integrateCells(const Integrand &f, const std::vector<double> &xEdges,
-                                          const std::vector<double> &yEdges, Peak peak = {},
-                                          double relTol = 1e-6, double densityTol = 1e-8) {
+                                          const std::vector<double> &yEdges, const Peak &peak = {},
+                                          double relTol = 1e-5, double densityTol = 1e-7) {
   const std::size_t cols = xEdges.size() - 1, rows = yEdges.size() - 1;
-  constexpr double kHMin = 1e-11;
+  constexpr double kHMin = 1e-10;
   const auto xs = meshLines(xEdges, peak.x, xEdges[1] - xEdges[0], kHMin);
   const auto ys = meshLines(yEdges, peak.y, yEdges[1] - yEdges[0], kHMin);
   std::vector<double> cells(cols * rows, 0.0);
@@ -102,7 +101,7 @@ inline std::vector<double> integrateCells(const Integrand &f, const std::vector<
     for (std::size_t a = 0; a + 1 < xs.size(); ++a) {
       while (col + 1 < cols && xs[a] >= xEdges[col + 1]) ++col;
       const Box2 box{{xs[a], ys[b]}, {xs[a + 1], ys[b + 1]}};
-      cells[row * cols + col] += integrateAdaptive(f, box, gauss4x4(f, box), relTol, densityTol, 10);
+      cells[row * cols + col] += integrateAdaptive(f, box, gauss4x4(f, box), relTol, densityTol, 6);
     }
   }
   return cells;

@@ -1,0 +1,176 @@
+// Sampler backends: the classic ones are what they claim (Owen-scrambled
+// Sobol points of a pixel form a (0, m, 2)-net), and the point-set backend
+// serves its file's points where it should, falls back where it should, and
+// refuses a render it cannot serve with a message that says why.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "renderer/environment_light.h"
+#include "renderer/image_metrics.h"
+#include "renderer/pointset_backend.h"
+#include "renderer/render.h"
+#include "sampler/io/pointset_io.h"
+#include "sampler/sequences/rng.h"
+#include "tests/renderer/test_scenes.h"
+
+namespace nuld {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path tempDir() {
+  const fs::path d = fs::temp_directory_path() / ("nuld_backends_" + std::to_string(::getpid()));
+  fs::create_directories(d);
+  return d;
+}
+
+// Every elementary box of area 1/N (N = 2^m) holds exactly one point.
+bool isNet(const std::vector<Point2> &pts) {
+  const int m = int(std::log2(pts.size()));
+  for (int a = 0; a <= m; ++a) {
+    const int nx = 1 << a, ny = 1 << (m - a);
+    std::vector<int> count(std::size_t(nx) * ny, 0);
+    for (const Point2 &p : pts) ++count[std::size_t(int(p.y * ny)) * nx + int(p.x * nx)];
+    for (int c : count)
+      if (c != 1) return false;
+  }
+  return true;
+}
+
+TEST(Backends, SobolPixelsAreNetsAndPairsAreIndependentlyScrambled) {
+  const auto sobol = makeBackend("sobol", 5);
+  std::vector<Point2> a(64), b(64), c(64);
+  sobol->primary(17, 3, a);
+  sobol->primary(17, 4, b);
+  sobol->primary(18, 3, c);
+  EXPECT_TRUE(isNet(a) && isNet(b) && isNet(c));
+  EXPECT_NE(a, b);
+  EXPECT_NE(a, c);
+  std::vector<Point2> again(64);
+  sobol->primary(17, 3, again);
+  EXPECT_EQ(a, again);
+  // Independent points are (almost surely) not a net.
+  const auto independent = makeBackend("independent", 5);
+  independent->primary(17, 3, a);
+  EXPECT_FALSE(isNet(a));
+}
+
+TEST(Backends, UnknownNameListsTheChoices) {
+  try {
+    makeBackend("sobolo", 0);
+    FAIL();
+  } catch (const std::invalid_argument &e) {
+    EXPECT_NE(std::string(e.what()).find("independent, sobol, halton"), std::string::npos);
+  }
+  EXPECT_THROW(makeBackend("optimized:/no/such/file.txt", 0), std::exception);
+}
+
+TEST(PointSetBackend, UniformSetsAreShiftedPerPixelAndDeeperPairsFallBack) {
+  PointSet set;
+  set.n = 8;
+  Rng rng(1);
+  for (int i = 0; i < 3 * 8; ++i) set.points.push_back({rng.uniform(), rng.uniform()});
+  set.metadata["target"] = "uniform";
+  PointSetBackend backend("optimized:test", set, "test", 4);
+  backend.prepare(8, nullptr);
+  std::vector<Point2> out(8);
+  backend.primary(11, SamplePairs::bsdf(0), out);
+  // out is one of the instances under a toroidal shift.
+  bool found = false;
+  for (std::size_t k = 0; k < 3 && !found; ++k) {
+    const auto inst = set.instance(k);
+    const double dx = out[0].x - inst[0].x, dy = out[0].y - inst[0].y;
+    bool all = true;
+    for (int i = 0; i < 8; ++i) {
+      const double ex = std::remainder(out[i].x - inst[i].x - dx, 1.0);
+      const double ey = std::remainder(out[i].y - inst[i].y - dy, 1.0);
+      all = all && std::abs(ex) < 1e-12 && std::abs(ey) < 1e-12;
+    }
+    found = all;
+  }
+  EXPECT_TRUE(found);
+  // A deeper pair falls back to Owen-scrambled Sobol with the same seed.
+  std::vector<Point2> deep(8), sobol(8);
+  backend.primary(11, SamplePairs::light(1), deep);
+  makeBackend("sobol", 4)->primary(11, SamplePairs::light(1), sobol);
+  EXPECT_EQ(deep, sobol);
+  EXPECT_THROW(backend.prepare(16, nullptr), std::invalid_argument);
+}
+
+TEST(PointSetBackend, DistributedSetsServeOnlyTheirTargetAtTheFirstBounce) {
+  const fs::path dir = tempDir();
+  const std::string mapPath = (dir / "map.exr").string();
+  Image map = test::constantMap(1.0f, 16, 8);
+  map.at(3, 2, 0) = 50.0f;
+  writeImage(mapPath, map);
+  const EnvironmentLight light(readImage(mapPath), 1.0, 0.0, mapPath);
+  const EnvironmentLight other(test::constantMap(1.0f), 1.0, 0.0, "other.exr");
+
+  PointSet set;
+  set.n = 4;
+  for (int i = 0; i < 2 * 4; ++i) set.points.push_back({0.1 * i, 0.05 * i});
+  // The same file reached through a different spelling of its path.
+  set.metadata["target"] = "envmap:" + (dir / "." / "map.exr").string();
+  PointSetBackend backend("optimized:x", set, "x.ptsb", 0);
+  EXPECT_NO_THROW(backend.prepare(4, light.target()));
+  std::vector<Point2> out(4);
+  ASSERT_TRUE(backend.distributed(*light.target(), 5, SamplePairs::light(0), out));
+  EXPECT_TRUE(std::equal(out.begin(), out.end(), set.instance(0).begin()) ||
+              std::equal(out.begin(), out.end(), set.instance(1).begin()));
+  EXPECT_FALSE(backend.distributed(*light.target(), 5, SamplePairs::light(1), out));
+
+  const auto message = [&](std::size_t spp, const Target *t) {
+    try {
+      backend.prepare(spp, t);
+    } catch (const std::invalid_argument &e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(message(8, light.target()).find("--spp 4"), std::string::npos);
+  EXPECT_NE(message(4, nullptr).find("no environment map"), std::string::npos);
+  EXPECT_NE(message(4, other.target()).find("other.exr"), std::string::npos);
+  fs::remove_all(dir);
+}
+
+// A file of inverse-CDF-mapped Owen-Sobol sets, served as distributed points,
+// renders the same image in expectation as the sobol backend: both estimate
+// the same integral, so both land close to a converged reference.
+TEST(PointSetBackend, DistributedPointsRenderTheSameImage) {
+  Image sky = test::constantMap(0.2f, 32, 16);
+  for (int c = 0; c < 3; ++c) sky.at(10, 4, c) = 80.0f;
+  const fs::path dir = tempDir();
+  const std::string mapPath = (dir / "sky.exr").string();
+  writeImage(mapPath, sky);
+  Scene scene = test::sceneWith({test::unitSphere()},
+                                {std::make_shared<Lambertian>(Rgb::grey(0.8))}, std::nullopt,
+                                {{0, 0, 4}, {0, 0, 0}, {0, 1, 0}, 40, false});
+  scene.environment.emplace(readImage(mapPath), 1.0, 0.0, mapPath);
+
+  const std::size_t spp = 16;
+  PointSet set;
+  set.n = spp;
+  for (std::uint32_t k = 0; k < 32; ++k) {
+    std::vector<Point2> u(spp);
+    makeBackend("sobol", 77)->primary(k, 0, u);
+    for (const Point2 &p : u) set.points.push_back(scene.environment->target()->invert(p).x);
+  }
+  set.metadata["target"] = scene.environment->target()->spec();
+  PointSetBackend optimized("optimized:mapped", set, "mapped", 3);
+
+  const RenderSettings settings{16, 16, spp, IntegratorKind::Direct, 1};
+  auto ref = makeBackend("sobol", 99);
+  const Image reference = render(scene, {16, 16, 4096, IntegratorKind::Direct, 1}, *ref);
+  auto sobol = makeBackend("sobol", 3);
+  const double mseSobol = compareImages(render(scene, settings, *sobol), reference).mse;
+  const double mseFile = compareImages(render(scene, settings, optimized), reference).mse;
+  EXPECT_LT(mseFile, 3 * mseSobol);
+  EXPECT_LT(mseSobol, 3 * mseFile);
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace nuld

@@ -1,0 +1,159 @@
+// Scene files: a valid file builds what it names, and every kind of bad
+// input stops with a message naming the file, the field and what was
+// expected. The shipped scenes load when the assets are present.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "renderer/render.h"
+#include "scenes/default_scene.h"
+#include "scenes/scene_file.h"
+
+namespace nuld {
+namespace {
+
+namespace fs = std::filesystem;
+
+class SceneFileTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("nuld_scene_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_ / "meshes");
+    std::ofstream(dir_ / "meshes" / "tri.ply") << "ply\nformat ascii 1.0\nelement vertex 3\n"
+                                                  "property float x\nproperty float y\n"
+                                                  "property float z\nelement face 1\n"
+                                                  "property list uchar int vertex_indices\n"
+                                                  "end_header\n-1 0 -1\n1 0 -1\n0 0 1\n3 0 2 1\n";
+    Image sky{8, 4, 3, std::vector<float>(96, 0.5f)};
+    writeImage((dir_ / "sky.exr").string(), sky);
+    std::ofstream(dir_ / "broken.exr") << "not an image";
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string write(const std::string &json) {
+    const std::string path = (dir_ / "scene.json").string();
+    std::ofstream(path) << json;
+    return path;
+  }
+  std::string valid(const std::string &replaceFrom = "", const std::string &replaceTo = "") {
+    std::string json = R"({
+      "camera": {"eye": [0, 2, 5], "look_at": [0, 0, 0], "fov": 40},
+      "film": {"width": 8, "height": 6},
+      "render": {"spp": 4, "integrator": "direct", "backend": "halton", "seed": 3},
+      "environment": {"file": "sky.exr", "scale": 2},
+      "materials": {"tri": {"type": "lambertian", "albedo": 0.5},
+                    "ball": {"type": "disney", "roughness": 0.3, "metallic": 1}},
+      "meshes": [{"file": "meshes/tri.ply"},
+                 {"shape": "sphere", "center": [0, 1, 0], "radius": 0.5, "material": "ball"}]
+    })";
+    if (!replaceFrom.empty()) {
+      const auto at = json.find(replaceFrom);
+      EXPECT_NE(at, std::string::npos) << replaceFrom;
+      json.replace(at, replaceFrom.size(), replaceTo);
+    }
+    return write(json);
+  }
+  // The message of the exception that loading `path` throws ("" if none).
+  std::string errorOf(const std::string &path) {
+    try {
+      loadScene(path, dir_.string());
+    } catch (const std::exception &e) {
+      return e.what();
+    }
+    return "";
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(SceneFileTest, ValidFileBuildsWhatItNames) {
+  const LoadedScene s = loadScene(valid(), dir_.string());
+  EXPECT_EQ(s.scene.geometry.meshes().size(), 2u);
+  EXPECT_EQ(s.scene.materials.size(), 2u);
+  EXPECT_EQ(s.scene.materials[0]->name(), "lambertian");
+  ASSERT_TRUE(s.scene.environment);
+  EXPECT_EQ(s.settings.width, 8);
+  EXPECT_EQ(s.settings.spp, 4u);
+  EXPECT_EQ(s.settings.integrator, IntegratorKind::Direct);
+  EXPECT_EQ(s.backend, "halton");
+  EXPECT_EQ(s.seed, 3u);
+  auto backend = makeBackend(s.backend, s.seed);
+  const Image img = render(s.scene, s.settings, *backend);
+  for (float v : img.pixels) EXPECT_TRUE(std::isfinite(v));
+}
+
+TEST_F(SceneFileTest, NoEnvironmentMeansNoMapIsRead) {
+  const std::string path = valid(R"("environment": {"file": "sky.exr", "scale": 2},)", "");
+  EXPECT_FALSE(loadScene(path, dir_.string()).scene.environment);
+}
+
+TEST_F(SceneFileTest, BadInputGivesClearErrors) {
+  const auto expectError = [&](const std::string &path, std::vector<std::string> parts) {
+    const std::string msg = errorOf(path);
+    ASSERT_FALSE(msg.empty()) << "no error for " << parts[0];
+    for (const std::string &p : parts) EXPECT_NE(msg.find(p), std::string::npos) << msg;
+  };
+  expectError(write("{\"camera\": "), {"scene.json", "malformed JSON"});
+  expectError(valid("meshes/tri.ply", "meshes/none.ply"), {"none.ply", "does not exist"});
+  expectError(valid("sky.exr", "broken.exr"), {"broken.exr"});
+  expectError(valid("sky.exr", "missing.exr"), {"missing.exr", "does not exist"});
+  expectError(valid("\"fov\": 40", "\"fov\": \"wide\""),
+              {"scene.json", "camera.fov", "expected a number"});
+  expectError(valid("\"fov\": 40", "\"fov\": 40, \"fovv\": 2"), {"unknown field 'camera.fovv'"});
+  expectError(valid("\"roughness\": 0.3", "\"roughness\": 1.3"),
+              {"materials.ball.roughness", "[0, 1]"});
+  expectError(valid("\"type\": \"lambertian\"", "\"type\": \"glass\""),
+              {"materials.tri.type", "disney"});
+  expectError(valid("{\"tri\":", "{\"trx\":"), {"no material for mesh 'tri'"});
+  expectError(valid("\"spp\": 4", "\"spp\": 0"), {"render.spp", "integer in [1"});
+  expectError(valid("\"look_at\": [0, 0, 0]", "\"look_at\": [0, 2, 5]"), {"camera.look_at"});
+  expectError(valid("\"shape\": \"sphere\"", "\"shape\": \"cube\""), {"meshes[1].shape"});
+  expectError((dir_ / "nothing.json").string(), {"nothing.json", "cannot open"});
+}
+
+TEST(DefaultScene, BuildsWithoutFilesAndRendersFiniteValues) {
+  const LoadedScene s = loadScene("default", "/nonexistent");
+  EXPECT_EQ(s.name, "default");
+  ASSERT_TRUE(s.scene.environment);
+  RenderSettings settings = s.settings;
+  settings.width = 24;
+  settings.height = 16;
+  settings.spp = 4;
+  auto backend = makeBackend("sobol", 0);
+  RenderStats stats;
+  const Image img = render(s.scene, settings, *backend, &stats);
+  EXPECT_EQ(stats.rejectedSamples, 0u);
+  double sum = 0;
+  for (float v : img.pixels) {
+    EXPECT_TRUE(std::isfinite(v));
+    sum += v;
+  }
+  EXPECT_GT(sum, 0);
+}
+
+TEST(DefaultScene, ProceduralSkyReachesTheRequestedDynamicRange) {
+  const Image sky = proceduralSky(256, 128, 1e6);
+  float lo = 1e30f, hi = 0;
+  for (float v : sky.pixels) lo = std::min(lo, v), hi = std::max(hi, v);
+  EXPECT_GT(hi / lo, 1e6);
+}
+
+TEST(ShippedScenes, LoadWhenAssetsArePresent) {
+  const std::string assets = resolveAssetRoot("");
+  if (!fs::exists(fs::path(assets) / "lte_orb" / "lte_orb.glb"))
+    GTEST_SKIP() << "no assets at " << assets;
+  for (const char *name : {"lte-orb", "dragon", "cup"}) {
+    const LoadedScene s = loadScene(std::string(NULD_SOURCE_DIR) + "/scenes/" + name + ".json",
+                                    assets);
+    EXPECT_GT(s.scene.geometry.triangleCount(), 10000u) << name;
+    EXPECT_TRUE(s.scene.environment && s.scene.environment->target()) << name;
+    EXPECT_EQ(s.scene.materials.size(), s.scene.geometry.meshes().size());
+  }
+}
+
+}  // namespace
+}  // namespace nuld
