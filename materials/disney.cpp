@@ -29,8 +29,8 @@ const DisneyParams &validated(const DisneyParams &p) {
 void validate(const DisneyParams &p) {
   auto check = [](const char *name, double v) {
     if (!(v >= 0 && v <= 1))
-      throw std::invalid_argument(std::string("Disney BRDF: ") + name + " = " +
-                                  std::to_string(v) + " (expected a value in [0, 1])");
+      throw std::invalid_argument(std::string("Disney BRDF: ") + name + " = " + std::to_string(v) +
+                                  " (expected a value in [0, 1])");
   };
   check("baseColor.r", p.baseColor.r);
   check("baseColor.g", p.baseColor.g);

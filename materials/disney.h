@@ -67,9 +67,9 @@ class DisneyBrdf final : public Bsdf {
  private:
   // The angles every lobe reads, for wo and wi above the surface.
   struct Geometry {
-    Vec3 h;                    // half vector
-    double cosO, cosI, cosD;   // wo.n, wi.n, wi.h (= wo.h)
-    double fo, fi, fd;         // Schlick weights of those cosines
+    Vec3 h;                   // half vector
+    double cosO, cosI, cosD;  // wo.n, wi.n, wi.h (= wo.h)
+    double fo, fi, fd;        // Schlick weights of those cosines
   };
   static std::optional<Geometry> geometry(Vec3 wo, Vec3 wi);
   Rgb lobeValue(DisneyLobe lobe, Vec3 wo, Vec3 wi, const Geometry &g) const;

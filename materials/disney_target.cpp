@@ -50,7 +50,8 @@ std::string formatNumber(double v) {
 
 class ArgsParser {
  public:
-  explicit ArgsParser(const std::string &args) : spec_(args.empty() ? "disney" : "disney:" + args) {}
+  explicit ArgsParser(const std::string &args)
+      : spec_(args.empty() ? "disney" : "disney:" + args) {}
 
   [[noreturn]] void fail(const std::string &what) const {
     throw std::invalid_argument("target '" + spec_ + "': " + what);
@@ -63,8 +64,8 @@ class ArgsParser {
       fail("'" + text + "' is not a number (key '" + key + "')");
     return v;
   }
-  double inRange(const std::string &key, const std::string &text, double lo, double hi,
-                 bool hiOpen, const std::string &expected) const {
+  double inRange(const std::string &key, const std::string &text, double lo, double hi, bool hiOpen,
+                 const std::string &expected) const {
     const double v = number(key, text);
     if (!(v >= lo && (hiOpen ? v < hi : v <= hi)))
       fail(key + " = " + text + " is out of range (expected " + expected + ")");
@@ -74,7 +75,8 @@ class ArgsParser {
     const std::string expected =
         "an integer in [" + std::to_string(lo) + ", " + std::to_string(kMaxCells) + "]";
     const double v = inRange(key, text, lo, kMaxCells, false, expected);
-    if (v != std::floor(v)) fail(key + " = " + text + " is not an integer (expected " + expected + ")");
+    if (v != std::floor(v))
+      fail(key + " = " + text + " is not an integer (expected " + expected + ")");
     return int(v);
   }
   Rgb color(const std::string &key, const std::string &text) const {
@@ -166,9 +168,9 @@ std::string toSpec(const DisneyTargetSpec &s) {
   };
   const Rgb c = s.params.baseColor;
   if (!(c == d.params.baseColor))
-    add("basecolor", c.r == c.g && c.g == c.b ? formatNumber(c.r)
-                                               : formatNumber(c.r) + "/" + formatNumber(c.g) +
-                                                     "/" + formatNumber(c.b));
+    add("basecolor", c.r == c.g && c.g == c.b
+                         ? formatNumber(c.r)
+                         : formatNumber(c.r) + "/" + formatNumber(c.g) + "/" + formatNumber(c.b));
   for (const ParamKey &k : kParamKeys)
     if (s.params.*(k.field) != d.params.*(k.field)) add(k.name, formatNumber(s.params.*(k.field)));
   if (s.thetaDegrees != d.thetaDegrees) add("theta", formatNumber(s.thetaDegrees));

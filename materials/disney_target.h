@@ -57,10 +57,11 @@ DisneyTargetSpec parseDisneyTargetArgs(const std::string &args);
 std::string toSpec(const DisneyTargetSpec &spec);
 
 // f(wo, .) cos theta of `params` tabulated as above. wo is normalized and
-// must point above the surface. The tabulation resolves lobes wider than a
-// few cells (a cell spans about 2 pi / phiCells in azimuth); sharper
-// specular peaks (alpha = roughness^2 below ~0.05 at the default size) are
-// aliased by the 4 x 4 sub-sampling.
+// must point above the surface. The 4 x 4 midpoint rule resolves lobes wider
+// than a cell; sharper specular peaks alias. Measured at the default size
+// and wo at 45 degrees, the total-variation distance between the table and
+// the exact cell masses is 1.4e-5 for the supplement's instance and, for a
+// metal, 2.3e-4 at roughness 0.2, 1.4e-3 at 0.1 and 8e-3 at 0.05.
 std::unique_ptr<GridTarget> makeDisneyTarget(const DisneyParams &params, Vec3 wo,
                                              int phiCells = 256, int thetaRows = 128);
 // The same from a parsed spec; the target reports toSpec(spec).

@@ -31,7 +31,7 @@ class SequenceBackend final : public SamplerBackend {
   std::string name() const override { return kind_ == SequenceKind::Sobol ? "sobol" : "halton"; }
   void primary(std::uint64_t pixel, std::uint32_t pair, std::span<Point2> out) const override {
     const SequenceOptions o{kind_, Scramble::Owen, hash3(seed_, pixel, pair)};
-    generatePoints(o, 0, out, 0);
+    generateSet(o, 0, out, 0);
   }
 
  private:

@@ -9,16 +9,20 @@
 
 namespace nuld {
 
-std::uint32_t owenScramble(std::uint32_t bits, std::uint64_t seed) {
+std::uint32_t owenScramble(std::uint32_t bits, std::uint64_t seed, int distinctDigits) {
   const std::uint64_t key = mix64(seed ^ 0x5851f42d4c957f2dull);
-  std::uint32_t flips = 0;
-  for (int i = 0; i < 32; ++i) {
-    // The i most significant digits; tag the length so prefixes of different
-    // lengths never share a hash.
+  // The hash of the i most significant digits; tagged with the length so
+  // prefixes of different lengths never share a hash.
+  const auto prefixHash = [&](int i) {
     const std::uint64_t prefix = i == 0 ? 0 : bits >> (32 - i);
-    const std::uint64_t h = mix64(key + 0x9e3779b97f4a7c15ull * ((prefix << 6) | std::uint64_t(i)));
-    flips |= static_cast<std::uint32_t>(h >> 63) << (31 - i);
-  }
+    return mix64(key + 0x9e3779b97f4a7c15ull * ((prefix << 6) | std::uint64_t(i)));
+  };
+  const int exact = distinctDigits < 0 ? 0 : (distinctDigits > 32 ? 32 : distinctDigits);
+  std::uint32_t flips = 0;
+  for (int i = 0; i < exact; ++i)
+    flips |= static_cast<std::uint32_t>(prefixHash(i) >> 63) << (31 - i);
+  if (exact < 32)  // the digits below a unique prefix: independent uniform flips
+    flips |= static_cast<std::uint32_t>(mix64(prefixHash(exact) ^ 0x7a11ull)) >> exact;
   return bits ^ flips;
 }
 
@@ -49,7 +53,7 @@ std::uint32_t permuteDigit(std::uint32_t digit, std::uint32_t base, std::uint64_
 }  // namespace
 
 double radicalInverse(std::uint64_t index, std::uint32_t base, DigitRandomization r,
-                      std::uint64_t seed) {
+                      std::uint64_t seed, int distinctDigits) {
   if (base < 2) throw std::invalid_argument("radicalInverse: base must be at least 2");
   const double invBase = 1.0 / base;
   // Enough digits that the next one is below double precision.
@@ -60,6 +64,11 @@ double radicalInverse(std::uint64_t index, std::uint32_t base, DigitRandomizatio
   std::uint64_t prefixKey = mix64(seed);
   for (int i = 0; i < digits; ++i) {
     if (r == DigitRandomization::None && index == 0) break;
+    if (r == DigitRandomization::Owen && i >= distinctDigits) {
+      // A prefix unique to this point: the rest is a uniform tail on [0, b^-i).
+      result += scale * base * toUnitDouble(mix64(prefixKey ^ 0x7a11ull));
+      break;
+    }
     const auto digit = static_cast<std::uint32_t>(index % base);
     index /= base;
     std::uint32_t out = digit;

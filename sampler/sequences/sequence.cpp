@@ -63,15 +63,25 @@ std::uint32_t nthPrime(std::uint32_t p) {
   return primes[p];
 }
 
-double sequenceSample(const SequenceOptions &o, std::uint64_t index, std::uint32_t dim,
-                      std::uint32_t instance) {
+namespace {
+
+// Digits that tell the first n points apart: ceil(log_base n).
+int distinctDigits(std::size_t n, std::uint32_t base) {
+  int d = 0;
+  for (std::uint64_t span = 1; span < n; span *= base) ++d;
+  return d;
+}
+
+double sample(const SequenceOptions &o, std::uint64_t index, std::uint32_t dim,
+              std::uint32_t instance, std::size_t setSize) {
   // One independent seed per (instance, dimension).
   const std::uint64_t seed = hash3(o.seed, instance, dim);
   switch (o.kind) {
     case SequenceKind::Random: return independentSample(hashCombine(o.seed, instance), index, dim);
     case SequenceKind::Sobol: {
       std::uint32_t bits = sobolBits(index, dim);
-      if (o.scramble == Scramble::Owen) bits = owenScramble(bits, seed);
+      if (o.scramble == Scramble::Owen)
+        bits = owenScramble(bits, seed, setSize ? distinctDigits(setSize, 2) : 32);
       if (o.scramble == Scramble::Shift) bits = digitalShift(bits, seed);
       const double x = bits * 0x1.0p-32;
       return o.scramble == Scramble::CranleyPatterson ? cranleyPatterson(x, seed) : x;
@@ -81,11 +91,19 @@ double sequenceSample(const SequenceOptions &o, std::uint64_t index, std::uint32
       const DigitRandomization r = o.scramble == Scramble::Owen    ? DigitRandomization::Owen
                                    : o.scramble == Scramble::Shift ? DigitRandomization::Shift
                                                                    : DigitRandomization::None;
-      const double x = radicalInverse(index, base, r, seed);
+      const double x =
+          radicalInverse(index, base, r, seed, setSize ? distinctDigits(setSize, base) : 64);
       return o.scramble == Scramble::CranleyPatterson ? cranleyPatterson(x, seed) : x;
     }
   }
   return 0;
+}
+
+}  // namespace
+
+double sequenceSample(const SequenceOptions &o, std::uint64_t index, std::uint32_t dim,
+                      std::uint32_t instance) {
+  return sample(o, index, dim, instance, 0);
 }
 
 void generatePoints(const SequenceOptions &o, std::uint32_t instance, std::span<Point2> out,
@@ -93,6 +111,13 @@ void generatePoints(const SequenceOptions &o, std::uint32_t instance, std::span<
   for (std::size_t i = 0; i < out.size(); ++i)
     out[i] = {sequenceSample(o, i, firstDim, instance),
               sequenceSample(o, i, firstDim + 1, instance)};
+}
+
+void generateSet(const SequenceOptions &o, std::uint32_t instance, std::span<Point2> out,
+                 std::uint32_t firstDim) {
+  for (std::size_t i = 0; i < out.size(); ++i)
+    out[i] = {sample(o, i, firstDim, instance, out.size()),
+              sample(o, i, firstDim + 1, instance, out.size())};
 }
 
 PointSet generatePointSet(const SequenceOptions &o, std::size_t n, std::size_t instances) {

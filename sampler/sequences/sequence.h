@@ -40,6 +40,14 @@ double sequenceSample(const SequenceOptions &o, std::uint64_t index, std::uint32
 void generatePoints(const SequenceOptions &o, std::uint32_t instance, std::span<Point2> out,
                     std::uint32_t firstDim = 0);
 
+// The same points as one set of N = out.size(): Owen scrambling draws the
+// digits below those that tell the N points apart with one hash (see
+// owenScramble), so the set has the same distribution as generatePoints'
+// but costs a few hashes per coordinate instead of 32 to 54. The renderer's
+// backends, which scramble every pixel afresh, use this.
+void generateSet(const SequenceOptions &o, std::uint32_t instance, std::span<Point2> out,
+                 std::uint32_t firstDim = 0);
+
 // K instances of N points each, metadata filled in.
 PointSet generatePointSet(const SequenceOptions &o, std::size_t n, std::size_t instances);
 

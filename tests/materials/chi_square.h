@@ -109,7 +109,7 @@ using DirectionPdf = std::function<double(Vec3)>;
 
 struct DirectionTest {
   ChiSquare chi;
-  double pdfMass = 0;       // integral of the pdf over the hemisphere
+  double pdfMass = 0;         // integral of the pdf over the hemisphere
   double failedFraction = 0;  // nullopt samples / samples
   double belowFraction = 0;   // samples returned below the horizon (never allowed)
   std::string describe() const {
@@ -135,9 +135,8 @@ inline Peak peakAt(std::optional<Vec3> w = std::nullopt) {
 
 // Bins: `cols` in phi, `rows` in v over the upper hemisphere, plus one bin
 // for failed samples expected to hold n (1 - pdf mass).
-inline DirectionTest testDirections(const DirectionSampler &sample, const DirectionPdf &pdf,
-                                    int n, std::uint64_t seed, const Peak &peak = peakAt(),
-                                    int cols = 80,
+inline DirectionTest testDirections(const DirectionSampler &sample, const DirectionPdf &pdf, int n,
+                                    std::uint64_t seed, const Peak &peak = peakAt(), int cols = 80,
                                     int rows = 40) {
   const auto xEdges = uniformEdges(0, 1, cols), yEdges = uniformEdges(0, 0.5, rows);
   const std::size_t bins = std::size_t(cols) * rows;
@@ -162,9 +161,9 @@ inline DirectionTest testDirections(const DirectionSampler &sample, const Direct
     observed[std::size_t(j) * cols + i] += 1;
   }
   // Density on the square = density per steradian * 4 pi (equal-area map).
-  const auto cells = integrateCells(
-      [&](Point2 p) { return 4 * std::numbers::pi * pdf(sphereDirection(p)); }, xEdges, yEdges,
-      peak);
+  const auto cells =
+      integrateCells([&](Point2 p) { return 4 * std::numbers::pi * pdf(sphereDirection(p)); },
+                     xEdges, yEdges, peak);
   for (std::size_t k = 0; k < bins; ++k) {
     expected[k] = n * cells[k];
     t.pdfMass += cells[k];

@@ -82,8 +82,8 @@ std::vector<Case> samplingCases() {
   }
   // Toward grazing view.
   for (const double theta : {0.0, 70.0, 85.0, 89.0})
-    cases.push_back({"supplement theta " + std::to_string(theta), supplementDisneyParams(), theta,
-                     0});
+    cases.push_back(
+        {"supplement theta " + std::to_string(theta), supplementDisneyParams(), theta, 0});
   {
     DisneyParams p = supplementDisneyParams();
     p.roughness = 0.01;

@@ -3,6 +3,8 @@
 // deterministic quadrature, Smith masking identities, and chi-square tests of
 // every sampling routine against its pdf.
 
+#include "materials/microfacet.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,7 +12,6 @@
 #include <string>
 #include <vector>
 
-#include "materials/microfacet.h"
 #include "materials/sampling.h"
 #include "materials/sphere_map.h"
 #include "sampler/sequences/rng.h"
@@ -30,9 +31,9 @@ Vec3 fromAngles(double thetaDeg, double phiDeg) {
 // Integral over the upper hemisphere of a function of direction, resolving
 // a peak at the pole.
 double hemisphereIntegral(const std::function<double(Vec3)> &f) {
-  const auto cells = test::integrateCells(
-      [&](Point2 p) { return 4 * kPi * f(sphereDirection(p)); }, test::uniformEdges(0, 1, 16),
-      test::uniformEdges(0, 0.5, 8), test::peakAt());
+  const auto cells = test::integrateCells([&](Point2 p) { return 4 * kPi * f(sphereDirection(p)); },
+                                          test::uniformEdges(0, 1, 16),
+                                          test::uniformEdges(0, 0.5, 8), test::peakAt());
   double sum = 0;
   for (double c : cells) sum += c;
   return sum;
@@ -42,7 +43,7 @@ struct Alphas {
   double x, y;
 };
 const std::vector<Alphas> kAlphas = {{1e-4, 1e-4}, {0.02, 0.02}, {0.3, 0.3}, {1, 1},
-                                     {0.1, 0.5},   {0.8, 0.15}, {0.01, 0.3}};
+                                     {0.1, 0.5},   {0.8, 0.15},  {0.01, 0.3}};
 
 TEST(Ggx, AlphaIsClampedToItsFloor) {
   const GgxDistribution d(0, -1);
@@ -129,8 +130,8 @@ TEST(Ggx, VisibleNormalSamplingMatchesVisibleDensity) {
     const auto t = test::testDirections(
         [&](Point2 u) -> std::optional<Vec3> { return d.sampleVisibleNormal(wo, u); },
         [&](Vec3 m) { return d.visibleD(wo, m); }, 300000, seed++, test::peakAt());
-    expectPasses(t, "alpha " + std::to_string(c.a.x) + " x " + std::to_string(c.a.y) +
-                        ", theta " + std::to_string(c.theta));
+    expectPasses(t, "alpha " + std::to_string(c.a.x) + " x " + std::to_string(c.a.y) + ", theta " +
+                        std::to_string(c.theta));
   }
 }
 
@@ -140,9 +141,8 @@ TEST(Ggx, ReflectionSamplingMatchesReflectionPdf) {
     const GgxDistribution d(ax, ay);
     const Vec3 wo = fromAngles(theta, 20);
     const auto t = test::testDirections([&](Point2 u) { return d.sampleReflection(wo, u); },
-                                        [&](Vec3 wi) { return d.reflectionPdf(wo, wi); },
-                                        300000, 200 + int(theta),
-                                        test::peakAt(reflect(wo, {0, 0, 1})));
+                                        [&](Vec3 wi) { return d.reflectionPdf(wo, wi); }, 300000,
+                                        200 + int(theta), test::peakAt(reflect(wo, {0, 0, 1})));
     expectPasses(t, "reflection alpha " + std::to_string(ax) + ", theta " + std::to_string(theta));
     // The mass below the horizon is exactly what the sampler fails on.
     EXPECT_NEAR(t.failedFraction, 1 - t.pdfMass, 5 * std::sqrt((1 - t.pdfMass) / 300000) + 1e-4);
@@ -173,9 +173,9 @@ TEST(Gtr1, NormalSamplingMatchesDensity) {
   std::uint64_t seed = 300;
   for (const double alpha : {0.001, 0.05, 0.3, 1.0}) {
     const Gtr1Distribution d(alpha);
-    const auto t = test::testDirections(
-        [&](Point2 u) -> std::optional<Vec3> { return d.sampleNormal(u); },
-        [&](Vec3 m) { return d.D(m) * m.z; }, 300000, seed++, test::peakAt());
+    const auto t =
+        test::testDirections([&](Point2 u) -> std::optional<Vec3> { return d.sampleNormal(u); },
+                             [&](Vec3 m) { return d.D(m) * m.z; }, 300000, seed++, test::peakAt());
     expectPasses(t, "GTR1 alpha " + std::to_string(alpha));
   }
 }
@@ -186,8 +186,8 @@ TEST(Gtr1, ReflectionSamplingMatchesReflectionPdf) {
     const Gtr1Distribution d(0.05);
     const Vec3 wo = fromAngles(theta, 0);
     const auto t = test::testDirections([&](Point2 u) { return d.sampleReflection(wo, u); },
-                                        [&](Vec3 wi) { return d.reflectionPdf(wo, wi); },
-                                        300000, seed++, test::peakAt(reflect(wo, {0, 0, 1})));
+                                        [&](Vec3 wi) { return d.reflectionPdf(wo, wi); }, 300000,
+                                        seed++, test::peakAt(reflect(wo, {0, 0, 1})));
     expectPasses(t, "GTR1 reflection, theta " + std::to_string(theta));
   }
 }
@@ -195,9 +195,9 @@ TEST(Gtr1, ReflectionSamplingMatchesReflectionPdf) {
 // --------------------------------------------------------- cosine hemisphere
 
 TEST(CosineHemisphere, SamplingMatchesPdfAndNeverHitsTheHorizon) {
-  const auto t = test::testDirections(
-      [](Point2 u) -> std::optional<Vec3> { return cosineHemisphere(u); },
-      [](Vec3 w) { return cosineHemispherePdf(w.z); }, 300000, 500);
+  const auto t =
+      test::testDirections([](Point2 u) -> std::optional<Vec3> { return cosineHemisphere(u); },
+                           [](Vec3 w) { return cosineHemispherePdf(w.z); }, 300000, 500);
   expectPasses(t, "cosine hemisphere");
   EXPECT_NEAR(t.pdfMass, 1, 1e-6);
   EXPECT_EQ(t.failedFraction, 0);

@@ -45,10 +45,8 @@ inline double gauss4x4(const Integrand &f, const Box2 &b) {
 inline double integrateAdaptive(const Integrand &f, const Box2 &b, double whole, double relTol,
                                 double densityTol, int depth) {
   const Point2 mid{0.5 * (b.lo.x + b.hi.x), 0.5 * (b.lo.y + b.hi.y)};
-  const std::array<Box2, 4> quads = {Box2{b.lo, mid},
-                                     Box2{{mid.x, b.lo.y}, {b.hi.x, mid.y}},
-                                     Box2{{b.lo.x, mid.y}, {mid.x, b.hi.y}},
-                                     Box2{mid, b.hi}};
+  const std::array<Box2, 4> quads = {Box2{b.lo, mid}, Box2{{mid.x, b.lo.y}, {b.hi.x, mid.y}},
+                                     Box2{{b.lo.x, mid.y}, {mid.x, b.hi.y}}, Box2{mid, b.hi}};
   std::array<double, 4> parts{};
   double sum = 0;
   for (int k = 0; k < 4; ++k) sum += parts[k] = gauss4x4(f, quads[k]);

@@ -146,3 +146,50 @@ TEST(Sequences, ParsingErrorsNameTheValue) {
 
 }  // namespace
 }  // namespace nuld
+
+namespace nuld {
+namespace {
+
+// generateSet draws the digits below a point's unique prefix with one hash:
+// the set must keep its nets and stratification, and within its stratum each
+// point must stay uniform (the digits it draws are not constant or biased).
+TEST(GenerateSet, KeepsNetsAndStratificationForAnyN) {
+  for (std::size_t n : {1u, 5u, 64u, 243u, 256u}) {
+    for (SequenceKind kind : {SequenceKind::Sobol, SequenceKind::Halton}) {
+      std::vector<Point2> pts(n);
+      generateSet({kind, Scramble::Owen, 17}, 3, pts);
+      std::set<int> xs, ys;
+      for (const Point2 &p : pts) {
+        ASSERT_TRUE(p.x >= 0 && p.x < 1 && p.y >= 0 && p.y < 1);
+        xs.insert(int(p.x * n));
+      }
+      // Dimension 0 (base 2 for both) is stratified for power-of-two n; for
+      // Halton's base-3 dimension 1, n = 243 = 3^5 is stratified too.
+      if ((n & (n - 1)) == 0) EXPECT_EQ(xs.size(), n) << toString(kind) << " n " << n;
+      if (kind == SequenceKind::Halton && n == 243) {
+        for (const Point2 &p : pts) ys.insert(int(p.y * n));
+        EXPECT_EQ(ys.size(), n);
+      }
+    }
+  }
+}
+
+TEST(GenerateSet, PositionWithinTheStratumIsUniform) {
+  for (SequenceKind kind : {SequenceKind::Sobol, SequenceKind::Halton}) {
+    double sum = 0, sumSq = 0;
+    const int seeds = 4000;
+    for (int s = 0; s < seeds; ++s) {
+      std::vector<Point2> pts(16);
+      generateSet({kind, Scramble::Owen, std::uint64_t(s)}, 0, pts);
+      const double f = pts[5].x * 16 - std::floor(pts[5].x * 16);
+      sum += f;
+      sumSq += f * f;
+    }
+    const double mean = sum / seeds, var = sumSq / seeds - mean * mean;
+    EXPECT_NEAR(mean, 0.5, 4 * std::sqrt(1.0 / 12 / seeds)) << toString(kind);
+    EXPECT_NEAR(var, 1.0 / 12, 0.01) << toString(kind);
+  }
+}
+
+}  // namespace
+}  // namespace nuld

@@ -1,0 +1,57 @@
+// Materials hot paths: Disney eval / pdf / sample at the supplement's
+// instance, and building its lobe target. Run: build/tests/bench_materials
+#include <benchmark/benchmark.h>
+
+#include <vector>
+
+#include "materials/disney.h"
+#include "materials/disney_target.h"
+#include "sampler/sequences/rng.h"
+
+namespace nuld {
+namespace {
+
+std::vector<Point2> uniformPoints(int n) {
+  Rng rng(1);
+  std::vector<Point2> u(n);
+  for (Point2 &p : u) p = {rng.uniform(), rng.uniform()};
+  return u;
+}
+
+void BM_DisneySample(benchmark::State &state) {
+  const DisneyBrdf brdf(supplementDisneyParams());
+  const Vec3 wo = supplementWo();
+  const auto us = uniformPoints(4096);
+  std::size_t k = 0;
+  for (auto _ : state) benchmark::DoNotOptimize(brdf.sample(wo, us[k++ & 4095]));
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_DisneySample);
+
+void BM_DisneyEvalAndPdf(benchmark::State &state) {
+  const DisneyBrdf brdf(supplementDisneyParams());
+  const Vec3 wo = supplementWo();
+  std::vector<Vec3> wis;
+  for (const Point2 u : uniformPoints(4096))
+    if (const auto s = brdf.sample(wo, u)) wis.push_back(s->wi);
+  std::size_t k = 0;
+  for (auto _ : state) {
+    const Vec3 wi = wis[k++ % wis.size()];
+    benchmark::DoNotOptimize(brdf.eval(wo, wi));
+    benchmark::DoNotOptimize(brdf.pdf(wo, wi));
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_DisneyEvalAndPdf);
+
+// One lobe target at the default 256 x 128 cells, 4 x 4 evaluations each.
+void BM_MakeDisneyTarget(benchmark::State &state) {
+  for (auto _ : state)
+    benchmark::DoNotOptimize(makeDisneyTarget(supplementDisneyParams(), supplementWo()));
+}
+BENCHMARK(BM_MakeDisneyTarget)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace nuld
+
+BENCHMARK_MAIN();
