@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "materials/sampling.h"
 #include "materials/sphere_map.h"
 #include "sampler/targets/target_spec.h"
 
@@ -57,12 +58,10 @@ class ArgsParser {
     throw std::invalid_argument("target '" + spec_ + "': " + what);
   }
 
+  // One finite number; the sampler's list parser words the error.
   double number(const std::string &key, const std::string &text) const {
-    double v = 0;
-    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
-    if (text.empty() || ec != std::errc() || end != text.data() + text.size() || !std::isfinite(v))
-      fail("'" + text + "' is not a number (key '" + key + "')");
-    return v;
+    if (text.empty()) fail("key '" + key + "' has no value (expected " + key + "=NUMBER)");
+    return parseNumberList(spec_, text, 1, 1, "one number for key '" + key + "'")[0];
   }
   double inRange(const std::string &key, const std::string &text, double lo, double hi, bool hiOpen,
                  const std::string &expected) const {
@@ -116,7 +115,7 @@ Vec3 supplementWo() { return {std::numbers::sqrt2 / 2, 0, std::numbers::sqrt2 / 
 
 Vec3 DisneyTargetSpec::wo() const {
   const double theta = thetaDegrees / kDegrees, phi = phiDegrees / kDegrees;
-  return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
+  return sphericalDirection(std::sin(theta), std::cos(theta), phi);
 }
 
 DisneyTargetSpec parseDisneyTargetArgs(const std::string &args) {

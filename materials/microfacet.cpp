@@ -5,6 +5,8 @@
 #include <limits>
 #include <numbers>
 
+#include "materials/sampling.h"
+
 namespace nuld {
 namespace {
 
@@ -132,8 +134,7 @@ Vec3 Gtr1Distribution::sampleNormal(Point2 u) const {
       alpha_ >= 1 ? 1 - ux : (1 - std::pow(a2, 1 - ux)) / (1 - a2);  // alpha 1: uniform in cos^2
   const double cosTheta = std::sqrt(std::clamp(cos2, 0.0, 1.0));
   const double sinTheta = std::sqrt(std::max(0.0, 1 - cosTheta * cosTheta));
-  const double phi = 2 * kPi * u.y;
-  return {sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta};
+  return sphericalDirection(sinTheta, cosTheta, 2 * kPi * u.y);
 }
 
 double Gtr1Distribution::reflectionPdf(Vec3 wo, Vec3 wi) const {

@@ -1,6 +1,6 @@
 #pragma once
-// Hemisphere sampling shared by the Lambertian and the Disney diffuse and
-// subsurface lobes.
+// Directions from angles, and the cosine-weighted hemisphere sampling shared
+// by the Lambertian and the Disney diffuse and subsurface lobes.
 
 #include <algorithm>
 #include <cmath>
@@ -13,6 +13,11 @@ namespace nuld {
 
 inline constexpr double kInvPi = std::numbers::inv_pi;
 
+// The unit vector at polar angle theta (from +z) and azimuth phi (from +x).
+inline Vec3 sphericalDirection(double sinTheta, double cosTheta, double phi) {
+  return {sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta};
+}
+
 // Cosine-weighted direction about +z by inversion of its CDF: sin^2 theta =
 // u.x, phi = 2 pi u.y. Unlike the concentric-disc map, this is the plain
 // inverse CDF the supplement's "deterministic mapping" refers to, and every
@@ -21,8 +26,7 @@ inline constexpr double kInvPi = std::numbers::inv_pi;
 inline Vec3 cosineHemisphere(Point2 u) {
   const double sin2 = std::clamp(u.x, 0.0, 1.0);
   const double sinTheta = std::sqrt(sin2), cosTheta = std::sqrt(1 - sin2);
-  const double phi = 2 * std::numbers::pi * u.y;
-  return {sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta};
+  return sphericalDirection(sinTheta, cosTheta, 2 * std::numbers::pi * u.y);
 }
 
 // The density of cosineHemisphere per unit solid angle.

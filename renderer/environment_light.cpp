@@ -57,32 +57,45 @@ Vec3 EnvironmentLight::toLocal(Vec3 w) const {
   return {-r.z, r.x, r.y};
 }
 
-Rgb EnvironmentLight::texel(Point2 sq) const {
-  // Column from u; row from theta, matching the target's cells exactly.
-  const int x = std::clamp(int(sq.x * image_.width), 0, image_.width - 1);
-  const double theta = std::acos(std::clamp(1 - 2 * sq.y, -1.0, 1.0));
-  const int y = std::clamp(int(theta / std::numbers::pi * image_.height), 0, image_.height - 1);
-  return {image_.at(x, y, 0), image_.at(x, y, 1), image_.at(x, y, 2)};
+// The map's pixels are the target's cells (columns uniform in u, rows at the
+// equal-area images of the pixel rows), so one locate finds both the
+// radiance and the density. A black map has no target: its radiance is 0.
+Rgb EnvironmentLight::radiance(Vec3 w) const {
+  double unused;
+  return radiance(w, unused);
 }
 
-Rgb EnvironmentLight::radiance(Vec3 w) const { return texel(spherePoint(toLocal(w))); }
+Rgb EnvironmentLight::radiance(Vec3 w, double &pdf) const {
+  pdf = 0;
+  if (!target_) return {};
+  const Point2 sq = spherePoint(toLocal(w));
+  const GridTarget::Cell c = target_->locate(sq);
+  pdf = target_->cellDensity(c.i, c.j) * kInvFourPi;
+  return texel(c);
+}
 
 double EnvironmentLight::pdf(Vec3 w) const {
-  if (!target_) return 0;
-  return target_->pdf(spherePoint(toLocal(w))) * kInvFourPi;
+  double p;
+  radiance(w, p);
+  return p;
+}
+
+std::optional<LightSample> EnvironmentLight::sampleCell(Point2 x, GridTarget::Cell c) const {
+  const double p = target_->cellDensity(c.i, c.j) * kInvFourPi;
+  if (!(p > 0)) return std::nullopt;  // a point off the target's support
+  return LightSample{toWorld(sphereDirection(x)), texel(c), p};
 }
 
 std::optional<LightSample> EnvironmentLight::sampleTarget(Point2 x) const {
-  if (!target_) return std::nullopt;
-  const double p = target_->pdf(x) * kInvFourPi;
-  if (!(p > 0)) return std::nullopt;  // a point off the target's support
-  const Vec3 wi = toWorld(sphereDirection(x));
-  return LightSample{wi, texel(x), p};
+  if (!target_ || !(x.x >= 0 && x.x <= 1 && x.y >= 0 && x.y <= 1)) return std::nullopt;
+  return sampleCell(x, target_->locate(x));
 }
 
 std::optional<LightSample> EnvironmentLight::sample(Point2 u) const {
   if (!target_) return std::nullopt;
-  return sampleTarget(target_->invert(u).x);
+  GridTarget::Cell c;
+  const Point2 x = target_->invert(u, c).x;
+  return sampleCell(x, c);
 }
 
 }  // namespace nuld

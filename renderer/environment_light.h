@@ -34,6 +34,8 @@ class EnvironmentLight {
   Rgb radiance(Vec3 worldDirection) const;
   // Density per unit solid angle of sampleTarget() / sample(); 0 for a black map.
   double pdf(Vec3 worldDirection) const;
+  // Both at once (one cell lookup): what a path that escapes needs.
+  Rgb radiance(Vec3 worldDirection, double &pdf) const;
 
   // u uniform in [0,1)^2 -> a direction by inverse CDF; nullopt for a black map.
   std::optional<LightSample> sample(Point2 u) const;
@@ -51,7 +53,10 @@ class EnvironmentLight {
   Vec3 toLocal(Vec3 world) const;
 
  private:
-  Rgb texel(Point2 square) const;
+  Rgb texel(GridTarget::Cell c) const {
+    return {image_.at(c.i, c.j, 0), image_.at(c.i, c.j, 1), image_.at(c.i, c.j, 2)};
+  }
+  std::optional<LightSample> sampleCell(Point2 x, GridTarget::Cell c) const;
 
   Image image_;  // RGB, non-negative, scale applied
   std::unique_ptr<GridTarget> target_;

@@ -37,6 +37,13 @@ Shading shadingAt(const SurfaceHit &hit, Vec3 wo) {
   return {Frame::fromNormal(ns), ng};
 }
 
+void record(PathCounters &c, const Ray &r) {
+  ++c.rays;
+  if (c.recorder)
+    c.recorder->push_back({{float(r.origin.x), float(r.origin.y), float(r.origin.z)},
+                           {float(r.direction.x), float(r.direction.y), float(r.direction.z)}});
+}
+
 }  // namespace
 
 Rgb PathIntegrator::radiance(const Ray &cameraRay, PixelSamples &samples, std::size_t index,
@@ -46,13 +53,14 @@ Rgb PathIntegrator::radiance(const Ray &cameraRay, PixelSamples &samples, std::s
   Ray ray = cameraRay;
   double lastBsdfPdf = 0;  // 0: the camera ray (no MIS on what it sees)
   for (int depth = 0;; ++depth) {
-    ++counters.rays;
+    record(counters, ray);
     const auto hit = scene_.geometry.intersect(ray);
     if (!hit) {
       if (light) {
-        const double w = lastBsdfPdf > 0 ? powerHeuristic(lastBsdfPdf, light->pdf(ray.direction))
-                                         : 1.0;
-        L += w * beta * light->radiance(ray.direction);
+        double lightPdf;
+        const Rgb Le = light->radiance(ray.direction, lightPdf);
+        const double w = lastBsdfPdf > 0 ? powerHeuristic(lastBsdfPdf, lightPdf) : 1.0;
+        L += w * beta * Le;
       }
       break;
     }
@@ -73,8 +81,8 @@ Rgb PathIntegrator::radiance(const Ray &cameraRay, PixelSamples &samples, std::s
         const Vec3 wi = sh.frame.toLocal(ls->wi);
         const Rgb f = bsdf.eval(wo, wi);
         if (wi.z > 0 && !f.isBlack()) {
-          ++counters.rays;
           const Ray shadow{offsetRayOrigin(hit->position, sh.ng, ls->wi), ls->wi};
+          record(counters, shadow);
           if (!scene_.geometry.occluded(shadow)) {
             const double w = powerHeuristic(ls->pdf, bsdf.pdf(wo, wi));
             L += (w * wi.z / ls->pdf) * beta * f * ls->radiance;

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "materials/rgb.h"
 #include "renderer/pixel_samples.h"
@@ -18,9 +19,16 @@ enum class IntegratorKind { Path, Direct };
 IntegratorKind parseIntegrator(const std::string &name);  // "path" | "direct"
 std::string toString(IntegratorKind k);
 
+// A traced ray as Embree saw it, for the benchmark that replays the
+// renderer's rays through Embree alone.
+struct RecordedRay {
+  float origin[3], direction[3];
+};
+
 struct PathCounters {
-  std::uint64_t rays = 0;     // intersection and shadow rays traced
-  std::uint64_t rejected = 0; // non-finite sample values dropped (should stay 0)
+  std::uint64_t rays = 0;      // intersection and shadow rays traced
+  std::uint64_t rejected = 0;  // non-finite sample values dropped (should stay 0)
+  std::vector<RecordedRay> *recorder = nullptr;  // when set, every ray is appended
 };
 
 class PathIntegrator {

@@ -11,7 +11,7 @@
 namespace nuld {
 
 Image render(const Scene &scene, const RenderSettings &s, SamplerBackend &backend,
-             RenderStats *stats, const RenderProgress &progress) {
+             RenderStats *stats, const RenderProgress &progress, std::vector<RecordedRay> *rays) {
   if (s.width <= 0 || s.height <= 0) throw std::invalid_argument("render: resolution must be > 0");
   if (s.spp == 0) throw std::invalid_argument("render: spp must be at least 1");
   if (scene.materials.size() != scene.geometry.meshes().size())
@@ -28,11 +28,13 @@ Image render(const Scene &scene, const RenderSettings &s, SamplerBackend &backen
   const int tilesX = (s.width + tile - 1) / tile, tilesY = (s.height + tile - 1) / tile;
   const std::size_t tileCount = std::size_t(tilesX) * tilesY;
   tbb::enumerable_thread_specific<PathCounters> counters;
+  tbb::enumerable_thread_specific<std::vector<RecordedRay>> recorded;
   std::atomic<std::size_t> done{0};
   std::mutex progressMutex;
 
   tbb::parallel_for(std::size_t(0), tileCount, [&](std::size_t t) {
     PathCounters &c = counters.local();
+    if (rays) c.recorder = &recorded.local();
     PixelSamples samples(backend, s.spp);
     const int x0 = int(t % tilesX) * tile, y0 = int(t / tilesX) * tile;
     for (int y = y0; y < std::min(y0 + tile, s.height); ++y)
@@ -56,6 +58,8 @@ Image render(const Scene &scene, const RenderSettings &s, SamplerBackend &backen
     }
   });
 
+  if (rays)
+    for (auto &part : recorded) rays->insert(rays->end(), part.begin(), part.end());
   if (stats) {
     stats->seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

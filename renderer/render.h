@@ -32,8 +32,11 @@ struct RenderStats {
 // serialized.
 using RenderProgress = std::function<void(std::size_t, std::size_t)>;
 
-// Returns a linear RGB image (3 channels, row 0 at the top).
+// Returns a linear RGB image (3 channels, row 0 at the top). With `rays`,
+// every traced ray is recorded (for benchmarks; the order across threads is
+// unspecified).
 Image render(const Scene &scene, const RenderSettings &settings, SamplerBackend &backend,
-             RenderStats *stats = nullptr, const RenderProgress &progress = {});
+             RenderStats *stats = nullptr, const RenderProgress &progress = {},
+             std::vector<RecordedRay> *rays = nullptr);
 
 }  // namespace nuld

@@ -354,7 +354,7 @@ bool hasExtension(const std::string &path, const char *ext) {
   return e == ext;
 }
 
-// Geometry only: keep image bytes undecoded (faster, and no stb dependency at run time).
+// Geometry only: leave embedded textures undecoded.
 bool skipImage(tinygltf::Image *, const int, std::string *, std::string *, int, int,
                const unsigned char *, int, void *) {
   return true;

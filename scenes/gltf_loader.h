@@ -7,8 +7,9 @@
 // positions, their inverse transpose to normals (renormalized), and the winding
 // is flipped under a mirroring transform so that it stays counter-clockwise.
 // A node whose transform is singular (zero scale, used to hide things) adds
-// nothing. The mesh is named after the glTF mesh, or its node when the mesh is
-// unnamed; the material is the glTF material's name, "" when it has none.
+// nothing, nor does a primitive without triangles. The mesh is named after the
+// glTF mesh, else its node, else "mesh<index>"; the material is the glTF
+// material's name, "" when it has none.
 //
 // Read: POSITION (float VEC3), NORMAL (float VEC3) if present, and indices of
 // any unsigned type, or none. Points and lines are skipped (no surface to

@@ -119,6 +119,11 @@ double GridTarget::mass(const Box2 &box) const {
 }
 
 Inversion GridTarget::invert(Point2 u) const {
+  Cell cell;
+  return invert(u, cell);
+}
+
+Inversion GridTarget::invert(Point2 u, Cell &cell) const {
   const double uy = std::clamp(u.y, 0.0, std::nextafter(1.0, 0.0));
   const double ux = std::clamp(u.x, 0.0, std::nextafter(1.0, 0.0));
   // Row: the first row whose CDF range contains uy; zero-mass rows have an
@@ -139,6 +144,7 @@ Inversion GridTarget::invert(Point2 u) const {
   const double tx = std::clamp((ux - cdf[i]) / cellFrac, 0.0, 1.0);
   const double x = xEdges_[i] + tx * (xEdges_[i + 1] - xEdges_[i]);
 
+  cell = {i, j};
   Inversion out;
   out.x = {x, y};
   // Within a cell the map is affine; the conditional does not depend on y

@@ -32,6 +32,15 @@ class GridTarget final : public Target {
   double mass(const Box2 &b) const override;
   Inversion invert(Point2 u) const override;
 
+  // The cell (column i, row j) holding p, clamped to the grid; and invert()
+  // reporting the cell it landed in, so callers with per-cell data (an
+  // environment map's radiance) need no second lookup.
+  struct Cell {
+    int i = 0, j = 0;
+  };
+  Cell locate(Point2 p) const { return {xCells_.cell(xEdges_, p.x), yCells_.cell(yEdges_, p.y)}; }
+  Inversion invert(Point2 u, Cell &cell) const;
+
   int cols() const { return cols_; }
   const std::vector<double> &xEdges() const { return xEdges_; }
   const std::vector<double> &yEdges() const { return yEdges_; }

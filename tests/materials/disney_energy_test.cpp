@@ -14,20 +14,15 @@
 #include "materials/disney_target.h"
 #include "materials/sampling.h"
 #include "sampler/sequences/rng.h"
+#include "tests/materials/directions.h"
 
 namespace nuld {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-Vec3 fromAngles(double thetaDeg, double phiDeg) {
-  const double t = thetaDeg * kPi / 180, p = phiDeg * kPi / 180;
-  return {std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)};
-}
-
-Vec3 randomUpper(Rng &rng) {
-  return fromAngles(90 * std::sqrt(rng.uniform()), 360 * rng.uniform());
-}
+using test::fromAngles;
+using test::randomUpper;
 
 DisneyParams everything() {
   DisneyParams p;

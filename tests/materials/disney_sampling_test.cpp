@@ -11,7 +11,6 @@
 #include <cmath>
 #include <cstdint>
 #include <iostream>
-#include <numbers>
 #include <string>
 #include <vector>
 
@@ -19,17 +18,14 @@
 #include "materials/disney_target.h"
 #include "sampler/sequences/rng.h"
 #include "tests/materials/chi_square.h"
+#include "tests/materials/directions.h"
 
 namespace nuld {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 constexpr int kSamples = 400000;
 
-Vec3 fromAngles(double thetaDeg, double phiDeg) {
-  const double t = thetaDeg * kPi / 180, p = phiDeg * kPi / 180;
-  return {std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)};
-}
+using test::fromAngles;
 
 struct Case {
   std::string name;
@@ -178,7 +174,7 @@ TEST(DisneySampling, LobeApiComposesIntoTheMixture) {
     EXPECT_EQ(brdf.params(), c.params);
     const Vec3 wo = fromAngles(c.theta, c.phi);
     for (int n = 0; n < 500; ++n) {
-      const Vec3 wi = fromAngles(90 * std::sqrt(rng.uniform()), 360 * rng.uniform());
+      const Vec3 wi = test::randomUpper(rng);
       Rgb f;
       double pdf = 0;
       for (int k = 0; k < brdf.lobeCount(); ++k) {

@@ -187,6 +187,7 @@ void expectError(const std::string &spec, const std::vector<std::string> &mentio
 TEST(DisneyTargetSpec, BadArgumentsNameSpecKeyAndExpectation) {
   expectError("disney:shininess=1", {"unknown key 'shininess'", "roughness", "clearcoatgloss"});
   expectError("disney:roughness=abc", {"'abc' is not a number", "roughness"});
+  expectError("disney:roughness=", {"'roughness' has no value"});
   expectError("disney:roughness=1.5", {"roughness = 1.5", "[0, 1]"});
   expectError("disney:metallic=-0.1", {"metallic", "[0, 1]"});
   expectError("disney:theta=90", {"theta", "[0, 90)"});

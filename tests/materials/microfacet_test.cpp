@@ -16,6 +16,7 @@
 #include "materials/sphere_map.h"
 #include "sampler/sequences/rng.h"
 #include "tests/materials/chi_square.h"
+#include "tests/materials/directions.h"
 #include "tests/materials/quadrature.h"
 
 namespace nuld {
@@ -23,10 +24,7 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-Vec3 fromAngles(double thetaDeg, double phiDeg) {
-  const double t = thetaDeg * kPi / 180, p = phiDeg * kPi / 180;
-  return {std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)};
-}
+using test::fromAngles;
 
 // Integral over the upper hemisphere of a function of direction, resolving
 // a peak at the pole.

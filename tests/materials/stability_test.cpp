@@ -13,6 +13,7 @@
 #include "materials/disney.h"
 #include "materials/microfacet.h"
 #include "sampler/sequences/rng.h"
+#include "tests/materials/directions.h"
 
 namespace nuld {
 namespace {
@@ -20,10 +21,7 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 const double kJustBelowOne = std::nextafter(1.0, 0.0);
 
-Vec3 fromAngles(double thetaDeg, double phiDeg) {
-  const double t = thetaDeg * kPi / 180, p = phiDeg * kPi / 180;
-  return {std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)};
-}
+using test::fromAngles;
 
 // Views from the normal to (and past) the horizon.
 std::vector<Vec3> views() {

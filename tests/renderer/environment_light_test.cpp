@@ -12,7 +12,7 @@
 #include "materials/sphere_map.h"
 #include "renderer/environment_light.h"
 #include "sampler/sequences/rng.h"
-#include "tests/renderer/chi_square.h"
+#include "tests/common/chi_square.h"
 
 namespace nuld {
 namespace {
@@ -96,7 +96,7 @@ TEST(EnvironmentLight, PdfIntegratesToOne) {
 // a closed form independent of the sampling code.
 void chiSquareLight(const EnvironmentLight &light, const char *what) {
   const int W = light.width(), H = light.height();
-  test::ChiSquareBins bins(std::size_t(W) * H);
+  std::vector<double> observed(std::size_t(W) * H, 0.0);
   const auto pixelOf = [&](Vec3 world) {
     const Point2 p = spherePoint(light.toLocal(world));
     const int x = std::min(W - 1, int(p.x * W));
@@ -109,13 +109,14 @@ void chiSquareLight(const EnvironmentLight &light, const char *what) {
     const auto s = light.sample({rng.uniform(), rng.uniform()});
     ASSERT_TRUE(s.has_value());
     ASSERT_NEAR(s->pdf, light.pdf(s->wi), 1e-9 * s->pdf);
-    bins.add(pixelOf(s->wi));
+    observed[pixelOf(s->wi)] += 1;
   }
   std::vector<double> expected(std::size_t(W) * H);
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x)
       expected[std::size_t(y) * W + x] = n * pixelPdf(light, x, y) * pixelSolidAngle(y, W, H);
-  EXPECT_GT(bins.pValue(expected), 0.01 / 3) << what;  // Sidak-style: three maps at 1 %
+  const test::ChiSquare r = test::pooledChiSquare(observed, expected);
+  EXPECT_GT(r.pValue, test::sidakLevel(0.01, 3)) << what << " " << r.note;
 }
 
 TEST(EnvironmentLight, SamplingFollowsPdfChiSquare) {

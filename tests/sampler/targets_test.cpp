@@ -29,6 +29,7 @@
 #include "sampler/targets/image_targets.h"
 #include "sampler/targets/target.h"
 #include "sampler/targets/target_spec.h"
+#include "tests/common/chi_square.h"
 
 namespace nuld {
 namespace {
@@ -37,38 +38,7 @@ constexpr double kPi = std::numbers::pi;
 
 // ------------------------------------------------------------------ statistics
 
-// Regularized upper incomplete gamma function Q(a, x) = Gamma(a, x) / Gamma(a):
-// the series for P below x = a + 1, Lentz's continued fraction for Q above.
-double regularizedGammaQ(double a, double x) {
-  if (!(x > 0)) return 1.0;
-  const double logPrefix = -x + a * std::log(x) - std::lgamma(a);
-  constexpr double kEps = 1e-16;
-  if (x < a + 1) {
-    double ap = a, del = 1 / a, sum = del;
-    for (int n = 0; n < 100000; ++n) {
-      ap += 1;
-      del *= x / ap;
-      sum += del;
-      if (std::abs(del) < std::abs(sum) * kEps) break;
-    }
-    return std::clamp(1 - sum * std::exp(logPrefix), 0.0, 1.0);
-  }
-  constexpr double kTiny = 1e-300;
-  double b = x + 1 - a, c = 1 / kTiny, d = 1 / b, h = d;
-  for (int i = 1; i < 100000; ++i) {
-    const double an = -i * (i - a);
-    b += 2;
-    d = an * d + b;
-    if (std::abs(d) < kTiny) d = kTiny;
-    c = b + an / c;
-    if (std::abs(c) < kTiny) c = kTiny;
-    d = 1 / d;
-    const double del = d * c;
-    h *= del;
-    if (std::abs(del - 1) < kEps) break;
-  }
-  return std::clamp(std::exp(logPrefix) * h, 0.0, 1.0);
-}
+using test::regularizedGammaQ;
 
 // P(Poisson(x) < n) = Q(n, x) for integer n, summed in log space.
 double poissonBelow(int n, double x) {

@@ -5,9 +5,11 @@
 #include <iostream>
 #include <map>
 
+#include "materials/disney_target.h"
 #include "tools/nuld/commands.h"
 
 int main(int argc, char **argv) {
+  nuld::registerMaterialTargets();  // disney:... target specs
   CLI::App app{"nuld: optimize, evaluate and render with non-uniform low-discrepancy point sets"};
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Print help for every subcommand");
