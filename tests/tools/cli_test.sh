@@ -63,5 +63,39 @@ fails_with "optimize bad lr" "learning rates" "$nuld" optimize --target uniform 
 fails_with "optimize unreadable image" "nope.exr" "$nuld" optimize --target image:"$dir/nope.exr" --n 8 -o "$dir/x.txt"
 fails_with "optimize unknown preset" "unknown preset" "$nuld" optimize --target uniform --n 8 --preset turbo -o "$dir/x.txt"
 
+# Rendering: the built-in scene needs no files; compare prints mse and relmse.
+ok "render default" "$nuld" render default --spp 2 --res 16x12 -q -o "$dir/a.exr"
+grep -q '^rejected_samples 0$' "$dir/out" || { echo "FAIL: render reports rejected samples"; failures=$((failures + 1)); }
+[[ -s "$dir/a.exr" && -s "$dir/a.png" ]] || { echo "FAIL: render wrote no EXR + PNG"; failures=$((failures + 1)); }
+ok "render halton direct" "$nuld" render default --backend halton --integrator direct --spp 4 --res 16x12 -q -o "$dir/b.exr"
+ok "compare" "$nuld" compare "$dir/b.exr" "$dir/a.exr" --error-map "$dir/err.png"
+grep -q '^mse [0-9.e+-]*$' "$dir/out" && grep -q '^relmse [0-9.e+-]*$' "$dir/out" ||
+  { echo "FAIL: compare output"; cat "$dir/out"; failures=$((failures + 1)); }
+[[ -s "$dir/err.png" ]] || { echo "FAIL: compare wrote no error map"; failures=$((failures + 1)); }
+ok "generate disney target" "$nuld" generate --n 16 --target disney:roughness=0.3 -o "$dir/d.txt"
+"$nuld" generate --sequence sobol --n 4 --instances 2 -o "$dir/u4.txt" >/dev/null 2>&1
+ok "render optimized:FILE" "$nuld" render default --backend optimized:"$dir/u4.txt" --spp 4 --res 8 -q -o "$dir/c.exr"
+
+fails_with "render spp mismatch" "use --spp 4" "$nuld" render default --backend optimized:"$dir/u4.txt" --spp 8 --res 8 -q -o "$dir/x.exr"
+fails_with "render unknown backend" "unknown backend 'sobel'" "$nuld" render default --backend sobel -q -o "$dir/x.exr"
+fails_with "render bad resolution" "expected W or WxH" "$nuld" render default --res 12by4 -q -o "$dir/x.exr"
+echo '{"camera": {"eye": [0, 1, 5], "look_at": [0, 0, 0], "fov": 40},' >"$dir/bad.json"
+fails_with "render malformed json" "bad.json: malformed JSON" "$nuld" render "$dir/bad.json" -q -o "$dir/x.exr"
+cat >"$dir/scene.json" <<'JSON'
+{"camera": {"eye": [0, 1, 5], "look_at": [0, 0, 0], "fov": 40},
+ "materials": {"default": {"type": "lambertian"}},
+ "meshes": [{"file": "missing/mesh.ply"}]}
+JSON
+fails_with "render missing mesh" "mesh.ply' does not exist" "$nuld" render "$dir/scene.json" --assets "$dir" -q -o "$dir/x.exr"
+echo "not an image" >"$dir/sky.exr"
+cat >"$dir/scene2.json" <<'JSON'
+{"camera": {"eye": [0, 1, 5], "look_at": [0, 0, 0], "fov": 40},
+ "environment": {"file": "sky.exr"},
+ "materials": {"default": {"type": "lambertian"}},
+ "meshes": [{"shape": "sphere"}]}
+JSON
+fails_with "render unreadable map" "sky.exr" "$nuld" render "$dir/scene2.json" --assets "$dir" -q -o "$dir/x.exr"
+fails_with "compare size mismatch" "differ in size" "$nuld" compare "$dir/c.exr" "$dir/a.exr"
+
 echo "$((failures == 0 ? 1 : 0)) passed, $failures failed"
 exit $((failures > 0))
