@@ -10,9 +10,24 @@ struct Rgb {
   double r = 0, g = 0, b = 0;
 
   static Rgb grey(double v) { return {v, v, v}; }
-  Rgb &operator+=(Rgb o) { r += o.r; g += o.g; b += o.b; return *this; }
-  Rgb &operator*=(Rgb o) { r *= o.r; g *= o.g; b *= o.b; return *this; }
-  Rgb &operator*=(double s) { r *= s; g *= s; b *= s; return *this; }
+  Rgb &operator+=(Rgb o) {
+    r += o.r;
+    g += o.g;
+    b += o.b;
+    return *this;
+  }
+  Rgb &operator*=(Rgb o) {
+    r *= o.r;
+    g *= o.g;
+    b *= o.b;
+    return *this;
+  }
+  Rgb &operator*=(double s) {
+    r *= s;
+    g *= s;
+    b *= s;
+    return *this;
+  }
   friend Rgb operator+(Rgb a, Rgb o) { return {a.r + o.r, a.g + o.g, a.b + o.b}; }
   friend Rgb operator-(Rgb a, Rgb o) { return {a.r - o.r, a.g - o.g, a.b - o.b}; }
   friend Rgb operator*(Rgb a, Rgb o) { return {a.r * o.r, a.g * o.g, a.b * o.b}; }

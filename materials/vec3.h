@@ -14,7 +14,12 @@ struct Vec3 {
   double operator[](int k) const { return k == 0 ? x : (k == 1 ? y : z); }
   double &operator[](int k) { return k == 0 ? x : (k == 1 ? y : z); }
   Vec3 operator-() const { return {-x, -y, -z}; }
-  Vec3 &operator+=(Vec3 b) { x += b.x; y += b.y; z += b.z; return *this; }
+  Vec3 &operator+=(Vec3 b) {
+    x += b.x;
+    y += b.y;
+    z += b.z;
+    return *this;
+  }
   friend Vec3 operator+(Vec3 a, Vec3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
   friend Vec3 operator-(Vec3 a, Vec3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
   friend Vec3 operator*(double s, Vec3 a) { return {s * a.x, s * a.y, s * a.z}; }

@@ -45,8 +45,8 @@ EmbreeScene::EmbreeScene(std::vector<TriangleMesh> meshes)
       for (std::uint32_t i : tri)
         if (i >= nv)
           throw std::invalid_argument("mesh '" + mesh.name + "': vertex index " +
-                                      std::to_string(i) + " out of range (" +
-                                      std::to_string(nv) + " vertices)");
+                                      std::to_string(i) + " out of range (" + std::to_string(nv) +
+                                      " vertices)");
     RTCGeometry geom = rtcNewGeometry(handles_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
     auto *v = static_cast<float *>(rtcSetNewGeometryBuffer(
         geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), nv));
@@ -115,8 +115,7 @@ std::optional<SurfaceHit> EmbreeScene::intersect(const Ray &ray) const {
   hit.triangle = rh.hit.primID;
   const TriangleMesh &mesh = meshes_[hit.mesh];
   const auto &tri = mesh.triangles[hit.triangle];
-  const Vec3 p0 = mesh.positions[tri[0]], p1 = mesh.positions[tri[1]],
-             p2 = mesh.positions[tri[2]];
+  const Vec3 p0 = mesh.positions[tri[0]], p1 = mesh.positions[tri[1]], p2 = mesh.positions[tri[2]];
   const double b1 = rh.hit.u, b2 = rh.hit.v, b0 = 1 - b1 - b2;
   // The position from barycentrics in double precision is closer to the
   // surface than origin + t * direction from a float t.
@@ -128,8 +127,8 @@ std::optional<SurfaceHit> EmbreeScene::intersect(const Ray &ray) const {
   hit.geometricNormal = ng;
   hit.shadingNormal = ng;
   if (!mesh.normals.empty()) {
-    const Vec3 ns = b0 * mesh.normals[tri[0]] + b1 * mesh.normals[tri[1]] +
-                    b2 * mesh.normals[tri[2]];
+    const Vec3 ns =
+        b0 * mesh.normals[tri[0]] + b1 * mesh.normals[tri[1]] + b2 * mesh.normals[tri[2]];
     const double nlen = length(ns);
     if (nlen > 1e-12 && std::isfinite(nlen)) hit.shadingNormal = ns / nlen;
     // Vertex normals define the outside; keep the geometric normal on that side.

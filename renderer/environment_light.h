@@ -21,9 +21,9 @@
 namespace nuld {
 
 struct LightSample {
-  Vec3 wi;        // world direction towards the light
-  Rgb radiance;   // Le(wi)
-  double pdf{};   // per unit solid angle
+  Vec3 wi;       // world direction towards the light
+  Rgb radiance;  // Le(wi)
+  double pdf{};  // per unit solid angle
 };
 
 class EnvironmentLight {

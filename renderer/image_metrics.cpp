@@ -67,8 +67,8 @@ Image errorMap(const Image &img, const Image &ref) {
   for (int y = 0; y < img.height; ++y)
     for (int x = 0; x < img.width; ++x) {
       const double e = pixelRelError(img, ref, x, y);
-      const double t = std::isfinite(e) ? std::clamp((std::log10(std::max(e, 1e-12)) + 4) / 4, 0.0, 1.0)
-                                        : 1.0;
+      const double t =
+          std::isfinite(e) ? std::clamp((std::log10(std::max(e, 1e-12)) + 4) / 4, 0.0, 1.0) : 1.0;
       const double f = t * (ramp.size() - 1);
       const int i = std::min(int(f), int(ramp.size()) - 2);
       for (int c = 0; c < 3; ++c)

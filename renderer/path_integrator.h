@@ -26,8 +26,8 @@ struct RecordedRay {
 };
 
 struct PathCounters {
-  std::uint64_t rays = 0;      // intersection and shadow rays traced
-  std::uint64_t rejected = 0;  // non-finite sample values dropped (should stay 0)
+  std::uint64_t rays = 0;                        // intersection and shadow rays traced
+  std::uint64_t rejected = 0;                    // non-finite sample values dropped (should stay 0)
   std::vector<RecordedRay> *recorder = nullptr;  // when set, every ray is appended
 };
 

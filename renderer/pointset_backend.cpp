@@ -22,7 +22,10 @@ bool sameTarget(const std::string &a, const std::string &b) {
 
 PointSetBackend::PointSetBackend(std::string name, PointSet set, std::string source,
                                  std::uint64_t seed)
-    : name_(std::move(name)), source_(std::move(source)), set_(std::move(set)), seed_(seed),
+    : name_(std::move(name)),
+      source_(std::move(source)),
+      set_(std::move(set)),
+      seed_(seed),
       fallback_(makeClassicBackend("sobol", seed)) {
   if (set_.n == 0 || set_.instances() == 0)
     throw std::invalid_argument(source_ + ": the point-set file holds no points");

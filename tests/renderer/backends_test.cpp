@@ -145,9 +145,9 @@ TEST(PointSetBackend, DistributedPointsRenderTheSameImage) {
   const fs::path dir = tempDir();
   const std::string mapPath = (dir / "sky.exr").string();
   writeImage(mapPath, sky);
-  Scene scene = test::sceneWith({test::unitSphere()},
-                                {std::make_shared<Lambertian>(Rgb::grey(0.8))}, std::nullopt,
-                                {{0, 0, 4}, {0, 0, 0}, {0, 1, 0}, 40, false});
+  Scene scene =
+      test::sceneWith({test::unitSphere()}, {std::make_shared<Lambertian>(Rgb::grey(0.8))},
+                      std::nullopt, {{0, 0, 4}, {0, 0, 0}, {0, 1, 0}, 40, false});
   scene.environment.emplace(readImage(mapPath), 1.0, 0.0, mapPath);
 
   const std::size_t spp = 16;

@@ -1,9 +1,10 @@
 // Ray queries against hand-placed triangles, where the answers are known.
 
+#include "renderer/embree_scene.h"
+
 #include <gtest/gtest.h>
 
 #include "renderer/camera.h"
-#include "renderer/embree_scene.h"
 
 namespace nuld {
 namespace {
@@ -58,7 +59,7 @@ TEST(EmbreeScene, DegenerateTrianglesNeverProduceNonFiniteNormals) {
 TEST(EmbreeScene, InterpolatesVertexNormalsAndKeepsTheGeometricNormalOnTheirSide) {
   TriangleMesh tri;
   tri.positions = {{-1, -1, 0}, {1, -1, 0}, {0, 1, 0}};
-  tri.triangles = {{0, 2, 1}};  // wound to face -z ...
+  tri.triangles = {{0, 2, 1}};                                     // wound to face -z ...
   tri.normals = {{0, 0, 1}, {0, 0, 1}, normalize(Vec3{0, 1, 1})};  // ... normals say +z
   const EmbreeScene scene({tri});
   const auto hit = scene.intersect({{0, 0, 1}, {0, 0, -1}});

@@ -3,6 +3,8 @@
 // follows pdf() (chi-square on the equal-area square, expected counts by
 // integrating pdf() over each bin), and degenerate maps behave.
 
+#include "renderer/environment_light.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,7 +12,6 @@
 #include <numbers>
 
 #include "materials/sphere_map.h"
-#include "renderer/environment_light.h"
 #include "sampler/sequences/rng.h"
 #include "tests/common/chi_square.h"
 

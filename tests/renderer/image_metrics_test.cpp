@@ -1,8 +1,8 @@
+#include "renderer/image_metrics.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
-
-#include "renderer/image_metrics.h"
 
 namespace nuld {
 namespace {
@@ -42,7 +42,9 @@ TEST(ImageMetrics, ErrorMapGrowsWithTheErrorAndToneMapIsBounded) {
   img.at(1, 0, 0) = 1.1f;
   img.at(2, 0, 0) = 5.0f;
   const Image map = errorMap(img, ref);
-  const auto brightness = [&](int x) { return map.at(x, 0, 0) + map.at(x, 0, 1) + map.at(x, 0, 2); };
+  const auto brightness = [&](int x) {
+    return map.at(x, 0, 0) + map.at(x, 0, 1) + map.at(x, 0, 2);
+  };
   EXPECT_LT(brightness(0), brightness(1));
   EXPECT_LT(brightness(1), brightness(2));
   Image hdr = filled(2, 1, 1e6f);

@@ -1,6 +1,8 @@
 // The path tracer end to end on scenes whose answers are known: white
 // furnaces, stiff cases that must stay finite, and determinism.
 
+#include "renderer/render.h"
+
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
@@ -8,7 +10,6 @@
 
 #include "materials/disney.h"
 #include "renderer/image_metrics.h"
-#include "renderer/render.h"
 #include "tests/renderer/test_scenes.h"
 
 namespace nuld {
@@ -95,19 +96,22 @@ TEST(Render, StiffCasesStayFinite) {
       materials.push_back(p);
     }
   // A camera that grazes the sphere's silhouette, and one inside the sphere.
-  const std::vector<CameraSettings> cameras = {
-      {{0, 1.0, 4}, {0, 1.0, 0}, {0, 1, 0}, 5, false}, {{0, 0, 0.5}, {0, 0, -1}, {0, 1, 0}, 90, false}};
+  const std::vector<CameraSettings> cameras = {{{0, 1.0, 4}, {0, 1.0, 0}, {0, 1, 0}, 5, false},
+                                               {{0, 0, 0.5}, {0, 0, -1}, {0, 1, 0}, 90, false}};
   for (const auto &[name, map] : maps)
     for (const DisneyParams &p : materials)
       for (const CameraSettings &cam : cameras) {
-        const Scene scene = sceneWith({unitSphere(8, 16)}, {std::make_shared<DisneyBrdf>(p)}, map, cam);
+        const Scene scene =
+            sceneWith({unitSphere(8, 16)}, {std::make_shared<DisneyBrdf>(p)}, map, cam);
         RenderSettings s{12, 12, 8, IntegratorKind::Path, 8};
         auto backend = makeBackend("independent", 3);
         RenderStats stats;
         const Image img = render(scene, s, *backend, &stats);
         EXPECT_TRUE(allFinite(img)) << name;
         EXPECT_EQ(stats.rejectedSamples, 0u) << name << " roughness " << p.roughness;
-        if (name == "black") EXPECT_EQ(meanOf(img), 0.0);
+        if (name == "black") {
+          EXPECT_EQ(meanOf(img), 0.0);
+        }
       }
 }
 
@@ -134,8 +138,8 @@ TEST(Render, ErrorFallsWithSppForEveryBackend) {
   DisneyParams p;
   p.roughness = 0.4;
   p.metallic = 0.5;
-  const Scene scene = sceneWith({unitSphere()}, {std::make_shared<DisneyBrdf>(p)}, sky,
-                                kLookAtSphere);
+  const Scene scene =
+      sceneWith({unitSphere()}, {std::make_shared<DisneyBrdf>(p)}, sky, kLookAtSphere);
   auto refBackend = makeBackend("sobol", 1234);
   const Image reference = render(scene, {16, 16, 2048, IntegratorKind::Direct, 1}, *refBackend);
   for (const char *name : {"independent", "sobol", "halton"}) {

@@ -37,8 +37,8 @@ inline TriangleMesh unitSphere(int rings = 24, int segments = 48) {
 }
 
 inline Scene sceneWith(std::vector<TriangleMesh> meshes,
-                       std::vector<std::shared_ptr<const Bsdf>> materials,
-                       std::optional<Image> map, CameraSettings camera = {}) {
+                       std::vector<std::shared_ptr<const Bsdf>> materials, std::optional<Image> map,
+                       CameraSettings camera = {}) {
   Scene s{EmbreeScene(std::move(meshes)), std::move(materials), std::nullopt, camera};
   if (map) s.environment.emplace(std::move(*map), 1.0, 0.0, "test-map");
   return s;

@@ -2,6 +2,8 @@
 // input stops with a message naming the file, the field and what was
 // expected. The shipped scenes load when the assets are present.
 
+#include "scenes/scene_file.h"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -9,7 +11,6 @@
 
 #include "renderer/render.h"
 #include "scenes/default_scene.h"
-#include "scenes/scene_file.h"
 
 namespace nuld {
 namespace {
@@ -147,8 +148,8 @@ TEST(ShippedScenes, LoadWhenAssetsArePresent) {
   if (!fs::exists(fs::path(assets) / "lte_orb" / "lte_orb.glb"))
     GTEST_SKIP() << "no assets at " << assets;
   for (const char *name : {"lte-orb", "dragon", "cup"}) {
-    const LoadedScene s = loadScene(std::string(NULD_SOURCE_DIR) + "/scenes/" + name + ".json",
-                                    assets);
+    const LoadedScene s =
+        loadScene(std::string(NULD_SOURCE_DIR) + "/scenes/" + name + ".json", assets);
     EXPECT_GT(s.scene.geometry.triangleCount(), 10000u) << name;
     EXPECT_TRUE(s.scene.environment && s.scene.environment->target()) << name;
     EXPECT_EQ(s.scene.materials.size(), s.scene.geometry.meshes().size());

@@ -68,9 +68,10 @@ Runner addRender(CLI::App &app) {
 
     ProgressBar bar("render", 1000, 0, o->quiet);
     RenderStats stats;
-    const Image image = render(loaded.scene, s, *backend, &stats, [&](std::size_t d, std::size_t n) {
-      bar.update(long(1000 * d / n), std::to_string(d) + "/" + std::to_string(n) + " tiles");
-    });
+    const Image image =
+        render(loaded.scene, s, *backend, &stats, [&](std::size_t d, std::size_t n) {
+          bar.update(long(1000 * d / n), std::to_string(d) + "/" + std::to_string(n) + " tiles");
+        });
     bar.finish(formatDuration(stats.seconds));
     writeRender(o->output, image);
     std::printf("scene %s\nbackend %s\nspp %zu\nresolution %dx%d\nintegrator %s\n",
@@ -99,8 +100,7 @@ Runner addCompare(CLI::App &app) {
     const Image img = readImage(o->image, false), ref = readImage(o->reference);
     const ImageError e = compareImages(img, ref);
     std::printf("mse %.9g\nrelmse %.9g\n", e.mse, e.relmse);
-    if (e.nonFinitePixels)
-      std::printf("nonfinite_pixels %zu\n", e.nonFinitePixels);
+    if (e.nonFinitePixels) std::printf("nonfinite_pixels %zu\n", e.nonFinitePixels);
     std::string path = o->errorMapPath;
     if (path.empty()) {
       path = o->image;
