@@ -4,6 +4,7 @@
 // small bright sun. It needs no files, so `nuld render default` works
 // anywhere, and the sun makes environment-map importance sampling matter.
 
+#include "renderer/shapes.h"
 #include "scenes/scene_file.h"
 
 namespace nuld {
@@ -14,10 +15,5 @@ LoadedScene makeDefaultScene();
 // darker ground and a sun disc of `sunRadiance` (so the dynamic range can be
 // made extreme for stability tests).
 Image proceduralSky(int width, int height, double sunRadiance = 2000.0);
-
-// A UV sphere with smooth normals.
-TriangleMesh makeSphere(Vec3 center, double radius, int rings, int segments, std::string name);
-// An axis-aligned square in the plane y = height, facing +y.
-TriangleMesh makeFloor(double halfSize, double height, std::string name);
 
 }  // namespace nuld

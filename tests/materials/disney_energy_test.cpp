@@ -15,6 +15,7 @@
 #include "materials/sampling.h"
 #include "sampler/sequences/rng.h"
 #include "tests/materials/directions.h"
+#include "tests/materials/disney_cases.h"
 
 namespace nuld {
 namespace {
@@ -24,27 +25,11 @@ constexpr double kPi = std::numbers::pi;
 using test::fromAngles;
 using test::randomUpper;
 
-DisneyParams everything() {
-  DisneyParams p;
-  p.baseColor = {0.2, 0.5, 0.8};
-  p.metallic = 0.3;
-  p.subsurface = 0.4;
-  p.specular = 0.7;
-  p.roughness = 0.35;
-  p.specularTint = 0.5;
-  p.anisotropic = 0.6;
-  p.sheen = 1;
-  p.sheenTint = 0.5;
-  p.clearcoat = 0.5;
-  p.clearcoatGloss = 0.3;
-  return p;
-}
-
 TEST(DisneyValues, Reciprocity) {
   Rng rng(31);
-  std::vector<DisneyParams> sets = {supplementDisneyParams(), DisneyParams{}, everything()};
-  sets.push_back(everything());
-  sets.back().roughness = 0;
+  const std::vector<DisneyParams> sets = {supplementDisneyParams(), DisneyParams{},
+                                          test::allParametersNonZero(0.35),
+                                          test::allParametersNonZero(0.0)};
   for (const DisneyParams &p : sets) {
     const DisneyBrdf brdf(p);
     for (int k = 0; k < 20000; ++k) {
@@ -110,7 +95,8 @@ Rgb burleyReference(const DisneyParams &p, Vec3 v, Vec3 l) {
 
 TEST(DisneyValues, MatchesAnIndependentTranscriptionOfBurley) {
   Rng rng(32);
-  std::vector<DisneyParams> sets = {supplementDisneyParams(), DisneyParams{}, everything()};
+  std::vector<DisneyParams> sets = {supplementDisneyParams(), DisneyParams{},
+                                    test::allParametersNonZero(0.35)};
   for (DisneyParams p : sets) {
     const DisneyBrdf brdf(p);
     for (int k = 0; k < 5000; ++k) {

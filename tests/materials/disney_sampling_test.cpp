@@ -19,6 +19,7 @@
 #include "sampler/sequences/rng.h"
 #include "tests/materials/chi_square.h"
 #include "tests/materials/directions.h"
+#include "tests/materials/disney_cases.h"
 
 namespace nuld {
 namespace {
@@ -61,21 +62,7 @@ std::vector<Case> samplingCases() {
     p.clearcoatGloss = 1;  // GTR1 alpha 0.001: a very sharp coat
     cases.push_back({"clearcoat glossy", p, 30, 0});
   }
-  {
-    DisneyParams p;  // every parameter away from zero
-    p.baseColor = {0.2, 0.5, 0.8};
-    p.metallic = 0.3;
-    p.subsurface = 0.4;
-    p.specular = 0.7;
-    p.roughness = 0.2;
-    p.specularTint = 0.5;
-    p.anisotropic = 0.6;
-    p.sheen = 1;
-    p.sheenTint = 0.5;
-    p.clearcoat = 0.5;
-    p.clearcoatGloss = 0.3;
-    cases.push_back({"all parameters", p, 60, 135});
-  }
+  cases.push_back({"all parameters", test::allParametersNonZero(0.2), 60, 135});
   // Toward grazing view.
   for (const double theta : {0.0, 70.0, 85.0, 89.0})
     cases.push_back(

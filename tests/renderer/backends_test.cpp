@@ -14,18 +14,13 @@
 #include "renderer/render.h"
 #include "sampler/io/pointset_io.h"
 #include "sampler/sequences/rng.h"
+#include "tests/common/temp_dir.h"
 #include "tests/renderer/test_scenes.h"
 
 namespace nuld {
 namespace {
 
 namespace fs = std::filesystem;
-
-fs::path tempDir() {
-  const fs::path d = fs::temp_directory_path() / ("nuld_backends_" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
-}
 
 // Every elementary box of area 1/N (N = 2^m) holds exactly one point.
 bool isNet(const std::vector<Point2> &pts) {
@@ -101,7 +96,7 @@ TEST(PointSetBackend, UniformSetsAreShiftedPerPixelAndDeeperPairsFallBack) {
 }
 
 TEST(PointSetBackend, DistributedSetsServeOnlyTheirTargetAtTheFirstBounce) {
-  const fs::path dir = tempDir();
+  const test::TempDir dir;
   const std::string mapPath = (dir / "map.exr").string();
   Image map = test::constantMap(1.0f, 16, 8);
   map.at(3, 2, 0) = 50.0f;
@@ -113,7 +108,7 @@ TEST(PointSetBackend, DistributedSetsServeOnlyTheirTargetAtTheFirstBounce) {
   set.n = 4;
   for (int i = 0; i < 2 * 4; ++i) set.points.push_back({0.1 * i, 0.05 * i});
   // The same file reached through a different spelling of its path.
-  set.metadata["target"] = "envmap:" + (dir / "." / "map.exr").string();
+  set.metadata["target"] = "envmap:" + (dir.path() / "." / "map.exr").string();
   PointSetBackend backend("optimized:x", set, "x.ptsb", 0);
   EXPECT_NO_THROW(backend.prepare(4, light.target()));
   std::vector<Point2> out(4);
@@ -133,7 +128,6 @@ TEST(PointSetBackend, DistributedSetsServeOnlyTheirTargetAtTheFirstBounce) {
   EXPECT_NE(message(8, light.target()).find("--spp 4"), std::string::npos);
   EXPECT_NE(message(4, nullptr).find("no environment map"), std::string::npos);
   EXPECT_NE(message(4, other.target()).find("other.exr"), std::string::npos);
-  fs::remove_all(dir);
 }
 
 // A file of inverse-CDF-mapped Owen-Sobol sets, served as distributed points,
@@ -142,7 +136,7 @@ TEST(PointSetBackend, DistributedSetsServeOnlyTheirTargetAtTheFirstBounce) {
 TEST(PointSetBackend, DistributedPointsRenderTheSameImage) {
   Image sky = test::constantMap(0.2f, 32, 16);
   for (int c = 0; c < 3; ++c) sky.at(10, 4, c) = 80.0f;
-  const fs::path dir = tempDir();
+  const test::TempDir dir;
   const std::string mapPath = (dir / "sky.exr").string();
   writeImage(mapPath, sky);
   Scene scene =
@@ -169,7 +163,6 @@ TEST(PointSetBackend, DistributedPointsRenderTheSameImage) {
   const double mseFile = compareImages(render(scene, settings, optimized), reference).mse;
   EXPECT_LT(mseFile, 3 * mseSobol);
   EXPECT_LT(mseSobol, 3 * mseFile);
-  fs::remove_all(dir);
 }
 
 }  // namespace

@@ -8,17 +8,12 @@
 #include <fstream>
 
 #include "sampler/sequences/sequence.h"
+#include "tests/common/temp_dir.h"
 
 namespace nuld {
 namespace {
 
 namespace fs = std::filesystem;
-
-fs::path tempDir() {
-  const fs::path d = fs::temp_directory_path() / ("nuld_io_test_" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
-}
 
 void writeText(const fs::path &p, const std::string &s) { std::ofstream(p) << s; }
 
@@ -35,7 +30,8 @@ TEST(PointSetIo, TextAndBinaryRoundTripsAreExact) {
   PointSet set = generatePointSet({SequenceKind::Sobol, Scramble::Owen, 3}, 37, 3);
   set.metadata["target"] = "quarterdisc";
   for (const char *name : {"a.txt", "a.ptsb"}) {
-    const fs::path p = tempDir() / name;
+    const test::TempDir dir;
+    const fs::path p = dir / name;
     writePointSet(p.string(), set);
     const PointSet back = readPointSet(p.string());
     EXPECT_EQ(back.n, 37u);
@@ -46,7 +42,8 @@ TEST(PointSetIo, TextAndBinaryRoundTripsAreExact) {
 }
 
 TEST(PointSetIo, ReadsUtkStyleFiles) {
-  const fs::path p = tempDir() / "utk.dat";
+  const test::TempDir dir;
+  const fs::path p = dir / "utk.dat";
   writeText(p, "0.1 0.2\n0.3 0.4\n#\n0.5 0.6\n0.7 0.8\n");
   const PointSet s = readPointSet(p.string());
   EXPECT_EQ(s.n, 2u);
@@ -55,7 +52,8 @@ TEST(PointSetIo, ReadsUtkStyleFiles) {
 }
 
 TEST(PointSetIo, MalformedFilesNameFileLineAndProblem) {
-  const fs::path d = tempDir();
+  const test::TempDir dir;
+  const fs::path &d = dir.path();
   writeText(d / "three.txt", "0.1 0.2\n0.3 0.4 0.5\n");
   EXPECT_NE(errorOf(d / "three.txt").find("three.txt:2"), std::string::npos);
   writeText(d / "word.txt", "0.1 0.2\nabc 0.4\n");
@@ -75,7 +73,8 @@ TEST(PointSetIo, MalformedFilesNameFileLineAndProblem) {
 }
 
 TEST(PointSetIo, WriteIsAtomicAndLeavesNoTemporaries) {
-  const fs::path d = tempDir() / "atomic";
+  const test::TempDir dir;
+  const fs::path d = dir / "atomic";
   fs::create_directories(d);
   PointSet set = generatePointSet({SequenceKind::Halton, Scramble::Owen, 1}, 10, 1);
   writePointSet((d / "x.txt").string(), set);

@@ -19,6 +19,7 @@
 #include "scenes/gltf_loader.h"
 #include "scenes/mesh_bounds.h"
 #include "scenes/ply_loader.h"
+#include "tests/common/temp_dir.h"
 
 namespace nuld {
 namespace {
@@ -29,31 +30,7 @@ using Triangle = std::array<std::uint32_t, 3>;
 const fs::path kData = fs::path(NULD_TEST_DATA_DIR) / "scenes";
 const fs::path kAssets = fs::path(NULD_SOURCE_DIR) / ".." / "shared" / "assets";
 
-// A fresh directory per test, removed afterwards.
-class TempDir {
- public:
-  TempDir() {
-    const auto *test = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = fs::temp_directory_path() / ("nuld_mesh_test_" + std::to_string(::getpid()) + "_" +
-                                         test->test_suite_name() + "_" + test->name());
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  TempDir(const TempDir &) = delete;
-  TempDir &operator=(const TempDir &) = delete;
-
-  std::string write(const std::string &name, const std::string &bytes) const {
-    const fs::path p = path_ / name;
-    std::ofstream(p, std::ios::binary) << bytes;
-    return p.string();
-  }
-
- private:
-  fs::path path_;
-};
+using test::TempDir;
 
 // The message of the std::runtime_error that `load` throws; fails the test
 // when it throws nothing.

@@ -11,6 +11,7 @@
 
 #include "renderer/render.h"
 #include "scenes/default_scene.h"
+#include "tests/common/temp_dir.h"
 
 namespace nuld {
 namespace {
@@ -20,9 +21,6 @@ namespace fs = std::filesystem;
 class SceneFileTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("nuld_scene_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::create_directories(dir_ / "meshes");
     std::ofstream(dir_ / "meshes" / "tri.ply") << "ply\nformat ascii 1.0\nelement vertex 3\n"
                                                   "property float x\nproperty float y\n"
@@ -33,7 +31,6 @@ class SceneFileTest : public ::testing::Test {
     writeImage((dir_ / "sky.exr").string(), sky);
     std::ofstream(dir_ / "broken.exr") << "not an image";
   }
-  void TearDown() override { fs::remove_all(dir_); }
 
   std::string write(const std::string &json) {
     const std::string path = (dir_ / "scene.json").string();
@@ -61,18 +58,18 @@ class SceneFileTest : public ::testing::Test {
   // The message of the exception that loading `path` throws ("" if none).
   std::string errorOf(const std::string &path) {
     try {
-      loadScene(path, dir_.string());
+      loadScene(path, dir_.path().string());
     } catch (const std::exception &e) {
       return e.what();
     }
     return "";
   }
 
-  fs::path dir_;
+  const test::TempDir dir_;
 };
 
 TEST_F(SceneFileTest, ValidFileBuildsWhatItNames) {
-  const LoadedScene s = loadScene(valid(), dir_.string());
+  const LoadedScene s = loadScene(valid(), dir_.path().string());
   EXPECT_EQ(s.scene.geometry.meshes().size(), 2u);
   EXPECT_EQ(s.scene.materials.size(), 2u);
   EXPECT_EQ(s.scene.materials[0]->name(), "lambertian");
@@ -89,7 +86,7 @@ TEST_F(SceneFileTest, ValidFileBuildsWhatItNames) {
 
 TEST_F(SceneFileTest, NoEnvironmentMeansNoMapIsRead) {
   const std::string path = valid(R"("environment": {"file": "sky.exr", "scale": 2},)", "");
-  EXPECT_FALSE(loadScene(path, dir_.string()).scene.environment);
+  EXPECT_FALSE(loadScene(path, dir_.path().string()).scene.environment);
 }
 
 TEST_F(SceneFileTest, BadInputGivesClearErrors) {
