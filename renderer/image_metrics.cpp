@@ -18,6 +18,9 @@ void requireSameSize(const Image &a, const Image &b) {
                                 std::to_string(b.width) + "x" + std::to_string(b.height));
 }
 
+// The squared error d^2 of one channel relative to its reference value r.
+double relativeSquared(double d, double r) { return d * d / (r * r + kRelEpsilon); }
+
 double channel(const Image &img, int x, int y, int c) {
   return img.at(x, y, img.channels >= 3 ? c : 0);
 }
@@ -26,7 +29,7 @@ double pixelRelError(const Image &img, const Image &ref, int x, int y) {
   double e = 0;
   for (int c = 0; c < 3; ++c) {
     const double r = channel(ref, x, y, c), d = channel(img, x, y, c) - r;
-    e += d * d / (r * r + kRelEpsilon);
+    e += relativeSquared(d, r);
   }
   return e / 3;
 }
@@ -49,7 +52,7 @@ ImageError compareImages(const Image &img, const Image &ref) {
       for (int c = 0; c < 3; ++c) {
         const double r = channel(ref, x, y, c), d = channel(img, x, y, c) - r;
         se += d * d;
-        rel += d * d / (r * r + kRelEpsilon);
+        rel += relativeSquared(d, r);
       }
       count += 3;
     }

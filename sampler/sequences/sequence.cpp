@@ -72,8 +72,10 @@ int distinctDigits(std::size_t n, std::uint32_t base) {
   return d;
 }
 
+// distinct < 0: every digit scrambled separately; otherwise the number of
+// leading digits that tell the set's points apart (see owenScramble).
 double sample(const SequenceOptions &o, std::uint64_t index, std::uint32_t dim,
-              std::uint32_t instance, std::size_t setSize) {
+              std::uint32_t instance, int distinct) {
   // One independent seed per (instance, dimension).
   const std::uint64_t seed = hash3(o.seed, instance, dim);
   switch (o.kind) {
@@ -81,7 +83,7 @@ double sample(const SequenceOptions &o, std::uint64_t index, std::uint32_t dim,
     case SequenceKind::Sobol: {
       std::uint32_t bits = sobolBits(index, dim);
       if (o.scramble == Scramble::Owen)
-        bits = owenScramble(bits, seed, setSize ? distinctDigits(setSize, 2) : 32);
+        bits = owenScramble(bits, seed, distinct < 0 ? 32 : distinct);
       if (o.scramble == Scramble::Shift) bits = digitalShift(bits, seed);
       const double x = bits * 0x1.0p-32;
       return o.scramble == Scramble::CranleyPatterson ? cranleyPatterson(x, seed) : x;
@@ -91,33 +93,41 @@ double sample(const SequenceOptions &o, std::uint64_t index, std::uint32_t dim,
       const DigitRandomization r = o.scramble == Scramble::Owen    ? DigitRandomization::Owen
                                    : o.scramble == Scramble::Shift ? DigitRandomization::Shift
                                                                    : DigitRandomization::None;
-      const double x =
-          radicalInverse(index, base, r, seed, setSize ? distinctDigits(setSize, base) : 64);
+      const double x = radicalInverse(index, base, r, seed, distinct < 0 ? 64 : distinct);
       return o.scramble == Scramble::CranleyPatterson ? cranleyPatterson(x, seed) : x;
     }
   }
   return 0;
 }
 
+// asSet: the points form one set of out.size() (generateSet); otherwise
+// every digit is scrambled separately (generatePoints).
+void fill(const SequenceOptions &o, std::uint32_t instance, std::span<Point2> out,
+          std::uint32_t firstDim, bool asSet) {
+  const auto digits = [&](std::uint32_t dim) {
+    if (!asSet) return -1;
+    return distinctDigits(out.size(), o.kind == SequenceKind::Halton ? nthPrime(dim) : 2);
+  };
+  const int d0 = digits(firstDim), d1 = digits(firstDim + 1);
+  for (std::size_t i = 0; i < out.size(); ++i)
+    out[i] = {sample(o, i, firstDim, instance, d0), sample(o, i, firstDim + 1, instance, d1)};
+}
+
 }  // namespace
 
 double sequenceSample(const SequenceOptions &o, std::uint64_t index, std::uint32_t dim,
                       std::uint32_t instance) {
-  return sample(o, index, dim, instance, 0);
+  return sample(o, index, dim, instance, -1);
 }
 
 void generatePoints(const SequenceOptions &o, std::uint32_t instance, std::span<Point2> out,
                     std::uint32_t firstDim) {
-  for (std::size_t i = 0; i < out.size(); ++i)
-    out[i] = {sequenceSample(o, i, firstDim, instance),
-              sequenceSample(o, i, firstDim + 1, instance)};
+  fill(o, instance, out, firstDim, false);
 }
 
 void generateSet(const SequenceOptions &o, std::uint32_t instance, std::span<Point2> out,
                  std::uint32_t firstDim) {
-  for (std::size_t i = 0; i < out.size(); ++i)
-    out[i] = {sample(o, i, firstDim, instance, out.size()),
-              sample(o, i, firstDim + 1, instance, out.size())};
+  fill(o, instance, out, firstDim, true);
 }
 
 PointSet generatePointSet(const SequenceOptions &o, std::size_t n, std::size_t instances) {

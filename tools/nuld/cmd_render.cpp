@@ -2,6 +2,7 @@
 // backend to an EXR plus a tone-mapped PNG preview.
 
 #include <cstdio>
+#include <filesystem>
 #include <regex>
 
 #include "renderer/image_metrics.h"
@@ -102,11 +103,8 @@ Runner addCompare(CLI::App &app) {
     std::printf("mse %.9g\nrelmse %.9g\n", e.mse, e.relmse);
     if (e.nonFinitePixels) std::printf("nonfinite_pixels %zu\n", e.nonFinitePixels);
     std::string path = o->errorMapPath;
-    if (path.empty()) {
-      path = o->image;
-      const auto dot = path.find_last_of('.');
-      path = (dot == std::string::npos ? path : path.substr(0, dot)) + "_error.png";
-    }
+    if (path.empty())  // IMAGE.exr -> IMAGE_error.png, beside it
+      path = std::filesystem::path(o->image).replace_extension().string() + "_error.png";
     writeImage(path, errorMap(img, ref));
     return e.nonFinitePixels ? 2 : 0;
   };
