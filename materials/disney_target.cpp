@@ -12,6 +12,7 @@
 
 #include "materials/sampling.h"
 #include "materials/sphere_map.h"
+#include "sampler/targets/target_family.h"
 #include "sampler/targets/target_spec.h"
 
 namespace nuld {
@@ -235,9 +236,46 @@ std::unique_ptr<GridTarget> makeDisneyTarget(const DisneyTargetSpec &spec) {
   return tabulate(spec.params, spec.wo(), spec.phiCells, spec.thetaRows, toSpec(spec));
 }
 
+namespace {
+
+// gamma = (theta / 89 degrees, phi / 360 degrees) of wo; the other parameters
+// come from the family's ARGS (a `disney:` spec without theta and phi).
+class DisneyFamily final : public TargetFamily {
+ public:
+  explicit DisneyFamily(const std::string &args) : base_(parseDisneyTargetArgs(args)) {
+    if (args.find("theta") != std::string::npos || args.find("phi") != std::string::npos)
+      throw std::invalid_argument("target family 'family:disney:" + args +
+                                  "': theta and phi are the family's gamma, not parameters");
+  }
+  std::string spec() const override {
+    const std::string s = toSpec(base_);  // "disney" or "disney:ARGS"
+    return "family:" + s;
+  }
+  std::size_t gammaDimension() const override { return 2; }
+  Domain domain() const override { return Domain::Hemisphere; }
+  std::shared_ptr<const Target> target(std::span<const double> gamma) const override {
+    checkGamma(*this, gamma);
+    DisneyTargetSpec s = base_;
+    s.thetaDegrees = kMaxThetaDegrees * gamma[0];
+    s.phiDegrees = 360 * gamma[1];
+    return makeDisneyTarget(s);
+  }
+
+  // Grazing views up to 89 degrees, as the materials tests cover.
+  static constexpr double kMaxThetaDegrees = 89;
+
+ private:
+  DisneyTargetSpec base_;
+};
+
+}  // namespace
+
 void registerMaterialTargets() {
   registerTargetFamily("disney", [](const std::string &args) -> std::unique_ptr<Target> {
     return makeDisneyTarget(parseDisneyTargetArgs(args));
+  });
+  registerTargetFamilyKind("disney", [](const std::string &args) -> std::unique_ptr<TargetFamily> {
+    return std::make_unique<DisneyFamily>(args);
   });
 }
 

@@ -1,0 +1,160 @@
+#include "sampler/neural/model_file.h"
+
+#include <bit>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "sampler/io/atomic_file.h"
+
+namespace nuld {
+namespace {
+
+static_assert(std::endian::native == std::endian::little, "model files are little-endian");
+
+constexpr char kMagic[8] = {'N', 'U', 'L', 'D', 'N', 'E', 'T', '1'};
+// Bounds that no real model reaches; beyond them the file is corrupt, and
+// reading on would allocate absurd amounts.
+constexpr std::uint32_t kMaxMetadataBytes = 1u << 20;
+constexpr std::uint32_t kMaxTensors = 1024;
+constexpr std::uint32_t kMaxRank = 8;
+constexpr std::int64_t kMaxElements = std::int64_t(1) << 31;
+
+std::uint64_t fnv1a(const char *data, std::size_t size) {
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  for (std::size_t i = 0; i < size; ++i) {
+    h ^= static_cast<unsigned char>(data[i]);
+    h *= 0x100000001b3ull;
+  }
+  return h;
+}
+
+template <class T>
+void put(std::string &out, T v) {
+  out.append(reinterpret_cast<const char *>(&v), sizeof v);
+}
+
+// Reads from the in-memory file; every failure names the file and the part.
+class Reader {
+ public:
+  Reader(const std::string &path, const std::string &bytes) : path_(path), bytes_(bytes) {}
+
+  template <class T>
+  T get(const std::string &what) {
+    T v;
+    std::memcpy(&v, take(sizeof v, what), sizeof v);
+    return v;
+  }
+  const char *take(std::size_t n, const std::string &what) {
+    if (n > bytes_.size() - pos_) fail("truncated while reading " + what);
+    const char *p = bytes_.data() + pos_;
+    pos_ += n;
+    return p;
+  }
+  [[noreturn]] void fail(const std::string &why) const {
+    throw std::runtime_error(path_ + ": " + why + " (at byte " + std::to_string(pos_) + ")");
+  }
+  std::size_t position() const { return pos_; }
+
+ private:
+  const std::string &path_, &bytes_;
+  std::size_t pos_ = 0;
+};
+
+}  // namespace
+
+const ModelTensor &ModelFile::tensor(const std::string &name, const std::string &path) const {
+  for (const ModelTensor &t : tensors)
+    if (t.name == name) return t;
+  throw std::runtime_error(path + ": model has no tensor '" + name + "'");
+}
+
+const std::string &ModelFile::value(const std::string &key, const std::string &path) const {
+  const auto it = metadata.find(key);
+  if (it == metadata.end()) throw std::runtime_error(path + ": model metadata lacks '" + key + "'");
+  return it->second;
+}
+
+void writeModelFile(const std::string &path, const ModelFile &model) {
+  std::string out(kMagic, sizeof kMagic);
+  std::string meta;
+  for (const auto &[k, v] : model.metadata) {
+    if (k.find_first_of("=\n") != std::string::npos || v.find('\n') != std::string::npos)
+      throw std::invalid_argument("model metadata '" + k + "' contains '=' or a newline");
+    meta += k + "=" + v + "\n";
+  }
+  put(out, std::uint32_t(meta.size()));
+  out += meta;
+  put(out, std::uint32_t(model.tensors.size()));
+  for (const ModelTensor &t : model.tensors) {
+    std::int64_t count = 1;
+    for (std::int64_t d : t.shape) count *= d;
+    if (count != std::int64_t(t.data.size()))
+      throw std::invalid_argument("model tensor '" + t.name + "': shape and data disagree");
+    put(out, std::uint32_t(t.name.size()));
+    out += t.name;
+    put(out, std::uint32_t(t.shape.size()));
+    for (std::int64_t d : t.shape) put(out, d);
+    out.append(reinterpret_cast<const char *>(t.data.data()), t.data.size() * sizeof(float));
+  }
+  put(out, fnv1a(out.data(), out.size()));
+  writeFileAtomically(path, out);
+}
+
+ModelFile readModelFile(const std::string &path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error(path + ": cannot open the model file");
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  const std::string bytes = buffer.str();
+  Reader r(path, bytes);
+
+  if (bytes.size() < sizeof kMagic || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
+    throw std::runtime_error(path + ": not a nuld model file (expected the magic 'NULDNET1')");
+  r.take(sizeof kMagic, "the magic");
+  // Check the whole file before interpreting sizes inside it.
+  if (bytes.size() < sizeof kMagic + 8) r.fail("truncated: no checksum");
+  std::uint64_t stored;
+  std::memcpy(&stored, bytes.data() + bytes.size() - 8, 8);
+  if (fnv1a(bytes.data(), bytes.size() - 8) != stored)
+    throw std::runtime_error(path +
+                             ": checksum mismatch (the model file is truncated or corrupted)");
+
+  ModelFile model;
+  const auto metaBytes = r.get<std::uint32_t>("the metadata size");
+  if (metaBytes > kMaxMetadataBytes) r.fail("implausible metadata size");
+  std::istringstream meta(std::string(r.take(metaBytes, "the metadata"), metaBytes));
+  for (std::string line; std::getline(meta, line);) {
+    const std::size_t eq = line.find('=');
+    if (eq == std::string::npos) r.fail("metadata line '" + line + "' is not key=value");
+    model.metadata[line.substr(0, eq)] = line.substr(eq + 1);
+  }
+  const auto count = r.get<std::uint32_t>("the tensor count");
+  if (count > kMaxTensors) r.fail("implausible tensor count " + std::to_string(count));
+  for (std::uint32_t k = 0; k < count; ++k) {
+    ModelTensor t;
+    const auto nameBytes = r.get<std::uint32_t>("a tensor name size");
+    if (nameBytes > 256) r.fail("implausible tensor name size");
+    t.name.assign(r.take(nameBytes, "a tensor name"), nameBytes);
+    const auto rank = r.get<std::uint32_t>("the rank of '" + t.name + "'");
+    if (rank > kMaxRank) r.fail("tensor '" + t.name + "' has implausible rank");
+    std::int64_t elements = 1;
+    for (std::uint32_t d = 0; d < rank; ++d) {
+      const auto dim = r.get<std::int64_t>("a dimension of '" + t.name + "'");
+      if (dim < 0 || dim > kMaxElements || elements * std::max<std::int64_t>(dim, 1) > kMaxElements)
+        r.fail("tensor '" + t.name + "' has an implausible shape");
+      elements *= dim;
+      t.shape.push_back(dim);
+    }
+    t.data.resize(std::size_t(elements));
+    std::memcpy(t.data.data(),
+                r.take(t.data.size() * sizeof(float), "the data of '" + t.name + "'"),
+                t.data.size() * sizeof(float));
+    model.tensors.push_back(std::move(t));
+  }
+  if (r.position() != bytes.size() - 8) r.fail("unexpected bytes after the last tensor");
+  return model;
+}
+
+}  // namespace nuld

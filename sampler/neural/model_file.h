@@ -1,0 +1,39 @@
+#pragma once
+// The on-disk form of a trained generator (and of training checkpoints): text
+// metadata plus named float32 tensors, closed by a checksum, so a truncated,
+// corrupted or foreign file is an error that names the file and what is wrong
+// instead of a crash or silent garbage. Nothing here depends on LibTorch.
+//
+// Layout (little-endian):
+//   "NULDNET1"                      8-byte magic
+//   uint32 metadataBytes, then that many bytes of "key=value\n" lines
+//   uint32 tensorCount, then per tensor:
+//     uint32 nameBytes, name, uint32 rank, rank x int64 dims, float32 data
+//   uint64 FNV-1a hash of every byte before it
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace nuld {
+
+struct ModelTensor {
+  std::string name;
+  std::vector<std::int64_t> shape;
+  std::vector<float> data;  // row-major, product(shape) entries
+};
+
+struct ModelFile {
+  std::map<std::string, std::string> metadata;
+  std::vector<ModelTensor> tensors;
+
+  const ModelTensor &tensor(const std::string &name, const std::string &path) const;
+  // Throws naming the file and the key when it is missing.
+  const std::string &value(const std::string &key, const std::string &path) const;
+};
+
+void writeModelFile(const std::string &path, const ModelFile &model);  // atomic
+ModelFile readModelFile(const std::string &path);
+
+}  // namespace nuld

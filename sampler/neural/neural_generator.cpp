@@ -1,0 +1,288 @@
+#include "sampler/neural/neural_generator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include "sampler/neural/fourier_mlp.h"
+#include "sampler/neural/model_file.h"
+#include "sampler/sequences/rng.h"
+#include "sampler/sequences/sobol.h"
+
+namespace nuld {
+namespace {
+
+constexpr const char *kFormat = "nuld-neural-generator";
+constexpr int kVersion = 1;
+
+// B ~ N(0, sigma^2) from our own counter-based generator (Box-Muller), so a
+// seed gives the same encoding on every machine and LibTorch version.
+torch::Tensor drawFrequencies(int rows, int cols, double sigma, std::uint64_t seed) {
+  torch::Tensor b = torch::empty({rows, cols}, torch::kFloat32);
+  auto a = b.accessor<float, 2>();
+  Rng rng(seed, 0xB);
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      const double u1 = 1 - rng.uniform(), u2 = rng.uniform();
+      a[r][c] = float(sigma * std::sqrt(-2 * std::log(u1)) * std::cos(2 * std::numbers::pi * u2));
+    }
+  return b;
+}
+
+std::unique_ptr<NeuralGenerator::Net> makeNet(const NeuralSettings &s, std::size_t gammaDim) {
+  auto net = std::make_unique<NeuralGenerator::Net>();
+  torch::manual_seed(s.seed);  // LibTorch's default initialization of the hidden layers
+  net->mlp = FourierMlp(drawFrequencies(s.encodingDims / 2, int(2 + gammaDim), s.sigma, s.seed),
+                        s.hidden, std::int64_t(2 * s.n));
+  return net;
+}
+
+std::string formatDouble(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
+}  // namespace
+
+FourierMlpImpl::FourierMlpImpl(torch::Tensor frequencies, int hidden, std::int64_t outputs) {
+  B = register_buffer("B", std::move(frequencies));
+  const std::int64_t e = B.size(0) * 2;
+  l1 = register_module("l1", torch::nn::Linear(e, hidden));
+  l2 = register_module("l2", torch::nn::Linear(hidden + e, hidden));
+  l3 = register_module("l3", torch::nn::Linear(hidden + e, hidden));
+  l4 = register_module("l4", torch::nn::Linear(hidden + e, hidden));
+  l5 = register_module("l5", torch::nn::Linear(hidden + e, outputs));
+  // Zero residuals: the untrained generator is its base set (supplement §1).
+  torch::NoGradGuard noGrad;
+  l5->weight.zero_();
+  l5->bias.zero_();
+}
+
+torch::Tensor FourierMlpImpl::encode(torch::Tensor v) const {
+  const torch::Tensor angle = (2 * std::numbers::pi) * torch::matmul(v, B.t());
+  return torch::cat({torch::cos(angle), torch::sin(angle)}, 1);
+}
+
+torch::Tensor FourierMlpImpl::forward(torch::Tensor v) {
+  const torch::Tensor e = encode(v);
+  torch::Tensor h = torch::relu(l1(e));
+  h = torch::relu(l2(torch::cat({h, e}, 1)));
+  h = torch::relu(l3(torch::cat({h, e}, 1)));
+  h = torch::relu(l4(torch::cat({h, e}, 1)));
+  return l5(torch::cat({h, e}, 1));
+}
+
+torch::Tensor NeuralGenerator::Net::inputs(std::span<const Point2> z, std::span<const double> gamma,
+                                           std::size_t gammaDim) const {
+  const std::int64_t K = std::int64_t(z.size()), cols = std::int64_t(2 + gammaDim);
+  torch::Tensor v = torch::empty({K, cols}, torch::kFloat64);
+  auto a = v.accessor<double, 2>();
+  for (std::int64_t k = 0; k < K; ++k) {
+    a[k][0] = z[k].x;
+    a[k][1] = z[k].y;
+    for (std::size_t g = 0; g < gammaDim; ++g) a[k][2 + g] = gamma[k * gammaDim + g];
+  }
+  return v.to(mlp->B.scalar_type());
+}
+
+torch::Tensor baseSets(const NeuralGenerator &gen, std::span<const Point2> z) {
+  const std::int64_t K = std::int64_t(z.size()), n = std::int64_t(gen.settings().n);
+  torch::Tensor base = torch::empty({K, n, 2}, torch::kFloat64);
+  for (std::int64_t k = 0; k < K; ++k)
+    gen.baseSet(z[k], std::span<Point2>(reinterpret_cast<Point2 *>(base[k].data_ptr<double>()),
+                                        std::size_t(n)));
+  return base;
+}
+
+void NeuralSettings::validate() const {
+  auto bad = [](const std::string &what) { throw std::invalid_argument("neural: " + what); };
+  if (n < 1 || n > (std::size_t(1) << 20)) bad("n must be in [1, 2^20]");
+  if (hidden < 1 || hidden > 16384) bad("hidden width must be in [1, 16384]");
+  if (!(sigma > 0 && std::isfinite(sigma))) bad("sigma must be positive");
+  if (encodingDims < 2 || encodingDims % 2 != 0) bad("the encoding size must be even and >= 2");
+}
+
+Point2 wrapToDomain(Point2 p, Domain domain, double *vSign) {
+  constexpr double kBelowOne = 0x1.fffffffffffffp-1;
+  auto frac = [](double t) {
+    t -= std::floor(t);
+    return t < 1 ? t : 0.0;  // -1e-17 - floor(-1e-17) rounds to 1
+  };
+  double sign = 1;
+  if (domain != Domain::Square) {
+    // Unfolded along a meridian, v is 2-periodic: past the south pole (v > 1)
+    // the point is on the opposite meridian heading north; past the north
+    // pole again it is back on its own meridian (two half turns).
+    double v = p.y - 2 * std::floor(p.y / 2);
+    if (v >= 2) v = 0;
+    if (v > 1) {
+      v = 2 - v;
+      p.x += 0.5;
+      sign = -1;
+    }
+    p.y = std::min(v, kBelowOne);
+    p.x = frac(p.x);
+  } else {
+    p = {std::clamp(p.x, 0.0, kBelowOne), std::clamp(p.y, 0.0, kBelowOne)};
+  }
+  if (vSign) *vSign = sign;
+  return p;
+}
+
+NeuralGenerator::NeuralGenerator(const NeuralSettings &settings)
+    : NeuralGenerator(settings, nullptr) {}
+
+NeuralGenerator::NeuralGenerator(NeuralSettings settings, std::unique_ptr<Net> net)
+    : settings_(std::move(settings)) {
+  settings_.validate();
+  family_ = makeTargetFamily(settings_.family);
+  settings_.family = family_->spec();
+  sobol_.resize(settings_.n);
+  for (std::size_t i = 0; i < settings_.n; ++i) sobol_[i] = {sobolSample(i, 0), sobolSample(i, 1)};
+  net_ = net ? std::move(net) : makeNet(settings_, family_->gammaDimension());
+}
+
+NeuralGenerator::NeuralGenerator(NeuralGenerator &&) noexcept = default;
+NeuralGenerator &NeuralGenerator::operator=(NeuralGenerator &&) noexcept = default;
+NeuralGenerator::~NeuralGenerator() = default;
+
+std::size_t NeuralGenerator::parameterCount() const {
+  std::size_t count = 0;
+  for (const auto &p : net_->mlp->parameters()) count += std::size_t(p.numel());
+  return count;
+}
+
+void NeuralGenerator::baseSet(Point2 z, std::span<Point2> out) const {
+  if (out.size() != settings_.n) throw std::invalid_argument("neural: base set size mismatch");
+  const bool square = domain() == Domain::Square;
+  for (std::size_t i = 0; i < sobol_.size(); ++i) {
+    const Point2 p = sobol_[i] + z;
+    // The rotation wraps around the square (Cranley-Patterson).
+    out[i] = square ? Point2{p.x - std::floor(p.x), p.y - std::floor(p.y)} : p;
+  }
+}
+
+void NeuralGenerator::generate(std::span<const Point2> z, std::span<const double> gamma,
+                               std::span<Point2> out) const {
+  const std::size_t K = z.size(), n = settings_.n, g = gammaDimension();
+  if (gamma.size() != K * g || out.size() != K * n)
+    throw std::invalid_argument("neural: generate() sizes do not match K sets");
+  for (std::size_t k = 0; k < K; ++k) checkGamma(*family_, gamma.subspan(k * g, g));
+  if (K == 0) return;
+  torch::NoGradGuard noGrad;
+  const torch::Tensor residual = net_->mlp->forward(net_->inputs(z, gamma, g))
+                                     .to(torch::kFloat64)
+                                     .reshape({std::int64_t(K), std::int64_t(n), 2})
+                                     .contiguous();
+  const torch::Tensor points = (baseSets(*this, z) + residual).contiguous();
+  const auto *p = reinterpret_cast<const Point2 *>(points.data_ptr<double>());
+  for (std::size_t i = 0; i < K * n; ++i) {
+    if (!isFinite(p[i]))
+      throw std::runtime_error("neural: the network produced a non-finite point");
+    out[i] = wrapToDomain(p[i], domain());
+  }
+}
+
+PointSet NeuralGenerator::generateSets(std::size_t instances, std::uint64_t seed,
+                                       std::span<const double> gamma) const {
+  std::vector<Point2> z(instances);
+  Rng rng(seed, 0x2);
+  for (Point2 &zk : z) zk = {rng.uniform(), rng.uniform()};
+  std::vector<double> gammas;
+  for (std::size_t k = 0; k < instances; ++k)
+    gammas.insert(gammas.end(), gamma.begin(), gamma.end());
+  PointSet set;
+  set.n = settings_.n;
+  set.points.resize(instances * settings_.n);
+  generate(z, gammas, set.points);
+  return set;
+}
+
+ModelFile NeuralGenerator::toModelFile(const std::map<std::string, std::string> &extra) const {
+  ModelFile file;
+  file.metadata = extra;
+  file.metadata["format"] = kFormat;
+  file.metadata["version"] = std::to_string(kVersion);
+  file.metadata["n"] = std::to_string(settings_.n);
+  file.metadata["dimension"] = "2";
+  file.metadata["domain"] = toString(domain());
+  file.metadata["family"] = settings_.family;
+  file.metadata["gamma_dimension"] = std::to_string(gammaDimension());
+  file.metadata["hidden"] = std::to_string(settings_.hidden);
+  file.metadata["sigma"] = formatDouble(settings_.sigma);
+  file.metadata["encoding_dims"] = std::to_string(settings_.encodingDims);
+  file.metadata["seed"] = std::to_string(settings_.seed);
+  file.metadata["base"] = "sobol rotated by z";
+  auto add = [&](const std::string &name, const torch::Tensor &t) {
+    const torch::Tensor f = t.detach().to(torch::kFloat32).contiguous();
+    file.tensors.push_back(
+        {name, std::vector<std::int64_t>(f.sizes().begin(), f.sizes().end()),
+         std::vector<float>(f.data_ptr<float>(), f.data_ptr<float>() + f.numel())});
+  };
+  for (const auto &item : net_->mlp->named_buffers()) add(item.key(), item.value());
+  for (const auto &item : net_->mlp->named_parameters()) add(item.key(), item.value());
+  return file;
+}
+
+void NeuralGenerator::save(const std::string &path,
+                           const std::map<std::string, std::string> &extra) const {
+  writeModelFile(path, toModelFile(extra));
+}
+
+void NeuralGenerator::loadWeights(const ModelFile &file, const std::string &path) {
+  torch::NoGradGuard noGrad;
+  auto fill = [&](const std::string &name, torch::Tensor &t) {
+    const ModelTensor &mt = file.tensor(name, path);
+    if (std::vector<std::int64_t>(t.sizes().begin(), t.sizes().end()) != mt.shape)
+      throw std::runtime_error(path + ": tensor '" + name +
+                               "' has the wrong shape for the network its metadata describes");
+    t.copy_(torch::from_blob(const_cast<float *>(mt.data.data()), t.sizes(), torch::kFloat32));
+  };
+  for (auto &item : net_->mlp->named_buffers()) fill(item.key(), item.value());
+  for (auto &item : net_->mlp->named_parameters()) fill(item.key(), item.value());
+}
+
+NeuralGenerator NeuralGenerator::load(const std::string &path) {
+  const ModelFile file = readModelFile(path);
+  if (file.metadata.count("format") == 0 || file.metadata.at("format") != kFormat)
+    throw std::runtime_error(path + ": not a neural generator model (metadata 'format' is not '" +
+                             kFormat + "')");
+  if (file.value("version", path) != std::to_string(kVersion))
+    throw std::runtime_error(path + ": model version " + file.value("version", path) +
+                             ", this program reads version " + std::to_string(kVersion));
+  auto number = [&](const std::string &key) {
+    const std::string &v = file.value(key, path);
+    try {
+      std::size_t used = 0;
+      const double x = std::stod(v, &used);
+      if (used != v.size()) throw std::invalid_argument(v);
+      return x;
+    } catch (const std::exception &) {
+      throw std::runtime_error(path + ": model metadata '" + key + "' is not a number: '" + v +
+                               "'");
+    }
+  };
+  NeuralSettings s;
+  s.n = std::size_t(number("n"));
+  s.hidden = int(number("hidden"));
+  s.sigma = number("sigma");
+  s.encodingDims = int(number("encoding_dims"));
+  try {
+    s.seed = std::stoull(file.value("seed", path));
+  } catch (const std::logic_error &) {
+    throw std::runtime_error(path + ": model metadata 'seed' is not an unsigned integer");
+  }
+  s.family = file.value("family", path);
+  try {
+    NeuralGenerator gen(std::move(s));
+    gen.loadWeights(file, path);
+    gen.fileMetadata_ = file.metadata;
+    return gen;
+  } catch (const std::invalid_argument &e) {
+    throw std::runtime_error(path + ": " + e.what());
+  }
+}
+
+}  // namespace nuld

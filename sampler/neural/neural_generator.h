@@ -1,0 +1,100 @@
+#pragma once
+// The neural generator of the supplement §1 (DESIGN.md §3): an MLP that maps a
+// Cranley-Patterson offset z and a distribution parameter gamma to the
+// residuals of N points, added to a base set (the first N Sobol points rotated
+// by z: wrapped on the square, unwrapped for directions). The last layer
+// starts at zero, so an untrained generator returns its base set.
+//
+// This header does not include LibTorch; the network lives behind `Net`
+// (sampler/neural/fourier_mlp.h), which only the generator's and trainer's
+// translation units see.
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "sampler/neural/model_file.h"
+#include "sampler/point.h"
+#include "sampler/targets/target_family.h"
+
+namespace nuld {
+
+struct NeuralSettings {
+  std::size_t n = 256;     // points per set
+  int hidden = 256;        // width of the four hidden layers (64/256/512/1024 in the paper)
+  double sigma = 0.1;      // standard deviation of the Fourier frequencies B
+  int encodingDims = 32;   // [cos 2 pi B v, sin 2 pi B v]: B has encodingDims / 2 rows
+  std::string family;      // a TargetFamily spec
+  std::uint64_t seed = 0;  // draws B and the initial weights
+
+  // Throws std::invalid_argument naming the bad setting.
+  void validate() const;
+};
+
+// Maps a raw output point into the domain. On the sphere (and hemisphere)
+// longitude is periodic and a point past a pole comes back on the other side,
+// (u + 1/2, -v) or (u + 1/2, 2 - v); `vSign` receives dv_out/dv_in (+1 or -1).
+// On the square the point is clamped, and training passes the gradient
+// straight through the clamp (as the direct optimizer's `clamp` mapping
+// does: the loss is measured at the clamped point). Measured on tiny models
+// (N 64, 3000 steps), a toroidal wrap instead never learned the Gaussian
+// family (held-out loss 0.077 -> 0.080; clamped 0.077 -> 0.0098) and failed on
+// the quarter-disc, whose wrap joins its densest edge to its empty corner.
+Point2 wrapToDomain(Point2 p, Domain domain, double *vSign = nullptr);
+
+class NeuralGenerator {
+ public:
+  explicit NeuralGenerator(const NeuralSettings &settings);  // untrained
+  // Throws std::runtime_error naming the file for unreadable, truncated or
+  // foreign files and for metadata that does not rebuild a network.
+  static NeuralGenerator load(const std::string &path);
+  // Weights plus everything needed to rebuild the net; `extra` metadata
+  // (training settings, step) is stored alongside. Atomic.
+  void save(const std::string &path, const std::map<std::string, std::string> &extra = {}) const;
+  // The same as an in-memory file (the trainer adds its optimizer state).
+  ModelFile toModelFile(const std::map<std::string, std::string> &extra = {}) const;
+  // Copies the weights of a file written for this same network (checked
+  // against settings()); throws naming `path`.
+  void loadWeights(const ModelFile &file, const std::string &path);
+
+  NeuralGenerator(NeuralGenerator &&) noexcept;
+  NeuralGenerator &operator=(NeuralGenerator &&) noexcept;
+  ~NeuralGenerator();
+
+  const NeuralSettings &settings() const { return settings_; }
+  const TargetFamily &family() const { return *family_; }
+  Domain domain() const { return family_->domain(); }
+  std::size_t gammaDimension() const { return family_->gammaDimension(); }
+  std::size_t parameterCount() const;
+  // Metadata read from the file by load() (empty for a new generator).
+  const std::map<std::string, std::string> &fileMetadata() const { return fileMetadata_; }
+
+  // The base set for offset z (N points, before wrapping into the domain
+  // for directions).
+  void baseSet(Point2 z, std::span<Point2> out) const;
+  // K = z.size() sets at once: set k uses z[k] and gamma[k g, (k + 1) g);
+  // out receives K N points in the domain.
+  void generate(std::span<const Point2> z, std::span<const double> gamma,
+                std::span<Point2> out) const;
+  // K sets for K offsets drawn from `seed`, all with the same gamma.
+  PointSet generateSets(std::size_t instances, std::uint64_t seed,
+                        std::span<const double> gamma) const;
+
+  struct Net;  // LibTorch internals
+  Net &net() { return *net_; }
+  const Net &net() const { return *net_; }
+
+ private:
+  NeuralGenerator(NeuralSettings settings, std::unique_ptr<Net> net);
+
+  NeuralSettings settings_;
+  std::unique_ptr<const TargetFamily> family_;
+  std::vector<Point2> sobol_;  // the first N Sobol points
+  std::unique_ptr<Net> net_;
+  std::map<std::string, std::string> fileMetadata_;
+};
+
+}  // namespace nuld

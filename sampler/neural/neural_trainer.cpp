@@ -1,0 +1,213 @@
+#include "sampler/neural/neural_trainer.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <sstream>
+#include <stdexcept>
+
+#include "sampler/loss/box_mass.h"
+#include "sampler/loss/soft_box_loss.h"
+#include "sampler/neural/fourier_mlp.h"
+#include "sampler/optimize/schedule.h"
+#include "sampler/sequences/rng.h"
+
+namespace nuld {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double secondsSince(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+// What one step's loss needs besides the points: the batch's targets, their
+// boxes and exact masses, the sigmoid scale.
+struct Batch {
+  std::vector<Point2> z;
+  std::vector<double> gamma;
+  std::vector<std::vector<Box2>> boxes;
+  std::vector<std::vector<double>> masses;
+  Domain domain = Domain::Square;
+  SoftBoxLossOptions options;
+  double *kernelSeconds = nullptr;
+};
+
+// The soft box loss as a LibTorch autograd function: forward runs the
+// sampler's kernel on each set and keeps its analytic gradient, backward
+// hands that gradient on. Points leave the network unwrapped; the loss sees
+// them wrapped into the domain, and the gradient is pulled back through the
+// wrap (a reflection in v past a pole).
+struct SoftBoxLossFunction : torch::autograd::Function<SoftBoxLossFunction> {
+  static torch::Tensor forward(torch::autograd::AutogradContext *ctx, torch::Tensor points,
+                               const Batch *batch) {
+    const auto start = Clock::now();
+    const torch::Tensor x = points.detach().to(torch::kFloat64).contiguous();
+    const std::int64_t B = x.size(0), n = x.size(1);
+    torch::Tensor grad = torch::zeros_like(x);
+    const auto *px = reinterpret_cast<const Point2 *>(x.data_ptr<double>());
+    auto *pg = reinterpret_cast<Point2 *>(grad.data_ptr<double>());
+    std::vector<Point2> wrapped(std::size_t(n), Point2{}), g(std::size_t(n), Point2{});
+    std::vector<double> sign(static_cast<std::size_t>(n));
+    double loss = 0;
+    for (std::int64_t b = 0; b < B; ++b) {
+      for (std::int64_t i = 0; i < n; ++i)
+        wrapped[i] = wrapToDomain(px[b * n + i], batch->domain, &sign[i]);
+      loss += softBoxLoss(wrapped, batch->boxes[b], batch->masses[b], batch->options, g);
+      for (std::int64_t i = 0; i < n; ++i)
+        pg[b * n + i] = {g[i].x / double(B), sign[i] * g[i].y / double(B)};
+    }
+    ctx->saved_data["grad"] = grad.to(points.scalar_type());
+    if (batch->kernelSeconds) *batch->kernelSeconds += secondsSince(start);
+    return torch::tensor(loss / double(B), torch::TensorOptions().dtype(points.scalar_type()));
+  }
+
+  static torch::autograd::variable_list backward(torch::autograd::AutogradContext *ctx,
+                                                 torch::autograd::variable_list gradOutput) {
+    return {ctx->saved_data["grad"].toTensor() * gradOutput[0], torch::Tensor()};
+  }
+};
+
+}  // namespace
+
+struct NeuralTrainer::State {
+  std::unique_ptr<torch::optim::Adam> adam;
+};
+
+std::string TrainerSettings::describe() const {
+  std::ostringstream s;
+  s.precision(17);
+  s << "steps=" << steps << " batch=" << batch << " boxes=" << boxes
+    << " box_kind=" << toString(boxKind) << " lr=" << lrStart << " lr_end=" << lrEnd
+    << " alpha=" << alphaStart << " alpha_end=" << alphaEnd << " ramp=" << rampFraction
+    << " cutoff=" << cutoff << " seed=" << seed;
+  return s.str();
+}
+
+void TrainerSettings::validate() const {
+  auto bad = [](const std::string &what) { throw std::invalid_argument("train: " + what); };
+  if (steps < 1) bad("steps must be positive");
+  if (batch < 1) bad("batch must be positive");
+  if (boxes < 1) bad("boxes must be positive");
+  if (!(lrStart > 0 && lrEnd > 0)) bad("learning rates must be positive");
+  if (!(alphaStart > 0 && alphaEnd > 0)) bad("alpha must be positive");
+  if (!(rampFraction >= 0 && rampFraction <= 1)) bad("ramp must be in [0, 1]");
+}
+
+NeuralTrainer::NeuralTrainer(NeuralGenerator &generator, TrainerSettings settings)
+    : gen_(generator), settings_(std::move(settings)), state_(std::make_unique<State>()) {
+  settings_.validate();
+  state_->adam = std::make_unique<torch::optim::Adam>(
+      gen_.net().mlp->parameters(),
+      torch::optim::AdamOptions(settings_.lrStart).betas({0.9, 0.999}).eps(1e-8).weight_decay(0));
+}
+
+NeuralTrainer::~NeuralTrainer() = default;
+
+double NeuralTrainer::stepLoss(int step, Mode mode) {
+  const TrainerSettings &s = settings_;
+  const std::size_t g = gen_.gammaDimension(), B = s.batch;
+  Batch batch;
+  batch.domain = gen_.domain();
+  batch.options = {linearRamp(s.alphaStart, s.alphaEnd, s.rampFraction, step, s.steps), s.cutoff};
+  batch.kernelSeconds = &lossSeconds_;
+
+  // The batch's offsets, parameters, boxes and masses: all keyed by (seed, step).
+  const auto massStart = Clock::now();
+  Rng rng(s.seed, hashCombine(0x7EA1, std::uint64_t(step)));
+  batch.z.resize(B);
+  batch.gamma.resize(B * g);
+  for (std::size_t b = 0; b < B; ++b) {
+    batch.z[b] = {rng.uniform(), rng.uniform()};
+    for (std::size_t k = 0; k < g; ++k) batch.gamma[b * g + k] = rng.uniform();
+  }
+  batch.boxes.assign(B, std::vector<Box2>(s.boxes));
+  batch.masses.assign(B, std::vector<double>(s.boxes));
+  for (std::size_t b = 0; b < B; ++b) {
+    Rng boxRng(s.seed, hash3(0xB0C5, std::uint64_t(step), b));
+    sampleBoxes(s.boxKind, boxRng, batch.boxes[b]);
+    const auto target = gen_.family().target(std::span(batch.gamma).subspan(b * g, g));
+    exactBoxMasses(*target, batch.boxes[b], batch.masses[b]);
+  }
+  lossSeconds_ += secondsSince(massStart);
+
+  const auto netStart = Clock::now();
+  const double kernelBefore = lossSeconds_;
+  auto &mlp = gen_.net().mlp;
+  torch::Tensor residual = mlp->forward(gen_.net().inputs(batch.z, batch.gamma, g));
+  residual = residual.reshape({std::int64_t(B), std::int64_t(gen_.settings().n), 2});
+  const torch::Tensor points = baseSets(gen_, batch.z).to(residual.scalar_type()) + residual;
+  torch::Tensor loss = SoftBoxLossFunction::apply(points, &batch);
+  if (mode != Mode::Evaluate) {
+    state_->adam->zero_grad();
+    loss.backward();
+  }
+  if (mode == Mode::Train) {
+    const double lr = logLinear(s.lrStart, s.lrEnd, step, s.steps);
+    for (auto &group : state_->adam->param_groups())
+      static_cast<torch::optim::AdamOptions &>(group.options()).lr(lr);
+    state_->adam->step();
+  }
+  // Network time is the step's time minus what the kernel took inside it.
+  mlpSeconds_ += secondsSince(netStart) - (lossSeconds_ - kernelBefore);
+  return loss.item<double>();
+}
+
+double NeuralTrainer::evaluate(int step) {
+  torch::NoGradGuard noGrad;
+  return stepLoss(step, Mode::Evaluate);
+}
+
+double NeuralTrainer::lossAndGradient(int step) { return stepLoss(step, Mode::Gradient); }
+
+void NeuralTrainer::run(int untilStep, const std::function<void(const TrainReport &)> &progress) {
+  const TrainerSettings &s = settings_;
+  untilStep = std::min(untilStep, s.steps);
+  for (; step_ < untilStep; ++step_) {
+    const double loss = stepLoss(step_, Mode::Train);
+    if (!std::isfinite(loss)) throw std::runtime_error("train: the loss became non-finite");
+    if (progress)
+      progress({step_ + 1, s.steps, loss, logLinear(s.lrStart, s.lrEnd, step_, s.steps),
+                linearRamp(s.alphaStart, s.alphaEnd, s.rampFraction, step_, s.steps), mlpSeconds_,
+                lossSeconds_});
+  }
+}
+
+void NeuralTrainer::saveCheckpoint(const std::string &path) const {
+  ModelFile file = gen_.toModelFile(
+      {{"train_step", std::to_string(step_)}, {"train_settings", settings_.describe()}});
+  // LibTorch serializes Adam's moments to bytes; they travel inside the model
+  // file (as a byte tensor packed into floats) so model and optimizer state
+  // are written in one atomic rename and can never disagree.
+  std::ostringstream bytes;
+  torch::save(*state_->adam, bytes);
+  std::string blob = bytes.str();
+  file.metadata["adam_state_bytes"] = std::to_string(blob.size());
+  blob.resize((blob.size() + 3) / 4 * 4, '\0');
+  ModelTensor t{"trainer.adam_state", {std::int64_t(blob.size() / 4)}, {}};
+  t.data.resize(blob.size() / 4);
+  std::memcpy(t.data.data(), blob.data(), blob.size());
+  file.tensors.push_back(std::move(t));
+  writeModelFile(path, file);
+}
+
+void NeuralTrainer::loadCheckpoint(const std::string &path) {
+  const ModelFile file = readModelFile(path);
+  const std::string &described = file.value("train_settings", path);
+  if (described != settings_.describe())
+    throw std::runtime_error(path + ": checkpoint was made with other training settings (" +
+                             described + "; now " + settings_.describe() + ")");
+  for (const char *key : {"n", "hidden", "family", "seed"})
+    if (file.value(key, path) != gen_.toModelFile().metadata.at(key))
+      throw std::runtime_error(path + ": checkpoint is for another network ('" + key + "' is " +
+                               file.value(key, path) + ")");
+  gen_.loadWeights(file, path);
+  const ModelTensor &t = file.tensor("trainer.adam_state", path);
+  std::string blob(t.data.size() * 4, '\0');
+  std::memcpy(blob.data(), t.data.data(), blob.size());
+  blob.resize(std::stoull(file.value("adam_state_bytes", path)));
+  std::istringstream in(blob);
+  torch::load(*state_->adam, in);
+  step_ = std::stoi(file.value("train_step", path));
+}
+
+}  // namespace nuld

@@ -1,0 +1,75 @@
+#pragma once
+// Training of the neural generator (supplement §1, DESIGN.md §3): each step
+// draws a batch of (z, gamma) pairs, generates their sets, and moves the
+// network's weights by LibTorch's Adam on the mean soft box discrepancy of the
+// sets against their targets. The loss enters LibTorch's autograd as a custom
+// function whose backward pass is the sampler core's analytic gradient
+// (softBoxLoss), so no autodiff runs over the N x M point-box pairs.
+//
+// Every random choice of step t is keyed by (seed, t), so a run resumed from a
+// checkpoint continues exactly as the uninterrupted run would.
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "sampler/loss/boxes.h"
+#include "sampler/neural/neural_generator.h"
+
+namespace nuld {
+
+struct TrainerSettings {
+  int steps = 2000;
+  std::size_t batch = 16;
+  std::size_t boxes = 8192;  // per set and step
+  BoxKind boxKind = BoxKind::MultipleCorner;
+  double lrStart = 5e-4, lrEnd = 5e-7;  // log-linear decay
+  double alphaStart = 20, alphaEnd = 2000, rampFraction = 0.5;
+  double cutoff = 36;
+  std::uint64_t seed = 0;
+
+  std::string describe() const;  // "key=value ..."; checkpoints must match it
+  void validate() const;         // throws std::invalid_argument naming the setting
+};
+
+struct TrainReport {
+  int step = 0, steps = 0;  // step just completed (1-based)
+  double loss = 0;          // mean over the batch
+  double lr = 0, alpha = 0;
+  double mlpSeconds = 0,
+         lossSeconds = 0;  // cumulative: network (forward, backward, Adam) vs loss kernel
+};
+
+class NeuralTrainer {
+ public:
+  NeuralTrainer(NeuralGenerator &generator, TrainerSettings settings);
+  ~NeuralTrainer();
+
+  const TrainerSettings &settings() const { return settings_; }
+  int step() const { return step_; }
+  // Runs steps [step(), untilStep); `progress` is called after each.
+  void run(int untilStep, const std::function<void(const TrainReport &)> &progress = {});
+  // Step `step`'s loss (its batch, boxes and alpha) without changing the
+  // weights; lossAndGradient also leaves dL/dw in the parameters' grad().
+  double evaluate(int step);
+  double lossAndGradient(int step);
+
+  // The model file plus the optimizer state next to it (PATH.adam); atomic.
+  void saveCheckpoint(const std::string &path) const;
+  // Throws naming the file when it is unreadable or made with other settings.
+  void loadCheckpoint(const std::string &path);
+
+ private:
+  struct State;
+  enum class Mode { Evaluate, Gradient, Train };
+  double stepLoss(int step, Mode mode);
+
+  NeuralGenerator &gen_;
+  TrainerSettings settings_;
+  std::unique_ptr<State> state_;
+  int step_ = 0;
+  double mlpSeconds_ = 0, lossSeconds_ = 0;
+};
+
+}  // namespace nuld

@@ -1,0 +1,188 @@
+// The generator without training: the untrained net is its base set, wrapping
+// into the domain, target families, save/load, and clear errors.
+
+#include "sampler/neural/neural_generator.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "sampler/sequences/sobol.h"
+#include "tests/common/temp_dir.h"
+#include "tests/neural/test_families.h"
+
+namespace nuld {
+namespace {
+
+NeuralSettings tiny(const std::string &family, std::size_t n = 37, int hidden = 16) {
+  NeuralSettings s;
+  s.n = n;
+  s.hidden = hidden;
+  s.family = family;
+  s.seed = 5;
+  return s;
+}
+
+TEST(NeuralGenerator, UntrainedSquareOutputIsTheRotatedSobolSetExactly) {
+  // N = 37 (not a power of two) and a family with gamma.
+  const NeuralGenerator gen(tiny("family:gaussian"));
+  const std::vector<Point2> z = {{0.3, 0.9}, {0.0, 0.0}, {0.999, 0.5}};
+  const std::vector<double> gamma = {0.1, 0.2, 0.3, 0.5, 0.5, 0.5, 1, 0, 1};
+  std::vector<Point2> out(3 * 37);
+  gen.generate(z, gamma, out);
+  for (std::size_t k = 0; k < 3; ++k)
+    for (std::size_t i = 0; i < 37; ++i) {
+      double x = sobolSample(i, 0) + z[k].x, y = sobolSample(i, 1) + z[k].y;
+      x -= std::floor(x);
+      y -= std::floor(y);
+      EXPECT_EQ(out[k * 37 + i].x, x);
+      EXPECT_EQ(out[k * 37 + i].y, y);
+    }
+}
+
+TEST(NeuralGenerator, UntrainedDirectionsAreTheUnwrappedBaseMappedIntoTheDomain) {
+  test::registerTestSphereFamily();
+  const NeuralGenerator gen(tiny("family:test-sphere", 1));  // N = 1
+  EXPECT_EQ(gen.domain(), Domain::Sphere);
+  const NeuralGenerator sphere(tiny("family:test-sphere", 64));
+  const Point2 z{0.75, 0.6};
+  std::vector<Point2> base(64), out(64);
+  sphere.baseSet(z, base);
+  sphere.generate(std::vector<Point2>{z}, {}, out);
+  bool crossed = false;
+  for (std::size_t i = 0; i < 64; ++i) {
+    // Not wrapped for directions (supplement §1)...
+    EXPECT_EQ(base[i].x, sobolSample(i, 0) + z.x);
+    EXPECT_EQ(base[i].y, sobolSample(i, 1) + z.y);
+    crossed |= base[i].y > 1;
+    // ...until the output is mapped onto the sphere.
+    EXPECT_EQ(out[i], wrapToDomain(base[i], Domain::Sphere));
+  }
+  EXPECT_TRUE(crossed);
+}
+
+TEST(WrapToDomain, SquareClamps) {
+  double s = 0;
+  Point2 p = wrapToDomain({1.25, -0.25}, Domain::Square, &s);
+  EXPECT_LT(p.x, 1);
+  EXPECT_GT(p.x, 0.999999);
+  EXPECT_EQ(p.y, 0);
+  EXPECT_EQ(s, 1);
+  p = wrapToDomain({0.3, 0.7}, Domain::Square);
+  EXPECT_EQ(p, (Point2{0.3, 0.7}));
+}
+
+TEST(WrapToDomain, SpherePassesThroughThePoles) {
+  for (Domain d : {Domain::Sphere, Domain::Hemisphere}) {
+    double s = 0;
+    // Past the south pole: the opposite meridian, heading north.
+    Point2 p = wrapToDomain({0.1, 1.3}, d, &s);
+    EXPECT_DOUBLE_EQ(p.x, 0.6);
+    EXPECT_DOUBLE_EQ(p.y, 0.7);
+    EXPECT_EQ(s, -1);
+    // Past the north pole.
+    p = wrapToDomain({0.8, -0.2}, d, &s);
+    EXPECT_DOUBLE_EQ(p.x, 0.3);
+    EXPECT_DOUBLE_EQ(p.y, 0.2);
+    EXPECT_EQ(s, -1);
+    // Two crossings: back on the own meridian.
+    p = wrapToDomain({0.4, 2.25}, d, &s);
+    EXPECT_DOUBLE_EQ(p.x, 0.4);
+    EXPECT_DOUBLE_EQ(p.y, 0.25);
+    EXPECT_EQ(s, 1);
+    // Exactly at a pole stays inside [0, 1).
+    p = wrapToDomain({0.2, 1.0}, d);
+    EXPECT_LT(p.y, 1);
+    for (double v = -3; v <= 3; v += 0.01) {
+      p = wrapToDomain({7.3, v}, d);
+      EXPECT_TRUE(p.x >= 0 && p.x < 1 && p.y >= 0 && p.y < 1) << v;
+    }
+  }
+}
+
+TEST(TargetFamily, BuildsMembersAndRejectsBadGamma) {
+  const auto gauss = makeTargetFamily("family:gaussian:0.1,0.2");
+  EXPECT_EQ(gauss->gammaDimension(), 3u);
+  const std::vector<double> g = {0.25, 0.75, 1.0};
+  EXPECT_EQ(gauss->target(g)->spec(), makeTargetFamily(gauss->spec())->target(g)->spec());
+  EXPECT_NE(gauss->target(g)->spec().find("0.2"), std::string::npos);
+  EXPECT_THROW(gauss->target(std::vector<double>{0.5, 0.5}), std::invalid_argument);
+  EXPECT_THROW(gauss->target(std::vector<double>{0.5, 0.5, 1.5}), std::invalid_argument);
+  EXPECT_THROW(gauss->target(std::vector<double>{0.5, 0.5, std::nan("")}), std::invalid_argument);
+  const auto bil = makeTargetFamily("family:bilinear");
+  EXPECT_EQ(bil->gammaDimension(), 4u);
+  EXPECT_NEAR(bil->target(std::vector<double>{0, 0, 0, 0})->mass({{0, 0}, {1, 1}}), 1, 1e-12);
+  const auto fixed = makeTargetFamily("quarterdisc");
+  EXPECT_EQ(fixed->gammaDimension(), 0u);
+  EXPECT_EQ(fixed->target({})->spec(), "quarterdisc");
+  EXPECT_THROW(makeTargetFamily("family:nosuch"), std::invalid_argument);
+  EXPECT_THROW(makeTargetFamily("family:gaussian:0.3,0.1"), std::invalid_argument);
+  EXPECT_THROW(makeTargetFamily("family:bilinear:1"), std::invalid_argument);
+}
+
+TEST(NeuralGenerator, SaveLoadRoundTripsAndRebuildsTheSameNet) {
+  test::TempDir dir;
+  const NeuralGenerator gen(tiny("family:gaussian", 16, 24));
+  const std::string path = (dir / "g.nuldnet").string();
+  gen.save(path);
+  const NeuralGenerator back = NeuralGenerator::load(path);
+  EXPECT_EQ(back.settings().n, 16u);
+  EXPECT_EQ(back.settings().hidden, 24);
+  EXPECT_EQ(back.settings().family, gen.settings().family);
+  EXPECT_EQ(back.parameterCount(), gen.parameterCount());
+  const std::vector<double> gamma = {0.5, 0.5, 0.5};
+  const PointSet a = gen.generateSets(1, 9, gamma), b = back.generateSets(1, 9, gamma);
+  EXPECT_EQ(a.points, b.points);
+}
+
+TEST(NeuralGenerator, ForeignOrInconsistentModelFilesAreClearErrors) {
+  test::TempDir dir;
+  auto expectError = [](const std::string &path, const std::string &fragment) {
+    try {
+      NeuralGenerator::load(path);
+      FAIL() << path;
+    } catch (const std::runtime_error &e) {
+      EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    }
+  };
+  ModelFile other;
+  other.metadata["format"] = "something-else";
+  writeModelFile((dir / "other").string(), other);
+  expectError((dir / "other").string(), "not a neural generator");
+
+  NeuralGenerator gen(tiny("quarterdisc", 8, 8));
+  ModelFile file = gen.toModelFile();
+  file.metadata["hidden"] = "9";  // the weights no longer fit the described net
+  writeModelFile((dir / "shape").string(), file);
+  expectError((dir / "shape").string(), "wrong shape");
+  file = gen.toModelFile();
+  file.metadata["n"] = "eight";
+  writeModelFile((dir / "n").string(), file);
+  expectError((dir / "n").string(), "'n'");
+  file = gen.toModelFile();
+  file.metadata["family"] = "family:nosuch";
+  writeModelFile((dir / "family").string(), file);
+  expectError((dir / "family").string(), "nosuch");
+  file = gen.toModelFile();
+  file.metadata.erase("sigma");
+  writeModelFile((dir / "sigma").string(), file);
+  expectError((dir / "sigma").string(), "sigma");
+}
+
+TEST(NeuralGenerator, RejectsBadSettingsAndGamma) {
+  EXPECT_THROW(NeuralGenerator(tiny("uniform", 0)), std::invalid_argument);
+  NeuralSettings s = tiny("uniform");
+  s.encodingDims = 7;
+  EXPECT_THROW(NeuralGenerator{s}, std::invalid_argument);
+  const NeuralGenerator gen(tiny("family:gaussian", 4, 4));
+  std::vector<Point2> out(4);
+  EXPECT_THROW(gen.generate(std::vector<Point2>{{0.5, 0.5}}, std::vector<double>{0.5}, out),
+               std::invalid_argument);
+  EXPECT_THROW(gen.generate(std::vector<Point2>{{0.5, 0.5}}, std::vector<double>{0.5, 2, 0.5}, out),
+               std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace nuld
