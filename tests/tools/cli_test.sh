@@ -97,5 +97,19 @@ JSON
 fails_with "render unreadable map" "sky.exr" "$nuld" render "$dir/scene2.json" --assets "$dir" -q -o "$dir/x.exr"
 fails_with "compare size mismatch" "differ in size" "$nuld" compare "$dir/c.exr" "$dir/a.exr"
 
+# Neural generator: train a tiny model, stop and resume, generate from it.
+ok "train tiny" "$nuld" train --target family:gaussian --n 8 --hidden 8 --steps 6 --batch 2 --boxes 64 --stop-after 3 -q -o "$dir/g.nuldnet"
+[[ -f "$dir/g.nuldnet.ckpt" && ! -f "$dir/g.nuldnet" ]] || { echo "FAIL: train --stop-after leaves a checkpoint only"; failures=$((failures + 1)); }
+ok "train resume" "$nuld" train --target family:gaussian --n 8 --hidden 8 --steps 6 --batch 2 --boxes 64 --resume -q -o "$dir/g.nuldnet"
+grep -q '^mlp_seconds' "$dir/out" || { echo "FAIL: train prints the time split"; failures=$((failures + 1)); }
+ok "generate --model" "$nuld" generate --model "$dir/g.nuldnet" --gamma 0.5,0.5,0.2 --instances 3 -o "$dir/ng.txt"
+ok "eval neural set" "$nuld" eval "$dir/ng.txt" --metric l2
+fails_with "generate --model without gamma" "needs 3 --gamma values" "$nuld" generate --model "$dir/g.nuldnet" -o "$dir/x.txt"
+fails_with "generate --model gamma range" "must lie in \[0, 1\]" "$nuld" generate --model "$dir/g.nuldnet" --gamma 0.5,0.5,2 -o "$dir/x.txt"
+head -c 100 "$dir/g.nuldnet" >"$dir/cut.nuldnet"
+fails_with "generate truncated model" "cut.nuldnet" "$nuld" generate --model "$dir/cut.nuldnet" -o "$dir/x.txt"
+fails_with "generate foreign model" "not a nuld model file" "$nuld" generate --model "$dir/s.txt" -o "$dir/x.txt"
+fails_with "train unknown family" "unknown family 'blob'" "$nuld" train --target family:blob --n 8 --steps 2 -q -o "$dir/x.nuldnet"
+
 echo "$((failures == 0 ? 1 : 0)) passed, $failures failed"
 exit $((failures > 0))

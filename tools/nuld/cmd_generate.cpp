@@ -1,16 +1,47 @@
 #include <iostream>
 
 #include "sampler/io/pointset_io.h"
+#include "sampler/neural/neural_generator.h"
 #include "sampler/sequences/sequence.h"
 #include "sampler/targets/target_spec.h"
 #include "tools/nuld/cli_util.h"
 #include "tools/nuld/commands.h"
 
 namespace nuld::cli {
+namespace {
+
+template <class Options>
+int generateFromModel(const Options &o) {
+  if (!o.target.empty())
+    throw std::invalid_argument(
+        "generate: --model makes sets for the model's own target; "
+        "drop --target");
+  const NeuralGenerator gen = NeuralGenerator::load(o.model);
+  if (o.n != 0 && o.n != gen.settings().n)
+    throw std::invalid_argument("generate: --n " + std::to_string(o.n) + " but " + o.model +
+                                " makes sets of " + std::to_string(gen.settings().n));
+  std::vector<double> gamma;
+  if (!o.gamma.empty())
+    gamma = parseNumberList("--gamma " + o.gamma, o.gamma, 0, 64, "numbers in [0, 1]");
+  if (gamma.size() != gen.gammaDimension())
+    throw std::invalid_argument("generate: " + o.model + " (" + gen.family().spec() + ") needs " +
+                                std::to_string(gen.gammaDimension()) + " --gamma values, got " +
+                                std::to_string(gamma.size()));
+  PointSet set = gen.generateSets(o.instances, o.seed, gamma);
+  set.metadata["generator"] = "neural:" + o.model;
+  set.metadata["target"] = gen.family().target(gamma)->spec();
+  set.metadata["domain"] = toString(gen.domain());
+  if (!o.gamma.empty()) set.metadata["gamma"] = o.gamma;
+  writePointSet(o.output, set);
+  std::cerr << "wrote " << set.instances() << " x " << set.n << " points to " << o.output << "\n";
+  return 0;
+}
+
+}  // namespace
 
 Runner addGenerate(CLI::App &app) {
   struct Options {
-    std::string sequence = "sobol", scramble = "owen", target, output;
+    std::string sequence = "sobol", scramble = "owen", target, output, model, gamma;
     std::size_t n = 0, instances = 1;
     std::uint64_t seed = 0;
   };
@@ -21,9 +52,12 @@ Runner addGenerate(CLI::App &app) {
   app.add_option("--scramble", o->scramble, "owen, shift (digital), cp (Cranley-Patterson) or none")
       ->check(CLI::IsMember({"owen", "shift", "cp", "none"}))
       ->capture_default_str();
-  app.add_option("--n", o->n, "points per set (any N >= 1)")
-      ->required()
+  app.add_option("--n", o->n, "points per set (any N >= 1; required unless --model)")
       ->check(CLI::PositiveNumber);
+  app.add_option("--model", o->model,
+                 "a trained neural generator: K sets for K random offsets z (from --seed)");
+  app.add_option("--gamma", o->gamma,
+                 "with --model: the family parameter as comma-separated numbers in [0, 1]");
   app.add_option("--seed", o->seed, "randomization seed")->capture_default_str();
   app.add_option("--instances", o->instances, "number of independently randomized sets")
       ->check(CLI::PositiveNumber)
@@ -32,6 +66,8 @@ Runner addGenerate(CLI::App &app) {
   app.add_option("-o,--output", o->output, "output file (.ptsb: binary; otherwise text)")
       ->required();
   return [o] {
+    if (!o->model.empty()) return generateFromModel(*o);
+    if (o->n == 0) throw std::invalid_argument("generate: --n is required (or --model)");
     SequenceOptions so{parseSequenceKind(o->sequence), parseScramble(o->scramble), o->seed};
     if (so.kind != SequenceKind::Random && so.scramble == Scramble::None && o->instances > 1)
       std::cerr << "nuld: warning: unscrambled " << o->sequence << " gives identical instances\n";

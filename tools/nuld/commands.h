@@ -14,6 +14,7 @@ Runner addEval(CLI::App &app);
 Runner addPlot(CLI::App &app);
 Runner addSpectrum(CLI::App &app);
 Runner addOptimize(CLI::App &app);
+Runner addTrain(CLI::App &app);
 Runner addMap(CLI::App &app);
 Runner addRender(CLI::App &app);
 Runner addCompare(CLI::App &app);

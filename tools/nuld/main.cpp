@@ -25,6 +25,8 @@ int main(int argc, char **argv) {
   add("eval", "Print discrepancies of a point-set file as 'NAME VALUE' lines", nuld::cli::addEval);
   add("optimize", "Optimize point sets for a target by gradient descent (Algorithm 1)",
       nuld::cli::addOptimize);
+  add("train", "Train a neural generator for a target or target family (LibTorch)",
+      nuld::cli::addTrain);
   add("plot", "Draw a point set (over its target density) to a PNG", nuld::cli::addPlot);
   add("spectrum", "Power spectrum of a point set: PNG image and radial-average CSV",
       nuld::cli::addSpectrum);
