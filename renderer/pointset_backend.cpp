@@ -1,5 +1,7 @@
 #include "renderer/pointset_backend.h"
 
+#include "renderer/neural_backend.h"
+
 #include <filesystem>
 #include <stdexcept>
 
@@ -90,9 +92,12 @@ std::unique_ptr<SamplerBackend> makeBackend(const std::string &spec, std::uint64
   for (const std::string prefix : {"optimized:", "points:"})
     if (spec.rfind(prefix, 0) == 0 && spec.size() > prefix.size())
       return PointSetBackend::load(spec, spec.substr(prefix.size()), seed);
+  constexpr std::string_view kNeural = "neural:";
+  if (spec.rfind(kNeural, 0) == 0 && spec.size() > kNeural.size())
+    return std::make_unique<NeuralBackend>(spec, spec.substr(kNeural.size()), seed);
   throw std::invalid_argument("unknown backend '" + spec +
-                              "': expected independent, sobol, halton, optimized:FILE or "
-                              "points:FILE");
+                              "': expected independent, sobol, halton, optimized:FILE, "
+                              "points:FILE or neural:MODEL");
 }
 
 }  // namespace nuld

@@ -62,8 +62,9 @@ class SamplerBackend {
 // independent | sobol | halton; null for any other name.
 std::unique_ptr<SamplerBackend> makeClassicBackend(const std::string &name, std::uint64_t seed);
 
-// A classic backend, or `optimized:FILE` / `points:FILE` (a point-set file,
-// see PointSetBackend). Throws std::invalid_argument listing the choices.
+// A classic backend, `optimized:FILE` / `points:FILE` (a point-set file, see
+// PointSetBackend) or `neural:MODEL` (see NeuralBackend). Throws
+// std::invalid_argument listing the choices.
 std::unique_ptr<SamplerBackend> makeBackend(const std::string &spec, std::uint64_t seed);
 
 }  // namespace nuld

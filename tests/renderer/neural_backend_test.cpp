@@ -1,0 +1,95 @@
+// The neural:MODEL backend: which pairs it serves, the bank of sets, and the
+// reasons it refuses a model.
+
+#include "renderer/neural_backend.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "renderer/environment_light.h"
+#include "renderer/render.h"
+#include "sampler/io/image_io.h"
+#include "tests/common/temp_dir.h"
+#include "tests/renderer/test_scenes.h"
+
+namespace nuld {
+namespace {
+
+std::string saveModel(const test::TempDir &dir, const std::string &name, const std::string &family,
+                      std::size_t n) {
+  NeuralSettings s;
+  s.n = n;
+  s.hidden = 8;
+  s.family = family;
+  const std::string path = (dir / name).string();
+  NeuralGenerator(s).save(path);
+  return path;
+}
+
+std::string errorOf(const std::function<void()> &f) {
+  try {
+    f();
+  } catch (const std::invalid_argument &e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(NeuralBackend, EnvironmentModelServesTheFirstLightPairFromItsBank) {
+  const test::TempDir dir;
+  const std::string mapPath = (dir / "map.exr").string();
+  Image map = test::constantMap(1.0f, 16, 8);
+  map.at(3, 2, 0) = 50.0f;
+  writeImage(mapPath, map);
+  const EnvironmentLight light(readImage(mapPath), 1.0, 0.0, mapPath);
+  const EnvironmentLight other(test::constantMap(1.0f), 1.0, 0.0, "other.exr");
+  const std::string model = saveModel(dir, "env.nuldnet", "envmap:" + mapPath, 8);
+
+  NeuralBackend backend("neural:" + model, model, 4);
+  backend.prepare(8, light.target());
+  EXPECT_GT(backend.bankSets(), 1000u);
+  std::vector<Point2> a(8), b(8);
+  ASSERT_TRUE(backend.distributed(*light.target(), 5, SamplePairs::light(0), a));
+  ASSERT_TRUE(backend.distributed(*light.target(), 6, SamplePairs::light(0), b));
+  EXPECT_NE(a, b);  // pixels draw different offsets
+  for (const Point2 &p : a) EXPECT_TRUE(p.x >= 0 && p.x < 1 && p.y >= 0 && p.y < 1);
+  EXPECT_FALSE(backend.distributed(*light.target(), 5, SamplePairs::light(1), a));
+  EXPECT_FALSE(backend.distributed(*other.target(), 5, SamplePairs::light(0), a));
+
+  EXPECT_NE(errorOf([&] { backend.prepare(16, light.target()); }).find("--spp 8"),
+            std::string::npos);
+  EXPECT_NE(errorOf([&] { backend.prepare(8, nullptr); }).find("no environment map"),
+            std::string::npos);
+  EXPECT_NE(errorOf([&] { backend.prepare(8, other.target()); }).find("other.exr"),
+            std::string::npos);
+}
+
+TEST(NeuralBackend, UniformModelIsShiftedPerPixelAndRendersFiniteImages) {
+  const test::TempDir dir;
+  const std::string model = saveModel(dir, "u.nuldnet", "uniform", 4);
+  auto backend = makeBackend("neural:" + model, 1);
+  backend->prepare(4, nullptr);
+  std::vector<Point2> a(4), b(4);
+  backend->primary(3, SamplePairs::camera, a);
+  backend->primary(3, SamplePairs::bsdf(0), b);
+  EXPECT_NE(a, b);
+  const Scene scene =
+      test::sceneWith({test::unitSphere()}, {std::make_shared<Lambertian>(Rgb::grey(0.5))},
+                      test::constantMap(1.0f), {{0, 0, 4}, {0, 0, 0}, {0, 1, 0}, 40, false});
+  RenderStats stats;
+  const Image image = render(scene, {8, 8, 4, IntegratorKind::Path, 4}, *backend, &stats);
+  for (float v : image.pixels) EXPECT_TRUE(std::isfinite(v));
+  EXPECT_EQ(stats.rejectedSamples, 0u);
+}
+
+TEST(NeuralBackend, RefusesModelsThatNeedGammaAndUnreadableFiles) {
+  const test::TempDir dir;
+  const std::string model = saveModel(dir, "g.nuldnet", "family:gaussian", 4);
+  EXPECT_NE(errorOf([&] { makeBackend("neural:" + model, 0); }).find("gamma"), std::string::npos);
+  EXPECT_THROW(makeBackend("neural:" + (dir / "absent").string(), 0), std::runtime_error);
+  EXPECT_NE(errorOf([&] { makeBackend("neural", 0); }).find("neural:MODEL"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace nuld
