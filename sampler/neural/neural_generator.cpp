@@ -131,6 +131,23 @@ Point2 wrapToDomain(Point2 p, Domain domain, double *vSign) {
   return p;
 }
 
+Point2 NeuralGenerator::place(Point2 raw, const Target &target, Jacobian2 *jacobian) const {
+  if (settings_.mapped) {
+    // u wraps around the square like the Cranley-Patterson base set itself.
+    auto frac = [](double t) {
+      t -= std::floor(t);
+      return t < 1 ? t : 0.0;
+    };
+    const Inversion inv = target.invert({frac(raw.x), frac(raw.y)});
+    if (jacobian) *jacobian = inv.jacobian;
+    return inv.x;
+  }
+  double sign = 1;
+  const Point2 p = wrapToDomain(raw, domain(), &sign);
+  if (jacobian) *jacobian = Jacobian2{{{1, 0}, {0, sign}}};
+  return p;
+}
+
 NeuralGenerator::NeuralGenerator(const NeuralSettings &settings)
     : NeuralGenerator(settings, nullptr) {}
 
@@ -139,6 +156,9 @@ NeuralGenerator::NeuralGenerator(NeuralSettings settings, std::unique_ptr<Net> n
   settings_.validate();
   family_ = makeTargetFamily(settings_.family);
   settings_.family = family_->spec();
+  if (settings_.mapped && gammaDimension() == 0 && !family_->target({})->hasInverse())
+    throw std::invalid_argument("neural: target '" + settings_.family +
+                                "' has no inverse CDF; train it unmapped");
   sobol_.resize(settings_.n);
   for (std::size_t i = 0; i < settings_.n; ++i) sobol_[i] = {sobolSample(i, 0), sobolSample(i, 1)};
   net_ = net ? std::move(net) : makeNet(settings_, family_->gammaDimension());
@@ -178,10 +198,14 @@ void NeuralGenerator::generate(std::span<const Point2> z, std::span<const double
                                      .contiguous();
   const torch::Tensor points = (baseSets(*this, z) + residual).contiguous();
   const auto *p = reinterpret_cast<const Point2 *>(points.data_ptr<double>());
-  for (std::size_t i = 0; i < K * n; ++i) {
-    if (!isFinite(p[i]))
-      throw std::runtime_error("neural: the network produced a non-finite point");
-    out[i] = wrapToDomain(p[i], domain());
+  std::shared_ptr<const Target> target;
+  for (std::size_t k = 0; k < K; ++k) {
+    if (!target || g > 0) target = family_->target(gamma.subspan(k * g, g));
+    for (std::size_t i = k * n; i < (k + 1) * n; ++i) {
+      if (!isFinite(p[i]))
+        throw std::runtime_error("neural: the network produced a non-finite point");
+      out[i] = place(p[i], *target);
+    }
   }
 }
 
@@ -215,6 +239,7 @@ ModelFile NeuralGenerator::toModelFile(const std::map<std::string, std::string> 
   file.metadata["encoding_dims"] = std::to_string(settings_.encodingDims);
   file.metadata["seed"] = std::to_string(settings_.seed);
   file.metadata["base"] = "sobol rotated by z";
+  file.metadata["mapping"] = settings_.mapped ? "mapped" : "unmapped";
   auto add = [&](const std::string &name, const torch::Tensor &t) {
     const torch::Tensor f = t.detach().to(torch::kFloat32).contiguous();
     file.tensors.push_back(
@@ -275,6 +300,11 @@ NeuralGenerator NeuralGenerator::load(const std::string &path) {
     throw std::runtime_error(path + ": model metadata 'seed' is not an unsigned integer");
   }
   s.family = file.value("family", path);
+  const std::string &mapping = file.value("mapping", path);
+  if (mapping != "mapped" && mapping != "unmapped")
+    throw std::runtime_error(path + ": model metadata 'mapping' is '" + mapping +
+                             "', expected mapped or unmapped");
+  s.mapped = mapping == "mapped";
   try {
     NeuralGenerator gen(std::move(s));
     gen.loadWeights(file, path);

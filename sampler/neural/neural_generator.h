@@ -29,6 +29,12 @@ struct NeuralSettings {
   int encodingDims = 32;   // [cos 2 pi B v, sin 2 pi B v]: B has encodingDims / 2 rows
   std::string family;      // a TargetFamily spec
   std::uint64_t seed = 0;  // draws B and the initial weights
+  // Mapped: the net's points are u in the unit square (wrapped toroidally)
+  // and the set is T(u), T the target's inverse CDF, so the untrained net
+  // gives inverse-CDF Sobol and training learns corrections (the direct
+  // optimizer's density mapping, DESIGN.md §3). Unmapped: the points are the
+  // set itself (see wrapToDomain).
+  bool mapped = true;
 
   // Throws std::invalid_argument naming the bad setting.
   void validate() const;
@@ -75,6 +81,11 @@ class NeuralGenerator {
   // The base set for offset z (N points, before wrapping into the domain
   // for directions).
   void baseSet(Point2 z, std::span<Point2> out) const;
+  // Where a raw network point lands: T(u) (mapped) or wrapToDomain (not),
+  // with d(out)/d(raw) for the loss gradient. `target` is the family's
+  // member for the set's gamma.
+  Point2 place(Point2 raw, const Target &target, Jacobian2 *jacobian = nullptr) const;
+
   // K = z.size() sets at once: set k uses z[k] and gamma[k g, (k + 1) g);
   // out receives K N points in the domain.
   void generate(std::span<const Point2> z, std::span<const double> gamma,

@@ -27,7 +27,8 @@ struct Batch {
   std::vector<double> gamma;
   std::vector<std::vector<Box2>> boxes;
   std::vector<std::vector<double>> masses;
-  Domain domain = Domain::Square;
+  std::vector<std::shared_ptr<const Target>> targets;
+  const NeuralGenerator *generator = nullptr;
   SoftBoxLossOptions options;
   double *kernelSeconds = nullptr;
 };
@@ -35,8 +36,9 @@ struct Batch {
 // The soft box loss as a LibTorch autograd function: forward runs the
 // sampler's kernel on each set and keeps its analytic gradient, backward
 // hands that gradient on. Points leave the network unwrapped; the loss sees
-// them wrapped into the domain, and the gradient is pulled back through the
-// wrap (a reflection in v past a pole).
+// them placed into the domain (NeuralGenerator::place: the inverse CDF when
+// mapped, a clamp or a pole reflection when not), and the gradient is pulled
+// back through that map's Jacobian.
 struct SoftBoxLossFunction : torch::autograd::Function<SoftBoxLossFunction> {
   static torch::Tensor forward(torch::autograd::AutogradContext *ctx, torch::Tensor points,
                                const Batch *batch) {
@@ -46,15 +48,17 @@ struct SoftBoxLossFunction : torch::autograd::Function<SoftBoxLossFunction> {
     torch::Tensor grad = torch::zeros_like(x);
     const auto *px = reinterpret_cast<const Point2 *>(x.data_ptr<double>());
     auto *pg = reinterpret_cast<Point2 *>(grad.data_ptr<double>());
-    std::vector<Point2> wrapped(std::size_t(n), Point2{}), g(std::size_t(n), Point2{});
-    std::vector<double> sign(static_cast<std::size_t>(n));
+    std::vector<Point2> placed(std::size_t(n), Point2{}), g(std::size_t(n), Point2{});
+    std::vector<Jacobian2> jac(static_cast<std::size_t>(n));
     double loss = 0;
     for (std::int64_t b = 0; b < B; ++b) {
       for (std::int64_t i = 0; i < n; ++i)
-        wrapped[i] = wrapToDomain(px[b * n + i], batch->domain, &sign[i]);
-      loss += softBoxLoss(wrapped, batch->boxes[b], batch->masses[b], batch->options, g);
-      for (std::int64_t i = 0; i < n; ++i)
-        pg[b * n + i] = {g[i].x / double(B), sign[i] * g[i].y / double(B)};
+        placed[i] = batch->generator->place(px[b * n + i], *batch->targets[b], &jac[i]);
+      loss += softBoxLoss(placed, batch->boxes[b], batch->masses[b], batch->options, g);
+      for (std::int64_t i = 0; i < n; ++i) {
+        const Point2 gi = jac[i].transposeTimes(g[i]);
+        pg[b * n + i] = {gi.x / double(B), gi.y / double(B)};
+      }
     }
     ctx->saved_data["grad"] = grad.to(points.scalar_type());
     if (batch->kernelSeconds) *batch->kernelSeconds += secondsSince(start);
@@ -107,7 +111,8 @@ double NeuralTrainer::stepLoss(int step, Mode mode) {
   const TrainerSettings &s = settings_;
   const std::size_t g = gen_.gammaDimension(), B = s.batch;
   Batch batch;
-  batch.domain = gen_.domain();
+  batch.generator = &gen_;
+  batch.targets.resize(B);
   batch.options = {linearRamp(s.alphaStart, s.alphaEnd, s.rampFraction, step, s.steps), s.cutoff};
   batch.kernelSeconds = &lossSeconds_;
 
@@ -125,8 +130,8 @@ double NeuralTrainer::stepLoss(int step, Mode mode) {
   for (std::size_t b = 0; b < B; ++b) {
     Rng boxRng(s.seed, hash3(0xB0C5, std::uint64_t(step), b));
     sampleBoxes(s.boxKind, boxRng, batch.boxes[b]);
-    const auto target = gen_.family().target(std::span(batch.gamma).subspan(b * g, g));
-    exactBoxMasses(*target, batch.boxes[b], batch.masses[b]);
+    batch.targets[b] = gen_.family().target(std::span(batch.gamma).subspan(b * g, g));
+    exactBoxMasses(*batch.targets[b], batch.boxes[b], batch.masses[b]);
   }
   lossSeconds_ += secondsSince(massStart);
 
@@ -196,7 +201,7 @@ void NeuralTrainer::loadCheckpoint(const std::string &path) {
   if (described != settings_.describe())
     throw std::runtime_error(path + ": checkpoint was made with other training settings (" +
                              described + "; now " + settings_.describe() + ")");
-  for (const char *key : {"n", "hidden", "family", "seed"})
+  for (const char *key : {"n", "hidden", "family", "seed", "mapping"})
     if (file.value(key, path) != gen_.toModelFile().metadata.at(key))
       throw std::runtime_error(path + ": checkpoint is for another network ('" + key + "' is " +
                                file.value(key, path) + ")");

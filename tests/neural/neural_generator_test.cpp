@@ -15,8 +15,10 @@
 namespace nuld {
 namespace {
 
-NeuralSettings tiny(const std::string &family, std::size_t n = 37, int hidden = 16) {
+NeuralSettings tiny(const std::string &family, std::size_t n = 37, int hidden = 16,
+                    bool mapped = true) {
   NeuralSettings s;
+  s.mapped = mapped;
   s.n = n;
   s.hidden = hidden;
   s.family = family;
@@ -26,7 +28,7 @@ NeuralSettings tiny(const std::string &family, std::size_t n = 37, int hidden = 
 
 TEST(NeuralGenerator, UntrainedSquareOutputIsTheRotatedSobolSetExactly) {
   // N = 37 (not a power of two) and a family with gamma.
-  const NeuralGenerator gen(tiny("family:gaussian"));
+  const NeuralGenerator gen(tiny("family:gaussian", 37, 16, false));
   const std::vector<Point2> z = {{0.3, 0.9}, {0.0, 0.0}, {0.999, 0.5}};
   const std::vector<double> gamma = {0.1, 0.2, 0.3, 0.5, 0.5, 0.5, 1, 0, 1};
   std::vector<Point2> out(3 * 37);
@@ -45,7 +47,7 @@ TEST(NeuralGenerator, UntrainedDirectionsAreTheUnwrappedBaseMappedIntoTheDomain)
   test::registerTestSphereFamily();
   const NeuralGenerator gen(tiny("family:test-sphere", 1));  // N = 1
   EXPECT_EQ(gen.domain(), Domain::Sphere);
-  const NeuralGenerator sphere(tiny("family:test-sphere", 64));
+  const NeuralGenerator sphere(tiny("family:test-sphere", 64, 16, false));
   const Point2 z{0.75, 0.6};
   std::vector<Point2> base(64), out(64);
   sphere.baseSet(z, base);
@@ -60,6 +62,17 @@ TEST(NeuralGenerator, UntrainedDirectionsAreTheUnwrappedBaseMappedIntoTheDomain)
     EXPECT_EQ(out[i], wrapToDomain(base[i], Domain::Sphere));
   }
   EXPECT_TRUE(crossed);
+}
+
+TEST(NeuralGenerator, UntrainedMappedOutputIsTheInverseCdfOfTheBaseSet) {
+  const NeuralGenerator gen(tiny("family:gaussian", 37, 16, true));
+  const std::vector<double> gamma = {0.2, 0.7, 0.4};
+  const auto target = gen.family().target(gamma);
+  const Point2 z{0.61, 0.05};
+  std::vector<Point2> base(37), out(37);
+  gen.baseSet(z, base);
+  gen.generate(std::vector<Point2>{z}, gamma, out);
+  for (std::size_t i = 0; i < 37; ++i) EXPECT_EQ(out[i], target->invert(base[i]).x);
 }
 
 TEST(WrapToDomain, SquareClamps) {

@@ -13,8 +13,9 @@
 namespace nuld {
 namespace {
 
-NeuralSettings tinyNet(const std::string &family, std::size_t n, int hidden) {
+NeuralSettings tinyNet(const std::string &family, std::size_t n, int hidden, bool mapped = true) {
   NeuralSettings s;
+  s.mapped = mapped;
   s.n = n;
   s.hidden = hidden;
   s.family = family;
@@ -38,12 +39,13 @@ TrainerSettings tinyTraining(int steps) {
 // Central differences of the step loss in double precision against the
 // gradient the custom function hands to autograd, for weights and biases of
 // every layer. The last layer starts at zero, which would zero every earlier
-// layer's gradient; it is randomized first. On the square, a clamped point's
-// gradient passes straight through by design, which differences cannot see,
-// so the square case uses N = 1 (one point, at z, kept inside) while the
-// sphere case moves 9 points per set across the poles.
-void checkGradient(const std::string &family, std::size_t n, double lastLayerScale) {
-  NeuralGenerator gen(tinyNet(family, n, 6));
+// layer's gradient; it is randomized first. Unmapped on the square, a clamped
+// point's gradient passes straight through by design, which differences
+// cannot see, so that case uses N = 1 (one point, at z, kept inside); the
+// sphere case moves 9 points per set across the poles; the mapped cases go
+// through the targets' inverse CDFs.
+void checkGradient(const std::string &family, std::size_t n, double lastLayerScale, bool mapped) {
+  NeuralGenerator gen(tinyNet(family, n, 6, mapped));
   auto &mlp = gen.net().mlp;
   mlp->to(torch::kFloat64);
   {
@@ -91,12 +93,18 @@ void checkGradient(const std::string &family, std::size_t n, double lastLayerSca
 }
 
 TEST(NeuralTrainer, GradientThroughTheNetMatchesFiniteDifferencesOnTheSquare) {
-  checkGradient("family:gaussian", 1, 1e-3);
+  checkGradient("family:gaussian", 1, 1e-3, false);
+}
+
+TEST(NeuralTrainer, GradientThroughTheNetAndTheInverseCdfMatchesFiniteDifferences) {
+  // Mapped: the loss sees T(u), and the gradient passes T's Jacobian.
+  checkGradient("family:gaussian", 9, 0.05, true);
+  checkGradient("family:bilinear", 9, 0.05, true);
 }
 
 TEST(NeuralTrainer, GradientThroughTheNetMatchesFiniteDifferencesThroughThePoles) {
   test::registerTestSphereFamily();
-  checkGradient("family:test-sphere", 9, 0.05);
+  checkGradient("family:test-sphere", 9, 0.05, false);
 }
 
 TEST(NeuralTrainer, LossFallsOnATinyConfiguration) {

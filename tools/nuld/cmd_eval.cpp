@@ -5,6 +5,7 @@
 #include "sampler/io/pointset_io.h"
 #include "sampler/metrics/discrepancy.h"
 #include "sampler/metrics/integration.h"
+#include "sampler/metrics/set_distance.h"
 #include "tools/nuld/cli_util.h"
 #include "tools/nuld/commands.h"
 
@@ -14,7 +15,7 @@ Runner addEval(CLI::App &app) {
   struct Options {
     std::string file, target, metric = "all", integrand;
     int grid = 256;
-    bool perInstance = false, zeroDensity = false;
+    bool perInstance = false, zeroDensity = false, setDistance = false;
   };
   auto o = std::make_shared<Options>();
   app.add_option("file", o->file, "point-set file")->required();
@@ -30,6 +31,9 @@ Runner addEval(CLI::App &app) {
   app.add_flag(
       "--zero-density", o->zeroDensity,
       "print only zero_density_fraction: the share of points where the target's density is 0");
+  app.add_flag("--set-distance", o->setDistance,
+               "also print set_distance: the mean chamfer distance between instances (distinct "
+               "sets score ~0.5/sqrt(N); near 0 means the instances are the same set)");
   app.add_option("--integrand", o->integrand,
                  "also estimate the integral of a test integrand (step, disc, bilinear, gaussian) "
                  "with the points as importance samples of the target; prints its RMSE and bias");
@@ -67,6 +71,7 @@ Runner addEval(CLI::App &app) {
       }
       std::printf("%s %.9g\n", m.c_str(), sum / double(set.instances()));
     }
+    if (o->setDistance) std::printf("set_distance %.9g\n", meanSetDistance(set));
     if (!o->integrand.empty()) {
       const TestIntegrand f = makeTestIntegrand(o->integrand);
       double se = 0, bias = 0;

@@ -19,7 +19,7 @@ std::string fmt(double v) {
 
 Runner addTrain(CLI::App &app) {
   struct Options {
-    std::string target, output;
+    std::string target, output, mapping = "mapped";
     NeuralSettings net;
     TrainerSettings train;
     long checkpointEvery = 0, stopAfter = -1;
@@ -34,6 +34,11 @@ Runner addTrain(CLI::App &app) {
   app.add_option("--hidden", o->net.hidden, "hidden layer width (64, 256, 512, 1024)")
       ->capture_default_str();
   app.add_option("--sigma", o->net.sigma, "standard deviation of the Fourier frequencies")
+      ->capture_default_str();
+  app.add_option("--mapping", o->mapping,
+                 "mapped (the net places u, the set is the target's inverse CDF of u) or "
+                 "unmapped (the net places the points themselves)")
+      ->check(CLI::IsMember({"mapped", "unmapped"}))
       ->capture_default_str();
   app.add_option("--steps", o->train.steps, "training steps")->capture_default_str();
   app.add_option("--batch", o->train.batch, "(z, gamma) pairs per step")->capture_default_str();
@@ -52,6 +57,7 @@ Runner addTrain(CLI::App &app) {
   return [o] {
     NeuralSettings ns = o->net;
     ns.family = o->target;
+    ns.mapped = o->mapping == "mapped";
     TrainerSettings ts = o->train;
     ts.seed = ns.seed;
     NeuralGenerator gen(ns);
