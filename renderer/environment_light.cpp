@@ -35,14 +35,25 @@ Image toRgb(const Image &in, double scale, const std::string &source) {
 
 EnvironmentLight::EnvironmentLight(Image latlong, double scale, double rotationDegrees,
                                    std::string source)
-    : image_(toRgb(latlong, scale, source)), source_(std::move(source)) {
+    : source_(std::move(source)) {
+  const Image image = toRgb(latlong, scale, source_);
+  width_ = image.width;
+  height_ = image.height;
   const double rot = rotationDegrees * std::numbers::pi / 180;
   cosRot_ = std::cos(rot);
   sinRot_ = std::sin(rot);
   bool black = true;
-  for (float v : image_.pixels) black = black && v == 0;
+  for (float v : image.pixels) black = black && v == 0;
   // A black map emits nothing and has nothing to sample: no target.
-  if (!black) target_ = makeEnvmapTarget(image_, source_);
+  if (black) return;
+  target_ = makeEnvmapTarget(image, source_);
+  reserveLargeTable(texels_, std::size_t(width_) * height_);
+  texels_.resize(std::size_t(width_) * height_);
+  for (int j = 0; j < height_; ++j)
+    for (int i = 0; i < width_; ++i)
+      texels_[std::size_t(j) * width_ + i] = {
+          target_->cellDensity(i, j) * kInvFourPi,
+          {image.at(i, j, 0), image.at(i, j, 1), image.at(i, j, 2)}};
 }
 
 // Map-local frame: z up (+Y world), phi = 0 towards -Z world, phi = pi/2
@@ -65,13 +76,21 @@ Rgb EnvironmentLight::radiance(Vec3 w) const {
   return radiance(w, unused);
 }
 
-Rgb EnvironmentLight::radiance(Vec3 w, double &pdf) const {
-  pdf = 0;
+Rgb EnvironmentLight::radiance(Vec3 w, double &pdf) const { return radiance(find(w), pdf); }
+
+EnvironmentLight::Lookup EnvironmentLight::find(Vec3 w) const {
   if (!target_) return {};
-  const Point2 sq = spherePoint(toLocal(w));
-  const GridTarget::Cell c = target_->locate(sq);
-  pdf = target_->cellDensity(c.i, c.j) * kInvFourPi;
-  return texel(c);
+  const Texel &t = texel(target_->locate(spherePoint(toLocal(w))));
+  __builtin_prefetch(&t);
+  return {&t};
+}
+
+Rgb EnvironmentLight::radiance(Lookup lookup, double &pdf) const {
+  pdf = 0;
+  if (!lookup.texel) return {};
+  const Texel &t = *static_cast<const Texel *>(lookup.texel);
+  pdf = t.pdf;
+  return rgbOf(t);
 }
 
 double EnvironmentLight::pdf(Vec3 w) const {
@@ -81,9 +100,9 @@ double EnvironmentLight::pdf(Vec3 w) const {
 }
 
 std::optional<LightSample> EnvironmentLight::sampleCell(Point2 x, GridTarget::Cell c) const {
-  const double p = target_->cellDensity(c.i, c.j) * kInvFourPi;
-  if (!(p > 0)) return std::nullopt;  // a point off the target's support
-  return LightSample{toWorld(sphereDirection(x)), texel(c), p};
+  const Texel &t = texel(c);
+  if (!(t.pdf > 0)) return std::nullopt;  // a point off the target's support
+  return LightSample{toWorld(sphereDirection(x)), rgbOf(t), t.pdf};
 }
 
 std::optional<LightSample> EnvironmentLight::sampleTarget(Point2 x) const {
@@ -96,6 +115,39 @@ std::optional<LightSample> EnvironmentLight::sample(Point2 u) const {
   GridTarget::Cell c;
   const Point2 x = target_->invert(u, c).x;
   return sampleCell(x, c);
+}
+
+namespace {
+constexpr std::size_t kGroup = 16;  // points per pass of the batch forms
+}  // namespace
+
+void EnvironmentLight::sample(std::span<const Point2> u,
+                              std::span<std::optional<LightSample>> out) const {
+  if (!target_) return std::fill(out.begin(), out.end(), std::nullopt);
+  for (std::size_t first = 0; first < u.size(); first += kGroup) {
+    const std::size_t n = std::min(kGroup, u.size() - first);
+    Inversion inv[kGroup];
+    GridTarget::Cell cell[kGroup];
+    target_->invert(u.subspan(first, n), std::span(inv, n), std::span(cell, n));
+    for (std::size_t k = 0; k < n; ++k) __builtin_prefetch(&texel(cell[k]));
+    for (std::size_t k = 0; k < n; ++k) out[first + k] = sampleCell(inv[k].x, cell[k]);
+  }
+}
+
+void EnvironmentLight::sampleTarget(std::span<const Point2> x,
+                                    std::span<std::optional<LightSample>> out) const {
+  for (std::size_t first = 0; first < x.size(); first += kGroup) {
+    const std::size_t n = std::min(kGroup, x.size() - first);
+    bool inside[kGroup];
+    GridTarget::Cell cell[kGroup];
+    for (std::size_t k = 0; k < n; ++k) {
+      const Point2 p = x[first + k];
+      inside[k] = target_ && p.x >= 0 && p.x <= 1 && p.y >= 0 && p.y <= 1;
+      if (inside[k]) __builtin_prefetch(&texel(cell[k] = target_->locate(p)));
+    }
+    for (std::size_t k = 0; k < n; ++k)
+      out[first + k] = inside[k] ? sampleCell(x[first + k], cell[k]) : std::nullopt;
+  }
 }
 
 }  // namespace nuld

@@ -11,7 +11,9 @@
 
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
+#include <vector>
 
 #include "materials/rgb.h"
 #include "materials/vec3.h"
@@ -36,29 +38,51 @@ class EnvironmentLight {
   double pdf(Vec3 worldDirection) const;
   // Both at once (one cell lookup): what a path that escapes needs.
   Rgb radiance(Vec3 worldDirection, double &pdf) const;
+  // The same lookup in two halves: find() locates the cell of a direction
+  // and starts loading it, radiance(Lookup) reads it. A path finds the cell
+  // of a ray before tracing it, so on a large map the cache miss overlaps
+  // the traversal instead of following it.
+  struct Lookup {
+    const void *texel = nullptr;  // null: a black map
+  };
+  Lookup find(Vec3 worldDirection) const;
+  Rgb radiance(Lookup lookup, double &pdf) const;
 
   // u uniform in [0,1)^2 -> a direction by inverse CDF; nullopt for a black map.
   std::optional<LightSample> sample(Point2 u) const;
   // x already distributed by target() -> the direction it stands for.
   std::optional<LightSample> sampleTarget(Point2 x) const;
+  // Both for several points at once (out[k] for point k, the same values):
+  // their reads of the tables overlap, so the cache misses of a large map
+  // are paid about once per call rather than once per point.
+  void sample(std::span<const Point2> u, std::span<std::optional<LightSample>> out) const;
+  void sampleTarget(std::span<const Point2> x, std::span<std::optional<LightSample>> out) const;
 
   // The sampling density on the equal-area square; null when the map is black.
   const GridTarget *target() const { return target_.get(); }
   const std::string &source() const { return source_; }
-  int width() const { return image_.width; }
-  int height() const { return image_.height; }
+  int width() const { return width_; }
+  int height() const { return height_; }
 
   // Map-local direction (z = the map's up) <-> world direction.
   Vec3 toWorld(Vec3 local) const;
   Vec3 toLocal(Vec3 world) const;
 
  private:
-  Rgb texel(GridTarget::Cell c) const {
-    return {image_.at(c.i, c.j, 0), image_.at(c.i, c.j, 1), image_.at(c.i, c.j, 2)};
-  }
+  // What a lookup needs of a cell (the map's pixel and the target's cell),
+  // side by side: a path that escapes, or a light sample, touches one cache
+  // line instead of one in the image and one in the density table (those
+  // misses were most of the light's cost on a 1024 x 512 map).
+  struct alignas(32) Texel {
+    double pdf;    // per unit solid angle: the target's cell density / (4 pi)
+    float rgb[3];  // radiance, scale applied
+  };
+  const Texel &texel(GridTarget::Cell c) const { return texels_[std::size_t(c.j) * width_ + c.i]; }
+  static Rgb rgbOf(const Texel &t) { return {t.rgb[0], t.rgb[1], t.rgb[2]}; }
   std::optional<LightSample> sampleCell(Point2 x, GridTarget::Cell c) const;
 
-  Image image_;  // RGB, non-negative, scale applied
+  int width_, height_;
+  std::vector<Texel> texels_;  // row-major; empty for a black map
   std::unique_ptr<GridTarget> target_;
   double cosRot_, sinRot_;
   std::string source_;

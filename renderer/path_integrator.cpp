@@ -44,6 +44,18 @@ void record(PathCounters &c, const Ray &r) {
                            {float(r.direction.x), float(r.direction.y), float(r.direction.z)}});
 }
 
+// The light sample of sample `index` at bounce `depth`. At the first bounce
+// nearly every sample of a pixel needs one, so all N are drawn in one batch
+// whose cache misses on a large map overlap; deeper, most paths have ended
+// and a batch would mostly draw samples nobody uses. Same values either way.
+std::optional<LightSample> lightSample(const EnvironmentLight &light, PixelSamples &samples,
+                                       int depth, std::size_t index) {
+  const std::uint32_t pair = SamplePairs::light(depth);
+  if (depth == 0) return samples.lightSample(light, pair, index);
+  const Point2 *x = samples.distributed(*light.target(), pair, index);
+  return x ? light.sampleTarget(*x) : light.sample(samples.primary(pair, index));
+}
+
 }  // namespace
 
 Rgb PathIntegrator::radiance(const Ray &cameraRay, PixelSamples &samples, std::size_t index,
@@ -54,11 +66,16 @@ Rgb PathIntegrator::radiance(const Ray &cameraRay, PixelSamples &samples, std::s
   double lastBsdfPdf = 0;  // 0: the camera ray (no MIS on what it sees)
   for (int depth = 0;; ++depth) {
     record(counters, ray);
+    // Rays after a bounce escape more often than not in an open scene: start
+    // loading the map's cell for the ray's direction before tracing it.
+    // Camera rays mostly hit, so their lookup waits until they escape.
+    EnvironmentLight::Lookup escape;
+    if (light && depth > 0) escape = light->find(ray.direction);
     const auto hit = scene_.geometry.intersect(ray);
     if (!hit) {
       if (light) {
         double lightPdf;
-        const Rgb Le = light->radiance(ray.direction, lightPdf);
+        const Rgb Le = light->radiance(depth > 0 ? escape : light->find(ray.direction), lightPdf);
         const double w = lastBsdfPdf > 0 ? powerHeuristic(lastBsdfPdf, lightPdf) : 1.0;
         L += w * beta * Le;
       }
@@ -74,9 +91,7 @@ Rgb PathIntegrator::radiance(const Ray &cameraRay, PixelSamples &samples, std::s
 
     // Next-event estimation of the environment.
     if (light && light->target()) {
-      const std::uint32_t pair = SamplePairs::light(depth);
-      const Point2 *x = samples.distributed(*light->target(), pair, index);
-      const auto ls = x ? light->sampleTarget(*x) : light->sample(samples.primary(pair, index));
+      const auto ls = lightSample(*light, samples, depth, index);
       if (ls && dot(ls->wi, sh.ng) > 0) {
         const Vec3 wi = sh.frame.toLocal(ls->wi);
         const Rgb f = bsdf.eval(wo, wi);

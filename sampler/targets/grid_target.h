@@ -5,6 +5,8 @@
 // the mass is uniform, so the CDF at any point is a bilinear read of the table.
 // Images, environment maps and tabulated BRDF lobes are all grid targets.
 
+#include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -12,6 +14,17 @@
 #include "sampler/targets/target.h"
 
 namespace nuld {
+
+// Reserves room for n elements in an empty vector and, on Linux, asks for
+// transparent huge pages behind it before anything touches it. The sampling
+// tables of a large map are read at random: with 4 KiB pages nearly every
+// read also misses the TLB.
+void adviseHugePages(void *data, std::size_t bytes);
+template <typename T>
+void reserveLargeTable(std::vector<T> &v, std::size_t n) {
+  v.reserve(n);
+  adviseHugePages(v.data(), n * sizeof(T));
+}
 
 class GridTarget final : public Target {
  public:
@@ -40,6 +53,10 @@ class GridTarget final : public Target {
   };
   Cell locate(Point2 p) const { return {xCells_.cell(xEdges_, p.x), yCells_.cell(yEdges_, p.y)}; }
   Inversion invert(Point2 u, Cell &cell) const;
+  // invert(u[k], cells[k]) for every k into out[k], the same values; the
+  // table reads of the points overlap, which is faster when the tables do
+  // not fit in cache (a large environment map). Spans of equal size.
+  void invert(std::span<const Point2> u, std::span<Inversion> out, std::span<Cell> cells) const;
 
   int cols() const { return cols_; }
   const std::vector<double> &xEdges() const { return xEdges_; }
@@ -50,6 +67,10 @@ class GridTarget final : public Target {
 
  private:
   double cumulative(double x, double y) const;  // mass of [0,x] x [0,y]
+  // invert() in steps: u clamped to [0,1), its row, the rest.
+  static Point2 clampedUnit(Point2 u);
+  int rowOf(double uy) const;
+  Inversion invertInRow(Point2 u, int row, Cell &cell) const;
 
   std::vector<double> xEdges_, yEdges_;
   EdgeLocator xCells_, yCells_;
@@ -58,6 +79,11 @@ class GridTarget final : public Target {
   std::vector<double> sat_;      // (rows+1) x (cols+1): mass of [0,x_i] x [0,y_j]
   std::vector<double> rowCdf_;   // rows+1: marginal CDF over rows
   std::vector<double> colCdf_;   // rows x (cols+1): conditional CDF in each row
+  // Guide tables that make invert() O(1) on average (see grid_target.cpp):
+  // rows buckets over rowCdf_, and cols buckets over each row of colCdf_.
+  std::vector<std::uint32_t> rowGuide_;
+  std::vector<std::uint32_t> colGuide_;
+  int colBuckets_ = 1;
   std::string spec_;
   Domain domain_;
 };

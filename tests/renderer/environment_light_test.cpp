@@ -166,5 +166,39 @@ TEST(EnvironmentLight, RejectsBadInput) {
   EXPECT_THROW(EnvironmentLight(randomMap(8, 4, 1), -1.0, 0.0, "neg"), std::invalid_argument);
 }
 
+// The batch forms (which overlap their memory reads) give exactly what one
+// call per point gives, over more points than one group and on a map with
+// black rows, including the edges of the square.
+TEST(EnvironmentLight, BatchSamplingEqualsOneAtATime) {
+  for (const Image &map : {randomMap(64, 32, 5), hardMap()}) {
+    const EnvironmentLight light(map, 1.5, 30.0, "batch");
+    Rng rng(11);
+    std::vector<Point2> u(37);
+    for (Point2 &p : u) p = {rng.uniform(), rng.uniform()};
+    u[0] = {0, 0};
+    u[1] = {std::nextafter(1.0, 0.0), std::nextafter(1.0, 0.0)};
+    u[2] = {1, 1};
+    u[3] = {0.5, 0.25};
+    std::vector<std::optional<LightSample>> batch(u.size()), batchTarget(u.size());
+    light.sample(u, batch);
+    light.sampleTarget(u, batchTarget);
+    for (std::size_t k = 0; k < u.size(); ++k) {
+      const auto one = light.sample(u[k]), oneTarget = light.sampleTarget(u[k]);
+      ASSERT_EQ(one.has_value(), batch[k].has_value()) << k;
+      ASSERT_EQ(oneTarget.has_value(), batchTarget[k].has_value()) << k;
+      if (one) {
+        EXPECT_EQ(one->wi, batch[k]->wi) << k;
+        EXPECT_EQ(one->radiance, batch[k]->radiance) << k;
+        EXPECT_EQ(one->pdf, batch[k]->pdf) << k;
+      }
+      if (oneTarget) {
+        EXPECT_EQ(oneTarget->wi, batchTarget[k]->wi) << k;
+        EXPECT_EQ(oneTarget->radiance, batchTarget[k]->radiance) << k;
+        EXPECT_EQ(oneTarget->pdf, batchTarget[k]->pdf) << k;
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace nuld
