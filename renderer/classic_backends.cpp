@@ -25,18 +25,13 @@ class IndependentBackend final : public SamplerBackend {
   std::uint64_t seed_;
 };
 
-// Sets up to this size take the fast path (its prefix table has N entries).
-constexpr std::size_t kMaxFastSobol = std::size_t(1) << 20;
-
 class SequenceBackend final : public SamplerBackend {
  public:
   SequenceBackend(SequenceKind kind, std::uint64_t seed) : kind_(kind), seed_(seed) {}
   std::string name() const override { return kind_ == SequenceKind::Sobol ? "sobol" : "halton"; }
   void primary(std::uint64_t pixel, std::uint32_t pair, std::span<Point2> out) const override {
-    const std::uint64_t setSeed = hash3(seed_, pixel, pair);
-    if (kind_ == SequenceKind::Sobol && out.size() <= kMaxFastSobol)
-      return owenSobolSet(setSeed, out);
-    generateSet({kind_, Scramble::Owen, setSeed}, 0, out, 0);
+    const SequenceOptions o{kind_, Scramble::Owen, hash3(seed_, pixel, pair)};
+    generateSet(o, 0, out, 0);
   }
 
  private:

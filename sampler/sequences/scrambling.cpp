@@ -10,19 +10,12 @@
 namespace nuld {
 
 std::uint32_t owenScramble(std::uint32_t bits, std::uint64_t seed, int distinctDigits) {
-  const std::uint64_t key = mix64(seed ^ 0x5851f42d4c957f2dull);
-  // The hash of the i most significant digits; tagged with the length so
-  // prefixes of different lengths never share a hash.
-  const auto prefixHash = [&](int i) {
-    const std::uint64_t prefix = i == 0 ? 0 : bits >> (32 - i);
-    return mix64(key + 0x9e3779b97f4a7c15ull * ((prefix << 6) | std::uint64_t(i)));
-  };
+  const OwenTree tree(seed);
+  const auto prefix = [bits](int i) -> std::uint64_t { return i == 0 ? 0 : bits >> (32 - i); };
   const int exact = distinctDigits < 0 ? 0 : (distinctDigits > 32 ? 32 : distinctDigits);
   std::uint32_t flips = 0;
-  for (int i = 0; i < exact; ++i)
-    flips |= static_cast<std::uint32_t>(prefixHash(i) >> 63) << (31 - i);
-  if (exact < 32)  // the digits below a unique prefix: independent uniform flips
-    flips |= static_cast<std::uint32_t>(mix64(prefixHash(exact) ^ 0x7a11ull)) >> exact;
+  for (int i = 0; i < exact; ++i) flips |= tree.digitFlip(prefix(i), i);
+  if (exact < 32) flips |= tree.tailFlips(prefix(exact), exact);
   return bits ^ flips;
 }
 

@@ -12,7 +12,36 @@
 
 #include <cstdint>
 
+#include "sampler/sequences/rng.h"
+
 namespace nuld {
+
+// Base-2 nested uniform scrambling as a random binary tree keyed by a seed:
+// digit `length` (0 = most significant) under the `length` leading digits
+// `prefix` is flipped by one bit of a hash of (prefix, length). owenScramble
+// walks it for one coordinate; generateSet walks it once per shared prefix
+// for a whole Sobol set. Both must draw the same flips, so both use this.
+class OwenTree {
+ public:
+  explicit OwenTree(std::uint64_t seed) : key_(mix64(seed ^ 0x5851f42d4c957f2dull)) {}
+
+  // Tagged with the length so prefixes of different lengths never share a hash.
+  std::uint64_t prefixHash(std::uint64_t prefix, int length) const {
+    return mix64(key_ + 0x9e3779b97f4a7c15ull * ((prefix << 6) | std::uint64_t(length)));
+  }
+  // The flip of digit `length`, in place in a 32-bit word.
+  std::uint32_t digitFlip(std::uint64_t prefix, int length) const {
+    return static_cast<std::uint32_t>(prefixHash(prefix, length) >> 63) << (31 - length);
+  }
+  // Independent uniform flips of every digit below the first `length`
+  // (length < 32): they sit under a prefix no other point of the set shares.
+  std::uint32_t tailFlips(std::uint64_t prefix, int length) const {
+    return static_cast<std::uint32_t>(mix64(prefixHash(prefix, length) ^ 0x7a11ull)) >> length;
+  }
+
+ private:
+  std::uint64_t key_;
+};
 
 // `distinctDigits` d: when the points being scrambled together are told
 // apart by their d leading digits (the first N <= 2^d points of a Sobol

@@ -100,6 +100,35 @@ double sample(const SequenceOptions &o, std::uint64_t index, std::uint32_t dim,
   return 0;
 }
 
+// One coordinate of an Owen-scrambled Sobol set of n = out.size() points,
+// the same values as sample() with `distinct` = d = ceil(log2 n) digits, with
+// far fewer hashes: sample() walks the scrambling tree from the root for
+// every point, while the n points share their short prefixes (level l has at
+// most 2^l). Here the flips of the d leading digits are computed once per
+// prefix, in a table by level; each point then adds its own tail. The
+// renderer's sobol backend scrambles every pixel and pair afresh with it.
+void owenSobolCoordinate(std::uint64_t seed, std::uint32_t dim, int d, std::span<Point2> out,
+                         double Point2::*coordinate) {
+  const OwenTree tree(seed);
+  // flips[(1 << l) - 1 + q]: the flips of digits 0..l under the l-digit prefix q.
+  thread_local std::vector<std::uint32_t> flips;
+  flips.resize((std::size_t(1) << d) - 1);
+  for (int l = 0; l < d; ++l)
+    for (std::uint64_t q = 0; q < (std::uint64_t(1) << l); ++q)
+      flips[(std::size_t(1) << l) - 1 + q] =
+          tree.digitFlip(q, l) | (l == 0 ? 0u : flips[(std::size_t(1) << (l - 1)) - 1 + (q >> 1)]);
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const std::uint32_t bits = sobolBits(i, dim);
+    const std::uint64_t prefix = d == 0 ? 0 : bits >> (32 - d);
+    std::uint32_t f = d == 0 ? 0u : flips[(std::size_t(1) << (d - 1)) - 1 + (prefix >> 1)];
+    if (d < 32) f |= tree.tailFlips(prefix, d);
+    out[i].*coordinate = (bits ^ f) * 0x1.0p-32;
+  }
+}
+
+// Sets up to this size use the prefix table (it has about n entries).
+constexpr std::size_t kMaxTabulatedOwenSet = std::size_t(1) << 20;
+
 // asSet: the points form one set of out.size() (generateSet); otherwise
 // every digit is scrambled separately (generatePoints).
 void fill(const SequenceOptions &o, std::uint32_t instance, std::span<Point2> out,
@@ -109,6 +138,12 @@ void fill(const SequenceOptions &o, std::uint32_t instance, std::span<Point2> ou
     return distinctDigits(out.size(), o.kind == SequenceKind::Halton ? nthPrime(dim) : 2);
   };
   const int d0 = digits(firstDim), d1 = digits(firstDim + 1);
+  if (asSet && o.kind == SequenceKind::Sobol && o.scramble == Scramble::Owen &&
+      out.size() <= kMaxTabulatedOwenSet) {
+    owenSobolCoordinate(hash3(o.seed, instance, firstDim), firstDim, d0, out, &Point2::x);
+    owenSobolCoordinate(hash3(o.seed, instance, firstDim + 1), firstDim + 1, d1, out, &Point2::y);
+    return;
+  }
   for (std::size_t i = 0; i < out.size(); ++i)
     out[i] = {sample(o, i, firstDim, instance, d0), sample(o, i, firstDim + 1, instance, d1)};
 }
@@ -140,44 +175,6 @@ PointSet generatePointSet(const SequenceOptions &o, std::size_t n, std::size_t i
   set.metadata["scramble"] = o.kind == SequenceKind::Random ? "none" : toString(o.scramble);
   set.metadata["seed"] = std::to_string(o.seed);
   return set;
-}
-
-// generateSet's Owen-scrambled Sobol set (instance 0, dimensions 0 and 1),
-// bit for bit, at a fraction of the hashes: generateSet hashes the
-// dimension's seed again for every coordinate and every digit prefix again
-// for every point, while the N points of a set share their short prefixes
-// (d = ceil(log2 N) digits tell them apart, so level l has at most 2^l
-// prefixes). Here the seeds are hashed once per set and the flips of the d
-// leading digits once per prefix, in a table by level; each point then adds
-// its own tail. The renderer scrambles every pixel and pair afresh, and
-// generateSet was a tenth of a render. BackendsTest checks the equality.
-// The scrambling scheme is scrambling.cpp's owenScramble; keep them in step.
-void owenSobolSet(std::uint64_t setSeed, std::span<Point2> out) {
-  const std::size_t n = out.size();
-  int d = 0;
-  while ((std::size_t(1) << d) < n) ++d;
-  // flips[(1 << l) - 1 + q]: the flips of digits 0..l under the l-digit prefix q.
-  thread_local std::vector<std::uint32_t> flips;
-  flips.resize((std::size_t(1) << d) - 1);
-  for (std::uint32_t dim = 0; dim < 2; ++dim) {
-    const std::uint64_t key = mix64(hash3(setSeed, 0, dim) ^ 0x5851f42d4c957f2dull);
-    const auto prefixHash = [key](std::uint64_t prefix, int length) {
-      return mix64(key + 0x9e3779b97f4a7c15ull * ((prefix << 6) | std::uint64_t(length)));
-    };
-    for (int l = 0; l < d; ++l)
-      for (std::uint64_t q = 0; q < (std::uint64_t(1) << l); ++q) {
-        const std::uint32_t own = std::uint32_t(prefixHash(q, l) >> 63) << (31 - l);
-        flips[(std::size_t(1) << l) - 1 + q] =
-            own | (l == 0 ? 0u : flips[(std::size_t(1) << (l - 1)) - 1 + (q >> 1)]);
-      }
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::uint32_t bits = sobolBits(i, dim);
-      const std::uint64_t prefix = d == 0 ? 0 : bits >> (32 - d);
-      std::uint32_t f = d == 0 ? 0u : flips[(std::size_t(1) << (d - 1)) - 1 + (prefix >> 1)];
-      if (d < 32) f |= std::uint32_t(mix64(prefixHash(prefix, d) ^ 0x7a11ull)) >> d;
-      (dim == 0 ? out[i].x : out[i].y) = (bits ^ f) * 0x1.0p-32;
-    }
-  }
 }
 
 }  // namespace nuld

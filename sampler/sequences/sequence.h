@@ -48,12 +48,6 @@ void generatePoints(const SequenceOptions &o, std::uint32_t instance, std::span<
 void generateSet(const SequenceOptions &o, std::uint32_t instance, std::span<Point2> out,
                  std::uint32_t firstDim = 0);
 
-// generateSet({Sobol, Owen, setSeed}, 0, out, 0), bit for bit, with far fewer
-// hashes: the digit flips of the prefixes the N points share are computed
-// once per prefix. The renderer's sobol backend scrambles every pixel and
-// dimension pair afresh with it.
-void owenSobolSet(std::uint64_t setSeed, std::span<Point2> out);
-
 // K instances of N points each, metadata filled in.
 PointSet generatePointSet(const SequenceOptions &o, std::size_t n, std::size_t instances);
 

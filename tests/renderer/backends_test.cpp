@@ -14,7 +14,6 @@
 #include "renderer/render.h"
 #include "sampler/io/pointset_io.h"
 #include "sampler/sequences/rng.h"
-#include "sampler/sequences/sequence.h"
 #include "tests/common/temp_dir.h"
 #include "tests/renderer/test_scenes.h"
 
@@ -52,22 +51,6 @@ TEST(Backends, SobolPixelsAreNetsAndPairsAreIndependentlyScrambled) {
   const auto independent = makeBackend("independent", 5);
   independent->primary(17, 3, a);
   EXPECT_FALSE(isNet(a));
-}
-
-// The sobol backend has its own faster set generation; it must give exactly
-// generateSet's points (same seeds, same scrambling) for any N.
-TEST(Backends, SobolBackendIsBitIdenticalToGenerateSet) {
-  const auto sobol = makeBackend("sobol", 9);
-  for (std::size_t n : {1, 2, 3, 4, 5, 7, 16, 33, 64, 100, 256}) {
-    for (std::uint64_t pixel : {0ull, 1ull, 12345ull}) {
-      for (std::uint32_t pair : {0u, 1u, 7u}) {
-        std::vector<Point2> fast(n), reference(n);
-        sobol->primary(pixel, pair, fast);
-        generateSet({SequenceKind::Sobol, Scramble::Owen, hash3(9, pixel, pair)}, 0, reference, 0);
-        EXPECT_EQ(fast, reference) << "n = " << n << ", pixel " << pixel << ", pair " << pair;
-      }
-    }
-  }
 }
 
 TEST(Backends, UnknownNameListsTheChoices) {

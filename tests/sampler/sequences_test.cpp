@@ -153,6 +153,30 @@ namespace {
 // generateSet draws the digits below a point's unique prefix with one hash:
 // the set must keep its nets and stratification, and within its stratum each
 // point must stay uniform (the digits it draws are not constant or biased).
+// Owen-scrambled Sobol sets are built from a table of shared prefixes; every
+// point must still be exactly what owenScramble gives it on its own, with
+// the set's seed per (instance, dimension) and its distinct-digit count.
+TEST(GenerateSet, OwenSobolSetsEqualPointwiseScrambling) {
+  for (std::size_t n : {1, 2, 3, 4, 5, 7, 16, 33, 64, 100, 256}) {
+    for (std::uint32_t instance : {0u, 3u}) {
+      for (std::uint32_t firstDim : {0u, 5u}) {
+        const SequenceOptions o{SequenceKind::Sobol, Scramble::Owen, 12345};
+        std::vector<Point2> set(n);
+        generateSet(o, instance, set, firstDim);
+        int d = 0;
+        while ((std::size_t(1) << d) < n) ++d;
+        for (std::size_t i = 0; i < n; ++i) {
+          const auto expected = [&](std::uint32_t dim) {
+            return owenScramble(sobolBits(i, dim), hash3(o.seed, instance, dim), d) * 0x1.0p-32;
+          };
+          ASSERT_EQ(set[i].x, expected(firstDim)) << "n " << n << " point " << i;
+          ASSERT_EQ(set[i].y, expected(firstDim + 1)) << "n " << n << " point " << i;
+        }
+      }
+    }
+  }
+}
+
 TEST(GenerateSet, KeepsNetsAndStratificationForAnyN) {
   for (std::size_t n : {1u, 5u, 64u, 243u, 256u}) {
     for (SequenceKind kind : {SequenceKind::Sobol, SequenceKind::Halton}) {
