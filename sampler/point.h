@@ -24,6 +24,13 @@ struct Point2 {
 
 inline bool isFinite(Point2 p) { return std::isfinite(p.x) && std::isfinite(p.y); }
 
+// t modulo 1 in [0, 1): a toroidal wrap. A tiny negative t would round to
+// exactly 1, which is folded to 0.
+inline double wrapUnit(double t) {
+  t -= std::floor(t);
+  return t < 1 ? t : 0.0;
+}
+
 // A closed box [lo.x, hi.x] x [lo.y, hi.y]. Boxes with lo > hi are empty.
 struct Box2 {
   Point2 lo, hi;

@@ -106,10 +106,6 @@ void NeuralSettings::validate() const {
 
 Point2 wrapToDomain(Point2 p, Domain domain, double *vSign) {
   constexpr double kBelowOne = 0x1.fffffffffffffp-1;
-  auto frac = [](double t) {
-    t -= std::floor(t);
-    return t < 1 ? t : 0.0;  // -1e-17 - floor(-1e-17) rounds to 1
-  };
   double sign = 1;
   if (domain != Domain::Square) {
     // Unfolded along a meridian, v is 2-periodic: past the south pole (v > 1)
@@ -123,7 +119,7 @@ Point2 wrapToDomain(Point2 p, Domain domain, double *vSign) {
       sign = -1;
     }
     p.y = std::min(v, kBelowOne);
-    p.x = frac(p.x);
+    p.x = wrapUnit(p.x);
   } else {
     p = {std::clamp(p.x, 0.0, kBelowOne), std::clamp(p.y, 0.0, kBelowOne)};
   }
@@ -134,11 +130,7 @@ Point2 wrapToDomain(Point2 p, Domain domain, double *vSign) {
 Point2 NeuralGenerator::place(Point2 raw, const Target &target, Jacobian2 *jacobian) const {
   if (settings_.mapped) {
     // u wraps around the square like the Cranley-Patterson base set itself.
-    auto frac = [](double t) {
-      t -= std::floor(t);
-      return t < 1 ? t : 0.0;
-    };
-    const Inversion inv = target.invert({frac(raw.x), frac(raw.y)});
+    const Inversion inv = target.invert({wrapUnit(raw.x), wrapUnit(raw.y)});
     if (jacobian) *jacobian = inv.jacobian;
     return inv.x;
   }
@@ -148,11 +140,7 @@ Point2 NeuralGenerator::place(Point2 raw, const Target &target, Jacobian2 *jacob
   return p;
 }
 
-NeuralGenerator::NeuralGenerator(const NeuralSettings &settings)
-    : NeuralGenerator(settings, nullptr) {}
-
-NeuralGenerator::NeuralGenerator(NeuralSettings settings, std::unique_ptr<Net> net)
-    : settings_(std::move(settings)) {
+NeuralGenerator::NeuralGenerator(const NeuralSettings &settings) : settings_(settings) {
   settings_.validate();
   family_ = makeTargetFamily(settings_.family);
   settings_.family = family_->spec();
@@ -161,7 +149,7 @@ NeuralGenerator::NeuralGenerator(NeuralSettings settings, std::unique_ptr<Net> n
                                 "' has no inverse CDF; train it unmapped");
   sobol_.resize(settings_.n);
   for (std::size_t i = 0; i < settings_.n; ++i) sobol_[i] = {sobolSample(i, 0), sobolSample(i, 1)};
-  net_ = net ? std::move(net) : makeNet(settings_, family_->gammaDimension());
+  net_ = makeNet(settings_, family_->gammaDimension());
 }
 
 NeuralGenerator::NeuralGenerator(NeuralGenerator &&) noexcept = default;
@@ -180,7 +168,7 @@ void NeuralGenerator::baseSet(Point2 z, std::span<Point2> out) const {
   for (std::size_t i = 0; i < sobol_.size(); ++i) {
     const Point2 p = sobol_[i] + z;
     // The rotation wraps around the square (Cranley-Patterson).
-    out[i] = square ? Point2{p.x - std::floor(p.x), p.y - std::floor(p.y)} : p;
+    out[i] = square ? Point2{wrapUnit(p.x), wrapUnit(p.y)} : p;
   }
 }
 
@@ -224,22 +212,26 @@ PointSet NeuralGenerator::generateSets(std::size_t instances, std::uint64_t seed
   return set;
 }
 
+std::map<std::string, std::string> NeuralGenerator::metadata() const {
+  return {{"format", kFormat},
+          {"version", std::to_string(kVersion)},
+          {"n", std::to_string(settings_.n)},
+          {"dimension", "2"},
+          {"domain", toString(domain())},
+          {"family", settings_.family},
+          {"gamma_dimension", std::to_string(gammaDimension())},
+          {"hidden", std::to_string(settings_.hidden)},
+          {"sigma", formatDouble(settings_.sigma)},
+          {"encoding_dims", std::to_string(settings_.encodingDims)},
+          {"seed", std::to_string(settings_.seed)},
+          {"base", "sobol rotated by z"},
+          {"mapping", settings_.mapped ? "mapped" : "unmapped"}};
+}
+
 ModelFile NeuralGenerator::toModelFile(const std::map<std::string, std::string> &extra) const {
   ModelFile file;
   file.metadata = extra;
-  file.metadata["format"] = kFormat;
-  file.metadata["version"] = std::to_string(kVersion);
-  file.metadata["n"] = std::to_string(settings_.n);
-  file.metadata["dimension"] = "2";
-  file.metadata["domain"] = toString(domain());
-  file.metadata["family"] = settings_.family;
-  file.metadata["gamma_dimension"] = std::to_string(gammaDimension());
-  file.metadata["hidden"] = std::to_string(settings_.hidden);
-  file.metadata["sigma"] = formatDouble(settings_.sigma);
-  file.metadata["encoding_dims"] = std::to_string(settings_.encodingDims);
-  file.metadata["seed"] = std::to_string(settings_.seed);
-  file.metadata["base"] = "sobol rotated by z";
-  file.metadata["mapping"] = settings_.mapped ? "mapped" : "unmapped";
+  for (const auto &[k, v] : metadata()) file.metadata[k] = v;
   auto add = [&](const std::string &name, const torch::Tensor &t) {
     const torch::Tensor f = t.detach().to(torch::kFloat32).contiguous();
     file.tensors.push_back(

@@ -60,6 +60,8 @@ class NeuralGenerator {
   // Weights plus everything needed to rebuild the net; `extra` metadata
   // (training settings, step) is stored alongside. Atomic.
   void save(const std::string &path, const std::map<std::string, std::string> &extra = {}) const;
+  // What the file's metadata says of the network (format, N, family, ...).
+  std::map<std::string, std::string> metadata() const;
   // The same as an in-memory file (the trainer adds its optimizer state).
   ModelFile toModelFile(const std::map<std::string, std::string> &extra = {}) const;
   // Copies the weights of a file written for this same network (checked
@@ -99,8 +101,6 @@ class NeuralGenerator {
   const Net &net() const { return *net_; }
 
  private:
-  NeuralGenerator(NeuralSettings settings, std::unique_ptr<Net> net);
-
   NeuralSettings settings_;
   std::unique_ptr<const TargetFamily> family_;
   std::vector<Point2> sobol_;  // the first N Sobol points

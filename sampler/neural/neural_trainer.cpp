@@ -201,8 +201,9 @@ void NeuralTrainer::loadCheckpoint(const std::string &path) {
   if (described != settings_.describe())
     throw std::runtime_error(path + ": checkpoint was made with other training settings (" +
                              described + "; now " + settings_.describe() + ")");
+  const auto expected = gen_.metadata();
   for (const char *key : {"n", "hidden", "family", "seed", "mapping"})
-    if (file.value(key, path) != gen_.toModelFile().metadata.at(key))
+    if (file.value(key, path) != expected.at(key))
       throw std::runtime_error(path + ": checkpoint is for another network ('" + key + "' is " +
                                file.value(key, path) + ")");
   gen_.loadWeights(file, path);

@@ -179,10 +179,6 @@ double DirectOptimizer::instanceEpoch(std::size_t k, int epoch, std::span<Point2
 
 void DirectOptimizer::constrain(std::span<Point2> params) const {
   constexpr double kBelowOne = 0x1.fffffffffffffp-1;
-  auto wrap = [](double t) {
-    t -= std::floor(t);
-    return t < 1 ? t : 0.0;
-  };
   const bool sphere = target_.domain() != Domain::Square;
   for (Point2 &p : params) {
     if (!isFinite(p)) throw std::runtime_error("optimizer: a point became non-finite");
@@ -195,9 +191,9 @@ void DirectOptimizer::constrain(std::span<Point2> params) const {
         p = {p.x + 0.5, -p.y};
       else if (p.y > 1)
         p = {p.x + 0.5, 2 - p.y};
-      p = {wrap(p.x), std::clamp(p.y, 0.0, kBelowOne)};
+      p = {wrapUnit(p.x), std::clamp(p.y, 0.0, kBelowOne)};
     } else if (settings_.mapping == Mapping::Toroidal) {
-      p = {wrap(p.x), wrap(p.y)};
+      p = {wrapUnit(p.x), wrapUnit(p.y)};
     } else {
       p = {std::clamp(p.x, 0.0, kBelowOne), std::clamp(p.y, 0.0, kBelowOne)};
     }

@@ -5,6 +5,7 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "sampler/point.h"
 #include "sampler/sequences/rng.h"
 
 namespace nuld {
@@ -24,9 +25,7 @@ std::uint32_t digitalShift(std::uint32_t bits, std::uint64_t seed) {
 }
 
 double cranleyPatterson(double x, std::uint64_t seed) {
-  double y = x + toUnitDouble(mix64(seed ^ 0x9e3779b97f4a7c15ull));
-  y -= std::floor(y);
-  return y < 1.0 ? y : 0.0;  // rounding can give exactly 1
+  return wrapUnit(x + toUnitDouble(mix64(seed ^ 0x9e3779b97f4a7c15ull)));
 }
 
 namespace {

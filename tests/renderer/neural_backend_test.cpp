@@ -39,9 +39,7 @@ std::string errorOf(const std::function<void()> &f) {
 TEST(NeuralBackend, EnvironmentModelServesTheFirstLightPairFromItsBank) {
   const test::TempDir dir;
   const std::string mapPath = (dir / "map.exr").string();
-  Image map = test::constantMap(1.0f, 16, 8);
-  map.at(3, 2, 0) = 50.0f;
-  writeImage(mapPath, map);
+  test::writeHotPixelMap(mapPath);
   const EnvironmentLight light(readImage(mapPath), 1.0, 0.0, mapPath);
   const EnvironmentLight other(test::constantMap(1.0f), 1.0, 0.0, "other.exr");
   const std::string model = saveModel(dir, "env.nuldnet", "envmap:" + mapPath, 8);

@@ -6,12 +6,21 @@
 #include "materials/lambertian.h"
 #include "renderer/scene.h"
 #include "renderer/shapes.h"
+#include "sampler/io/image_io.h"
 
 namespace nuld::test {
 
 // A constant-radiance environment map.
 inline Image constantMap(float value, int width = 16, int height = 8) {
   return Image{width, height, 3, std::vector<float>(std::size_t(width) * height * 3, value)};
+}
+
+// Writes a small constant map with one hot pixel to `path`: a file-backed
+// light whose target differs from a constant map's.
+inline void writeHotPixelMap(const std::string &path) {
+  Image map = constantMap(1.0f, 16, 8);
+  map.at(3, 2, 0) = 50.0f;
+  writeImage(path, map);
 }
 
 // A UV sphere of radius 1 at the origin. It is convex, so light that leaves

@@ -1,5 +1,6 @@
 #include "tools/nuld/cli_util.h"
 
+#include <cstdio>
 #include <stdexcept>
 
 #include "sampler/targets/basic_targets.h"
@@ -22,6 +23,12 @@ void mapByInverseCdf(PointSet &set, const Target &target) {
   set.metadata["target"] = target.spec();
   set.metadata["domain"] = toString(target.domain());
   set.metadata["mapping"] = "inverse-cdf";
+}
+
+std::string shortNumber(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", v);
+  return buf;
 }
 
 }  // namespace nuld::cli

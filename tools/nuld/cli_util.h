@@ -16,4 +16,7 @@ std::unique_ptr<Target> targetFor(const std::string &spec, const PointSet &set);
 // Maps every point of `set` through the target's inverse CDF.
 void mapByInverseCdf(PointSet &set, const Target &target);
 
+// Three significant digits, for progress-bar status lines (loss, lr, alpha).
+std::string shortNumber(double v);
+
 }  // namespace nuld::cli

@@ -7,19 +7,11 @@
 #include "sampler/metrics/discrepancy.h"
 #include "sampler/optimize/optimizer.h"
 #include "sampler/targets/target_spec.h"
+#include "tools/nuld/cli_util.h"
 #include "tools/nuld/commands.h"
 #include "tools/nuld/progress.h"
 
 namespace nuld::cli {
-namespace {
-
-std::string fmt(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", v);
-  return buf;
-}
-
-}  // namespace
 
 Runner addOptimize(CLI::App &app) {
   struct Options {
@@ -106,8 +98,8 @@ Runner addOptimize(CLI::App &app) {
       const int next = int(std::min<long>(until, (state.epoch / every + 1) * every));
       opt.run(state, next, [&](const EpochReport &r) {
         last = r;
-        bar.update(r.epoch,
-                   "loss " + fmt(r.loss) + "  alpha " + fmt(r.alpha) + "  lr " + fmt(r.lr));
+        bar.update(r.epoch, "loss " + shortNumber(r.loss) + "  alpha " + shortNumber(r.alpha) +
+                                "  lr " + shortNumber(r.lr));
       });
       if (state.epoch < s.epochs) saveCheckpoint(ckpt, opt, target->spec(), state);
     }
@@ -116,7 +108,7 @@ Runner addOptimize(CLI::App &app) {
                 << " (continue with --resume)\n";
       return 0;
     }
-    bar.finish("loss " + fmt(last.loss));
+    bar.finish("loss " + shortNumber(last.loss));
 
     PointSet set = opt.points(state);
     // Final metrics, averaged over instances, recorded with the points.

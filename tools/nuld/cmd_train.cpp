@@ -3,19 +3,11 @@
 #include <iostream>
 
 #include "sampler/neural/neural_trainer.h"
+#include "tools/nuld/cli_util.h"
 #include "tools/nuld/commands.h"
 #include "tools/nuld/progress.h"
 
 namespace nuld::cli {
-namespace {
-
-std::string fmt(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", v);
-  return buf;
-}
-
-}  // namespace
 
 Runner addTrain(CLI::App &app) {
   struct Options {
@@ -81,7 +73,8 @@ Runner addTrain(CLI::App &app) {
       const int next = int(std::min<long>(until, (trainer.step() / every + 1) * every));
       trainer.run(next, [&](const TrainReport &r) {
         last = r;
-        bar.update(r.step, "loss " + fmt(r.loss) + "  lr " + fmt(r.lr) + "  alpha " + fmt(r.alpha));
+        bar.update(r.step, "loss " + shortNumber(r.loss) + "  lr " + shortNumber(r.lr) +
+                               "  alpha " + shortNumber(r.alpha));
       });
       if (trainer.step() < ts.steps) trainer.saveCheckpoint(ckpt);
     }
@@ -90,7 +83,7 @@ Runner addTrain(CLI::App &app) {
                 << " (continue with --resume)\n";
       return 0;
     }
-    bar.finish("loss " + fmt(last.loss));
+    bar.finish("loss " + shortNumber(last.loss));
     gen.save(o->output,
              {{"train_settings", ts.describe()}, {"train_steps", std::to_string(trainer.step())}});
     std::filesystem::remove(ckpt);
