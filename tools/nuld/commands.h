@@ -18,5 +18,10 @@ Runner addTrain(CLI::App &app);
 Runner addMap(CLI::App &app);
 Runner addRender(CLI::App &app);
 Runner addCompare(CLI::App &app);
+Runner addStudy(CLI::App &app);
+// The study's parts (cmd_study_*.cpp).
+Runner addStudyIntegrate(CLI::App &app);
+Runner addStudyRender(CLI::App &app);
+Runner addStudyReport(CLI::App &app);
 
 }  // namespace nuld::cli

@@ -34,6 +34,8 @@ int main(int argc, char **argv) {
       nuld::cli::addRender);
   add("compare", "Print mse and relmse of an image against a reference; write an error map",
       nuld::cli::addCompare);
+  add("study", "Comparison studies: integration error, renders against references, reports",
+      nuld::cli::addStudy);
   CLI::App *help = app.add_subcommand("help", "Show this help");
 
   try {

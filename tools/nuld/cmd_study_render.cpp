@@ -1,0 +1,192 @@
+// nuld study render: scenes against references, every backend at every spp;
+// nuld study report: the plots and the HTML page of a study directory.
+
+#include <cstdio>
+#include <iostream>
+#include <map>
+
+#include "renderer/path_integrator.h"
+#include "tools/nuld/commands.h"
+#include "tools/nuld/progress.h"
+#include "tools/study/csv_table.h"
+#include "tools/study/render_study.h"
+#include "tools/study/report_script.h"
+
+namespace nuld::cli {
+
+namespace {
+
+// One bar per task; a new task closes the previous bar.
+class TaskBars {
+ public:
+  explicit TaskBars(bool quiet) : quiet_(quiet) {}
+  ~TaskBars() { close(); }
+  void update(const std::string &task, double fraction, const std::string &status) {
+    if (task != task_) {
+      close();
+      task_ = task;
+      bar_ = std::make_unique<ProgressBar>(task, 1000, long(1000 * fraction), quiet_);
+    }
+    status_ = status;
+    bar_->update(long(1000 * fraction), status);
+  }
+  void close() {
+    if (bar_) bar_->finish(status_);
+    bar_.reset();
+    task_.clear();
+  }
+
+ private:
+  bool quiet_;
+  std::string task_, status_;
+  std::unique_ptr<ProgressBar> bar_;
+};
+
+double number(const std::string &s) {
+  try {
+    return std::stod(s);
+  } catch (...) {
+    return NAN;
+  }
+}
+
+// MSE per (scene, backend, spp), with the ratio to sobol at the same spp,
+// the comparison the studies are about.
+void printTable(const study::CsvTable &table) {
+  const auto &cols = table.columns();
+  auto col = [&](const char *name) {
+    return std::size_t(std::find(cols.begin(), cols.end(), name) - cols.begin());
+  };
+  const std::size_t scene = col("scene"), backend = col("backend"), spp = col("spp"),
+                    mse = col("mse"), relmse = col("relmse"), secs = col("seconds"),
+                    setup = col("setup_seconds");
+  std::map<std::pair<std::string, std::string>, double> sobol;
+  for (const auto &r : table.rows())
+    if (r[backend] == "sobol") sobol[{r[scene], r[spp]}] = number(r[mse]);
+  std::string lastScene;
+  for (const auto &r : table.rows()) {
+    if (r[scene] != lastScene) {
+      std::printf("\n%s\n%-22s %6s %12s %12s %9s %9s %9s\n", r[scene].c_str(), "backend", "spp",
+                  "mse", "relmse", "mse/sobol", "seconds", "setup_s");
+      lastScene = r[scene];
+    }
+    const auto it = sobol.find({r[scene], r[spp]});
+    char ratio[32] = "-";
+    if (it != sobol.end() && it->second > 0)
+      std::snprintf(ratio, sizeof ratio, "%.3f", number(r[mse]) / it->second);
+    std::string name = r[backend];
+    if (name.size() > 22) name = "..." + name.substr(name.size() - 19);
+    std::printf("%-22s %6s %12.4e %12.4e %9s %9.3f %9.2f\n", name.c_str(), r[spp].c_str(),
+                number(r[mse]), number(r[relmse]), ratio, number(r[secs]), number(r[setup]));
+  }
+}
+
+int runReport(const std::string &dir) {
+  std::string why;
+  const int status = study::runStudyScript("report.py", dir, &why);
+  if (status < 0) {
+    std::cerr << "nuld: warning: no plots or report: " << why << "\n";
+    return 0;
+  }
+  if (status != 0) std::cerr << "nuld: error: report.py exited with status " << status << "\n";
+  return status == 0 ? 0 : 1;
+}
+
+}  // namespace
+
+Runner addStudyRender(CLI::App &app) {
+  struct Options {
+    study::RenderStudySettings s;
+    std::string res, integrator, out;
+    bool noReport = false, quiet = false;
+  };
+  auto o = std::make_shared<Options>();
+  app.add_option("scenes", o->s.scenes, "scene files (JSON) or 'default' (default: default)");
+  app.add_option("--backends", o->s.backends,
+                 "comma-separated: independent, sobol, halton, optimized (sets optimized for "
+                 "the scene's environment map), optimized-uniform, optimized:FILE, neural:MODEL")
+      ->delimiter(',');
+  app.add_option("--spp", o->s.spp, "comma-separated samples per pixel (default 4,16,64)")
+      ->delimiter(',');
+  app.add_option("--reference-spp", o->s.reference.spp,
+                 "reference samples per pixel (default 4096; the paper: 2^17 lte-orb, 2^13 "
+                 "dragon, 2^16 cup)")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--reference-pass-spp", o->s.reference.passSpp,
+                 "reference spp per resumable pass (default 256)")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--reference-backend", o->s.reference.backend,
+                 "backend of the reference (default halton, as the paper)");
+  app.add_option("--res", o->res, "resolution W or WxH (default: the scene's)");
+  app.add_option("--integrator", o->integrator, "path or direct (default: the scene's)")
+      ->check(CLI::IsMember({"path", "direct"}));
+  app.add_option("--max-depth", o->s.maxDepth, "maximum path length")->check(CLI::Range(1, 1000));
+  app.add_option("--repeats", o->s.repeats,
+                 "renders per (backend, spp) with seeds seed, seed+1, ...; MSE is their mean")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--seed", o->s.seed, "seed of the backends (default 1)");
+  app.add_option("--opt-instances", o->s.optimizedInstances,
+                 "instances of the optimized backends' sets (default 16, as the paper)")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--opt-epochs", o->s.optimizedEpochs,
+                 "epochs of their optimization (default: the preset's, e.g. 5000 on the sphere)")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--assets", o->s.assets,
+                 "asset root (default: $NULD_ASSETS, else ../shared/assets)");
+  app.add_option("-o,--output", o->out, "study directory (created; a rerun resumes it)")
+      ->required();
+  app.add_flag("--no-report", o->noReport, "skip the plots and the HTML report");
+  app.add_flag("-q,--quiet", o->quiet, "no progress bars");
+  app.footer(
+      "Writes OUT/render.csv (one row per scene, backend, spp: mse, relmse with standard errors\n"
+      "over the repeats, seconds per render including the backend's sample generation,\n"
+      "setup_seconds of one-off optimization), OUT/references.csv, OUT/SCENE/*.exr|png and,\n"
+      "unless --no-report, OUT/plots/*.png and OUT/index.html (open it in a browser).");
+  return [o] {
+    study::RenderStudySettings s = o->s;
+    s.out = o->out;
+    if (s.scenes.empty()) s.scenes = {"default"};
+    if (!o->res.empty()) {
+      const auto x = o->res.find('x');
+      try {
+        s.width = std::stoi(o->res.substr(0, x));
+        s.height = x == std::string::npos ? s.width : std::stoi(o->res.substr(x + 1));
+      } catch (...) {
+        s.width = 0;
+      }
+      if (s.width < 1 || s.height < 1 || s.width > 32768 || s.height > 32768)
+        throw std::invalid_argument("--res '" + o->res +
+                                    "': expected W or WxH, e.g. 512 or 640x480");
+    }
+    if (!o->integrator.empty()) s.integrator = parseIntegrator(o->integrator);
+
+    study::RenderStudyResult result;
+    {
+      TaskBars bars(o->quiet);
+      result = study::runRenderStudy(
+          s, [&](const std::string &task, double f, const std::string &status) {
+            bars.update(task, f, status);
+          });
+    }
+    for (const auto &skip : result.skipped) std::cerr << "skipped " << skip << "\n";
+    study::CsvTable table(result.csv, study::renderStudyColumns());
+    table.loadExisting();
+    printTable(table);
+    std::printf(
+        "\n(MSE against the reference; mse/sobol < 1 beats Owen-Sobol at equal spp.\n"
+        " seconds: one render incl. the backend's sample generation; setup_s: one-off\n"
+        " optimization of the optimized sets. CSV: %s)\n",
+        result.csv.string().c_str());
+    return o->noReport ? 0 : runReport(o->out);
+  };
+}
+
+Runner addStudyReport(CLI::App &app) {
+  auto dir = std::make_shared<std::string>();
+  app.add_option("dir", *dir, "study directory (holding render.csv and/or integrate.csv)")
+      ->required();
+  app.footer("Writes DIR/plots/*.png and DIR/index.html from the study's CSV files.");
+  return [dir] { return runReport(*dir); };
+}
+
+}  // namespace nuld::cli

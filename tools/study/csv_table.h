@@ -1,0 +1,42 @@
+#pragma once
+// The studies' result tables: a header row of column names, then one row per
+// measurement, every value already formatted. Written atomically after every
+// row, so an interrupted study leaves a valid CSV and resumes by skipping the
+// rows it finds (see hasRow).
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace nuld::study {
+
+class CsvTable {
+ public:
+  CsvTable(std::filesystem::path path, std::vector<std::string> columns);
+
+  // Reads the rows of an existing file with the same columns (resume); throws
+  // std::runtime_error naming the file when its header differs.
+  void loadExisting();
+
+  // True when a row has these values in the first key.size() columns.
+  bool hasRow(const std::vector<std::string> &key) const;
+
+  // Appends a row (as many values as columns, or throws) and rewrites the file.
+  void addRow(std::vector<std::string> values);
+
+  const std::vector<std::string> &columns() const { return columns_; }
+  const std::vector<std::vector<std::string>> &rows() const { return rows_; }
+  const std::filesystem::path &path() const { return path_; }
+
+ private:
+  void write() const;
+
+  std::filesystem::path path_;
+  std::vector<std::string> columns_;
+  std::vector<std::vector<std::string>> rows_;
+};
+
+// %.6g, or "nan"/"inf" spelled as Python's csv/float() reads them.
+std::string formatNumber(double v);
+
+}  // namespace nuld::study

@@ -1,0 +1,76 @@
+#include "tools/study/optimized_sets.h"
+
+#include <chrono>
+#include <stdexcept>
+
+#include "sampler/io/pointset_io.h"
+#include "sampler/optimize/optimizer.h"
+
+namespace nuld::study {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+OptimizerSettings settingsFor(const Target &target, const OptimizedSetsRequest &r) {
+  OptimizerSettings s = presetSettings(defaultPreset(target), r.n);
+  s.instances = r.instances;
+  s.seed = r.seed;
+  if (r.epochs > 0) s.epochs = r.epochs;
+  return s;
+}
+
+double recordedSeconds(const PointSet &set) {
+  const auto it = set.metadata.find("optimize_seconds");
+  try {
+    return it == set.metadata.end() ? 0.0 : std::stod(it->second);
+  } catch (...) {
+    return 0.0;
+  }
+}
+
+}  // namespace
+
+OptimizedSets optimizedSets(const Target &target, const OptimizedSetsRequest &request,
+                            const fs::path &path,
+                            const std::function<void(int, int, double)> &progress) {
+  const OptimizerSettings settings = settingsFor(target, request);
+  const DirectOptimizer opt(target, settings);
+  if (fs::exists(path)) {
+    const PointSet cached = readPointSet(path.string());
+    const auto meta = [&](const char *key) {
+      const auto it = cached.metadata.find(key);
+      return it == cached.metadata.end() ? std::string() : it->second;
+    };
+    if (meta("settings") != settings.describe() || meta("target") != target.spec())
+      throw std::runtime_error(path.string() + ": cached sets were optimized with '" +
+                               meta("settings") + "' for '" + meta("target") +
+                               "', but this study asks for '" + settings.describe() + "' for '" +
+                               target.spec() + "' (use another output directory)");
+    return {path, recordedSeconds(cached), true};
+  }
+
+  fs::create_directories(path.parent_path());
+  const std::string ckpt = path.string() + ".ckpt";
+  OptimizerState state =
+      fs::exists(ckpt) ? loadCheckpoint(ckpt, opt, target.spec()) : opt.initialState();
+  // Time already spent before an interruption is not known; count this run's.
+  const auto start = std::chrono::steady_clock::now();
+  const int every = std::max(1, settings.epochs / 20);
+  while (state.epoch < settings.epochs) {
+    opt.run(state, std::min(settings.epochs, (state.epoch / every + 1) * every),
+            [&](const EpochReport &r) {
+              if (progress) progress(r.epoch, r.epochs, r.loss);
+            });
+    if (state.epoch < settings.epochs) saveCheckpoint(ckpt, opt, target.spec(), state);
+  }
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  PointSet set = opt.points(state);
+  set.metadata["optimize_seconds"] = std::to_string(seconds);
+  writePointSet(path.string(), set);
+  fs::remove(ckpt);
+  return {path, seconds, false};
+}
+
+}  // namespace nuld::study

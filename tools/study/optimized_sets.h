@@ -1,0 +1,38 @@
+#pragma once
+// Directly optimized sets (Algorithm 1) for a study, made once and cached:
+// the render study needs K instances of N = spp points for each scene's
+// environment map (and for the uniform target) at every spp it renders, and a
+// rerun of the study should not pay for them again. The optimization itself
+// checkpoints beside the cache file, so an interrupted study resumes it.
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <string>
+
+#include "sampler/point.h"
+#include "sampler/targets/target.h"
+
+namespace nuld::study {
+
+struct OptimizedSetsRequest {
+  std::size_t n = 16;
+  std::size_t instances = 16;
+  int epochs = 0;  // 0: the preset's (by the target: uniform, nonuniform, sphere)
+  std::uint64_t seed = 1;
+};
+
+struct OptimizedSets {
+  std::filesystem::path file;  // a point-set file, metadata "target" = target.spec()
+  double seconds = 0;          // optimization time (recorded in the file, also when cached)
+  bool cached = false;
+};
+
+// Returns the file `path`, optimizing it first unless it exists with the same
+// settings; a file made with other settings is refused (naming it).
+// `progress(epoch, epochs, loss)` is called during the optimization.
+OptimizedSets optimizedSets(const Target &target, const OptimizedSetsRequest &request,
+                            const std::filesystem::path &path,
+                            const std::function<void(int, int, double)> &progress = {});
+
+}  // namespace nuld::study

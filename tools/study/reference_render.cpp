@@ -1,0 +1,148 @@
+#include "tools/study/reference_render.h"
+
+#include <chrono>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+
+#include "renderer/image_metrics.h"
+#include "renderer/sampler_backend.h"
+#include "sampler/io/atomic_file.h"
+#include "sampler/io/image_io.h"
+
+namespace nuld::study {
+
+namespace fs = std::filesystem;
+
+std::string ReferenceSettings::describe(const std::string &sceneName) const {
+  std::ostringstream s;
+  s << "scene=" << sceneName << " backend=" << backend << " spp=" << passes() * passSpp
+    << " pass_spp=" << passSpp << " seed=" << seed << " res=" << render.width << "x"
+    << render.height << " integrator=" << toString(render.integrator)
+    << " max_depth=" << render.maxDepth;
+  return s.str();
+}
+
+namespace {
+
+struct State {
+  std::string description;
+  std::size_t passesDone = 0;
+  double seconds = 0;  // render time of all passes, over every run
+};
+
+std::map<std::string, std::string> readKeyValues(const fs::path &path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path.string() + ": cannot read the reference state");
+  std::map<std::string, std::string> kv;
+  std::string line;
+  while (std::getline(in, line)) {
+    const auto eq = line.find('=');
+    if (eq != std::string::npos) kv[line.substr(0, eq)] = line.substr(eq + 1);
+  }
+  return kv;
+}
+
+State readState(const fs::path &path) {
+  auto kv = readKeyValues(path);
+  State s;
+  s.description = kv["description"];
+  try {
+    s.passesDone = std::stoul(kv.at("passes_done"));
+  } catch (...) {
+    throw std::runtime_error(path.string() +
+                             ": field 'passes_done' missing or not a count (expected an integer)");
+  }
+  try {
+    s.seconds = kv.count("seconds") ? std::stod(kv["seconds"]) : 0.0;
+  } catch (...) {
+    throw std::runtime_error(path.string() + ": field 'seconds' is not a number");
+  }
+  return s;
+}
+
+void writeState(const fs::path &path, const State &s) {
+  writeFileAtomically(path, "description=" + s.description +
+                                "\npasses_done=" + std::to_string(s.passesDone) +
+                                "\nseconds=" + std::to_string(s.seconds) + "\n");
+}
+
+void checkDescription(const fs::path &stateFile, const State &s, const std::string &expected) {
+  if (s.description != expected)
+    throw std::runtime_error(stateFile.string() + ": made with '" + s.description +
+                             "', but this study asks for '" + expected +
+                             "' (use another output directory, or delete the reference)");
+}
+
+}  // namespace
+
+ReferenceResult renderReference(const Scene &scene, const std::string &sceneName,
+                                const ReferenceSettings &settings, const fs::path &dir,
+                                const std::function<void(const ReferenceProgress &)> &progress,
+                                std::size_t stopAfterPasses) {
+  if (settings.passSpp == 0 || settings.spp == 0)
+    throw std::invalid_argument("reference: spp and pass spp must be positive");
+  fs::create_directories(dir);
+  const fs::path finalPath = dir / "reference.exr", partialPath = dir / "reference.partial.exr",
+                 statePath = dir / "reference.state";
+  const std::string description = settings.describe(sceneName);
+  const std::size_t passes = settings.passes();
+
+  State state{description, 0};
+  if (fs::exists(statePath)) {
+    state = readState(statePath);
+    checkDescription(statePath, state, description);
+  }
+  ReferenceResult result;
+  if (state.passesDone >= passes && fs::exists(finalPath)) {
+    result.image = readImage(finalPath.string());
+    result.complete = true;
+    result.totalSeconds = state.seconds;
+    return result;
+  }
+
+  RenderSettings rs = settings.render;
+  rs.spp = settings.passSpp;
+  Image sum{rs.width, rs.height, 3,
+            std::vector<float>(std::size_t(rs.width) * rs.height * 3, 0.0f)};
+  if (state.passesDone > 0) {
+    sum = readImage(partialPath.string());
+    if (sum.width != rs.width || sum.height != rs.height || sum.channels != 3)
+      throw std::runtime_error(partialPath.string() + ": size differs from the state's");
+  }
+
+  const auto start = std::chrono::steady_clock::now();
+  while (state.passesDone < passes) {
+    if (stopAfterPasses && result.passesRun >= stopAfterPasses) break;
+    const auto passStart = std::chrono::steady_clock::now();
+    const auto backend = makeBackend(settings.backend, settings.seed + state.passesDone);
+    const std::size_t done = state.passesDone;
+    const Image pass = render(scene, rs, *backend, nullptr, [&](std::size_t d, std::size_t n) {
+      if (progress) progress({done, passes, (double(done) + double(d) / double(n)) / passes});
+    });
+    for (std::size_t i = 0; i < sum.pixels.size(); ++i) sum.pixels[i] += pass.pixels[i];
+    ++state.passesDone;
+    ++result.passesRun;
+    state.seconds +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - passStart).count();
+    // The image first: a state that counts a pass always has its sum on disk.
+    writeImage(partialPath.string(), sum);
+    writeState(statePath, state);
+    if (progress) progress({state.passesDone, passes, double(state.passesDone) / passes});
+  }
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  const float scale = 1.0f / float(state.passesDone);
+  result.image = sum;
+  for (float &v : result.image.pixels) v *= scale;
+  result.complete = state.passesDone >= passes;
+  result.totalSeconds = state.seconds;
+  if (result.complete) {
+    writeRender(finalPath.string(), result.image);
+    fs::remove(partialPath);
+  }
+  return result;
+}
+
+}  // namespace nuld::study

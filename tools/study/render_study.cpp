@@ -1,0 +1,235 @@
+#include "tools/study/render_study.h"
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "renderer/image_metrics.h"
+#include "renderer/sampler_backend.h"
+#include "sampler/io/image_io.h"
+#include "sampler/targets/target_spec.h"
+#include "scenes/scene_file.h"
+#include "tools/study/csv_table.h"
+#include "tools/study/optimized_sets.h"
+
+namespace nuld::study {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double secondsSince(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+bool isStudyBackend(const std::string &b) { return b == "optimized" || b == "optimized-uniform"; }
+
+// Mean and standard error of the mean.
+struct Summary {
+  double mean = 0, stderr_ = 0;
+};
+Summary summarize(const std::vector<double> &v) {
+  Summary s;
+  for (double x : v) s.mean += x / double(v.size());
+  if (v.size() > 1) {
+    double ss = 0;
+    for (double x : v) ss += (x - s.mean) * (x - s.mean);
+    s.stderr_ = std::sqrt(ss / double(v.size() - 1) / double(v.size()));
+  }
+  return s;
+}
+
+// The renderer backend spec for a study backend at one spp, making the
+// optimized sets first when the study owns them. Returns "" when the scene
+// cannot use the backend (reason in `why`).
+struct ResolvedBackend {
+  std::string spec;
+  double setupSeconds = 0;
+  std::string why;
+};
+
+ResolvedBackend resolveBackend(const std::string &backend, const Scene &scene,
+                               const std::string &sceneSlug, std::size_t spp,
+                               const RenderStudySettings &s, const StudyProgress &progress) {
+  if (!isStudyBackend(backend)) return {backend, 0, ""};
+  std::unique_ptr<Target> uniform;
+  const Target *target = nullptr;
+  fs::path file;
+  if (backend == "optimized") {
+    if (!scene.environment || !scene.environment->target())
+      return {"", 0, "the scene has no (non-black) environment map to optimize for"};
+    target = scene.environment->target();
+    file = s.out / "cache" / (sceneSlug + "_envmap_n" + std::to_string(spp) + ".ptsb");
+  } else {
+    uniform = makeTarget("uniform");
+    target = uniform.get();
+    file = s.out / "cache" / ("uniform_n" + std::to_string(spp) + ".ptsb");
+  }
+  OptimizedSetsRequest request;
+  request.n = spp;
+  request.instances = s.optimizedInstances;
+  request.epochs = s.optimizedEpochs;
+  request.seed = s.seed;
+  const std::string task = sceneSlug + ": " + backend + " N=" + std::to_string(spp);
+  const OptimizedSets sets = optimizedSets(*target, request, file, [&](int e, int n, double loss) {
+    if (progress) progress(task, double(e) / n, "loss " + formatNumber(loss));
+  });
+  return {"optimized:" + sets.file.string(), sets.seconds, ""};
+}
+
+ReferenceSettings referenceFor(const RenderStudySettings &s, const RenderSettings &render) {
+  ReferenceSettings r = s.reference;
+  r.render = render;
+  return r;
+}
+
+void appendReferenceRow(CsvTable &refs, const std::string &scene, const ReferenceSettings &r,
+                        const ReferenceResult &result, const fs::path &image) {
+  if (refs.hasRow({scene})) return;
+  refs.addRow({scene, r.backend, std::to_string(r.passes() * r.passSpp),
+               std::to_string(r.render.width) + "x" + std::to_string(r.render.height),
+               toString(r.render.integrator), formatNumber(result.totalSeconds), image.string()});
+}
+
+}  // namespace
+
+const std::vector<std::string> &renderStudyColumns() {
+  static const std::vector<std::string> columns{
+      "scene",           "backend",          "spp",           "repeats",  "mse",
+      "mse_stderr",      "relmse",           "relmse_stderr", "seconds",  "setup_seconds",
+      "rays_per_second", "nonfinite_pixels", "image",         "error_map"};
+  return columns;
+}
+
+void RenderStudySettings::validate() const {
+  if (scenes.empty()) throw std::invalid_argument("study render: no scene given");
+  if (backends.empty()) throw std::invalid_argument("--backends: no backend given");
+  if (spp.empty()) throw std::invalid_argument("--spp: no sample count given");
+  for (std::size_t n : spp)
+    if (n == 0) throw std::invalid_argument("--spp: counts must be positive");
+  if (repeats == 0) throw std::invalid_argument("--repeats: must be at least 1");
+  if (optimizedInstances == 0) throw std::invalid_argument("--opt-instances: must be at least 1");
+  if (out.empty()) throw std::invalid_argument("study render: -o OUTDIR is required");
+  for (const auto &b : backends)  // fail now, not after an hour of reference
+    if (!isStudyBackend(b) && b.rfind("optimized:", 0) != 0 && b.rfind("points:", 0) != 0 &&
+        b.rfind("neural:", 0) != 0)
+      makeBackend(b, 0);
+}
+
+std::string slug(const std::string &name) {
+  std::string base = name;
+  if (const auto colon = base.find(':'); colon != std::string::npos)
+    base = base.substr(0, colon) + "-" + fs::path(base.substr(colon + 1)).stem().string();
+  else if (base.find('/') != std::string::npos || base.find('.') != std::string::npos)
+    base = fs::path(base).stem().string();
+  for (char &c : base)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_')) c = '_';
+  return base;
+}
+
+RenderStudyResult runRenderStudy(const RenderStudySettings &s, const StudyProgress &progress) {
+  s.validate();
+  fs::create_directories(s.out);
+  RenderStudyResult result;
+  result.csv = s.out / "render.csv";
+  CsvTable table(result.csv, renderStudyColumns());
+  table.loadExisting();
+  CsvTable refs(s.out / "references.csv",
+                {"scene", "backend", "spp", "resolution", "integrator", "seconds", "image"});
+  refs.loadExisting();
+
+  const std::string assets = resolveAssetRoot(s.assets);
+  for (const std::string &scenePath : s.scenes) {
+    LoadedScene loaded = loadScene(scenePath, assets);
+    RenderSettings rs = loaded.settings;
+    if (s.width) rs.width = s.width, rs.height = s.height ? s.height : s.width;
+    if (s.integrator) rs.integrator = *s.integrator;
+    if (s.maxDepth) rs.maxDepth = s.maxDepth;
+    const std::string sceneSlug = slug(scenePath);
+    const fs::path dir = s.out / sceneSlug;
+
+    const ReferenceSettings refSettings = referenceFor(s, rs);
+    const ReferenceResult ref =
+        renderReference(loaded.scene, sceneSlug, refSettings, dir, [&](const ReferenceProgress &p) {
+          if (progress)
+            progress(sceneSlug + ": reference", p.fraction,
+                     "pass " + std::to_string(p.passesDone) + "/" + std::to_string(p.passes));
+        });
+    appendReferenceRow(refs, sceneSlug, refSettings, ref,
+                       fs::relative(dir / "reference.exr", s.out));
+
+    // Render cost grows with spp; the progress fraction follows it.
+    double totalWork = 0, work = 0;
+    for (std::size_t spp : s.spp) totalWork += double(spp) * s.backends.size() * s.repeats;
+    for (const std::string &backend : s.backends) {
+      const std::string backendSlug = slug(backend);
+      for (std::size_t spp : s.spp) {
+        const double cellWork = double(spp) * s.repeats;
+        if (table.hasRow({sceneSlug, backend, std::to_string(spp)})) {
+          work += cellWork;
+          continue;
+        }
+        const ResolvedBackend resolved =
+            resolveBackend(backend, loaded.scene, sceneSlug, spp, s, progress);
+        if (resolved.spec.empty()) {
+          result.skipped.push_back(sceneSlug + " " + backend + " " + std::to_string(spp) + ": " +
+                                   resolved.why);
+          work += cellWork;
+          continue;
+        }
+        RenderSettings settings = rs;
+        settings.spp = spp;
+        std::vector<double> mse, relmse, seconds, raysPerSecond;
+        std::size_t nonFinite = 0;
+        const fs::path image = dir / (backendSlug + "_spp" + std::to_string(spp) + ".exr");
+        const fs::path errorPath =
+            dir / (backendSlug + "_spp" + std::to_string(spp) + "_error.png");
+        std::string skippedWhy;
+        for (std::size_t r = 0; r < s.repeats && skippedWhy.empty(); ++r) {
+          const auto start = Clock::now();
+          try {
+            const auto b = makeBackend(resolved.spec, s.seed + r);
+            RenderStats stats;
+            const Image img =
+                render(loaded.scene, settings, *b, &stats, [&](std::size_t d, std::size_t n) {
+                  if (progress)
+                    progress(sceneSlug + ": renders",
+                             (work + cellWork / s.repeats * d / n) / totalWork,
+                             backend + " spp " + std::to_string(spp));
+                });
+            seconds.push_back(secondsSince(start));
+            raysPerSecond.push_back(stats.raysPerSecond());
+            const ImageError e = compareImages(img, ref.image);
+            mse.push_back(e.mse);
+            relmse.push_back(e.relmse);
+            nonFinite += e.nonFinitePixels;
+            if (r == 0) {
+              writeRender(image.string(), img);
+              writeImage(errorPath.string(), errorMap(img, ref.image));
+            }
+          } catch (const std::invalid_argument &e) {
+            skippedWhy = e.what();  // the backend refused this spp or scene
+          }
+          work += cellWork / s.repeats;
+        }
+        if (!skippedWhy.empty()) {
+          result.skipped.push_back(sceneSlug + " " + backend + " " + std::to_string(spp) + ": " +
+                                   skippedWhy);
+          continue;
+        }
+        const Summary m = summarize(mse), rm = summarize(relmse), t = summarize(seconds),
+                      rps = summarize(raysPerSecond);
+        table.addRow({sceneSlug, backend, std::to_string(spp), std::to_string(s.repeats),
+                      formatNumber(m.mean), formatNumber(m.stderr_), formatNumber(rm.mean),
+                      formatNumber(rm.stderr_), formatNumber(t.mean),
+                      formatNumber(resolved.setupSeconds), formatNumber(rps.mean),
+                      std::to_string(nonFinite), fs::relative(image, s.out).string(),
+                      fs::relative(errorPath, s.out).string()});
+      }
+    }
+  }
+  return result;
+}
+
+}  // namespace nuld::study

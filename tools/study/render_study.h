@@ -1,0 +1,72 @@
+#pragma once
+// The render study: for each scene, a resumable high-spp reference, then a
+// render per (backend, spp, repeat) compared with it, one CSV row per
+// (scene, backend, spp) with MSE and relMSE (mean and standard error over the
+// repeats) and the wall time of a render including the backend's own sample
+// generation. One-off costs (optimizing the `optimized` sets) are recorded
+// separately as setup seconds.
+//
+// Study backends: the renderer's `independent`, `sobol`, `halton`,
+// `neural:MODEL` and `optimized:FILE`, plus two that the study makes itself:
+//   optimized          Algorithm 1 sets for the scene's environment map at
+//                      N = spp, used as distributed light samples at the first
+//                      bounce (skipped for scenes without an environment map)
+//   optimized-uniform  Algorithm 1 sets for the uniform target, served as the
+//                      first bounce's primary samples under a toroidal shift
+// A backend that cannot serve a spp (a neural model or a file of another N)
+// is skipped for it with the reason.
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "tools/study/reference_render.h"
+
+namespace nuld::study {
+
+struct RenderStudySettings {
+  std::vector<std::string> scenes{"default"};  // "default" or scene JSON paths
+  std::vector<std::string> backends{"independent", "sobol", "halton", "optimized"};
+  std::vector<std::size_t> spp{4, 16, 64};
+  std::string assets;         // asset root (see resolveAssetRoot)
+  int width = 0, height = 0;  // 0: the scene's
+  std::optional<IntegratorKind> integrator;
+  int maxDepth = 0;  // 0: the scene's
+  std::size_t repeats = 1;
+  std::uint64_t seed = 1;
+  ReferenceSettings reference;  // its render settings are filled per scene
+  std::size_t optimizedInstances = 16;
+  int optimizedEpochs = 0;  // 0: the preset's
+  std::filesystem::path out;
+
+  // Throws std::invalid_argument naming the bad option.
+  void validate() const;
+};
+
+// Progress of the study, for a progress bar: a task label ("default:
+// reference", "default: optimize N=16", "default: renders"), the fraction of
+// that task done and a short status.
+using StudyProgress =
+    std::function<void(const std::string &task, double fraction, const std::string &status)>;
+
+// The CSV's columns, in order (render.csv); units: seconds of wall time.
+const std::vector<std::string> &renderStudyColumns();
+
+struct RenderStudyResult {
+  std::filesystem::path csv;         // out/render.csv
+  std::vector<std::string> skipped;  // "scene backend spp: reason"
+};
+
+// Runs (or resumes: rows already in out/render.csv are kept and not
+// rendered again) the study.
+RenderStudyResult runRenderStudy(const RenderStudySettings &settings,
+                                 const StudyProgress &progress = {});
+
+// A file-name-safe form of a scene or backend name: "neural:m/q.nuldnet" ->
+// "neural-q", "scenes/cup.json" -> "cup".
+std::string slug(const std::string &name);
+
+}  // namespace nuld::study

@@ -1,0 +1,307 @@
+#!/usr/bin/python3
+"""Plots and a static HTML report for a study directory (nuld study render / integrate).
+
+Usage: /usr/bin/python3 tools/study/report.py STUDY_DIR
+
+Reads STUDY_DIR/render.csv and references.csv (nuld study render) and
+STUDY_DIR/integrate.csv (nuld study integrate) when present, writes
+STUDY_DIR/plots/*.png and STUDY_DIR/index.html. The page uses relative links
+only, so the directory can be copied and opened in a browser without a server.
+"""
+
+import csv
+import datetime
+import html
+import math
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.image as mpimg  # noqa: E402
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+CROP_SCALE_PX = 192  # a zoomed crop is drawn this wide
+
+
+def read_csv(path):
+    if not os.path.exists(path):
+        return []
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def num(s):
+    try:
+        return float(s)
+    except (TypeError, ValueError):
+        return math.nan
+
+
+def by(rows, key):
+    out = {}
+    for r in rows:
+        out.setdefault(r[key], []).append(r)
+    return out
+
+
+def backend_label(name):
+    # neural:/long/path/model.nuldnet -> neural:model
+    if ":" in name:
+        kind, rest = name.split(":", 1)
+        return kind + ":" + os.path.splitext(os.path.basename(rest))[0]
+    return name
+
+
+def loglog_panel(ax, series, xlabel, ylabel, guide=None):
+    for label, xs, ys, errs in series:
+        pts = [(x, y, e) for x, y, e in zip(xs, ys, errs) if x > 0 and y > 0]
+        if not pts:
+            continue
+        pts.sort()
+        x, y, e = (np.array(v) for v in zip(*pts))
+        ax.errorbar(x, y, yerr=np.where(np.isfinite(e), e, 0), marker="o", ms=3, capsize=2,
+                    label=label)
+    if guide and series:
+        xs = [x for _, sx, _, _ in series for x in sx if x > 0]
+        ys = [y for _, _, sy, _ in series for y in sy if y > 0]
+        if xs and ys:
+            x0, x1 = min(xs), max(xs)
+            y0 = max(ys)
+            for slope, style in guide:
+                ax.plot([x0, x1], [y0, y0 * (x1 / x0) ** slope], style, color="grey", lw=0.8,
+                        label=f"slope {slope:g}")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7)
+
+
+def render_plots(scene, rows, plots_dir):
+    """MSE and relMSE against spp, and MSE against seconds, one line per backend."""
+    groups = by(rows, "backend")
+
+    def series(xkey, ykey, ekey):
+        out = []
+        for b, rs in groups.items():
+            out.append((backend_label(b), [num(r[xkey]) for r in rs], [num(r[ykey]) for r in rs],
+                        [num(r[ekey]) if ekey else math.nan for r in rs]))
+        return out
+
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4.2))
+    loglog_panel(axes[0], series("spp", "mse", "mse_stderr"), "samples per pixel", "MSE",
+                 guide=[(-1, "--"), (-1.5, ":")])
+    loglog_panel(axes[1], series("spp", "relmse", "relmse_stderr"), "samples per pixel",
+                 "relMSE", guide=[(-1, "--"), (-1.5, ":")])
+    loglog_panel(axes[2], series("seconds", "mse", "mse_stderr"),
+                 "seconds per render (incl. sample generation)", "MSE")
+    fig.suptitle(f"{scene}: error against a reference")
+    fig.tight_layout()
+    name = f"render_{scene}.png"
+    fig.savefig(os.path.join(plots_dir, name), dpi=110)
+    plt.close(fig)
+    return "plots/" + name
+
+
+def crop_window(reference_png, size):
+    """The size x size window with the most reference detail (gradient energy)."""
+    img = mpimg.imread(reference_png)[..., :3].astype(float)
+    lum = img @ np.array([0.2126, 0.7152, 0.0722])
+    h, w = lum.shape
+    size = max(1, min(size, h, w))
+    gy, gx = np.gradient(lum)
+    energy = np.cumsum(np.cumsum(np.pad(gx * gx + gy * gy, ((1, 0), (1, 0))), 0), 1)
+    best, where = -1.0, (0, 0)
+    step = max(1, size // 4)
+    for y in range(0, h - size + 1, step):
+        for x in range(0, w - size + 1, step):
+            e = (energy[y + size, x + size] - energy[y, x + size] - energy[y + size, x] +
+                 energy[y, x])
+            if e > best:
+                best, where = e, (y, x)
+    return where[0], where[1], size
+
+
+def save_crop(src_png, window, dst_png):
+    y, x, size = window
+    img = mpimg.imread(src_png)[y:y + size, x:x + size, :3]
+    factor = max(1, CROP_SCALE_PX // size)
+    img = np.repeat(np.repeat(img, factor, 0), factor, 1)  # nearest neighbour: pixels stay visible
+    plt.imsave(dst_png, np.clip(img, 0, 1))
+
+
+def fmt(v, digits=3):
+    v = num(v)
+    if not math.isfinite(v):
+        return "–"
+    return f"{v:.{digits}e}"
+
+
+def render_section(root, scene, rows, ref, plots_dir):
+    out = [f'<h2 id="{html.escape(scene)}">Scene: {html.escape(scene)}</h2>']
+    if ref:
+        out.append(f"<p>Reference: {html.escape(ref['backend'])}, {ref['spp']} spp, "
+                   f"{ref['resolution']}, {ref['integrator']} integrator, "
+                   f"{num(ref['seconds']):.1f} s of rendering.</p>")
+    plot = render_plots(scene, rows, plots_dir)
+    out.append(f'<p><img class="plot" src="{plot}" alt="error plots of {html.escape(scene)}"></p>')
+
+    spps = sorted({int(r["spp"]) for r in rows})
+    backends = list(dict.fromkeys(r["backend"] for r in rows))
+    cell = {(r["backend"], int(r["spp"])): r for r in rows}
+    sobol = {s: num(cell[("sobol", s)]["mse"]) for s in spps if ("sobol", s) in cell}
+    out.append("<table><tr><th>backend</th>" +
+               "".join(f"<th>spp {s}</th>" for s in spps) + "<th>setup s</th></tr>")
+    for b in backends:
+        tds = []
+        for s in spps:
+            r = cell.get((b, s))
+            if not r:
+                tds.append("<td>–</td>")
+                continue
+            ratio = num(r["mse"]) / sobol[s] if sobol.get(s, 0) > 0 else math.nan
+            cls = "win" if ratio < 1 else ""
+            tip = (f"relMSE {fmt(r['relmse'])}, {num(r['seconds']):.3f} s, "
+                   f"{int(num(r['repeats']))} repeat(s)")
+            tds.append(f'<td class="{cls}" title="{html.escape(tip)}">{fmt(r["mse"])}'
+                       + (f"<br><small>×{ratio:.2f} sobol</small>" if math.isfinite(ratio) else "")
+                       + "</td>")
+        setup = max(num(cell[(b, s)]["setup_seconds"]) for s in spps if (b, s) in cell)
+        out.append(f"<tr><th>{html.escape(backend_label(b))}</th>{''.join(tds)}"
+                   f"<td>{setup:.1f}</td></tr>")
+    out.append("</table><p class='note'>MSE against the reference (hover for relMSE, seconds "
+               "and repeats); green where it beats Owen-Sobol at the same spp.</p>")
+
+    # Images at the smallest and largest spp: full frame, zoomed crop, error map.
+    ref_png = os.path.join(root, scene, "reference.png")
+    window = crop_window(ref_png, 32) if os.path.exists(ref_png) else None
+    crops = os.path.join(plots_dir, "crops")
+    os.makedirs(crops, exist_ok=True)
+
+    def figure(png_rel, caption, tag):
+        png = os.path.join(root, png_rel)
+        if not os.path.exists(png):
+            return ""
+        crop_html = ""
+        if window:
+            crop_rel = f"plots/crops/{scene}_{tag}.png"
+            save_crop(png, window, os.path.join(root, crop_rel))
+            crop_html = f'<img class="crop" src="{crop_rel}" alt="crop">'
+        return (f'<figure><img class="full" src="{png_rel}" alt="{html.escape(caption)}">'
+                f"{crop_html}<figcaption>{html.escape(caption)}</figcaption></figure>")
+
+    out.append('<div class="row">' + figure(f"{scene}/reference.png", "reference", "reference") +
+               "</div>")
+    for s in sorted({spps[0], spps[-1]}):
+        figs = []
+        for b in backends:
+            r = cell.get((b, s))
+            if not r:
+                continue
+            tag = f"{os.path.splitext(os.path.basename(r['image']))[0]}"
+            figs.append(figure(os.path.splitext(r["image"])[0] + ".png",
+                               f"{backend_label(b)}, {s} spp, MSE {fmt(r['mse'])}", tag))
+            err = r["error_map"]
+            if os.path.exists(os.path.join(root, err)):
+                figs.append(f'<figure><img class="full" src="{err}" alt="error map">'
+                            f"<figcaption>relative error, {html.escape(backend_label(b))}"
+                            "</figcaption></figure>")
+        out.append(f"<h3>{s} spp</h3><div class='row'>{''.join(figs)}</div>")
+    return "\n".join(out)
+
+
+def integrate_plots(rows, plots_dir):
+    """RMSE against N per integrand, one line per sampler (drawn here if the
+    integrate study's own script has not)."""
+    names = []
+    for integrand, rs in by(rows, "integrand").items():
+        series = []
+        for s, srs in by(rs, "sampler").items():
+            series.append((backend_label(s), [num(r["n"]) for r in srs],
+                           [num(r["rmse"]) for r in srs], [math.nan] * len(srs)))
+        fig, ax = plt.subplots(figsize=(6, 4.2))
+        loglog_panel(ax, series, "N", "RMSE", guide=[(-0.5, "--"), (-1, ":")])
+        ax.set_title(integrand)
+        fig.tight_layout()
+        safe = "".join(c if c.isalnum() or c in "-_" else "_" for c in integrand)
+        name = f"integrate_rmse_{safe}.png"
+        fig.savefig(os.path.join(plots_dir, name), dpi=110)
+        plt.close(fig)
+        names.append((integrand, "plots/" + name))
+    return names
+
+
+def integrate_section(rows, plots_dir):
+    out = ["<h2 id='integrate'>Integration error</h2>",
+           "<p>RMSE of the importance-sampling estimate against the reference integral, "
+           "bias (mean − reference, ± its standard error) and generation time per set.</p>"]
+    for integrand, plot in integrate_plots(rows, plots_dir):
+        out.append(f"<h3>{html.escape(integrand)}</h3>"
+                   f'<p><img class="plot-small" src="{plot}" alt="{html.escape(integrand)}"></p>')
+        rs = [r for r in rows if r["integrand"] == integrand]
+        out.append("<table><tr><th>sampler</th><th>N</th><th>instances</th><th>RMSE</th>"
+                   "<th>rel. RMSE</th><th>bias</th><th>± stderr</th><th>gen s/set</th></tr>")
+        for r in rs:
+            out.append(f"<tr><th>{html.escape(backend_label(r['sampler']))}</th><td>{r['n']}</td>"
+                       f"<td>{r['instances']}</td><td>{fmt(r['rmse'])}</td>"
+                       f"<td>{fmt(r['rel_rmse'])}</td><td>{fmt(r['bias'])}</td>"
+                       f"<td>{fmt(r.get('bias_stderr'))}</td>"
+                       f"<td>{fmt(r.get('gen_seconds_per_set'), 2)}</td></tr>")
+        out.append("</table>")
+    return "\n".join(out)
+
+
+STYLE = """
+body { font-family: sans-serif; margin: 2em; max-width: 1400px; }
+table { border-collapse: collapse; margin: 0.5em 0; font-size: 0.9em; }
+td, th { border: 1px solid #ccc; padding: 3px 8px; text-align: right; }
+td.win { background: #dff5df; }
+.row { display: flex; flex-wrap: wrap; gap: 10px; }
+figure { margin: 0; }
+figcaption { font-size: 0.8em; max-width: 260px; }
+img.full { width: 260px; image-rendering: pixelated; display: block; }
+img.crop { width: 128px; image-rendering: pixelated; display: block; margin-top: 3px; }
+img.plot { max-width: 100%; }
+img.plot-small { max-width: 560px; }
+.note { color: #555; font-size: 0.85em; }
+"""
+
+
+def main():
+    if len(sys.argv) != 2:
+        sys.exit(__doc__)
+    root = sys.argv[1]
+    render_rows = read_csv(os.path.join(root, "render.csv"))
+    refs = {r["scene"]: r for r in read_csv(os.path.join(root, "references.csv"))}
+    integrate_rows = read_csv(os.path.join(root, "integrate.csv"))
+    if not render_rows and not integrate_rows:
+        sys.exit(f"report.py: {root} has neither render.csv nor integrate.csv")
+    plots_dir = os.path.join(root, "plots")
+    os.makedirs(plots_dir, exist_ok=True)
+
+    body = []
+    scenes = by(render_rows, "scene")
+    for scene, rows in scenes.items():
+        body.append(render_section(root, scene, rows, refs.get(scene), plots_dir))
+    if integrate_rows:
+        body.append(integrate_section(integrate_rows, plots_dir))
+    toc = " · ".join([f'<a href="#{html.escape(s)}">{html.escape(s)}</a>' for s in scenes] +
+                     (['<a href="#integrate">integration</a>'] if integrate_rows else []))
+    page = (f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>nuld study</title>"
+            f"<style>{STYLE}</style></head><body><h1>nuld study</h1>"
+            f"<p class='note'>Generated {datetime.datetime.now():%Y-%m-%d %H:%M} from "
+            f"{html.escape(os.path.abspath(root))}. {toc}</p>" + "\n".join(body) +
+            "</body></html>\n")
+    tmp = os.path.join(root, ".index.html.tmp")
+    with open(tmp, "w") as f:
+        f.write(page)
+    os.replace(tmp, os.path.join(root, "index.html"))
+    print(f"report: {os.path.join(root, 'index.html')}")
+
+
+if __name__ == "__main__":
+    main()
