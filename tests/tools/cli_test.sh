@@ -111,5 +111,25 @@ fails_with "generate truncated model" "cut.nuldnet" "$nuld" generate --model "$d
 fails_with "generate foreign model" "not a nuld model file" "$nuld" generate --model "$dir/s.txt" -o "$dir/x.txt"
 fails_with "train unknown family" "unknown family 'blob'" "$nuld" train --target family:blob --n 8 --steps 2 -q -o "$dir/x.nuldnet"
 
+# Render study: a tiny study, its table, a resumed rerun, the report; bad input.
+ok "study render tiny" "$nuld" study render default --res 16x12 --spp 2,4 --reference-spp 16 --integrator direct --backends sobol,halton -q -o "$dir/study"
+grep -q '^halton  *4 ' "$dir/out" || { echo "FAIL: study render prints its table"; failures=$((failures + 1)); }
+[[ -f "$dir/study/index.html" && -f "$dir/study/render.csv" ]] || { echo "FAIL: study render writes CSV and report"; failures=$((failures + 1)); }
+ok "study render rerun" "$nuld" study render default --res 16x12 --spp 2,4 --reference-spp 16 --integrator direct --backends sobol,halton -q --no-report -o "$dir/study"
+[[ $(wc -l <"$dir/study/render.csv") == 5 ]] || { echo "FAIL: a rerun adds no rows"; failures=$((failures + 1)); }
+ok "study report" "$nuld" study report "$dir/study"
+fails_with "study unknown backend" "unknown backend 'sobel'" "$nuld" study render default --backends sobol,sobel -o "$dir/s2"
+fails_with "study bad spp" "spp" "$nuld" study render default --spp 4,x -o "$dir/s2"
+fails_with "study reference of other settings" "reference.state" "$nuld" study render default --res 16x12 --spp 2 --reference-spp 32 --integrator direct --backends sobol -q -o "$dir/study"
+fails_with "study report of an empty directory" "neither render.csv nor integrate.csv" "$nuld" study report "$dir/empty_study"
+
+# Integration study: the 2D integrands need no files.
+ok "study integrate tiny" "$nuld" study integrate --integrands gaussian*step,quarterdisc*bilinear --samplers independent,sobol --n 4,16 --instances 8 --no-plots -q -o "$dir/integ"
+grep -q '^integrand,domain,sampler,n,instances,reference,mean,bias' "$dir/integ/integrate.csv" || { echo "FAIL: study integrate writes its CSV"; failures=$((failures + 1)); }
+[[ $(wc -l <"$dir/integ/integrate.csv") == 9 ]] || { echo "FAIL: study integrate: 2 integrands x 2 samplers x 2 N rows"; failures=$((failures + 1)); }
+fails_with "study integrate unknown sampler" "--samplers" "$nuld" study integrate --samplers sobel --n 4 -o "$dir/integ2"
+fails_with "study integrate bad N" "--n" "$nuld" study integrate --n 4,0 -o "$dir/integ2"
+fails_with "study integrate unknown integrand" "gauss" "$nuld" study integrate --integrands gauss --n 4 -o "$dir/integ2"
+
 echo "$((failures == 0 ? 1 : 0)) passed, $failures failed"
 exit $((failures > 0))

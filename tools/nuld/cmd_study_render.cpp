@@ -118,6 +118,8 @@ Runner addStudyRender(CLI::App &app) {
   app.add_option("--reference-backend", o->s.reference.backend,
                  "backend of the reference (default halton, as the paper)");
   app.add_option("--res", o->res, "resolution W or WxH (default: the scene's)");
+  app.add_option("--res-scale", o->s.resolutionScale,
+                 "scale each scene's own resolution (e.g. 0.25; ignored with --res)");
   app.add_option("--integrator", o->integrator, "path or direct (default: the scene's)")
       ->check(CLI::IsMember({"path", "direct"}));
   app.add_option("--max-depth", o->s.maxDepth, "maximum path length")->check(CLI::Range(1, 1000));

@@ -17,8 +17,8 @@ namespace fs = std::filesystem;
 
 std::string ReferenceSettings::describe(const std::string &sceneName) const {
   std::ostringstream s;
-  s << "scene=" << sceneName << " backend=" << backend << " spp=" << passes() * passSpp
-    << " pass_spp=" << passSpp << " seed=" << seed << " res=" << render.width << "x"
+  s << "scene=" << sceneName << " backend=" << backend << " spp=" << totalSpp()
+    << " pass_spp=" << samplesPerPass() << " seed=" << seed << " res=" << render.width << "x"
     << render.height << " integrator=" << toString(render.integrator)
     << " max_depth=" << render.maxDepth;
   return s.str();
@@ -103,7 +103,7 @@ ReferenceResult renderReference(const Scene &scene, const std::string &sceneName
   }
 
   RenderSettings rs = settings.render;
-  rs.spp = settings.passSpp;
+  rs.spp = settings.samplesPerPass();
   Image sum{rs.width, rs.height, 3,
             std::vector<float>(std::size_t(rs.width) * rs.height * 3, 0.0f)};
   if (state.passesDone > 0) {

@@ -10,6 +10,7 @@
 // any backend; with Halton (the paper's choice for references) each pass is a
 // fresh random-digit-permuted Halton set.
 
+#include <algorithm>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -27,7 +28,11 @@ struct ReferenceSettings {
   std::uint64_t seed = 1u << 20;
   RenderSettings render;  // resolution, integrator, depth (its spp is ignored)
 
-  std::size_t passes() const { return (spp + passSpp - 1) / passSpp; }
+  // A reference smaller than one pass is one pass of `spp`; otherwise spp
+  // is rounded up to whole passes.
+  std::size_t samplesPerPass() const { return std::min(spp, passSpp); }
+  std::size_t passes() const { return (spp + samplesPerPass() - 1) / samplesPerPass(); }
+  std::size_t totalSpp() const { return passes() * samplesPerPass(); }
   // "key=value ..." of everything the image depends on; a state file made
   // with another description is refused rather than silently mixed in.
   std::string describe(const std::string &sceneName) const;

@@ -1,5 +1,6 @@
 #include "tools/study/render_study.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -11,17 +12,13 @@
 #include "scenes/scene_file.h"
 #include "tools/study/csv_table.h"
 #include "tools/study/optimized_sets.h"
+#include "tools/study/stopwatch.h"
 
 namespace nuld::study {
 
 namespace fs = std::filesystem;
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double secondsSince(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
-}
 
 bool isStudyBackend(const std::string &b) { return b == "optimized" || b == "optimized-uniform"; }
 
@@ -87,7 +84,7 @@ ReferenceSettings referenceFor(const RenderStudySettings &s, const RenderSetting
 void appendReferenceRow(CsvTable &refs, const std::string &scene, const ReferenceSettings &r,
                         const ReferenceResult &result, const fs::path &image) {
   if (refs.hasRow({scene})) return;
-  refs.addRow({scene, r.backend, std::to_string(r.passes() * r.passSpp),
+  refs.addRow({scene, r.backend, std::to_string(r.totalSpp()),
                std::to_string(r.render.width) + "x" + std::to_string(r.render.height),
                toString(r.render.integrator), formatNumber(result.totalSeconds), image.string()});
 }
@@ -108,6 +105,8 @@ void RenderStudySettings::validate() const {
   if (spp.empty()) throw std::invalid_argument("--spp: no sample count given");
   for (std::size_t n : spp)
     if (n == 0) throw std::invalid_argument("--spp: counts must be positive");
+  if (!(resolutionScale > 0 && resolutionScale <= 16))
+    throw std::invalid_argument("--res-scale: expected a factor in (0, 16]");
   if (repeats == 0) throw std::invalid_argument("--repeats: must be at least 1");
   if (optimizedInstances == 0) throw std::invalid_argument("--opt-instances: must be at least 1");
   if (out.empty()) throw std::invalid_argument("study render: -o OUTDIR is required");
@@ -143,7 +142,12 @@ RenderStudyResult runRenderStudy(const RenderStudySettings &s, const StudyProgre
   for (const std::string &scenePath : s.scenes) {
     LoadedScene loaded = loadScene(scenePath, assets);
     RenderSettings rs = loaded.settings;
-    if (s.width) rs.width = s.width, rs.height = s.height ? s.height : s.width;
+    if (s.width) {
+      rs.width = s.width, rs.height = s.height ? s.height : s.width;
+    } else if (s.resolutionScale != 1) {
+      rs.width = std::max(1, int(std::lround(rs.width * s.resolutionScale)));
+      rs.height = std::max(1, int(std::lround(rs.height * s.resolutionScale)));
+    }
     if (s.integrator) rs.integrator = *s.integrator;
     if (s.maxDepth) rs.maxDepth = s.maxDepth;
     const std::string sceneSlug = slug(scenePath);

@@ -31,8 +31,9 @@ struct RenderStudySettings {
   std::vector<std::string> scenes{"default"};  // "default" or scene JSON paths
   std::vector<std::string> backends{"independent", "sobol", "halton", "optimized"};
   std::vector<std::size_t> spp{4, 16, 64};
-  std::string assets;         // asset root (see resolveAssetRoot)
-  int width = 0, height = 0;  // 0: the scene's
+  std::string assets;          // asset root (see resolveAssetRoot)
+  int width = 0, height = 0;   // 0: the scene's
+  double resolutionScale = 1;  // applied to the scene's resolution when width is 0
   std::optional<IntegratorKind> integrator;
   int maxDepth = 0;  // 0: the scene's
   std::size_t repeats = 1;

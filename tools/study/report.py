@@ -23,6 +23,9 @@ import matplotlib.image as mpimg  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import plot_integrate  # noqa: E402  (the integrate study's plots, drawn once)
+
 CROP_SCALE_PX = 192  # a zoomed crop is drawn this wide
 
 
@@ -214,32 +217,12 @@ def render_section(root, scene, rows, ref, plots_dir):
     return "\n".join(out)
 
 
-def integrate_plots(rows, plots_dir):
-    """RMSE against N per integrand, one line per sampler (drawn here if the
-    integrate study's own script has not)."""
-    names = []
-    for integrand, rs in by(rows, "integrand").items():
-        series = []
-        for s, srs in by(rs, "sampler").items():
-            series.append((backend_label(s), [num(r["n"]) for r in srs],
-                           [num(r["rmse"]) for r in srs], [math.nan] * len(srs)))
-        fig, ax = plt.subplots(figsize=(6, 4.2))
-        loglog_panel(ax, series, "N", "RMSE", guide=[(-0.5, "--"), (-1, ":")])
-        ax.set_title(integrand)
-        fig.tight_layout()
-        safe = "".join(c if c.isalnum() or c in "-_" else "_" for c in integrand)
-        name = f"integrate_rmse_{safe}.png"
-        fig.savefig(os.path.join(plots_dir, name), dpi=110)
-        plt.close(fig)
-        names.append((integrand, "plots/" + name))
-    return names
-
-
-def integrate_section(rows, plots_dir):
+def integrate_section(root, rows):
     out = ["<h2 id='integrate'>Integration error</h2>",
            "<p>RMSE of the importance-sampling estimate against the reference integral, "
            "bias (mean − reference, ± its standard error) and generation time per set.</p>"]
-    for integrand, plot in integrate_plots(rows, plots_dir):
+    plots, _ = plot_integrate.draw_plots(root, rows)
+    for integrand, plot in plots.items():
         out.append(f"<h3>{html.escape(integrand)}</h3>"
                    f'<p><img class="plot-small" src="{plot}" alt="{html.escape(integrand)}"></p>')
         rs = [r for r in rows if r["integrand"] == integrand]
@@ -266,7 +249,7 @@ figcaption { font-size: 0.8em; max-width: 260px; }
 img.full { width: 260px; image-rendering: pixelated; display: block; }
 img.crop { width: 128px; image-rendering: pixelated; display: block; margin-top: 3px; }
 img.plot { max-width: 100%; }
-img.plot-small { max-width: 560px; }
+img.plot-small { max-width: 900px; width: 100%; }
 .note { color: #555; font-size: 0.85em; }
 """
 
@@ -288,7 +271,7 @@ def main():
     for scene, rows in scenes.items():
         body.append(render_section(root, scene, rows, refs.get(scene), plots_dir))
     if integrate_rows:
-        body.append(integrate_section(integrate_rows, plots_dir))
+        body.append(integrate_section(root, integrate_rows))
     toc = " · ".join([f'<a href="#{html.escape(s)}">{html.escape(s)}</a>' for s in scenes] +
                      (['<a href="#integrate">integration</a>'] if integrate_rows else []))
     page = (f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>nuld study</title>"

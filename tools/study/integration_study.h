@@ -1,0 +1,121 @@
+#pragma once
+// `nuld study integrate`: integration error against N for the study's
+// integrands (integrands.h), sampler against sampler, over many randomized
+// instances, one CSV row per (integrand, sampler, N).
+//
+// Samplers (the CSV's `sampler` values):
+//   independent, sobol (Owen-scrambled), halton (Owen-scrambled digits):
+//       uniform points mapped by the target's inverse CDF;
+//   independent-lobes, sobol-lobes, halton-lobes: on integrands with a BRDF,
+//       the same points through the BRDF's own sample() (lobe picked by u.x,
+//       one-sample MIS over lobes: the supplement's baseline);
+//   optimized: Algorithm 1 at each N with the target's default preset, cached
+//       in OUTDIR/cache/ as point-set files keyed by target, N and settings;
+//   neural:NAME: a trained model (NAME = its file's stem) at its own N, on the
+//       integrands whose target it was trained for, fresh z per instance.
+// Conventional samplers average `instances` instances, optimized and neural
+// ones `optimizedInstances` (the supplement's 128 and 16).
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "sampler/point.h"
+#include "tools/study/csv_table.h"
+#include "tools/study/integrands.h"
+
+namespace nuld::study {
+
+// integrand,domain,sampler,n,instances,reference,mean,bias,bias_stderr,std,
+// rmse,rel_rmse,gen_seconds_per_set,setup_seconds_per_set
+const std::vector<std::string> &integrateColumns();
+std::filesystem::path integrateCsvPath(const std::filesystem::path &outDir);
+
+struct IntegrateOptions {
+  std::filesystem::path outDir;
+  std::vector<std::string> integrands;  // kinds or full names; empty: all
+  std::vector<std::string> samplers;    // empty: independent, sobol, halton, optimized
+  std::vector<std::size_t> ns{16, 32, 64, 128, 256, 512, 1024, 2048, 4096};
+  std::size_t instances = 128;
+  std::size_t optimizedInstances = 16;
+  // Larger N are left out for `optimized`: Algorithm 1's cost grows with N
+  // times the boxes (and the preset doubles the boxes at N >= 2048).
+  std::size_t optimizedMaxN = 1024;
+  int optEpochs = 0;  // 0: the preset's
+  std::vector<std::string> neuralModels;
+  std::string assetRoot;  // resolved; maps are looked up in ASSETROOT/envmaps
+  std::vector<std::string> envmaps{"grace"};
+  std::uint64_t seed = 0;
+};
+
+// "16,32,100": positive integers, comma-separated. Throws
+// std::invalid_argument naming --n and what was expected.
+std::vector<std::size_t> parseNList(const std::string &text);
+// "a,b,c" -> {a, b, c}, blanks trimmed, empty items dropped.
+std::vector<std::string> splitList(const std::string &text);
+
+struct SamplerChoice {
+  enum class Kind { Independent, Sobol, Halton, Optimized, Neural };
+  std::string name;  // the CSV value
+  Kind kind = Kind::Sobol;
+  bool lobes = false;  // through the BRDF's sample() instead of the target
+  std::string model;   // Neural: the model file
+};
+
+// Tokens: independent|random, sobol, halton (each also enabling its -lobes
+// variant), independent-lobes, sobol-lobes, halton-lobes, optimized, and
+// neural:PATH (added to `models`). Throws std::invalid_argument naming
+// --samplers and the accepted names.
+std::vector<SamplerChoice> parseSamplers(const std::vector<std::string> &tokens,
+                                         const std::vector<std::string> &models);
+
+// The importance-sampling estimate (1/N) sum f(x_i) / p(x_i). A point where
+// p is 0 (or f / p is not finite) adds 0 and is counted in `zeroPdf`: a set
+// that leaves its target's support shows up as bias, never as NaN.
+double importanceEstimate(const Integrand &integrand, std::span<const Point2> points,
+                          std::size_t &zeroPdf);
+
+struct EstimateStats {
+  double mean = 0, bias = 0, biasStderr = 0, std = 0, rmse = 0, relRmse = 0;
+};
+// Over K >= 2 estimates: std with K - 1, bias_stderr = std / sqrt(K),
+// rmse = sqrt(mean((e - ref)^2)), so rmse^2 = bias^2 + (K - 1) / K std^2.
+EstimateStats summarize(std::span<const double> estimates, double reference);
+
+struct IntegrateHooks {
+  std::function<void(const std::string &)> message;  // notes (skipped maps, zero-pdf counts)
+  // Rows done of the total, and what is running now.
+  std::function<void(long done, long total, const std::string &status)> progress;
+};
+
+struct IntegrateSummary {
+  std::size_t rowsAdded = 0, rowsSkipped = 0;  // skipped: already in the CSV
+  std::size_t setsOptimized = 0, setsFromCache = 0;
+  std::vector<std::string> notes;  // every message, also those passed to hooks
+};
+
+// Runs the study into OUTDIR/integrate.csv, resuming it (rows present are
+// skipped). Throws std::invalid_argument or std::runtime_error naming the
+// option for an unknown integrand or sampler, a bad N list or instance
+// count, an unreadable model, or a model that matches no integrand.
+IntegrateSummary runIntegrateStudy(const IntegrateOptions &options,
+                                   const IntegrateHooks &hooks = {});
+
+// The integrands the options select, with their maps loaded; a sphere
+// integrand whose map is missing is skipped with a note.
+std::vector<Integrand> selectIntegrands(const IntegrateOptions &options,
+                                        std::vector<std::string> &notes);
+
+// Runs /usr/bin/python3 TOOLS/study/report.py OUTDIR (plot_integrate.py's plots and index.html;
+// report_script.h: TOOLS is $NULD_TOOLS_DIR, else this checkout's tools/). Returns a warning when
+// no plots were made (no python, matplotlib or script); the CSV stands.
+std::optional<std::string> runIntegratePlots(const std::filesystem::path &outDir);
+
+// Per integrand, RMSE by sampler (rows) and N (columns), from the CSV rows.
+std::string rmseTable(const CsvTable &table);
+
+}  // namespace nuld::study
