@@ -80,4 +80,46 @@ LoadedScene makeDefaultScene() {
   return out;
 }
 
+LoadedScene makeStressScene() {
+  LoadedScene out = makeDefaultScene();
+  out.name = "stress";
+  std::vector<TriangleMesh> meshes;
+  std::vector<std::shared_ptr<const Bsdf>> materials;
+  const auto add = [&](TriangleMesh mesh, DisneyParams p) {
+    meshes.push_back(std::move(mesh));
+    materials.push_back(std::make_shared<DisneyBrdf>(p));
+  };
+  DisneyParams mirror;  // roughness 0: the GGX lobe at its smallest width
+  mirror.baseColor = {0.95, 0.95, 0.95};
+  mirror.metallic = 1;
+  mirror.roughness = 0;
+  add(makeSphere({-1.1, 0.5, 0}, 0.5, 48, 96, "mirror"), mirror);
+  DisneyParams glass;  // roughness 0, dielectric, with clearcoat: two sharp lobes
+  glass.baseColor = {0.1, 0.3, 0.8};
+  glass.roughness = 0;
+  glass.clearcoat = 1;
+  glass.clearcoatGloss = 1;
+  glass.anisotropic = 0.9;
+  add(makeSphere({0, 0.5, 0}, 0.5, 48, 96, "smooth"), glass);
+  DisneyParams rough;  // roughness 1, subsurface and sheen
+  rough.baseColor = {0.9, 0.85, 0.8};
+  rough.roughness = 1;
+  rough.subsurface = 1;
+  rough.sheen = 1;
+  add(makeSphere({1.1, 0.5, 0}, 0.5, 48, 96, "rough"), rough);
+  DisneyParams floor;  // a glossy floor seen at grazing angles
+  floor.baseColor = {0.5, 0.5, 0.5};
+  floor.roughness = 0.05;
+  floor.specular = 1;
+  add(makeFloor(20, 0, "floor"), floor);
+  out.scene = Scene{EmbreeScene(std::move(meshes)), std::move(materials), std::nullopt, {}};
+  // Scaled so the sun lights the scene about as the default one does; the
+  // map keeps its 1e6 dynamic range.
+  out.scene.environment.emplace(proceduralSky(512, 256, 1e6), 1e-3, 0.0, "procedural-sun-1e6");
+  // The eye 2 cm above the floor: most floor points are seen within a few
+  // degrees of grazing.
+  out.scene.camera = {{0, 0.02, 4.2}, {0, 0.3, 0}, {0, 1, 0}, 36, false};
+  return out;
+}
+
 }  // namespace nuld

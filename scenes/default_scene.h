@@ -11,6 +11,12 @@ namespace nuld {
 
 LoadedScene makeDefaultScene();
 
+// The built-in scene `stress`, for stability studies: the default layout with
+// roughness 0 (a metal mirror, an anisotropic dielectric with clearcoat),
+// roughness 1 (subsurface, sheen), a glossy floor seen from 2 cm above it
+// (grazing views) and a sun 1e6 times brighter than the sky.
+LoadedScene makeStressScene();
+
 // The procedural sky: a lat-long map (row 0 = zenith) with a blue gradient, a
 // darker ground and a sun disc of `sunRadiance` (so the dynamic range can be
 // made extreme for stability tests).

@@ -98,6 +98,7 @@ void readRender(const JsonReader &r, LoadedScene &out) {
 
 LoadedScene loadScene(const std::string &path, const std::string &assetRoot) {
   if (path == "default") return makeDefaultScene();
+  if (path == "stress") return makeStressScene();
 
   std::ifstream in(path);
   if (!in) throw std::runtime_error(path + ": cannot open the scene file");

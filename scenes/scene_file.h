@@ -49,7 +49,8 @@ struct LoadedScene {
 // shared/assets beside the checkout (../shared/assets from the source tree).
 std::string resolveAssetRoot(const std::string &explicitRoot);
 
-// `path` is a JSON scene file or "default". Throws std::invalid_argument or
+// `path` is a JSON scene file, "default" or "stress" (built in, see
+// default_scene.h). Throws std::invalid_argument or
 // std::runtime_error naming the file, the field and what was expected.
 LoadedScene loadScene(const std::string &path, const std::string &assetRoot);
 

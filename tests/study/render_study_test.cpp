@@ -85,7 +85,7 @@ TEST_F(TinyStudy, CsvHasItsColumnsAndUnits) {
   std::getline(in, header);
   EXPECT_EQ(header,
             "scene,backend,spp,repeats,mse,mse_stderr,relmse,relmse_stderr,seconds,"
-            "setup_seconds,rays_per_second,nonfinite_pixels,image,error_map");
+            "setup_seconds,rays_per_second,nonfinite_pixels,rejected_samples,image,error_map");
   const CsvTable t = readTable(*dir_);
   ASSERT_EQ(t.rows().size(), 10u) << "5 backends x 2 spp";
   EXPECT_TRUE(result_->skipped.empty());
@@ -95,6 +95,7 @@ TEST_F(TinyStudy, CsvHasItsColumnsAndUnits) {
     EXPECT_TRUE(r["spp"] == "4" || r["spp"] == "64") << r["spp"];
     EXPECT_EQ(r["repeats"], "2");
     EXPECT_EQ(r["nonfinite_pixels"], "0");
+    EXPECT_EQ(r["rejected_samples"], "0");
     const double mse = std::stod(r["mse"]), secs = std::stod(r["seconds"]);
     EXPECT_TRUE(std::isfinite(mse) && mse > 0) << r["backend"];
     EXPECT_GE(std::stod(r["relmse"]), 0);
@@ -276,6 +277,30 @@ TEST(RenderStudy, SceneWithoutEnvironmentMapSkipsOptimizedWithTheReason) {
   EXPECT_NE(r.skipped[0].find("plain optimized 4: the scene has no"), std::string::npos)
       << r.skipped[0];
   EXPECT_EQ(readTable(tmp / "out").rows().size(), 1u);
+}
+
+TEST(RenderStudy, StressSceneHasNoNonFiniteValueAnywhere) {
+  // Roughness 0 and 1, grazing views of a glossy floor, a sun 1e6 times the
+  // sky: every backend, full paths. Non-finite sample values would be
+  // dropped and counted by the renderer; neither may happen.
+  TempDir tmp;
+  RenderStudySettings s = tinyStudy(tmp.path());
+  s.scenes = {"stress"};
+  s.integrator = IntegratorKind::Path;
+  s.spp = {16};
+  s.repeats = 1;
+  s.reference.spp = 64, s.reference.passSpp = 64;
+  runRenderStudy(s);
+  const CsvTable t = readTable(tmp.path());
+  ASSERT_EQ(t.rows().size(), 5u);
+  for (const auto &row : t.rows()) {
+    auto r = asMap(t.columns(), row);
+    EXPECT_EQ(r["nonfinite_pixels"], "0") << r["backend"];
+    EXPECT_EQ(r["rejected_samples"], "0") << r["backend"];
+    EXPECT_TRUE(std::isfinite(std::stod(r["mse"]))) << r["backend"];
+  }
+  const Image ref = readImage((tmp / "stress" / "reference.exr").string());
+  for (float v : ref.pixels) ASSERT_TRUE(std::isfinite(v) && v >= 0);
 }
 
 TEST(RenderStudy, SlugsAreFileNameSafe) {

@@ -56,7 +56,8 @@ Runner addStudyIntegrate(CLI::App &app) {
   app.add_option("--envmaps", o->envmaps,
                  "comma-separated maps for the sphere integrands: NAME (envmaps/NAME_latlong.exr "
                  "or .hdr, or NAME.exr/.hdr) or a path (default: grace; the supplement used "
-                 "three Debevec maps, e.g. grace,galileo,beach)");
+                 "three Debevec maps, e.g. grace,galileo,beach; 'sun' is built in: the default "
+                 "scene's sky with a sun 1e6 times brighter, the stability case)");
   app.add_option("--seed", o->seed, "seed of every randomization and of the optimization");
   app.add_flag("--no-plots", o->noPlots, "write only the CSV");
   app.add_flag("-q,--quiet", o->quiet, "no progress or notes on stderr (the table still prints)");

@@ -91,8 +91,13 @@ void gaussLegendre(int q, std::vector<double> &nodes, std::vector<double> &weigh
 
 const std::vector<std::string> &integrandKinds() {
   static const std::vector<std::string> kinds{"gaussian*step", "quarterdisc*bilinear", "envmap*cos",
-                                              "disney*envmap"};
+                                              "disney*envmap", "disney-grazing*envmap"};
   return kinds;
+}
+
+Vec3 grazingWo() {
+  const double theta = 89 * std::numbers::pi / 180;
+  return {std::sin(theta), 0, std::cos(theta)};
 }
 
 Integrand makeGaussianStep() {

@@ -53,7 +53,9 @@ struct Integrand {
 };
 
 // The kinds --integrands accepts: gaussian*step, quarterdisc*bilinear,
-// envmap*cos and disney*envmap (the last two once per environment map).
+// envmap*cos, disney*envmap and disney-grazing*envmap (the last three once
+// per environment map; the grazing one views the lobe from 89 degrees, a
+// stability case).
 const std::vector<std::string> &integrandKinds();
 
 // Target gaussian:0.5,0.5,0.15; f = p(x) [x.x < 0.6], so f / p is the step
@@ -112,6 +114,10 @@ Integrand makeEnvmapCos(std::shared_ptr<const StudyEnvmap> map, Vec3 normal = en
 Integrand makeDisneyEnvmap(std::shared_ptr<const StudyEnvmap> map,
                            const DisneyParams &params = supplementDisneyParams(),
                            Vec3 wo = supplementWo());
+
+// omega_o 89 degrees from the normal, in the plane of the tangent: the
+// grazing view of disney-grazing*envmap.
+Vec3 grazingWo();
 
 // Gauss-Legendre nodes and weights on [-1, 1].
 void gaussLegendre(int q, std::vector<double> &nodes, std::vector<double> &weights);

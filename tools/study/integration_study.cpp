@@ -17,6 +17,7 @@
 #include "sampler/optimize/optimizer.h"
 #include "sampler/sequences/rng.h"
 #include "sampler/sequences/sequence.h"
+#include "scenes/default_scene.h"
 #include "tools/study/optimized_sets.h"
 #include "tools/study/report_script.h"
 #include "tools/study/stopwatch.h"
@@ -75,6 +76,9 @@ fs::path cachePath(const fs::path &dir, const Target &target, const OptimizerSet
                 static_cast<unsigned long long>(hashString(spec + "|" + s.describe())));
   return dir / ("optimized_" + slug + "_n" + std::to_string(s.n) + "_" + hash + ".ptsb");
 }
+
+// A built-in map name (no file): the default sky with a 1e6 sun.
+constexpr const char *kSunMap = "sun";
 
 std::optional<std::string> findEnvmap(const std::string &root, const std::string &name) {
   std::vector<fs::path> candidates;
@@ -252,6 +256,7 @@ std::vector<Integrand> selectIntegrands(const IntegrateOptions &o,
   for (const auto &m : o.envmaps) {
     known.push_back("envmap:" + envmapShortName(m) + "*cos");
     known.push_back("disney*envmap:" + envmapShortName(m));
+    known.push_back("disney-grazing*envmap:" + envmapShortName(m));
   }
   for (const auto &t : o.integrands)
     if (t != "all" && std::find(known.begin(), known.end(), t) == known.end())
@@ -265,17 +270,28 @@ std::vector<Integrand> selectIntegrands(const IntegrateOptions &o,
     const std::string name = envmapShortName(m);
     const bool cosine = wants(kinds[2], "envmap:" + name + "*cos");
     const bool disney = wants(kinds[3], "disney*envmap:" + name);
-    if (!cosine && !disney) continue;
-    const auto path = findEnvmap(o.assetRoot, m);
-    if (!path) {
+    const bool grazing = wants(kinds[4], "disney-grazing*envmap:" + name);
+    if (!cosine && !disney && !grazing) continue;
+    std::shared_ptr<const StudyEnvmap> map;
+    if (m == kSunMap) {
+      // The stability case: the default scene's sky with a sun 1e6 times
+      // brighter than its sky, built in so it needs no file.
+      map = makeStudyEnvmap(proceduralSky(512, 256, 1e6), m, "procedural-sun-1e6");
+    } else if (const auto path = findEnvmap(o.assetRoot, m)) {
+      map = loadStudyEnvmap(*path, name);
+    } else {
       notes.push_back("skipping the integrands of environment map '" + m + "': no file " + m +
                       "_latlong.exr/.hdr or " + m + ".exr/.hdr in " +
                       (fs::path(o.assetRoot) / "envmaps").string() + " (check --assets)");
       continue;
     }
-    const auto map = loadStudyEnvmap(*path, name);
     if (cosine) out.push_back(makeEnvmapCos(map));
     if (disney) out.push_back(makeDisneyEnvmap(map));
+    if (grazing) {
+      Integrand in = makeDisneyEnvmap(map, supplementDisneyParams(), grazingWo());
+      in.name = "disney-grazing*envmap:" + name;
+      out.push_back(std::move(in));
+    }
   }
   for (const auto &in : out) {
     notes.push_back(in.name + ": reference " + formatPrecise(in.reference) + " (" +

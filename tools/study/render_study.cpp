@@ -92,10 +92,21 @@ void appendReferenceRow(CsvTable &refs, const std::string &scene, const Referenc
 }  // namespace
 
 const std::vector<std::string> &renderStudyColumns() {
-  static const std::vector<std::string> columns{
-      "scene",           "backend",          "spp",           "repeats",  "mse",
-      "mse_stderr",      "relmse",           "relmse_stderr", "seconds",  "setup_seconds",
-      "rays_per_second", "nonfinite_pixels", "image",         "error_map"};
+  static const std::vector<std::string> columns{"scene",
+                                                "backend",
+                                                "spp",
+                                                "repeats",
+                                                "mse",
+                                                "mse_stderr",
+                                                "relmse",
+                                                "relmse_stderr",
+                                                "seconds",
+                                                "setup_seconds",
+                                                "rays_per_second",
+                                                "nonfinite_pixels",
+                                                "rejected_samples",
+                                                "image",
+                                                "error_map"};
   return columns;
 }
 
@@ -186,6 +197,7 @@ RenderStudyResult runRenderStudy(const RenderStudySettings &s, const StudyProgre
         settings.spp = spp;
         std::vector<double> mse, relmse, seconds, raysPerSecond;
         std::size_t nonFinite = 0;
+        std::uint64_t rejected = 0;
         const fs::path image = dir / (backendSlug + "_spp" + std::to_string(spp) + ".exr");
         const fs::path errorPath =
             dir / (backendSlug + "_spp" + std::to_string(spp) + "_error.png");
@@ -208,6 +220,7 @@ RenderStudyResult runRenderStudy(const RenderStudySettings &s, const StudyProgre
             mse.push_back(e.mse);
             relmse.push_back(e.relmse);
             nonFinite += e.nonFinitePixels;
+            rejected += stats.rejectedSamples;
             if (r == 0) {
               writeRender(image.string(), img);
               writeImage(errorPath.string(), errorMap(img, ref.image));
@@ -224,12 +237,12 @@ RenderStudyResult runRenderStudy(const RenderStudySettings &s, const StudyProgre
         }
         const Summary m = summarize(mse), rm = summarize(relmse), t = summarize(seconds),
                       rps = summarize(raysPerSecond);
-        table.addRow({sceneSlug, backend, std::to_string(spp), std::to_string(s.repeats),
-                      formatNumber(m.mean), formatNumber(m.stderr_), formatNumber(rm.mean),
-                      formatNumber(rm.stderr_), formatNumber(t.mean),
-                      formatNumber(resolved.setupSeconds), formatNumber(rps.mean),
-                      std::to_string(nonFinite), fs::relative(image, s.out).string(),
-                      fs::relative(errorPath, s.out).string()});
+        table.addRow(
+            {sceneSlug, backend, std::to_string(spp), std::to_string(s.repeats),
+             formatNumber(m.mean), formatNumber(m.stderr_), formatNumber(rm.mean),
+             formatNumber(rm.stderr_), formatNumber(t.mean), formatNumber(resolved.setupSeconds),
+             formatNumber(rps.mean), std::to_string(nonFinite), std::to_string(rejected),
+             fs::relative(image, s.out).string(), fs::relative(errorPath, s.out).string()});
       }
     }
   }

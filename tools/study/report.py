@@ -150,6 +150,11 @@ def render_section(root, scene, rows, ref, plots_dir):
         out.append(f"<p>Reference: {html.escape(ref['backend'])}, {ref['spp']} spp, "
                    f"{ref['resolution']}, {ref['integrator']} integrator, "
                    f"{num(ref['seconds']):.1f} s of rendering.</p>")
+    nonfinite = sum(int(num(r["nonfinite_pixels"])) for r in rows)
+    rejected = sum(int(num(r.get("rejected_samples", 0))) for r in rows)
+    out.append(f"<p class='{'bad' if nonfinite or rejected else 'note'}'>Stability: "
+               f"{nonfinite} non-finite pixels and {rejected} non-finite samples (dropped by "
+               f"the renderer) over all {len(rows)} renders.</p>")
     plot = render_plots(scene, rows, plots_dir)
     out.append(f'<p><img class="plot" src="{plot}" alt="error plots of {html.escape(scene)}"></p>')
 
@@ -251,6 +256,7 @@ img.crop { width: 128px; image-rendering: pixelated; display: block; margin-top:
 img.plot { max-width: 100%; }
 img.plot-small { max-width: 900px; width: 100%; }
 .note { color: #555; font-size: 0.85em; }
+.bad { color: #b00; font-weight: bold; }
 """
 
 
