@@ -120,6 +120,7 @@ ok "study render rerun" "$nuld" study render default --res 16x12 --spp 2,4 --ref
 ok "study report" "$nuld" study report "$dir/study"
 fails_with "study unknown backend" "unknown backend 'sobel'" "$nuld" study render default --backends sobol,sobel -o "$dir/s2"
 fails_with "study bad spp" "spp" "$nuld" study render default --spp 4,x -o "$dir/s2"
+fails_with "study bad resolution" "expected W or WxH" "$nuld" study render default --res 12by4 -o "$dir/s2"
 fails_with "study reference of other settings" "reference.state" "$nuld" study render default --res 16x12 --spp 2 --reference-spp 32 --integrator direct --backends sobol -q -o "$dir/study"
 fails_with "study report of an empty directory" "neither render.csv nor integrate.csv" "$nuld" study report "$dir/empty_study"
 

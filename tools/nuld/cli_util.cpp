@@ -1,6 +1,7 @@
 #include "tools/nuld/cli_util.h"
 
 #include <cstdio>
+#include <regex>
 #include <stdexcept>
 
 #include "sampler/targets/basic_targets.h"
@@ -23,6 +24,19 @@ void mapByInverseCdf(PointSet &set, const Target &target) {
   set.metadata["target"] = target.spec();
   set.metadata["domain"] = toString(target.domain());
   set.metadata["mapping"] = "inverse-cdf";
+}
+
+Resolution parseResolution(const std::string &text) {
+  static const std::regex re(R"((\d{1,9})(?:x(\d{1,9}))?)");
+  std::smatch m;
+  if (!std::regex_match(text, m, re))
+    throw std::invalid_argument("--res '" + text + "': expected W or WxH, e.g. 512 or 640x480");
+  Resolution r;
+  r.width = std::stoi(m[1]);
+  r.height = m[2].matched ? std::stoi(m[2]) : r.width;
+  if (r.width < 1 || r.height < 1 || r.width > 32768 || r.height > 32768)
+    throw std::invalid_argument("--res '" + text + "': each side must be in [1, 32768]");
+  return r;
 }
 
 std::string shortNumber(double v) {

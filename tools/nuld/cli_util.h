@@ -16,6 +16,13 @@ std::unique_ptr<Target> targetFor(const std::string &spec, const PointSet &set);
 // Maps every point of `set` through the target's inverse CDF.
 void mapByInverseCdf(PointSet &set, const Target &target);
 
+// "W" or "WxH" (--res), each side in [1, 32768]; throws std::invalid_argument
+// quoting the text and the expected form.
+struct Resolution {
+  int width = 0, height = 0;
+};
+Resolution parseResolution(const std::string &text);
+
 // Three significant digits, for progress-bar status lines (loss, lr, alpha).
 std::string shortNumber(double v);
 

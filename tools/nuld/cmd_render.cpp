@@ -3,30 +3,15 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <regex>
 
 #include "renderer/image_metrics.h"
 #include "renderer/render.h"
 #include "scenes/scene_file.h"
+#include "tools/nuld/cli_util.h"
 #include "tools/nuld/commands.h"
 #include "tools/nuld/progress.h"
 
 namespace nuld::cli {
-
-namespace {
-
-void parseResolution(const std::string &text, RenderSettings &s) {
-  static const std::regex re(R"((\d+)(?:x(\d+))?)");
-  std::smatch m;
-  if (!std::regex_match(text, m, re))
-    throw std::invalid_argument("--res '" + text + "': expected W or WxH, e.g. 512 or 640x480");
-  s.width = std::stoi(m[1]);
-  s.height = m[2].matched ? std::stoi(m[2]) : s.width;
-  if (s.width < 1 || s.height < 1 || s.width > 32768 || s.height > 32768)
-    throw std::invalid_argument("--res '" + text + "': each side must be in [1, 32768]");
-}
-
-}  // namespace
 
 Runner addRender(CLI::App &app) {
   struct Options {
@@ -61,7 +46,10 @@ Runner addRender(CLI::App &app) {
     LoadedScene loaded = loadScene(o->scene, resolveAssetRoot(o->assets));
     RenderSettings s = loaded.settings;
     if (o->spp) s.spp = o->spp;
-    if (!o->res.empty()) parseResolution(o->res, s);
+    if (!o->res.empty()) {
+      const Resolution r = parseResolution(o->res);
+      s.width = r.width, s.height = r.height;
+    }
     if (!o->integrator.empty()) s.integrator = parseIntegrator(o->integrator);
     if (o->maxDepth) s.maxDepth = o->maxDepth;
     const std::uint64_t seed = o->seed >= 0 ? std::uint64_t(o->seed) : loaded.seed;

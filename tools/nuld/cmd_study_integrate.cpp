@@ -4,7 +4,6 @@
 
 #include <unistd.h>
 
-#include <chrono>
 #include <cstdlib>
 #include <iostream>
 #include <optional>
@@ -13,6 +12,7 @@
 #include "tools/nuld/commands.h"
 #include "tools/nuld/progress.h"
 #include "tools/study/integration_study.h"
+#include "tools/study/stopwatch.h"
 
 namespace nuld::cli {
 
@@ -89,10 +89,9 @@ Runner addStudyIntegrate(CLI::App &app) {
       bar->update(done, status);
       barDrawn = true;
     };
-    const auto start = std::chrono::steady_clock::now();
+    const auto start = study::Clock::now();
     const study::IntegrateSummary summary = study::runIntegrateStudy(opts, hooks);
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double seconds = study::secondsSince(start);
     if (bar)
       bar->finish(std::to_string(summary.rowsAdded) + " rows added, " +
                   std::to_string(summary.rowsSkipped) + " already present");

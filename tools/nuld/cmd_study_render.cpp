@@ -6,6 +6,7 @@
 #include <map>
 
 #include "renderer/path_integrator.h"
+#include "tools/nuld/cli_util.h"
 #include "tools/nuld/commands.h"
 #include "tools/nuld/progress.h"
 #include "tools/study/csv_table.h"
@@ -53,10 +54,7 @@ double number(const std::string &s) {
 // MSE per (scene, backend, spp), with the ratio to sobol at the same spp,
 // the comparison the studies are about.
 void printTable(const study::CsvTable &table) {
-  const auto &cols = table.columns();
-  auto col = [&](const char *name) {
-    return std::size_t(std::find(cols.begin(), cols.end(), name) - cols.begin());
-  };
+  const auto col = [&](const char *name) { return table.column(name); };
   const std::size_t scene = col("scene"), backend = col("backend"), spp = col("spp"),
                     mse = col("mse"), relmse = col("relmse"), secs = col("seconds"),
                     setup = col("setup_seconds");
@@ -149,16 +147,8 @@ Runner addStudyRender(CLI::App &app) {
     s.out = o->out;
     if (s.scenes.empty()) s.scenes = {"default"};
     if (!o->res.empty()) {
-      const auto x = o->res.find('x');
-      try {
-        s.width = std::stoi(o->res.substr(0, x));
-        s.height = x == std::string::npos ? s.width : std::stoi(o->res.substr(x + 1));
-      } catch (...) {
-        s.width = 0;
-      }
-      if (s.width < 1 || s.height < 1 || s.width > 32768 || s.height > 32768)
-        throw std::invalid_argument("--res '" + o->res +
-                                    "': expected W or WxH, e.g. 512 or 640x480");
+      const Resolution r = parseResolution(o->res);
+      s.width = r.width, s.height = r.height;
     }
     if (!o->integrator.empty()) s.integrator = parseIntegrator(o->integrator);
 

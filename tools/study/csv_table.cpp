@@ -56,6 +56,12 @@ void CsvTable::loadExisting() {
   }
 }
 
+std::size_t CsvTable::column(const std::string &name) const {
+  for (std::size_t i = 0; i < columns_.size(); ++i)
+    if (columns_[i] == name) return i;
+  throw std::logic_error(path_.string() + ": no column '" + name + "'");
+}
+
 bool CsvTable::hasRow(const std::vector<std::string> &key) const {
   for (const auto &row : rows_) {
     bool same = key.size() <= row.size();

@@ -25,6 +25,8 @@ class CsvTable {
   void addRow(std::vector<std::string> values);
 
   const std::vector<std::string> &columns() const { return columns_; }
+  // The index of a column; throws std::logic_error for a name it lacks.
+  std::size_t column(const std::string &name) const;
   const std::vector<std::vector<std::string>> &rows() const { return rows_; }
   const std::filesystem::path &path() const { return path_; }
 

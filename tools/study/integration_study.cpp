@@ -573,10 +573,7 @@ std::optional<std::string> runIntegratePlots(const fs::path &outDir) {
 }
 
 std::string rmseTable(const CsvTable &table) {
-  const auto &cols = table.columns();
-  const auto col = [&](const std::string &name) {
-    return std::size_t(std::find(cols.begin(), cols.end(), name) - cols.begin());
-  };
+  const auto col = [&](const std::string &name) { return table.column(name); };
   const std::size_t ci = col("integrand"), cs = col("sampler"), cn = col("n"), cr = col("rmse"),
                     cref = col("reference");
   std::vector<std::string> integrands;
