@@ -29,13 +29,11 @@ void validate(std::span<const Point2> points, std::span<const Box2> boxes,
                                   " is not finite");
 }
 
-// Which side of the box is nearest, as the sign of dd/dx along its axis.
-enum Side : std::uint8_t { kLoX, kHiX, kLoY, kHiY };
-
-struct BandEntry {
-  std::uint32_t slot;  // the point's index in the caller's array
-  Side side;
-  double dsigma;  // sigma'(alpha d)
+// A run of one storage order that a box scanned, and where its signed slopes
+// start in the box's slope buffer.
+struct ScannedRun {
+  bool columnOrder;
+  std::uint32_t begin, end, offset;
 };
 
 // Number of partial sums: a function of the problem size only, never of the
@@ -75,14 +73,22 @@ double softBoxLoss(std::span<const Point2> points, std::span<const Box2> boxes,
   const double invN = 1.0 / double(N);
   const double gradScale = 2.0 * alpha / (double(M) * double(N));
 
+  // Gradients accumulate per chunk in the grid's two storage orders, so that
+  // a box adds its slopes to contiguous runs (vectorized) rather than
+  // scattering them by original index; they are mapped back once at the end.
   const std::size_t chunks = chunkCount(N, M);
   std::vector<double> chunkLoss(chunks, 0.0);
-  std::vector<Point2> chunkGrad(wantGrad ? chunks * N : 0);
+  std::vector<Point2> chunkGrad(wantGrad ? 2 * chunks * N : 0);
 
   tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
     const std::size_t m0 = M * c / chunks, m1 = M * (c + 1) / chunks;
-    Point2 *g = wantGrad ? &chunkGrad[c * N] : nullptr;
-    std::vector<BandEntry> band;
+    Point2 *gRow = wantGrad ? &chunkGrad[2 * c * N] : nullptr;
+    Point2 *gCol = wantGrad ? gRow + N : nullptr;
+    std::vector<ScannedRun> runs;
+    // dsigma/dx of each scanned point: sigma'(alpha d) on the nearest side's
+    // axis, signed by that side, zero outside the band. A box scans each
+    // point at most once, so N entries suffice.
+    std::vector<Point2> slopes(wantGrad ? N : 0);
     double lossSum = 0;
     for (std::size_t m = m0; m < m1; ++m) {
       const Box2 &A = boxes[m];
@@ -92,70 +98,66 @@ double softBoxLoss(std::span<const Point2> points, std::span<const Box2> boxes,
       const PointGrid::CellRange in = grid.cellsInside(inner);
       double count = grid.cellSum(in);  // whole cells deep inside: sigma = 1
       double soft = 0;
-      band.clear();
+      std::uint32_t used = 0;
+      runs.clear();
 
-      // Evaluates the contiguous run [begin, end) of one storage order (xs,
-      // ys, original indices) in branch-free, vectorizable blocks; only band
-      // points (sigma' > 0) are kept for the gradient.
-      auto scan = [&](const double *sx, const double *sy, const std::uint32_t *original,
-                      std::uint32_t begin, std::uint32_t end) {
-        constexpr int kBlock = 64;
-        alignas(64) double value[kBlock], slope[kBlock];
+      // Evaluates the contiguous run [begin, end) of one storage order in
+      // branch-free, vectorizable blocks.
+      auto scan = [&](bool columnOrder, std::uint32_t begin, std::uint32_t end) {
+        if (begin >= end) return;
+        const double *sx = columnOrder ? grid.columnXs().data() : xs.data();
+        const double *sy = columnOrder ? grid.columnYs().data() : ys.data();
+        Point2 *slope = wantGrad ? slopes.data() + used : nullptr;
+        if (wantGrad) {
+          runs.push_back({columnOrder, begin, end, used});
+          used += end - begin;
+        }
+        constexpr std::uint32_t kBlock = 64;
+        alignas(64) double value[kBlock], slopeX[kBlock], slopeY[kBlock];
         for (std::uint32_t k0 = begin; k0 < end; k0 += kBlock) {
-          const int n = int(std::min<std::uint32_t>(kBlock, end - k0));
+          const int n = int(std::min(kBlock, end - k0));
           const double *bx = sx + k0, *by = sy + k0;
           for (int j = 0; j < n; ++j) {
-            const double d = std::min(std::min(bx[j] - A.lo.x, A.hi.x - bx[j]),
-                                      std::min(by[j] - A.lo.y, A.hi.y - by[j]));
-            const double at = alpha * d;
+            const double toLoX = bx[j] - A.lo.x, toHiX = A.hi.x - bx[j];
+            const double toLoY = by[j] - A.lo.y, toHiY = A.hi.y - by[j];
+            const double dX = std::min(toLoX, toHiX), dY = std::min(toLoY, toHiY);
+            const double at = alpha * std::min(dX, dY);
             const double a = std::min(std::abs(at), cutoff);
             const double e = fastExpNonPositive(-a);
             const double inv = 1 / (1 + e);
             const bool band = std::abs(at) <= cutoff;
             value[j] = at > cutoff ? 1.0 : band ? (at >= 0 ? inv : e * inv) : 0.0;
-            slope[j] = band ? e * inv * inv : 0.0;
+            // The nearest side, ties to the first of lo x, hi x, lo y, hi y.
+            const double ds = band ? e * inv * inv : 0.0;
+            const bool onX = dX <= dY;
+            slopeX[j] = onX ? (toLoX <= toHiX ? ds : -ds) : 0.0;
+            slopeY[j] = onX ? 0.0 : (toLoY <= toHiY ? ds : -ds);
+          }
+          if (wantGrad) {
+            Point2 *sl = slope + (k0 - begin);
+            for (int j = 0; j < n; ++j) sl[j] = {slopeX[j], slopeY[j]};
           }
           double partial[4] = {0, 0, 0, 0};
           for (int j = 0; j < n; ++j) partial[j & 3] += value[j];
           soft += (partial[0] + partial[1]) + (partial[2] + partial[3]);
-          if (!wantGrad) continue;
-          for (int j = 0; j < n; ++j) {
-            if (slope[j] == 0) continue;
-            const double x = bx[j], y = by[j];
-            double d = x - A.lo.x;
-            Side side = kLoX;
-            if (const double t = A.hi.x - x; t < d) {
-              d = t;
-              side = kHiX;
-            }
-            if (const double t = y - A.lo.y; t < d) {
-              d = t;
-              side = kLoY;
-            }
-            if (const double t = A.hi.y - y; t < d) side = kHiY;
-            band.push_back({original[k0 + j], side, slope[j]});
-          }
         }
       };
-      const double *rx = xs.data(), *ry = ys.data(), *cx = grid.columnXs().data(),
-                   *cy = grid.columnYs().data();
-      const std::uint32_t *ri = grid.originalIndex().data(), *ci = grid.columnIndex().data();
       if (!touch.empty()) {
         if (in.empty()) {
           for (int row = touch.cy0; row <= touch.cy1; ++row)
-            scan(rx, ry, ri, grid.cellBegin(touch.cx0, row), grid.rowEnd(touch.cx1, row));
+            scan(false, grid.cellBegin(touch.cx0, row), grid.rowEnd(touch.cx1, row));
         } else {
           // Rows above and below the interior: whole rows of the touched range.
           for (int row = touch.cy0; row < in.cy0; ++row)
-            scan(rx, ry, ri, grid.cellBegin(touch.cx0, row), grid.rowEnd(touch.cx1, row));
+            scan(false, grid.cellBegin(touch.cx0, row), grid.rowEnd(touch.cx1, row));
           for (int row = in.cy1 + 1; row <= touch.cy1; ++row)
-            scan(rx, ry, ri, grid.cellBegin(touch.cx0, row), grid.rowEnd(touch.cx1, row));
+            scan(false, grid.cellBegin(touch.cx0, row), grid.rowEnd(touch.cx1, row));
           // Columns left and right of the interior, over the interior's rows:
           // one contiguous run each in the column-major order.
           for (int col = touch.cx0; col < in.cx0; ++col)
-            scan(cx, cy, ci, grid.columnBegin(col, in.cy0), grid.columnEnd(col, in.cy1));
+            scan(true, grid.columnBegin(col, in.cy0), grid.columnEnd(col, in.cy1));
           for (int col = in.cx1 + 1; col <= touch.cx1; ++col)
-            scan(cx, cy, ci, grid.columnBegin(col, in.cy0), grid.columnEnd(col, in.cy1));
+            scan(true, grid.columnBegin(col, in.cy0), grid.columnEnd(col, in.cy1));
         }
       }
 
@@ -163,14 +165,11 @@ double softBoxLoss(std::span<const Point2> points, std::span<const Box2> boxes,
       lossSum += r * r;
       if (wantGrad && r != 0) {
         const double coef = gradScale * r;
-        for (const BandEntry &b : band) {
-          const double v = coef * b.dsigma;
-          switch (b.side) {
-            case kLoX: g[b.slot].x += v; break;
-            case kHiX: g[b.slot].x -= v; break;
-            case kLoY: g[b.slot].y += v; break;
-            case kHiY: g[b.slot].y -= v; break;
-          }
+        for (const ScannedRun &run : runs) {
+          double *g = reinterpret_cast<double *>((run.columnOrder ? gCol : gRow) + run.begin);
+          const double *sl = reinterpret_cast<const double *>(slopes.data() + run.offset);
+          const std::size_t len = 2 * std::size_t(run.end - run.begin);
+          for (std::size_t k = 0; k < len; ++k) g[k] += coef * sl[k];
         }
       }
     }
@@ -178,13 +177,19 @@ double softBoxLoss(std::span<const Point2> points, std::span<const Box2> boxes,
   });
 
   if (wantGrad) {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, N, 1024), [&](const auto &r) {
-      for (std::size_t i = r.begin(); i < r.end(); ++i) {
+    // Sum the chunks in a fixed order per storage slot, then map both orders
+    // back to the caller's indices.
+    std::vector<Point2> total(2 * N);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, 2 * N, 1024), [&](const auto &r) {
+      for (std::size_t k = r.begin(); k < r.end(); ++k) {
         Point2 sum{};
-        for (std::size_t c = 0; c < chunks; ++c) sum = sum + chunkGrad[c * N + i];
-        grad[i] = sum;
+        for (std::size_t c = 0; c < chunks; ++c) sum = sum + chunkGrad[2 * c * N + k];
+        total[k] = sum;
       }
     });
+    const std::uint32_t *ri = grid.originalIndex().data(), *ci = grid.columnIndex().data();
+    for (std::size_t k = 0; k < N; ++k) grad[ri[k]] = total[k];
+    for (std::size_t k = 0; k < N; ++k) grad[ci[k]] = grad[ci[k]] + total[N + k];
   }
   double loss = 0;
   for (double l : chunkLoss) loss += l;
