@@ -27,6 +27,9 @@ TORCH_MODULE(FourierMlp);
 struct NeuralGenerator::Net {
   FourierMlp mlp{nullptr};
 
+  // The network's outputs for input rows v (no autograd): the same values
+  // as mlp->forward(v) up to single-precision summation order.
+  torch::Tensor residuals(const torch::Tensor &v) const;
   // The input rows (z, gamma) for K sets, in the module's dtype.
   torch::Tensor inputs(std::span<const Point2> z, std::span<const double> gamma,
                        std::size_t gammaDim) const;

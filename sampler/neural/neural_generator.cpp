@@ -5,6 +5,7 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "sampler/neural/dense_inference.h"
 #include "sampler/neural/fourier_mlp.h"
 #include "sampler/neural/model_file.h"
 #include "sampler/sequences/rng.h"
@@ -72,6 +73,29 @@ torch::Tensor FourierMlpImpl::forward(torch::Tensor v) {
   h = torch::relu(l3(torch::cat({h, e}, 1)));
   h = torch::relu(l4(torch::cat({h, e}, 1)));
   return l5(torch::cat({h, e}, 1));
+}
+
+torch::Tensor NeuralGenerator::Net::residuals(const torch::Tensor &v) const {
+  // A few rows: matrix-vector products (dense_inference.h); more: LibTorch's
+  // GEMM, which amortizes packing the weights over the rows.
+  constexpr std::int64_t kRowsByVector = 4;
+  FourierMlpImpl &m = *mlp.ptr();  // forward() is not const in LibTorch
+  if (v.size(0) > kRowsByVector || m.B.scalar_type() != torch::kFloat32) return m.forward(v);
+  const torch::Tensor e = m.encode(v).contiguous();
+  std::vector<DenseLayer> layers;
+  for (const torch::nn::Linear &l : {m.l1, m.l2, m.l3, m.l4, m.l5}) {
+    if (!l->weight.is_contiguous() || !l->bias.is_contiguous()) return m.forward(v);
+    layers.push_back({l->weight.data_ptr<float>(), l->bias.data_ptr<float>(),
+                      int(l->weight.size(1)), int(l->weight.size(0))});
+  }
+  const std::int64_t outputs = m.l5->weight.size(0), width = e.size(1);
+  torch::Tensor out = torch::empty({v.size(0), outputs}, torch::kFloat32);
+  for (std::int64_t k = 0; k < v.size(0); ++k) {
+    const std::vector<float> row =
+        fourierMlpForward(layers, std::span(e[k].data_ptr<float>(), std::size_t(width)));
+    std::copy(row.begin(), row.end(), out[k].data_ptr<float>());
+  }
+  return out;
 }
 
 torch::Tensor NeuralGenerator::Net::inputs(std::span<const Point2> z, std::span<const double> gamma,
@@ -180,7 +204,7 @@ void NeuralGenerator::generate(std::span<const Point2> z, std::span<const double
   for (std::size_t k = 0; k < K; ++k) checkGamma(*family_, gamma.subspan(k * g, g));
   if (K == 0) return;
   torch::NoGradGuard noGrad;
-  const torch::Tensor residual = net_->mlp->forward(net_->inputs(z, gamma, g))
+  const torch::Tensor residual = net_->residuals(net_->inputs(z, gamma, g))
                                      .to(torch::kFloat64)
                                      .reshape({std::int64_t(K), std::int64_t(n), 2})
                                      .contiguous();

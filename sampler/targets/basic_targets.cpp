@@ -1,6 +1,7 @@
 #include "sampler/targets/basic_targets.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <sstream>
@@ -202,11 +203,30 @@ double QuarterDiscTarget::mass(const Box2 &box) const {
   return std::max(0.0, kDiscDensity * area);
 }
 
+namespace {
+// x with discColumnIntegral(x) = t: Newton safeguarded by bisection, started
+// inside a bracket read from a table of the inverse at evenly spaced t, so
+// that a few steps suffice (the neural generator inverts every point it
+// makes). The bracket is exact: the table holds converged inversions.
+double invertDiscColumn(double t) {
+  constexpr int kEntries = 256;
+  constexpr double kTotal = std::numbers::pi / 4;
+  auto column = [](double s) { return std::sqrt(std::max(0.0, 1 - s * s)); };
+  static const std::array<double, kEntries + 1> table = [&] {
+    std::array<double, kEntries + 1> x{};
+    for (int k = 0; k <= kEntries; ++k)
+      x[k] = invertMonotone(discColumnIntegral, column, kTotal * k / kEntries, 0.0, 1.0);
+    return x;
+  }();
+  const double s = std::clamp(t / kTotal, 0.0, 1.0) * kEntries;
+  const int k = std::min(int(s), kEntries - 1);
+  const double lo = table[k], hi = table[k + 1];
+  return invertMonotone(discColumnIntegral, column, t, lo, hi, lo + (s - k) * (hi - lo));
+}
+}  // namespace
+
 Inversion QuarterDiscTarget::invert(Point2 u) const {
-  const double t = clamp01(u.x) * (std::numbers::pi / 4);
-  const double x = invertMonotone(
-      discColumnIntegral, [](double s) { return std::sqrt(std::max(0.0, 1 - s * s)); }, t, 0.0,
-      1.0);
+  const double x = invertDiscColumn(clamp01(u.x) * (std::numbers::pi / 4));
   const double h = std::max(std::sqrt(std::max(0.0, 1 - x * x)), kTinyDensity);
   Inversion out;
   out.x = {x, clamp01(u.y) * h};

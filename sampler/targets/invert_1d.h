@@ -6,10 +6,12 @@
 
 namespace nuld {
 
-// Finds x in [lo, hi] with cdf(x) = t, given pdf = cdf'.
+// Finds x in [lo, hi] with cdf(x) = t, given pdf = cdf'. `start` (default:
+// the midpoint) is the first guess; a good one saves most of the steps.
 template <typename Cdf, typename Pdf>
-double invertMonotone(const Cdf &cdf, const Pdf &pdf, double t, double lo, double hi) {
-  double x = 0.5 * (lo + hi);
+double invertMonotone(const Cdf &cdf, const Pdf &pdf, double t, double lo, double hi,
+                      double start = NAN) {
+  double x = start >= lo && start <= hi ? start : 0.5 * (lo + hi);
   double previousWidth = 2 * (hi - lo);
   for (int it = 0; it < 200; ++it) {
     const double f = cdf(x) - t;

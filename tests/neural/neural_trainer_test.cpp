@@ -161,5 +161,25 @@ TEST(NeuralTrainer, ResumedRunEndsBitIdenticalAndSaveLoadIsExact) {
   }
 }
 
+// Generation of a few sets runs the net by matrix-vector products
+// (Net::residuals); it must give LibTorch's forward values up to float
+// summation order, on a net whose last layer is not zero.
+TEST(NeuralGenerator, FewRowInferenceMatchesLibTorchForward) {
+  NeuralGenerator gen(tinyNet("quarterdisc", 50, 40));
+  torch::NoGradGuard noGrad;
+  torch::manual_seed(4);
+  gen.net().mlp->l5->weight.normal_(0, 0.1);
+  gen.net().mlp->l5->bias.normal_(0, 0.1);
+  for (int rows : {1, 3}) {
+    const torch::Tensor v = torch::rand({rows, 2}, torch::kFloat32);
+    const torch::Tensor expected = gen.net().mlp->forward(v);
+    const torch::Tensor got = gen.net().residuals(v);
+    ASSERT_EQ(got.sizes(), expected.sizes());
+    const double scale = expected.abs().max().item<double>();
+    ASSERT_GT(scale, 0.01);
+    EXPECT_LE((got - expected).abs().max().item<double>(), 1e-5 * scale) << rows << " rows";
+  }
+}
+
 }  // namespace
 }  // namespace nuld
