@@ -109,6 +109,8 @@ double softBoxLoss(std::span<const Point2> points, std::span<const Box2> boxes,
         const double *sy = columnOrder ? grid.columnYs().data() : ys.data();
         Point2 *slope = wantGrad ? slopes.data() + used : nullptr;
         if (wantGrad) {
+          if (end - begin > slopes.size() - used)
+            throw std::logic_error("softBoxLoss: a box scanned a point twice");
           runs.push_back({columnOrder, begin, end, used});
           used += end - begin;
         }

@@ -207,7 +207,8 @@ namespace {
 // x with discColumnIntegral(x) = t: Newton safeguarded by bisection, started
 // inside a bracket read from a table of the inverse at evenly spaced t, so
 // that a few steps suffice (the neural generator inverts every point it
-// makes). The bracket is exact: the table holds converged inversions.
+// makes). The table holds converged inversions, so the bracket holds the
+// root up to rounding.
 double invertDiscColumn(double t) {
   constexpr int kEntries = 256;
   constexpr double kTotal = std::numbers::pi / 4;
