@@ -11,19 +11,14 @@
 #include "sampler/sequences/sobol.h"
 #include "tests/common/temp_dir.h"
 #include "tests/neural/test_families.h"
+#include "tests/neural/tiny_settings.h"
 
 namespace nuld {
 namespace {
 
 NeuralSettings tiny(const std::string &family, std::size_t n = 37, int hidden = 16,
                     bool mapped = true) {
-  NeuralSettings s;
-  s.mapped = mapped;
-  s.n = n;
-  s.hidden = hidden;
-  s.family = family;
-  s.seed = 5;
-  return s;
+  return test::tinyNeuralSettings(family, n, hidden, mapped, 5);
 }
 
 TEST(NeuralGenerator, UntrainedSquareOutputIsTheRotatedSobolSetExactly) {

@@ -9,18 +9,13 @@
 #include "sampler/neural/fourier_mlp.h"
 #include "tests/common/temp_dir.h"
 #include "tests/neural/test_families.h"
+#include "tests/neural/tiny_settings.h"
 
 namespace nuld {
 namespace {
 
 NeuralSettings tinyNet(const std::string &family, std::size_t n, int hidden, bool mapped = true) {
-  NeuralSettings s;
-  s.mapped = mapped;
-  s.n = n;
-  s.hidden = hidden;
-  s.family = family;
-  s.seed = 3;
-  return s;
+  return test::tinyNeuralSettings(family, n, hidden, mapped, 3);
 }
 
 TrainerSettings tinyTraining(int steps) {
