@@ -108,15 +108,58 @@ std::optional<SurfaceHit> EmbreeScene::intersect(const Ray &ray) const {
   RTCRayHit rh = makeRayHit(ray);
   rtcIntersect1(handles_->scene, &context, &rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
+  return surfaceHit(ray, rh.ray.tfar, rh.hit.geomID, rh.hit.primID, rh.hit.u, rh.hit.v);
+}
 
+void EmbreeScene::intersectCoherent(std::span<const Ray> rays,
+                                    std::span<std::optional<SurfaceHit>> hits) const {
+  if (hits.size() != rays.size())
+    throw std::invalid_argument("intersectCoherent: one hit slot per ray");
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  constexpr std::size_t kPacket = 16;
+  for (std::size_t first = 0; first < rays.size(); first += kPacket) {
+    const std::size_t n = std::min(kPacket, rays.size() - first);
+    alignas(64) RTCRayHit16 packet;
+    alignas(64) int valid[kPacket];
+    for (std::size_t k = 0; k < kPacket; ++k) {
+      // Lanes past the last ray are masked off (valid = 0) but still hold a
+      // copy of a real ray, so no lane carries uninitialized values.
+      const RTCRayHit one = makeRayHit(rays[first + std::min(k, n - 1)]);
+      valid[k] = k < n ? -1 : 0;
+      packet.ray.org_x[k] = one.ray.org_x, packet.ray.org_y[k] = one.ray.org_y;
+      packet.ray.org_z[k] = one.ray.org_z;
+      packet.ray.dir_x[k] = one.ray.dir_x, packet.ray.dir_y[k] = one.ray.dir_y;
+      packet.ray.dir_z[k] = one.ray.dir_z;
+      packet.ray.tnear[k] = one.ray.tnear, packet.ray.tfar[k] = one.ray.tfar;
+      packet.ray.time[k] = 0, packet.ray.mask[k] = one.ray.mask;
+      packet.ray.id[k] = 0, packet.ray.flags[k] = 0;
+      packet.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+      packet.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+    }
+    rtcIntersect16(valid, handles_->scene, &context, &packet);
+    for (std::size_t k = 0; k < n; ++k) {
+      auto &hit = hits[first + k];
+      if (packet.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID)
+        hit.reset();
+      else
+        hit = surfaceHit(rays[first + k], packet.ray.tfar[k], packet.hit.geomID[k],
+                         packet.hit.primID[k], packet.hit.u[k], packet.hit.v[k]);
+    }
+  }
+}
+
+SurfaceHit EmbreeScene::surfaceHit(const Ray &ray, float t, unsigned meshId, unsigned triangle,
+                                   float u, float v) const {
   SurfaceHit hit;
-  hit.t = rh.ray.tfar;
-  hit.mesh = rh.hit.geomID;
-  hit.triangle = rh.hit.primID;
+  hit.t = t;
+  hit.mesh = meshId;
+  hit.triangle = triangle;
   const TriangleMesh &mesh = meshes_[hit.mesh];
   const auto &tri = mesh.triangles[hit.triangle];
   const Vec3 p0 = mesh.positions[tri[0]], p1 = mesh.positions[tri[1]], p2 = mesh.positions[tri[2]];
-  const double b1 = rh.hit.u, b2 = rh.hit.v, b0 = 1 - b1 - b2;
+  const double b1 = u, b2 = v, b0 = 1 - b1 - b2;
   // The position from barycentrics in double precision is closer to the
   // surface than origin + t * direction from a float t.
   hit.position = b0 * p0 + b1 * p1 + b2 * p2;

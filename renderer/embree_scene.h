@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "materials/vec3.h"
@@ -34,6 +35,13 @@ class EmbreeScene {
   EmbreeScene &operator=(EmbreeScene &&) noexcept;
 
   std::optional<SurfaceHit> intersect(const Ray &ray) const;
+  // The closest hits of several rays that start close together and point in
+  // nearly the same direction (the camera rays of neighbouring pixels),
+  // traced as packets of 16: Embree walks such a packet several times faster
+  // per ray than one ray at a time. hits[k] is the hit of rays[k], the same
+  // hit intersect() finds up to float rounding; any rays are accepted.
+  void intersectCoherent(std::span<const Ray> rays,
+                         std::span<std::optional<SurfaceHit>> hits) const;
   // True when anything blocks the segment (origin, origin + tMax * direction).
   bool occluded(const Ray &ray) const;
 
@@ -47,6 +55,10 @@ class EmbreeScene {
   float rawIntersect(const float origin[3], const float direction[3]) const;
 
  private:
+  // What a hit is from Embree's answer (mesh, triangle, barycentrics, t).
+  SurfaceHit surfaceHit(const Ray &ray, float t, unsigned mesh, unsigned triangle, float u,
+                        float v) const;
+
   struct Handles;
   std::unique_ptr<Handles> handles_;
   std::vector<TriangleMesh> meshes_;

@@ -60,6 +60,12 @@ std::optional<LightSample> lightSample(const EnvironmentLight &light, PixelSampl
 
 Rgb PathIntegrator::radiance(const Ray &cameraRay, PixelSamples &samples, std::size_t index,
                              PathCounters &counters) const {
+  return radiance(cameraRay, scene_.geometry.intersect(cameraRay), samples, index, counters);
+}
+
+Rgb PathIntegrator::radiance(const Ray &cameraRay, const std::optional<SurfaceHit> &cameraHit,
+                             PixelSamples &samples, std::size_t index,
+                             PathCounters &counters) const {
   const EnvironmentLight *light = scene_.environment ? &*scene_.environment : nullptr;
   Rgb L, beta{1, 1, 1};
   Ray ray = cameraRay;
@@ -71,7 +77,9 @@ Rgb PathIntegrator::radiance(const Ray &cameraRay, PixelSamples &samples, std::s
     // Camera rays mostly hit, so their lookup waits until they escape.
     EnvironmentLight::Lookup escape;
     if (light && depth > 0) escape = light->find(ray.direction);
-    const auto hit = scene_.geometry.intersect(ray);
+    std::optional<SurfaceHit> traced;
+    if (depth > 0) traced = scene_.geometry.intersect(ray);
+    const std::optional<SurfaceHit> &hit = depth > 0 ? traced : cameraHit;
     if (!hit) {
       if (light) {
         double lightPdf;

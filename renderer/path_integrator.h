@@ -6,6 +6,7 @@
 // estimator that the sampler backends differ in.
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -35,9 +36,13 @@ class PathIntegrator {
  public:
   PathIntegrator(const Scene &scene, IntegratorKind kind, int maxDepth);
 
-  // Radiance along `ray` for sample `index` of the current pixel.
+  // Radiance along camera ray `ray` for sample `index` of the current pixel.
   Rgb radiance(const Ray &ray, PixelSamples &samples, std::size_t index,
                PathCounters &counters) const;
+  // The same for a camera ray whose closest hit the caller has already
+  // traced (the renderer traces camera rays in coherent packets).
+  Rgb radiance(const Ray &ray, const std::optional<SurfaceHit> &cameraHit, PixelSamples &samples,
+               std::size_t index, PathCounters &counters) const;
 
   int maxDepth() const { return maxDepth_; }
 

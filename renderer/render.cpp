@@ -3,6 +3,8 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <mutex>
@@ -25,6 +27,7 @@ Image render(const Scene &scene, const RenderSettings &s, SamplerBackend &backen
   Image image{s.width, s.height, 3, std::vector<float>(std::size_t(s.width) * s.height * 3)};
 
   constexpr int tile = 16;
+  constexpr std::size_t kPacket = 16;
   const int tilesX = (s.width + tile - 1) / tile, tilesY = (s.height + tile - 1) / tile;
   const std::size_t tileCount = std::size_t(tilesX) * tilesY;
   tbb::enumerable_thread_specific<PathCounters> counters;
@@ -35,21 +38,44 @@ Image render(const Scene &scene, const RenderSettings &s, SamplerBackend &backen
   tbb::parallel_for(std::size_t(0), tileCount, [&](std::size_t t) {
     PathCounters &c = counters.local();
     if (rays) c.recorder = &recorded.local();
-    PixelSamples samples(backend, s.spp);
+    // Camera rays are traced 16 at a time as one coherent packet: a pixel's
+    // samples in chunks of 16, or for spp < 16 the samples of 16 / spp
+    // neighbouring pixels of a tile row together. Each pixel still sums its
+    // samples in index order, so the image does not depend on the grouping.
+    const int groupPixels = int(std::max<std::size_t>(1, kPacket / s.spp));
+    std::vector<PixelSamples> samples(groupPixels, PixelSamples(backend, s.spp));
+    std::array<Rgb, kPacket> sums;
+    std::array<Ray, kPacket> rays;
+    std::array<std::optional<SurfaceHit>, kPacket> hits;
     const int x0 = int(t % tilesX) * tile, y0 = int(t / tilesX) * tile;
+    const int xEnd = std::min(x0 + tile, s.width);
     for (int y = y0; y < std::min(y0 + tile, s.height); ++y)
-      for (int x = x0; x < std::min(x0 + tile, s.width); ++x) {
-        samples.startPixel(std::uint64_t(y) * s.width + x);
-        Rgb sum;
-        for (std::size_t i = 0; i < s.spp; ++i) {
-          const Point2 jitter = samples.primary(SamplePairs::camera, i);
-          const Ray ray = camera.generateRay({x + jitter.x, y + jitter.y});
-          sum += integrator.radiance(ray, samples, i, c);
+      for (int gx = x0; gx < xEnd; gx += groupPixels) {
+        const int pixels = std::min(groupPixels, xEnd - gx);
+        for (int p = 0; p < pixels; ++p) {
+          samples[p].startPixel(std::uint64_t(y) * s.width + gx + p);
+          sums[p] = {};
         }
-        const Rgb mean = sum / double(s.spp);
-        image.at(x, y, 0) = float(mean.r);
-        image.at(x, y, 1) = float(mean.g);
-        image.at(x, y, 2) = float(mean.b);
+        const std::size_t total = std::size_t(pixels) * s.spp;
+        for (std::size_t first = 0; first < total; first += kPacket) {
+          const std::size_t n = std::min(kPacket, total - first);
+          for (std::size_t k = 0; k < n; ++k) {
+            const std::size_t p = (first + k) / s.spp, i = (first + k) % s.spp;
+            const Point2 jitter = samples[p].primary(SamplePairs::camera, i);
+            rays[k] = camera.generateRay({gx + int(p) + jitter.x, y + jitter.y});
+          }
+          scene.geometry.intersectCoherent(std::span(rays.data(), n), std::span(hits.data(), n));
+          for (std::size_t k = 0; k < n; ++k) {
+            const std::size_t p = (first + k) / s.spp, i = (first + k) % s.spp;
+            sums[p] += integrator.radiance(rays[k], hits[k], samples[p], i, c);
+          }
+        }
+        for (int p = 0; p < pixels; ++p) {
+          const Rgb mean = sums[p] / double(s.spp);
+          image.at(gx + p, y, 0) = float(mean.r);
+          image.at(gx + p, y, 1) = float(mean.g);
+          image.at(gx + p, y, 2) = float(mean.b);
+        }
       }
     const std::size_t finished = ++done;
     if (progress) {

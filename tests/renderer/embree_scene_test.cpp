@@ -4,6 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <optional>
+#include <vector>
+
 #include "renderer/camera.h"
 
 namespace nuld {
@@ -43,6 +47,39 @@ TEST(EmbreeScene, MissesAndRespectsTMax) {
   EXPECT_TRUE(scene.occluded({{0, 0, 3}, {0, 0, -1}}));
   EXPECT_FALSE(scene.occluded({{0, 0, 3}, {0, 0, -1}, 2.5}));
   EXPECT_FALSE(scene.occluded({{3, 3, 3}, {0, 0, 1}}));
+}
+
+// Packets are checked against single rays, the oracle: 37 rays (two full
+// packets and a partial one) from a camera-like fan, some hitting the quad
+// (through either triangle), some missing it, one stopped short of it by tMax).
+TEST(EmbreeScene, CoherentPacketsFindTheHitsOfSingleRays) {
+  const EmbreeScene scene(quadAndDegenerate());
+  std::vector<Ray> rays;
+  for (int k = 0; k < 37; ++k) {
+    const double a = -1.6 + 3.2 * k / 36.0, b = 0.3 * std::sin(double(k));
+    rays.push_back({{0.1, 0.2, 3}, normalize(Vec3{a, b, -3})});
+  }
+  rays[18].tMax = 2.0;  // straight down: it hits at t ~ 3 without the limit
+  std::vector<std::optional<SurfaceHit>> hits(rays.size());
+  scene.intersectCoherent(rays, hits);
+  int hitCount = 0;
+  for (std::size_t k = 0; k < rays.size(); ++k) {
+    const auto single = scene.intersect(rays[k]);
+    ASSERT_EQ(bool(hits[k]), bool(single)) << "ray " << k;
+    if (!single) continue;
+    ++hitCount;
+    EXPECT_NEAR(hits[k]->t, single->t, 1e-5) << "ray " << k;
+    EXPECT_EQ(hits[k]->mesh, single->mesh);
+    EXPECT_EQ(hits[k]->triangle, single->triangle);
+    EXPECT_NEAR(length(hits[k]->position - single->position), 0, 1e-5);
+    EXPECT_EQ(hits[k]->geometricNormal, single->geometricNormal);
+  }
+  EXPECT_GT(hitCount, 10);
+  EXPECT_LT(hitCount, 36);
+  EXPECT_FALSE(hits[18]);
+  // No rays is a valid request; a hit span of another length is refused.
+  scene.intersectCoherent({}, {});
+  EXPECT_THROW(scene.intersectCoherent(rays, std::span(hits.data(), 3)), std::invalid_argument);
 }
 
 TEST(EmbreeScene, DegenerateTrianglesNeverProduceNonFiniteNormals) {
