@@ -45,8 +45,8 @@ Image render(const Scene &scene, const RenderSettings &s, SamplerBackend &backen
     const int groupPixels = int(std::max<std::size_t>(1, kPacket / s.spp));
     std::vector<PixelSamples> samples(groupPixels, PixelSamples(backend, s.spp));
     std::array<Rgb, kPacket> sums;
-    std::array<Ray, kPacket> rays;
-    std::array<std::optional<SurfaceHit>, kPacket> hits;
+    std::array<Ray, kPacket> cameraRays;
+    std::array<std::optional<SurfaceHit>, kPacket> cameraHits;
     const int x0 = int(t % tilesX) * tile, y0 = int(t / tilesX) * tile;
     const int xEnd = std::min(x0 + tile, s.width);
     for (int y = y0; y < std::min(y0 + tile, s.height); ++y)
@@ -62,12 +62,13 @@ Image render(const Scene &scene, const RenderSettings &s, SamplerBackend &backen
           for (std::size_t k = 0; k < n; ++k) {
             const std::size_t p = (first + k) / s.spp, i = (first + k) % s.spp;
             const Point2 jitter = samples[p].primary(SamplePairs::camera, i);
-            rays[k] = camera.generateRay({gx + int(p) + jitter.x, y + jitter.y});
+            cameraRays[k] = camera.generateRay({gx + int(p) + jitter.x, y + jitter.y});
           }
-          scene.geometry.intersectCoherent(std::span(rays.data(), n), std::span(hits.data(), n));
+          scene.geometry.intersectCoherent(std::span(cameraRays.data(), n),
+                                           std::span(cameraHits.data(), n));
           for (std::size_t k = 0; k < n; ++k) {
             const std::size_t p = (first + k) / s.spp, i = (first + k) % s.spp;
-            sums[p] += integrator.radiance(rays[k], hits[k], samples[p], i, c);
+            sums[p] += integrator.radiance(cameraRays[k], cameraHits[k], samples[p], i, c);
           }
         }
         for (int p = 0; p < pixels; ++p) {
