@@ -58,11 +58,6 @@ std::optional<LightSample> lightSample(const EnvironmentLight &light, PixelSampl
 
 }  // namespace
 
-Rgb PathIntegrator::radiance(const Ray &cameraRay, PixelSamples &samples, std::size_t index,
-                             PathCounters &counters) const {
-  return radiance(cameraRay, scene_.geometry.intersect(cameraRay), samples, index, counters);
-}
-
 Rgb PathIntegrator::radiance(const Ray &cameraRay, const std::optional<SurfaceHit> &cameraHit,
                              PixelSamples &samples, std::size_t index,
                              PathCounters &counters) const {

@@ -36,11 +36,9 @@ class PathIntegrator {
  public:
   PathIntegrator(const Scene &scene, IntegratorKind kind, int maxDepth);
 
-  // Radiance along camera ray `ray` for sample `index` of the current pixel.
-  Rgb radiance(const Ray &ray, PixelSamples &samples, std::size_t index,
-               PathCounters &counters) const;
-  // The same for a camera ray whose closest hit the caller has already
-  // traced (the renderer traces camera rays in coherent packets).
+  // Radiance along camera ray `ray` for sample `index` of the current pixel,
+  // given the ray's closest hit, which the caller traces (the renderer traces
+  // camera rays in coherent packets, EmbreeScene::intersectCoherent).
   Rgb radiance(const Ray &ray, const std::optional<SurfaceHit> &cameraHit, PixelSamples &samples,
                std::size_t index, PathCounters &counters) const;
 
