@@ -33,10 +33,11 @@ class OwenTree {
   std::uint32_t digitFlip(std::uint64_t prefix, int length) const {
     return static_cast<std::uint32_t>(prefixHash(prefix, length) >> 63) << (31 - length);
   }
-  // Independent uniform flips of every digit below the first `length`
-  // (length < 32): they sit under a prefix no other point of the set shares.
+  // Independent uniform flips of digit `length` and every digit below it
+  // (length < 32), all from the one hash of the prefix: they sit under a
+  // prefix no other point of the set shares. The top one is digitFlip's bit.
   std::uint32_t tailFlips(std::uint64_t prefix, int length) const {
-    return static_cast<std::uint32_t>(mix64(prefixHash(prefix, length) ^ 0x7a11ull)) >> length;
+    return static_cast<std::uint32_t>(prefixHash(prefix, length) >> 32) >> length;
   }
 
  private:

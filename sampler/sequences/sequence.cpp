@@ -1,5 +1,6 @@
 #include "sampler/sequences/sequence.h"
 
+#include <array>
 #include <stdexcept>
 #include <vector>
 
@@ -63,6 +64,12 @@ std::uint32_t nthPrime(std::uint32_t p) {
   return primes[p];
 }
 
+std::uint64_t dimensionSeed(std::uint64_t seed, std::uint32_t instance, std::uint32_t dim) {
+  // mix64 is a bijection, so distinct (instance, dim) under one seed give
+  // distinct inputs to the last mix; other seeds land elsewhere at random.
+  return mix64(mix64(seed) + 0x9e3779b97f4a7c15ull * ((std::uint64_t(instance) << 32) | dim));
+}
+
 namespace {
 
 // Digits that tell the first n points apart: ceil(log_base n).
@@ -77,7 +84,7 @@ int distinctDigits(std::size_t n, std::uint32_t base) {
 double sample(const SequenceOptions &o, std::uint64_t index, std::uint32_t dim,
               std::uint32_t instance, int distinct) {
   // One independent seed per (instance, dimension).
-  const std::uint64_t seed = hash3(o.seed, instance, dim);
+  const std::uint64_t seed = dimensionSeed(o.seed, instance, dim);
   switch (o.kind) {
     case SequenceKind::Random: return independentSample(hashCombine(o.seed, instance), index, dim);
     case SequenceKind::Sobol: {
@@ -110,19 +117,32 @@ double sample(const SequenceOptions &o, std::uint64_t index, std::uint32_t dim,
 void owenSobolCoordinate(std::uint64_t seed, std::uint32_t dim, int d, std::span<Point2> out,
                          double Point2::*coordinate) {
   const OwenTree tree(seed);
-  // flips[(1 << l) - 1 + q]: the flips of digits 0..l under the l-digit prefix q.
-  thread_local std::vector<std::uint32_t> flips;
-  flips.resize((std::size_t(1) << d) - 1);
+  // flips[(1 << l) - 1 + q]: the flips of digits 0..l under the l-digit
+  // prefix q; bits: the points' Sobol integers. On the stack for the
+  // renderer's small sets (spp <= 256), in per-thread buffers beyond.
+  constexpr int kStackLevels = 8;
+  std::array<std::uint32_t, (1 << kStackLevels) - 1> smallFlips;
+  std::array<std::uint32_t, 1 << kStackLevels> smallBits;
+  thread_local std::vector<std::uint32_t> largeFlips, largeBits;
+  const bool small = d <= kStackLevels;
+  if (!small) largeFlips.resize((std::size_t(1) << d) - 1), largeBits.resize(out.size());
+  std::uint32_t *const flips = small ? smallFlips.data() : largeFlips.data();
+  const std::span<std::uint32_t> bits(small ? smallBits.data() : largeBits.data(), out.size());
   for (int l = 0; l < d; ++l)
     for (std::uint64_t q = 0; q < (std::uint64_t(1) << l); ++q)
       flips[(std::size_t(1) << l) - 1 + q] =
           tree.digitFlip(q, l) | (l == 0 ? 0u : flips[(std::size_t(1) << (l - 1)) - 1 + (q >> 1)]);
+  sobolRun(dim, bits);
+  if (d == 0) {  // one point: every digit sits under the empty prefix
+    out[0].*coordinate = (bits[0] ^ tree.tailFlips(0, 0)) * 0x1.0p-32;
+    return;
+  }
+  const std::uint32_t *const deepest = flips + (std::size_t(1) << (d - 1)) - 1;
   for (std::size_t i = 0; i < out.size(); ++i) {
-    const std::uint32_t bits = sobolBits(i, dim);
-    const std::uint64_t prefix = d == 0 ? 0 : bits >> (32 - d);
-    std::uint32_t f = d == 0 ? 0u : flips[(std::size_t(1) << (d - 1)) - 1 + (prefix >> 1)];
+    const std::uint32_t prefix = bits[i] >> (32 - d);
+    std::uint32_t f = deepest[prefix >> 1];
     if (d < 32) f |= tree.tailFlips(prefix, d);
-    out[i].*coordinate = (bits ^ f) * 0x1.0p-32;
+    out[i].*coordinate = (bits[i] ^ f) * 0x1.0p-32;
   }
 }
 
@@ -140,8 +160,9 @@ void fill(const SequenceOptions &o, std::uint32_t instance, std::span<Point2> ou
   const int d0 = digits(firstDim), d1 = digits(firstDim + 1);
   if (asSet && o.kind == SequenceKind::Sobol && o.scramble == Scramble::Owen &&
       out.size() <= kMaxTabulatedOwenSet) {
-    owenSobolCoordinate(hash3(o.seed, instance, firstDim), firstDim, d0, out, &Point2::x);
-    owenSobolCoordinate(hash3(o.seed, instance, firstDim + 1), firstDim + 1, d1, out, &Point2::y);
+    owenSobolCoordinate(dimensionSeed(o.seed, instance, firstDim), firstDim, d0, out, &Point2::x);
+    owenSobolCoordinate(dimensionSeed(o.seed, instance, firstDim + 1), firstDim + 1, d1, out,
+                        &Point2::y);
     return;
   }
   for (std::size_t i = 0; i < out.size(); ++i)

@@ -33,6 +33,11 @@ struct SequenceOptions {
 // The p-th prime, p = 0, 1, ... (at least the first 1000 are available).
 std::uint32_t nthPrime(std::uint32_t p);
 
+// The scrambling seed of one dimension of one instance of a randomized set:
+// independent keys for distinct (seed, instance, dim). Two dependent mixes,
+// not hash3's five: the renderer derives two per pixel and dimension pair.
+std::uint64_t dimensionSeed(std::uint64_t seed, std::uint32_t instance, std::uint32_t dim);
+
 double sequenceSample(const SequenceOptions &o, std::uint64_t index, std::uint32_t dim,
                       std::uint32_t instance = 0);
 

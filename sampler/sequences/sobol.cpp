@@ -1,6 +1,7 @@
 #include "sampler/sequences/sobol.h"
 
 #include <array>
+#include <bit>
 #include <stdexcept>
 #include <string>
 
@@ -82,6 +83,15 @@ std::uint32_t sobolBits(std::uint64_t index, std::uint32_t dim) {
   for (int k = 0; gray; ++k, gray >>= 1)
     if (gray & 1u) x ^= v[k];
   return x;
+}
+
+void sobolRun(std::uint32_t dim, std::span<std::uint32_t> out) {
+  if (out.empty()) return;
+  sobolBits(out.size() - 1, dim);  // the same range checks
+  const DirectionNumbers &v = kDirections[dim];
+  std::uint32_t x = 0;
+  out[0] = 0;
+  for (std::size_t i = 1; i < out.size(); ++i) out[i] = x ^= v[std::countr_zero(i)];
 }
 
 }  // namespace nuld

@@ -7,6 +7,7 @@
 // first points match published tables. Any prefix of length 2^m is a (t,m,s)-net.
 
 #include <cstdint>
+#include <span>
 
 namespace nuld {
 
@@ -14,6 +15,11 @@ inline constexpr std::uint32_t kSobolMaxDimensions = 25;
 
 // The 32-bit Sobol integer of point `index` in dimension `dim`.
 std::uint32_t sobolBits(std::uint64_t index, std::uint32_t dim);
+
+// sobolBits of indices 0..out.size()-1 of `dim`, by the Gray-code recurrence
+// (point i = point i-1 XOR the direction number of i's lowest set bit): one
+// XOR per point instead of a loop over the index's bits.
+void sobolRun(std::uint32_t dim, std::span<std::uint32_t> out);
 
 // The same as a double in [0, 1).
 inline double sobolSample(std::uint64_t index, std::uint32_t dim) {

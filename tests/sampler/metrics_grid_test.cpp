@@ -98,17 +98,22 @@ TEST(MetricGridL2, ConvergesToExactValuesWithResolution) {
   //   bilinear:1,2,0.5,3          L2*                         L2asd
   //     set 0             2.3e-5  1.4e-6  8.9e-8      5.0e-6  3.2e-7  2.0e-8
   //     set 1             6.4e-5  4.0e-6  2.5e-7      6.9e-5  4.3e-6  2.7e-7
-  //     set 2             1.3e-4  7.9e-6  4.9e-7      4.1e-5  2.5e-6  1.6e-7
+  //     set 2             3.7e-5  2.4e-6  1.5e-7      1.1e-5  5.3e-7  3.2e-8
   //     set 3             1.5e-4  9.6e-6  6.0e-7      1.4e-4  8.8e-6  5.5e-7
   //   step:1/3,1,3 (CDF kink inside a grid cell)
   //     set 0             1.2e-4  7.2e-6  4.5e-7      1.1e-4  6.5e-6  4.0e-7
   //     set 1             8.5e-6  2.9e-7  1.5e-8      3.2e-5  2.1e-6  1.4e-7
-  //     set 2             2.9e-4  2.1e-5  1.4e-6      2.6e-4  2.0e-5  1.3e-6
+  //     set 2             1.4e-6  1.3e-6  9.7e-8      1.6e-4  9.0e-6  5.5e-7
   //     set 3             5.7e-5  4.2e-6  2.7e-7      1.1e-4  7.5e-6  4.8e-7
-  // Every x4 in res divides the error by 13-29, i.e. C / res^2 with C <= 1.5.
-  // Asserted: relative error < 3e-6 at res = 1024 (C <= 3, 2x the worst
-  // measured; a first-order rule with the res = 64 errors above would sit
-  // near 2e-5) and a drop by > 8 (more than first order's 4) per x4 in res.
+  // Every x4 in res divides the error by 13-29, i.e. C / res^2 with C <= 0.7
+  // (C <= 1.5 with an earlier scrambling of set 2), except where the coarsest
+  // error cancels by chance (step, set 2, L2*: 1.4e-6 at res 64, below its
+  // trend). Asserted: error < 3 / res^2 at every res (2x the worst C seen;
+  // at res = 1024 that is 3e-6, while
+  // a first-order rule with the res = 64 errors above would sit near 2e-5)
+  // and, in the asymptotic range, a drop by > 8 (more than first order's 4)
+  // from res 256 to 1024. A lucky cancellation at a coarse resolution (a
+  // smaller error) is not a failure of second order.
   const BilinearTarget bilinear(1, 2, 0.5, 3);
   const double x0 = 1.0 / 3;  // not a grid node: F has a kink inside a cell
   const StepTarget step(x0, 1, 3);
@@ -131,11 +136,12 @@ TEST(MetricGridL2, ConvergesToExactValuesWithResolution) {
         err[1][r] = std::abs(nonuniformL2asd(p, *c.target, resolutions[r]) - asd) / asd;
       }
       for (int m = 0; m < 2; ++m) {
-        EXPECT_LT(err[m][2], 3e-6) << c.target->spec() << " set " << s << " metric " << m;
+        for (int r = 0; r < 3; ++r)
+          EXPECT_LT(err[m][r] * resolutions[r] * resolutions[r], 3)
+              << c.target->spec() << " set " << s << " metric " << m << " res " << resolutions[r];
         // Second order: x4 resolution must cut the error by clearly more
         // than the x4 of a first-order rule.
         EXPECT_GT(err[m][1], 8 * err[m][2]) << c.target->spec() << " set " << s;
-        EXPECT_GT(err[m][0], 8 * err[m][1]) << c.target->spec() << " set " << s;
       }
     }
   }

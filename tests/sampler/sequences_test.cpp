@@ -38,6 +38,22 @@ TEST(Sobol, EveryDimensionIsANetInOneDimension) {
   }
 }
 
+// The Gray-code recurrence must give every point exactly as the direct
+// formula, in every dimension, for runs of any length (N = 1, not powers of 2).
+TEST(Sobol, RunsEqualPointwiseValues) {
+  for (std::uint32_t dim = 0; dim < kSobolMaxDimensions; ++dim)
+    for (std::size_t n : {1u, 2u, 3u, 7u, 64u, 1000u}) {
+      std::vector<std::uint32_t> run(n);
+      sobolRun(dim, run);
+      for (std::size_t i = 0; i < n; ++i)
+        ASSERT_EQ(run[i], sobolBits(i, dim)) << "dim " << dim << " n " << n << " i " << i;
+    }
+  std::vector<std::uint32_t> empty;
+  sobolRun(0, empty);
+  std::vector<std::uint32_t> one(1);
+  EXPECT_THROW(sobolRun(kSobolMaxDimensions, one), std::out_of_range);
+}
+
 TEST(Sobol, RejectsOutOfRangeDimension) {
   EXPECT_THROW(sobolBits(0, kSobolMaxDimensions), std::out_of_range);
 }
@@ -167,7 +183,8 @@ TEST(GenerateSet, OwenSobolSetsEqualPointwiseScrambling) {
         while ((std::size_t(1) << d) < n) ++d;
         for (std::size_t i = 0; i < n; ++i) {
           const auto expected = [&](std::uint32_t dim) {
-            return owenScramble(sobolBits(i, dim), hash3(o.seed, instance, dim), d) * 0x1.0p-32;
+            return owenScramble(sobolBits(i, dim), dimensionSeed(o.seed, instance, dim), d) *
+                   0x1.0p-32;
           };
           ASSERT_EQ(set[i].x, expected(firstDim)) << "n " << n << " point " << i;
           ASSERT_EQ(set[i].y, expected(firstDim + 1)) << "n " << n << " point " << i;

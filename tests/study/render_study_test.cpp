@@ -36,7 +36,7 @@ RenderStudySettings tinyStudy(const fs::path &out) {
   s.backends = {"independent", "sobol", "halton", "optimized", "optimized-uniform"};
   s.spp = {4, 64};
   s.width = 48, s.height = 32;
-  s.repeats = 2;
+  s.repeats = 8;
   s.integrator = IntegratorKind::Direct;
   s.reference.spp = 1024;
   s.reference.passSpp = 512;
@@ -93,7 +93,7 @@ TEST_F(TinyStudy, CsvHasItsColumnsAndUnits) {
     auto r = asMap(t.columns(), row);
     EXPECT_EQ(r["scene"], "default");
     EXPECT_TRUE(r["spp"] == "4" || r["spp"] == "64") << r["spp"];
-    EXPECT_EQ(r["repeats"], "2");
+    EXPECT_EQ(r["repeats"], "8");
     EXPECT_EQ(r["nonfinite_pixels"], "0");
     EXPECT_EQ(r["rejected_samples"], "0");
     const double mse = std::stod(r["mse"]), secs = std::stod(r["seconds"]);
@@ -123,7 +123,10 @@ TEST_F(TinyStudy, MseFallsWithSppForEveryBackend) {
   // 16 times the samples: independent sampling divides the MSE by ~16. The
   // default scene's MSE is dominated by a few pixels of the sun's highlight on
   // the metal sphere (a heavy-tailed estimator at this resolution, where QMC
-  // gains little), so only a factor 2 is demanded of every backend.
+  // gains little), so only a factor 2 is demanded of every backend, and the
+  // MSE is averaged over 8 renders: with 2, one seed's luck on the highlight
+  // decided it (a change of Owen scrambling seeds once gave 1.7x; with 8 the
+  // smallest drop measured is 3.1x).
   for (const auto &[backend, bySpp] : mse) EXPECT_LT(bySpp.at(64) * 2, bySpp.at(4)) << backend;
 }
 
