@@ -3,11 +3,13 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
 #include "sampler/loss/box_mass.h"
 #include "sampler/loss/soft_box_loss.h"
+#include "sampler/metrics/discrepancy.h"
 #include "sampler/neural/fourier_mlp.h"
 #include "sampler/optimize/schedule.h"
 #include "sampler/sequences/rng.h"
@@ -83,7 +85,8 @@ std::string TrainerSettings::describe() const {
   s << "steps=" << steps << " batch=" << batch << " boxes=" << boxes
     << " box_kind=" << toString(boxKind) << " lr=" << lrStart << " lr_end=" << lrEnd
     << " alpha=" << alphaStart << " alpha_end=" << alphaEnd << " ramp=" << rampFraction
-    << " cutoff=" << cutoff << " seed=" << seed;
+    << " cutoff=" << cutoff << " seed=" << seed << " validation=" << validationSets
+    << " validation_grid=" << validationGrid;
   return s.str();
 }
 
@@ -95,6 +98,7 @@ void TrainerSettings::validate() const {
   if (!(lrStart > 0 && lrEnd > 0)) bad("learning rates must be positive");
   if (!(alphaStart > 0 && alphaEnd > 0)) bad("alpha must be positive");
   if (!(rampFraction >= 0 && rampFraction <= 1)) bad("ramp must be in [0, 1]");
+  if (validationGrid < 8) bad("validation grid must be at least 8");
 }
 
 NeuralTrainer::NeuralTrainer(NeuralGenerator &generator, TrainerSettings settings)
@@ -170,6 +174,8 @@ void NeuralTrainer::run(int untilStep, const std::function<void(const TrainRepor
   for (; step_ < untilStep; ++step_) {
     const double loss = stepLoss(step_, Mode::Train);
     if (!std::isfinite(loss)) throw std::runtime_error("train: the loss became non-finite");
+    lossSum_ += loss;
+    ++lossCount_;
     if (progress)
       progress({step_ + 1, s.steps, loss, logLinear(s.lrStart, s.lrEnd, step_, s.steps),
                 linearRamp(s.alphaStart, s.alphaEnd, s.rampFraction, step_, s.steps), mlpSeconds_,
@@ -177,9 +183,85 @@ void NeuralTrainer::run(int untilStep, const std::function<void(const TrainRepor
   }
 }
 
+Validation NeuralTrainer::validate() {
+  const TrainerSettings &s = settings_;
+  if (s.validationSets == 0) throw std::logic_error("train: validation is turned off");
+  const std::size_t K = s.validationSets, g = gen_.gammaDimension(), n = gen_.settings().n;
+  std::vector<Point2> z;
+  std::vector<double> gamma;
+  validationInputs(z, gamma);
+  std::vector<Point2> points(K * n);
+  gen_.generate(z, gamma, points);
+  double sum = 0;
+  for (std::size_t k = 0; k < K; ++k) {
+    const auto target = gen_.family().target(std::span(gamma).subspan(k * g, g));
+    sum += nonuniformL2asd(std::span(points).subspan(k * n, n), *target, s.validationGrid);
+  }
+  const Validation v{
+      step_, lossCount_ > 0 ? lossSum_ / lossCount_ : std::numeric_limits<double>::quiet_NaN(),
+      sum / double(K)};
+  lossSum_ = 0;
+  lossCount_ = 0;
+  history_.push_back(v);
+  return v;
+}
+
+void NeuralTrainer::validationInputs(std::vector<Point2> &z, std::vector<double> &gamma) const {
+  const std::size_t K = settings_.validationSets, g = gen_.gammaDimension();
+  // A stream of their own: training batches draw from (seed, 0x7EA1 + step).
+  Rng rng(settings_.seed, 0x5A11DA7Eull);
+  z.resize(K);
+  gamma.resize(K * g);
+  for (std::size_t k = 0; k < K; ++k) {
+    z[k] = {rng.uniform(), rng.uniform()};
+    for (std::size_t j = 0; j < g; ++j) gamma[k * g + j] = rng.uniform();
+  }
+}
+
+std::optional<Validation> NeuralTrainer::best() const {
+  std::optional<Validation> b;
+  for (const Validation &v : history_)
+    if (!b || v.l2 < b->l2) b = v;
+  return b;
+}
+
+namespace {
+
+// The history as "step loss l2;..." with round-trip precision, and back.
+std::string formatHistory(const std::vector<Validation> &history) {
+  std::ostringstream out;
+  out.precision(17);
+  for (const Validation &v : history) out << v.step << ' ' << v.meanLoss << ' ' << v.l2 << ';';
+  return out.str();
+}
+
+std::vector<Validation> parseHistory(const std::string &text, const std::string &path) {
+  std::vector<Validation> history;
+  std::istringstream in(text);
+  std::string entry;
+  while (std::getline(in, entry, ';')) {
+    std::istringstream fields(entry);
+    std::string step, loss, l2;
+    Validation v;
+    try {
+      if (!(fields >> step >> loss >> l2)) throw std::invalid_argument("fields");
+      v = {std::stoi(step), std::stod(loss), std::stod(l2)};
+    } catch (const std::exception &) {
+      throw std::runtime_error(path + ": validation_history entry '" + entry +
+                               "' is not 'step loss l2'");
+    }
+    history.push_back(v);
+  }
+  return history;
+}
+
+}  // namespace
+
 void NeuralTrainer::saveCheckpoint(const std::string &path) const {
-  ModelFile file = gen_.toModelFile(
-      {{"train_step", std::to_string(step_)}, {"train_settings", settings_.describe()}});
+  ModelFile file = gen_.toModelFile({{"train_step", std::to_string(step_)},
+                                     {"train_settings", settings_.describe()},
+                                     {"validation_history", formatHistory(history_)},
+                                     {"losses_since_validation", formatLosses()}});
   // LibTorch serializes Adam's moments to bytes; they travel inside the model
   // file (as a byte tensor packed into floats) so model and optimizer state
   // are written in one atomic rename and can never disagree.
@@ -214,6 +296,17 @@ void NeuralTrainer::loadCheckpoint(const std::string &path) {
   std::istringstream in(blob);
   torch::load(*state_->adam, in);
   step_ = std::stoi(file.value("train_step", path));
+  history_ = parseHistory(file.value("validation_history", path), path);
+  std::istringstream losses(file.value("losses_since_validation", path));
+  if (!(losses >> lossCount_ >> lossSum_))
+    throw std::runtime_error(path + ": losses_since_validation is not 'count sum'");
+}
+
+std::string NeuralTrainer::formatLosses() const {
+  std::ostringstream out;
+  out.precision(17);
+  out << lossCount_ << ' ' << lossSum_;
+  return out.str();
 }
 
 }  // namespace nuld

@@ -12,7 +12,9 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "sampler/loss/boxes.h"
 #include "sampler/neural/neural_generator.h"
@@ -28,6 +30,11 @@ struct TrainerSettings {
   double alphaStart = 20, alphaEnd = 2000, rampFraction = 0.5;
   double cutoff = 36;
   std::uint64_t seed = 0;
+  // Held-out validation (ours, not the supplement's): this many (z, gamma)
+  // pairs, drawn once from the seed's own stream and never a training batch,
+  // scored by the grid L2 discrepancy at this resolution; 0 sets: none.
+  std::size_t validationSets = 8;
+  int validationGrid = 128;
 
   std::string describe() const;  // "key=value ..."; checkpoints must match it
   void validate() const;         // throws std::invalid_argument naming the setting
@@ -39,6 +46,13 @@ struct TrainReport {
   double lr = 0, alpha = 0;
   double mlpSeconds = 0,
          lossSeconds = 0;  // cumulative: network (forward, backward, Adam) vs loss kernel
+};
+
+// One validation: after `step` steps, the mean training loss since the
+// previous validation (NaN when no step ran in between) and the held-out L2.
+struct Validation {
+  int step = 0;
+  double meanLoss = 0, l2 = 0;
 };
 
 class NeuralTrainer {
@@ -55,7 +69,21 @@ class NeuralTrainer {
   double evaluate(int step);
   double lossAndGradient(int step);
 
-  // The model file plus the optimizer state next to it (PATH.adam); atomic.
+  // The mean grid L2 discrepancy (nonuniformL2asd, each set against its own
+  // target) of the sets the current weights give at the held-out pairs,
+  // appended to history(). The soft box loss changes with alpha along the
+  // schedule and sees fresh z every step; this measure does neither, so it
+  // shows when more steps stop helping at unseen z. Throws when
+  // validationSets is 0.
+  Validation validate();
+  const std::vector<Validation> &history() const { return history_; }
+  // The held-out pairs validate() scores: validationSets offsets and their
+  // gammas (gammaDimension() each), a pure function of the settings.
+  void validationInputs(std::vector<Point2> &z, std::vector<double> &gamma) const;
+  // The validation with the smallest L2 so far; nullopt before the first.
+  std::optional<Validation> best() const;
+
+  // The model file plus the optimizer state and the validation history; atomic.
   void saveCheckpoint(const std::string &path) const;
   // Throws naming the file when it is unreadable or made with other settings.
   void loadCheckpoint(const std::string &path);
@@ -64,12 +92,16 @@ class NeuralTrainer {
   struct State;
   enum class Mode { Evaluate, Gradient, Train };
   double stepLoss(int step, Mode mode);
+  std::string formatLosses() const;  // "count sum" of losses since validation
 
   NeuralGenerator &gen_;
   TrainerSettings settings_;
   std::unique_ptr<State> state_;
   int step_ = 0;
   double mlpSeconds_ = 0, lossSeconds_ = 0;
+  double lossSum_ = 0;  // training losses since the last validation
+  int lossCount_ = 0;
+  std::vector<Validation> history_;
 };
 
 }  // namespace nuld

@@ -102,6 +102,16 @@ ok "train tiny" "$nuld" train --target family:gaussian --n 8 --hidden 8 --steps 
 [[ -f "$dir/g.nuldnet.ckpt" && ! -f "$dir/g.nuldnet" ]] || { echo "FAIL: train --stop-after leaves a checkpoint only"; failures=$((failures + 1)); }
 ok "train resume" "$nuld" train --target family:gaussian --n 8 --hidden 8 --steps 6 --batch 2 --boxes 64 --resume -q -o "$dir/g.nuldnet"
 grep -q '^mlp_seconds' "$dir/out" || { echo "FAIL: train prints the time split"; failures=$((failures + 1)); }
+# Held-out validation at every checkpoint (every step here), untrained first,
+# each step once across the stop and the resume.
+[[ $(cut -d, -f1 "$dir/g.nuldnet.validation.csv" | tail -n +2 | tr '\n' ' ') == "0 1 2 3 4 5 6 " ]] && head -1 "$dir/g.nuldnet.validation.csv" | grep -q '^step,mean_train_loss,validation_l2$' \
+  || { echo "FAIL: train writes the held-out curve"; cat "$dir/g.nuldnet.validation.csv"; failures=$((failures + 1)); }
+grep -q '^kept best$' "$dir/out" && grep -q '^best_step [0-6]$' "$dir/out" && [[ ! -e "$dir/g.nuldnet.best" ]] \
+  || { echo "FAIL: train keeps the best held-out weights"; cat "$dir/out"; failures=$((failures + 1)); }
+ok "train keep last" "$nuld" train --target quarterdisc --n 8 --hidden 8 --steps 4 --batch 2 --boxes 64 --keep last -q -o "$dir/l.nuldnet"
+grep -q '^kept last$' "$dir/out" && [[ -f "$dir/l.nuldnet" && ! -e "$dir/l.nuldnet.best" ]] || { echo "FAIL: train --keep last"; cat "$dir/out"; failures=$((failures + 1)); }
+ok "train no validation" "$nuld" train --target quarterdisc --n 8 --hidden 8 --steps 2 --batch 2 --boxes 64 --validation 0 -q -o "$dir/v.nuldnet"
+[[ -f "$dir/v.nuldnet" && ! -e "$dir/v.nuldnet.validation.csv" ]] && ! grep -q '^kept' "$dir/out" || { echo "FAIL: train --validation 0"; failures=$((failures + 1)); }
 ok "generate --model" "$nuld" generate --model "$dir/g.nuldnet" --gamma 0.5,0.5,0.2 --instances 3 -o "$dir/ng.txt"
 ok "eval neural set" "$nuld" eval "$dir/ng.txt" --metric l2
 fails_with "generate --model without gamma" "needs 3 --gamma values" "$nuld" generate --model "$dir/g.nuldnet" -o "$dir/x.txt"
