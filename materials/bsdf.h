@@ -14,6 +14,12 @@
 
 namespace nuld {
 
+// f(wo, wi) and pdf(wo, wi) of one pair of directions.
+struct BsdfValue {
+  Rgb f;
+  double pdf{};
+};
+
 struct BsdfSample {
   Vec3 wi;       // unit, local frame
   Rgb f;         // the BRDF value f(wo, wi), without the cosine
@@ -29,6 +35,9 @@ class Bsdf {
   virtual Rgb eval(Vec3 wo, Vec3 wi) const = 0;
   // The density per unit solid angle with which sample() produces wi.
   virtual double pdf(Vec3 wo, Vec3 wi) const = 0;
+  // Both at once, the same values as eval and pdf; materials whose two share
+  // work (half vector, microfacet D) override it.
+  virtual BsdfValue evalWithPdf(Vec3 wo, Vec3 wi) const { return {eval(wo, wi), pdf(wo, wi)}; }
   // Maps u in [0,1)^2 to a direction; nullopt when none is produced (for
   // example a microfacet reflection that points below the surface).
   virtual std::optional<BsdfSample> sample(Vec3 wo, Point2 u) const = 0;

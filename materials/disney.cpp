@@ -88,7 +88,15 @@ std::optional<DisneyBrdf::Geometry> DisneyBrdf::geometry(Vec3 wo, Vec3 wi) {
   return g;
 }
 
-Rgb DisneyBrdf::lobeValue(DisneyLobe lobe, Vec3 wo, Vec3 wi, const Geometry &g) const {
+double DisneyBrdf::microfacetD(DisneyLobe lobe, Vec3 h) const {
+  switch (lobe) {
+    case DisneyLobe::Specular: return specular_.D(h);
+    case DisneyLobe::Clearcoat: return clearcoat_.D(h);
+    default: return 0;
+  }
+}
+
+Rgb DisneyBrdf::lobeValue(DisneyLobe lobe, Vec3 wo, Vec3 wi, const Geometry &g, double d) const {
   const DisneyParams &p = params_;
   const double cosD2 = g.cosD * g.cosD;
   switch (lobe) {
@@ -110,32 +118,28 @@ Rgb DisneyBrdf::lobeValue(DisneyLobe lobe, Vec3 wo, Vec3 wi, const Geometry &g) 
     }
     case DisneyLobe::Specular: {
       const Rgb fresnel = lerp(g.fd, specular0_, Rgb::grey(1));
-      return specular_.D(g.h) * specular_.visibility(wo, wi) * fresnel;
+      return d * specular_.visibility(wo, wi) * fresnel;
     }
     case DisneyLobe::Clearcoat: {
       if (!(p.clearcoat > 0)) return {};
       // A fixed-IOR (1.5, F0 = 0.04) varnish whose weight 0.25 Burley chose
       // to keep the coat subtle.
       const double fresnel = lerp(g.fd, 0.04, 1.0);
-      return Rgb::grey(0.25 * p.clearcoat * fresnel * clearcoat_.D(g.h) *
-                       clearcoatMasking_.visibility(wo, wi));
+      return Rgb::grey(0.25 * p.clearcoat * fresnel * d * clearcoatMasking_.visibility(wo, wi));
     }
   }
   return {};
 }
 
-Rgb DisneyBrdf::eval(Vec3 wo, Vec3 wi) const {
-  const auto g = geometry(wo, wi);
-  if (!g) return {};
-  Rgb f;
-  for (int k = 0; k < lobeCount_; ++k) f += lobeValue(lobe(k), wo, wi, *g);
-  return f;
-}
+// One code path for f whether or not the pdf is wanted: compiled twice, the
+// same sums could round differently (FMA contraction), and sample() must
+// return exactly eval's f.
+Rgb DisneyBrdf::eval(Vec3 wo, Vec3 wi) const { return evalWithPdf(wo, wi).f; }
 
 Rgb DisneyBrdf::evalLobe(int k, Vec3 wo, Vec3 wi) const {
   const auto g = geometry(wo, wi);
   if (!g || k < 0 || k >= lobeCount_) return {};
-  return lobeValue(lobe(k), wo, wi, *g);
+  return lobeValue(lobe(k), wo, wi, *g, microfacetD(lobe(k), g->h));
 }
 
 double DisneyBrdf::lobePdf(int k, Vec3 wo, Vec3 wi) const {
@@ -153,6 +157,32 @@ double DisneyBrdf::pdf(Vec3 wo, Vec3 wi) const {
   double sum = 0;
   for (int k = 0; k < lobeCount_; ++k) sum += lobePdf(k, wo, wi);
   return sum / lobeCount_;
+}
+
+double DisneyBrdf::lobePdf(DisneyLobe lobe, Vec3 wo, Vec3 wi, const Geometry &g, double d) const {
+  switch (lobe) {
+    case DisneyLobe::Diffuse:
+    case DisneyLobe::Subsurface: return cosineHemispherePdf(wi.z);
+    case DisneyLobe::Specular: return specular_.reflectionPdfGivenD(wo, d);
+    case DisneyLobe::Clearcoat: return clearcoat_.reflectionPdfGivenD(wo, g.h, d);
+  }
+  return 0;
+}
+
+// The half vector and each D computed once for f and pdf; the pdf sums the
+// same terms in the same order as pdf(), so the two are equal (tested).
+BsdfValue DisneyBrdf::evalWithPdf(Vec3 wo, Vec3 wi) const {
+  const auto g = geometry(wo, wi);
+  if (!g) return {Rgb{}, pdf(wo, wi)};  // a direction below the surface: f = 0
+  BsdfValue out;
+  double sum = 0;
+  for (int k = 0; k < lobeCount_; ++k) {
+    const double d = microfacetD(lobe(k), g->h);
+    out.f += lobeValue(lobe(k), wo, wi, *g, d);
+    sum += lobePdf(lobe(k), wo, wi, *g, d);
+  }
+  out.pdf = sum / lobeCount_;
+  return out;
 }
 
 std::optional<Vec3> DisneyBrdf::sampleLobe(int k, Vec3 wo, Point2 u) const {
@@ -175,8 +205,7 @@ std::optional<BsdfSample> DisneyBrdf::sample(Vec3 wo, Point2 u) const {
   const double ux = std::clamp(scaled - k, 0.0, std::nextafter(1.0, 0.0));
   const auto wi = sampleLobe(k, wo, {ux, u.y});
   if (!wi || !(wi->z > 0)) return std::nullopt;
-  const double p = pdf(wo, *wi);
-  const Rgb f = eval(wo, *wi);
+  const auto [f, p] = evalWithPdf(wo, *wi);
   if (!(p > 0) || !std::isfinite(p) || !f.isFinite()) return std::nullopt;
   return BsdfSample{*wi, f, p};
 }

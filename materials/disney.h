@@ -50,6 +50,8 @@ class DisneyBrdf final : public Bsdf {
   Rgb eval(Vec3 wo, Vec3 wi) const override;
   // The average of lobePdf over the lobes.
   double pdf(Vec3 wo, Vec3 wi) const override;
+  // One half vector and one D per microfacet lobe for both.
+  BsdfValue evalWithPdf(Vec3 wo, Vec3 wi) const override;
   // f is the full eval (all lobes) and pdf the full mixture pdf.
   std::optional<BsdfSample> sample(Vec3 wo, Point2 u) const override;
 
@@ -72,7 +74,11 @@ class DisneyBrdf final : public Bsdf {
     double fo, fi, fd;        // Schlick weights of those cosines
   };
   static std::optional<Geometry> geometry(Vec3 wo, Vec3 wi);
-  Rgb lobeValue(DisneyLobe lobe, Vec3 wo, Vec3 wi, const Geometry &g) const;
+  // The lobe's microfacet D(h) (0 for the diffuse lobes).
+  double microfacetD(DisneyLobe lobe, Vec3 h) const;
+  // Lobe values and pdfs given the geometry and the lobe's microfacetD.
+  Rgb lobeValue(DisneyLobe lobe, Vec3 wo, Vec3 wi, const Geometry &g, double d) const;
+  double lobePdf(DisneyLobe lobe, Vec3 wo, Vec3 wi, const Geometry &g, double d) const;
 
   DisneyParams params_;
   int lobeCount_;

@@ -88,10 +88,10 @@ Vec3 GgxDistribution::sampleVisibleNormal(Vec3 wo, Point2 u) const {
   // A uniform point on the unit disc, then the half of the disc hidden by
   // the hemisphere's silhouette is squeezed into the visible ellipse.
   const double r = std::sqrt(std::clamp(u.x, 0.0, 1.0));
-  const double phi = 2 * kPi * u.y;
-  const double p1 = r * std::cos(phi);
+  const SinCos phi = sinCosTurns(u.y);
+  const double p1 = r * phi.cos;
   const double s = 0.5 * (1 + vh.z);
-  const double p2 = (1 - s) * std::sqrt(std::max(0.0, 1 - p1 * p1)) + s * r * std::sin(phi);
+  const double p2 = (1 - s) * std::sqrt(std::max(0.0, 1 - p1 * p1)) + s * r * phi.sin;
   // Lift onto the hemisphere, then unstretch (normals transform inversely,
   // which for this diagonal stretch is the same scaling of x and y).
   const Vec3 nh = p1 * t1 + p2 * t2 + std::sqrt(std::max(0.0, 1 - p1 * p1 - p2 * p2)) * vh;
@@ -103,7 +103,7 @@ double GgxDistribution::reflectionPdf(Vec3 wo, Vec3 wi) const {
   const auto h = halfVector(wo, wi);
   if (!h) return 0;
   // G1(wo) D(h) / (4 wo.z) with G1(wo) / wo.z = 2 / (wo.z + s(wo)).
-  return D(*h) / (2 * (wo.z + stretchedLength(wo)));
+  return reflectionPdfGivenD(wo, D(*h));
 }
 
 std::optional<Vec3> GgxDistribution::sampleReflection(Vec3 wo, Point2 u) const {
@@ -134,16 +134,20 @@ Vec3 Gtr1Distribution::sampleNormal(Point2 u) const {
       alpha_ >= 1 ? 1 - ux : (1 - std::pow(a2, 1 - ux)) / (1 - a2);  // alpha 1: uniform in cos^2
   const double cosTheta = std::sqrt(std::clamp(cos2, 0.0, 1.0));
   const double sinTheta = std::sqrt(std::max(0.0, 1 - cosTheta * cosTheta));
-  return sphericalDirection(sinTheta, cosTheta, 2 * kPi * u.y);
+  return sphericalDirectionTurns(sinTheta, cosTheta, u.y);
 }
 
 double Gtr1Distribution::reflectionPdf(Vec3 wo, Vec3 wi) const {
   if (!(wo.z > 0) || !(wi.z > 0)) return 0;
   const auto h = halfVector(wo, wi);
   if (!h) return 0;
-  const double woh = dot(wo, *h);
+  return reflectionPdfGivenD(wo, *h, D(*h));
+}
+
+double Gtr1Distribution::reflectionPdfGivenD(Vec3 wo, Vec3 h, double dOfH) const {
+  const double woh = dot(wo, h);
   if (!(woh > 0)) return 0;
-  return D(*h) * h->z / (4 * woh);
+  return dOfH * h.z / (4 * woh);
 }
 
 std::optional<Vec3> Gtr1Distribution::sampleReflection(Vec3 wo, Point2 u) const {

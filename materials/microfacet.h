@@ -56,6 +56,10 @@ class GgxDistribution {
   // D_wo(h) / (4 wo.h) = G1(wo) D(h) / (4 wo.z), h the half vector; 0 unless
   // wo and wi are both above the surface.
   double reflectionPdf(Vec3 wo, Vec3 wi) const;
+  // The same for a valid half vector whose D(h) the caller already has.
+  double reflectionPdfGivenD(Vec3 wo, double dOfH) const {
+    return dOfH / (2 * (wo.z + stretchedLength(wo)));
+  }
   // nullopt when the reflected direction points below the surface.
   std::optional<Vec3> sampleReflection(Vec3 wo, Point2 u) const;
 
@@ -85,6 +89,8 @@ class Gtr1Distribution {
   // reflected (sampleReflection gives nullopt), so their mass is missing
   // here as well.
   double reflectionPdf(Vec3 wo, Vec3 wi) const;
+  // The same for a valid half vector h whose D(h) the caller already has.
+  double reflectionPdfGivenD(Vec3 wo, Vec3 h, double dOfH) const;
   std::optional<Vec3> sampleReflection(Vec3 wo, Point2 u) const;
 
  private:

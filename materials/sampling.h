@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "materials/turns.h"
 #include "materials/vec3.h"
 #include "sampler/point.h"
 
@@ -18,6 +19,12 @@ inline Vec3 sphericalDirection(double sinTheta, double cosTheta, double phi) {
   return {sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta};
 }
 
+// The same with the azimuth in turns (phi = 2 pi turns), as samplers draw it.
+inline Vec3 sphericalDirectionTurns(double sinTheta, double cosTheta, double turns) {
+  const SinCos phi = sinCosTurns(turns);
+  return {sinTheta * phi.cos, sinTheta * phi.sin, cosTheta};
+}
+
 // Cosine-weighted direction about +z by inversion of its CDF: sin^2 theta =
 // u.x, phi = 2 pi u.y. Unlike the concentric-disc map, this is the plain
 // inverse CDF the supplement's "deterministic mapping" refers to, and every
@@ -26,7 +33,7 @@ inline Vec3 sphericalDirection(double sinTheta, double cosTheta, double phi) {
 inline Vec3 cosineHemisphere(Point2 u) {
   const double sin2 = std::clamp(u.x, 0.0, 1.0);
   const double sinTheta = std::sqrt(sin2), cosTheta = std::sqrt(1 - sin2);
-  return sphericalDirection(sinTheta, cosTheta, 2 * std::numbers::pi * u.y);
+  return sphericalDirectionTurns(sinTheta, cosTheta, u.y);
 }
 
 // The density of cosineHemisphere per unit solid angle.

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "materials/turns.h"
 #include "materials/vec3.h"
 #include "sampler/point.h"
 
@@ -19,8 +20,8 @@ inline constexpr double kInvFourPi = 1 / (4 * std::numbers::pi);
 inline Vec3 sphereDirection(Point2 uv) {
   const double z = std::clamp(1 - 2 * uv.y, -1.0, 1.0);
   const double r = std::sqrt(std::max(0.0, 1 - z * z));
-  const double phi = 2 * std::numbers::pi * uv.x;
-  return {r * std::cos(phi), r * std::sin(phi), z};
+  const SinCos phi = sinCosTurns(uv.x);
+  return {r * phi.cos, r * phi.sin, z};
 }
 
 // The inverse of sphereDirection for a unit vector; u in [0, 1).

@@ -97,12 +97,12 @@ Rgb PathIntegrator::radiance(const Ray &cameraRay, const std::optional<SurfaceHi
       const auto ls = lightSample(*light, samples, depth, index);
       if (ls && dot(ls->wi, sh.ng) > 0) {
         const Vec3 wi = sh.frame.toLocal(ls->wi);
-        const Rgb f = bsdf.eval(wo, wi);
+        const auto [f, bsdfPdf] = bsdf.evalWithPdf(wo, wi);
         if (wi.z > 0 && !f.isBlack()) {
           const Ray shadow{offsetRayOrigin(hit->position, sh.ng, ls->wi), ls->wi};
           record(counters, shadow);
           if (!scene_.geometry.occluded(shadow)) {
-            const double w = powerHeuristic(ls->pdf, bsdf.pdf(wo, wi));
+            const double w = powerHeuristic(ls->pdf, bsdfPdf);
             L += (w * wi.z / ls->pdf) * beta * f * ls->radiance;
           }
         }

@@ -42,6 +42,36 @@ TEST(DisneyValues, Reciprocity) {
   }
 }
 
+// evalWithPdf shares the half vector and D between f and pdf; it must give
+// eval's and pdf's values bit for bit, above, at and below the horizon, for
+// every lobe mix (clearcoat on and off, roughness 0 and 1).
+TEST(DisneyValues, EvalWithPdfEqualsEvalAndPdfExactly) {
+  Rng rng(37);
+  const std::vector<DisneyParams> sets = {
+      supplementDisneyParams(), DisneyParams{}, test::allParametersNonZero(0.35),
+      test::allParametersNonZero(0.0), test::allParametersNonZero(1.0)};
+  const auto check = [](const DisneyBrdf &brdf, Vec3 wo, Vec3 wi) {
+    const BsdfValue v = brdf.evalWithPdf(wo, wi);
+    const Rgb f = brdf.eval(wo, wi);
+    ASSERT_EQ(v.pdf, brdf.pdf(wo, wi))
+        << wo.x << "," << wo.y << "," << wo.z << " " << wi.x << "," << wi.y << "," << wi.z;
+    ASSERT_TRUE(v.f.r == f.r && v.f.g == f.g && v.f.b == f.b)
+        << wo.x << "," << wo.y << "," << wo.z << " " << wi.x << "," << wi.y << "," << wi.z;
+  };
+  for (const DisneyParams &p : sets) {
+    const DisneyBrdf brdf(p);
+    for (int k = 0; k < 5000; ++k) {
+      Vec3 wo = randomUpper(rng), wi = randomUpper(rng);
+      check(brdf, wo, wi);
+      check(brdf, wo, reflect(wo, {0, 0, 1}));  // the mirror direction
+      wi.z = -wi.z;
+      check(brdf, wo, wi);  // below the surface: f = 0, pdf = 0
+    }
+    check(brdf, fromAngles(90, 0), fromAngles(89.999, 180));
+    check(brdf, {0, 0, 1}, {0, 0, 1});
+  }
+}
+
 // Burley's formulas written out a second time, from his notes, in the
 // textbook form (tangents, separate G1 factors) rather than the cancelled one.
 Rgb burleyReference(const DisneyParams &p, Vec3 v, Vec3 l) {
