@@ -20,13 +20,6 @@ double schlickWeight(double cosTheta) {
   return m2 * m2 * m;
 }
 
-std::optional<Vec3> halfVector(Vec3 wo, Vec3 wi) {
-  const Vec3 h = wo + wi;
-  const double len2 = lengthSquared(h);
-  if (!(len2 > 0) || !(h.z > 0)) return std::nullopt;
-  return h / std::sqrt(len2);
-}
-
 // ---------------------------------------------------------------------- GGX
 
 GgxDistribution::GgxDistribution(double alphaX, double alphaY)

@@ -11,6 +11,7 @@
 // (see visibility and reflectionPdf): they stay finite down to grazing
 // angles and for alpha at its floor.
 
+#include <cmath>
 #include <optional>
 
 #include "materials/vec3.h"
@@ -99,6 +100,12 @@ class Gtr1Distribution {
 
 // The half vector of two directions above the surface; nullopt when it is
 // undefined (wo = -wi) or not above the surface.
-std::optional<Vec3> halfVector(Vec3 wo, Vec3 wi);
+// Inline: every microfacet eval and pdf starts here.
+inline std::optional<Vec3> halfVector(Vec3 wo, Vec3 wi) {
+  const Vec3 h = wo + wi;
+  const double len2 = lengthSquared(h);
+  if (!(len2 > 0) || !(h.z > 0)) return std::nullopt;
+  return h / std::sqrt(len2);
+}
 
 }  // namespace nuld

@@ -26,9 +26,7 @@ inline Vec3 sphereDirection(Point2 uv) {
 
 // The inverse of sphereDirection for a unit vector; u in [0, 1).
 inline Point2 spherePoint(Vec3 w) {
-  double phi = std::atan2(w.y, w.x);
-  if (phi < 0) phi += 2 * std::numbers::pi;
-  const double u = std::min(phi / (2 * std::numbers::pi), std::nextafter(1.0, 0.0));
+  const double u = std::min(atan2Turns(w.y, w.x), std::nextafter(1.0, 0.0));
   return {u, std::clamp(0.5 * (1 - w.z), 0.0, 1.0)};
 }
 

@@ -18,12 +18,17 @@ namespace nuld {
 
 // Base-2 nested uniform scrambling as a random binary tree keyed by a seed:
 // digit `length` (0 = most significant) under the `length` leading digits
-// `prefix` is flipped by one bit of a hash of (prefix, length). owenScramble
-// walks it for one coordinate; generateSet walks it once per shared prefix
-// for a whole Sobol set. Both must draw the same flips, so both use this.
+// `prefix` is flipped by an independent random bit. The 63 nodes of the top
+// kTopLevels levels take the bits of one hash; deeper nodes one hash each.
+// owenScramble walks it for one coordinate; generateSet walks it once per
+// shared prefix for a whole Sobol set. Both must draw the same flips, so both
+// use this.
 class OwenTree {
  public:
-  explicit OwenTree(std::uint64_t seed) : key_(mix64(seed ^ 0x5851f42d4c957f2dull)) {}
+  static constexpr int kTopLevels = 6;  // 2^6 - 1 = 63 nodes: one 64-bit hash
+
+  explicit OwenTree(std::uint64_t seed)
+      : key_(mix64(seed ^ 0x5851f42d4c957f2dull)), top_(mix64(key_ ^ 0x0f1e2d3c4b5a6978ull)) {}
 
   // Tagged with the length so prefixes of different lengths never share a hash.
   std::uint64_t prefixHash(std::uint64_t prefix, int length) const {
@@ -31,17 +36,20 @@ class OwenTree {
   }
   // The flip of digit `length`, in place in a 32-bit word.
   std::uint32_t digitFlip(std::uint64_t prefix, int length) const {
-    return static_cast<std::uint32_t>(prefixHash(prefix, length) >> 63) << (31 - length);
+    const std::uint64_t bits = length < kTopLevels ? top_ >> ((1u << length) - 1 + prefix)
+                                                   : prefixHash(prefix, length) >> 63;
+    return static_cast<std::uint32_t>(bits & 1) << (31 - length);
   }
   // Independent uniform flips of digit `length` and every digit below it
-  // (length < 32), all from the one hash of the prefix: they sit under a
-  // prefix no other point of the set shares. The top one is digitFlip's bit.
+  // (length < 32): they sit under a prefix no other point of the set shares.
+  // Sibling prefixes share one hash, a 32-bit half each.
   std::uint32_t tailFlips(std::uint64_t prefix, int length) const {
-    return static_cast<std::uint32_t>(prefixHash(prefix, length) >> 32) >> length;
+    const std::uint64_t h = prefixHash(prefix >> 1, length);
+    return static_cast<std::uint32_t>(prefix & 1 ? h : h >> 32) >> length;
   }
 
  private:
-  std::uint64_t key_;
+  std::uint64_t key_, top_;
 };
 
 // `distinctDigits` d: when the points being scrambled together are told
