@@ -1,3 +1,6 @@
+// The integration study's runner: the CSV it writes, the measurements per
+// (integrand, sampler, N) and runIntegrateStudy, which resumes the CSV.
+
 #include "tools/study/integration_study.h"
 
 #include <algorithm>
@@ -7,8 +10,6 @@
 #include <cstdio>
 #include <map>
 #include <memory>
-#include <set>
-#include <sstream>
 #include <stdexcept>
 
 #include "renderer/pointset_backend.h"
@@ -17,21 +18,12 @@
 #include "sampler/optimize/optimizer.h"
 #include "sampler/sequences/rng.h"
 #include "sampler/sequences/sequence.h"
-#include "scenes/default_scene.h"
+#include "tools/study/integrate_internal.h"
 #include "tools/study/optimized_sets.h"
-#include "tools/study/report_script.h"
 #include "tools/study/stopwatch.h"
 
 namespace nuld::study {
 namespace fs = std::filesystem;
-
-namespace {
-
-std::uint64_t hashString(const std::string &s) {
-  std::uint64_t h = 1469598103934665603ull;  // FNV-1a
-  for (unsigned char c : s) h = (h ^ c) * 1099511628211ull;
-  return h;
-}
 
 std::string joinNames(const std::vector<std::string> &names) {
   std::string out;
@@ -46,6 +38,14 @@ std::string formatPrecise(double v) {
   char buf[40];
   std::snprintf(buf, sizeof buf, "%.12g", v);
   return buf;
+}
+
+namespace {
+
+std::uint64_t hashString(const std::string &s) {
+  std::uint64_t h = 1469598103934665603ull;  // FNV-1a
+  for (unsigned char c : s) h = (h ^ c) * 1099511628211ull;
+  return h;
 }
 
 // A loaded neural model and the integrands it serves (with their gamma).
@@ -77,29 +77,6 @@ fs::path cachePath(const fs::path &dir, const Target &target, const OptimizerSet
   return dir / ("optimized_" + slug + "_n" + std::to_string(s.n) + "_" + hash + ".ptsb");
 }
 
-// A built-in map name (no file): the default sky with a 1e6 sun.
-constexpr const char *kSunMap = "sun";
-
-std::optional<std::string> findEnvmap(const std::string &root, const std::string &name) {
-  std::vector<fs::path> candidates;
-  const fs::path dir = fs::path(root) / "envmaps";
-  if (fs::path(name).has_extension() || name.find('/') != std::string::npos)
-    candidates = {fs::path(name), dir / name, fs::path(root) / name};
-  else
-    for (const char *suffix : {"_latlong.exr", "_latlong.hdr", ".exr", ".hdr"})
-      candidates.push_back(dir / (name + suffix));
-  for (const auto &c : candidates)
-    if (fs::is_regular_file(c)) return c.string();
-  return std::nullopt;
-}
-
-std::string envmapShortName(const std::string &name) {
-  if (!fs::path(name).has_extension() && name.find('/') == std::string::npos) return name;
-  std::string stem = fs::path(name).stem().string();
-  if (stem.size() > 8 && stem.ends_with("_latlong")) stem.resize(stem.size() - 8);
-  return stem;
-}
-
 }  // namespace
 
 const std::vector<std::string> &integrateColumns() {
@@ -121,188 +98,6 @@ const std::vector<std::string> &integrateColumns() {
 }
 
 fs::path integrateCsvPath(const fs::path &outDir) { return outDir / "integrate.csv"; }
-
-std::vector<std::string> splitList(const std::string &text) {
-  std::vector<std::string> out;
-  std::stringstream in(text);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    const auto b = item.find_first_not_of(" \t"), e = item.find_last_not_of(" \t");
-    if (b != std::string::npos) out.push_back(item.substr(b, e - b + 1));
-  }
-  return out;
-}
-
-std::vector<std::size_t> parseNList(const std::string &text) {
-  const auto bad = [&](const std::string &why) {
-    return std::invalid_argument("--n '" + text + "': " + why +
-                                 " (expected positive integers separated by commas, e.g. "
-                                 "16,32,64)");
-  };
-  std::vector<std::size_t> out;
-  std::stringstream in(text);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    const auto b = item.find_first_not_of(" \t"), e = item.find_last_not_of(" \t");
-    if (b == std::string::npos) throw bad("empty item");
-    item = item.substr(b, e - b + 1);
-    if (item.find_first_not_of("0123456789") != std::string::npos)
-      throw bad("'" + item + "' is not a positive integer");
-    if (item.size() > 9) throw bad("'" + item + "' is too large");
-    const std::size_t n = std::stoul(item);
-    if (n == 0) throw bad("N must be at least 1");
-    if (std::find(out.begin(), out.end(), n) == out.end()) out.push_back(n);
-  }
-  if (out.empty() || (!text.empty() && text.back() == ',')) throw bad("empty item");
-  return out;
-}
-
-std::vector<SamplerChoice> parseSamplers(const std::vector<std::string> &tokens,
-                                         const std::vector<std::string> &models) {
-  using K = SamplerChoice::Kind;
-  const std::vector<std::string> defaults{"independent", "sobol", "halton", "optimized"};
-  std::vector<SamplerChoice> out;
-  const auto add = [&](SamplerChoice c) {
-    for (const auto &o : out) {
-      if (o.name != c.name) continue;
-      if (o.model != c.model)
-        throw std::invalid_argument("--neural: models '" + o.model + "' and '" + c.model +
-                                    "' would both be named '" + c.name + "' (rename one file)");
-      return;
-    }
-    out.push_back(std::move(c));
-  };
-  const auto classic = [&](const std::string &base, K kind,
-                           int which) {  // 1 plain, 2 lobes, 3 both
-    if (which & 1) add({base, kind, false, {}});
-    if (which & 2) add({base + "-lobes", kind, true, {}});
-  };
-  std::vector<std::string> modelList;
-  for (const std::string &t : tokens.empty() ? defaults : tokens) {
-    std::string base = t;
-    int which = 3;
-    if (base.ends_with("-lobes")) {
-      base.resize(base.size() - 6);
-      which = 2;
-    }
-    if (base == "independent" || base == "random")
-      classic("independent", K::Independent, which);
-    else if (base == "sobol")
-      classic("sobol", K::Sobol, which);
-    else if (base == "halton")
-      classic("halton", K::Halton, which);
-    else if (t == "optimized")
-      add({"optimized", K::Optimized, false, {}});
-    else if (t.rfind("neural:", 0) == 0 && t.size() > 7)
-      modelList.push_back(t.substr(7));
-    else
-      throw std::invalid_argument(
-          "--samplers: unknown sampler '" + t +
-          "' (expected independent, sobol, halton, their -lobes variants such as sobol-lobes, "
-          "optimized, or neural:MODEL)");
-  }
-  modelList.insert(modelList.end(), models.begin(), models.end());
-  for (const auto &m : modelList) {
-    if (m.empty()) throw std::invalid_argument("--neural: empty model path");
-    add({"neural:" + fs::path(m).stem().string(), K::Neural, false, m});
-  }
-  return out;
-}
-
-double importanceEstimate(const Integrand &in, std::span<const Point2> points,
-                          std::size_t &zeroPdf) {
-  double sum = 0;
-  for (const Point2 &x : points) {
-    const double p = isFinite(x) ? in.target->pdf(x) : 0.0;
-    const double v = p > 0 ? in.f(x) / p : 0.0;
-    if (!(p > 0) || !std::isfinite(v)) {
-      ++zeroPdf;
-      continue;
-    }
-    sum += v;
-  }
-  return points.empty() ? 0.0 : sum / double(points.size());
-}
-
-EstimateStats summarize(std::span<const double> e, double reference) {
-  const double K = double(e.size());
-  if (e.size() < 2) throw std::invalid_argument("summarize: need at least 2 estimates");
-  EstimateStats s;
-  for (double v : e) s.mean += v / K;
-  double var = 0, mse = 0;
-  for (double v : e) {
-    var += (v - s.mean) * (v - s.mean);
-    mse += (v - reference) * (v - reference);
-  }
-  s.std = std::sqrt(var / (K - 1));
-  s.bias = s.mean - reference;
-  s.biasStderr = s.std / std::sqrt(K);
-  s.rmse = std::sqrt(mse / K);
-  s.relRmse = reference != 0 ? s.rmse / std::abs(reference) : NAN;
-  return s;
-}
-
-std::vector<Integrand> selectIntegrands(const IntegrateOptions &o,
-                                        std::vector<std::string> &notes) {
-  const auto &kinds = integrandKinds();
-  const auto wants = [&](const std::string &kind, const std::string &fullName) {
-    if (o.integrands.empty()) return true;
-    for (const auto &t : o.integrands)
-      if (t == "all" || t == kind || t == fullName) return true;
-    return false;
-  };
-  // Every token must name a kind or an integrand the maps make.
-  std::vector<std::string> known = kinds;
-  for (const auto &m : o.envmaps) {
-    known.push_back("envmap:" + envmapShortName(m) + "*cos");
-    known.push_back("disney*envmap:" + envmapShortName(m));
-    known.push_back("disney-grazing*envmap:" + envmapShortName(m));
-  }
-  for (const auto &t : o.integrands)
-    if (t != "all" && std::find(known.begin(), known.end(), t) == known.end())
-      throw std::invalid_argument("--integrands: unknown integrand '" + t + "' (expected " +
-                                  joinNames(known) + ")");
-
-  std::vector<Integrand> out;
-  if (wants(kinds[0], kinds[0])) out.push_back(makeGaussianStep());
-  if (wants(kinds[1], kinds[1])) out.push_back(makeQuarterDiscBilinear());
-  for (const auto &m : o.envmaps) {
-    const std::string name = envmapShortName(m);
-    const bool cosine = wants(kinds[2], "envmap:" + name + "*cos");
-    const bool disney = wants(kinds[3], "disney*envmap:" + name);
-    const bool grazing = wants(kinds[4], "disney-grazing*envmap:" + name);
-    if (!cosine && !disney && !grazing) continue;
-    std::shared_ptr<const StudyEnvmap> map;
-    if (m == kSunMap) {
-      // The stability case: the default scene's sky with a sun 1e6 times
-      // brighter than its sky, built in so it needs no file.
-      map = makeStudyEnvmap(proceduralSky(512, 256, 1e6), m, "procedural-sun-1e6");
-    } else if (const auto path = findEnvmap(o.assetRoot, m)) {
-      map = loadStudyEnvmap(*path, name);
-    } else {
-      notes.push_back("skipping the integrands of environment map '" + m + "': no file " + m +
-                      "_latlong.exr/.hdr or " + m + ".exr/.hdr in " +
-                      (fs::path(o.assetRoot) / "envmaps").string() + " (check --assets)");
-      continue;
-    }
-    if (cosine) out.push_back(makeEnvmapCos(map));
-    if (disney) out.push_back(makeDisneyEnvmap(map));
-    if (grazing) {
-      Integrand in = makeDisneyEnvmap(map, supplementDisneyParams(), grazingWo());
-      in.name = "disney-grazing*envmap:" + name;
-      out.push_back(std::move(in));
-    }
-  }
-  for (const auto &in : out) {
-    notes.push_back(in.name + ": reference " + formatPrecise(in.reference) + " (" +
-                    in.referenceMethod + "; estimated error " +
-                    formatNumber(in.referenceError / std::abs(in.reference)) + " relative)");
-    if (in.referenceError > 1e-7 * std::abs(in.reference))
-      notes.push_back("warning: the reference of " + in.name + " has converged only to " +
-                      formatNumber(in.referenceError / std::abs(in.reference)) + " relative");
-  }
-  return out;
-}
 
 namespace {
 
@@ -560,67 +355,6 @@ IntegrateSummary runIntegrateStudy(const IntegrateOptions &o, const IntegrateHoo
     runner.progress(row);
   }
   return summary;
-}
-
-std::optional<std::string> runIntegratePlots(const fs::path &outDir) {
-  std::string why;
-  // report.py draws plot_integrate.py's plots and the HTML page with them.
-  const int status = runStudyScript("report.py", outDir, &why);
-  if (status == 0) return std::nullopt;
-  if (status < 0) return why + "; no plots made (the CSV is complete)";
-  return "report.py exited with status " + std::to_string(status) +
-         " (is python3-matplotlib installed?); the CSV is complete";
-}
-
-std::string rmseTable(const CsvTable &table) {
-  const auto col = [&](const std::string &name) { return table.column(name); };
-  const std::size_t ci = col("integrand"), cs = col("sampler"), cn = col("n"), cr = col("rmse"),
-                    cref = col("reference");
-  std::vector<std::string> integrands;
-  for (const auto &r : table.rows())
-    if (std::find(integrands.begin(), integrands.end(), r[ci]) == integrands.end())
-      integrands.push_back(r[ci]);
-  std::ostringstream out;
-  for (const auto &name : integrands) {
-    std::vector<std::string> samplers;
-    std::set<std::size_t> ns;
-    std::map<std::pair<std::string, std::size_t>, std::string> cell;
-    std::string reference;
-    for (const auto &r : table.rows()) {
-      if (r[ci] != name) continue;
-      if (std::find(samplers.begin(), samplers.end(), r[cs]) == samplers.end())
-        samplers.push_back(r[cs]);
-      const std::size_t n = std::stoul(r[cn]);
-      ns.insert(n);
-      char buf[32];
-      std::snprintf(buf, sizeof buf, "%.3g", std::stod(r[cr]));
-      cell[{r[cs], n}] = buf;
-      reference = r[cref];
-    }
-    std::size_t width = 8;
-    for (const auto &s : samplers) width = std::max(width, s.size() + 1);
-    out << name << "  (RMSE; reference " << reference << ")\n";
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%-*s", int(width), "sampler");
-    out << buf;
-    for (std::size_t n : ns) {
-      std::snprintf(buf, sizeof buf, " %9s", ("N=" + std::to_string(n)).c_str());
-      out << buf;
-    }
-    out << "\n";
-    for (const auto &s : samplers) {
-      std::snprintf(buf, sizeof buf, "%-*s", int(width), s.c_str());
-      out << buf;
-      for (std::size_t n : ns) {
-        const auto it = cell.find({s, n});
-        std::snprintf(buf, sizeof buf, " %9s", it == cell.end() ? "-" : it->second.c_str());
-        out << buf;
-      }
-      out << "\n";
-    }
-    out << "\n";
-  }
-  return out.str();
 }
 
 }  // namespace nuld::study
