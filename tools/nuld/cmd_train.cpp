@@ -57,6 +57,9 @@ Runner addTrain(CLI::App &app) {
       ->capture_default_str();
   app.add_option("--sigma", o->net.sigma, "standard deviation of the Fourier frequencies")
       ->capture_default_str();
+  app.add_option("--encoding-dims", o->net.encodingDims,
+                 "width of the Fourier encoding of (z, gamma) (even; the supplement's is 32)")
+      ->capture_default_str();
   app.add_option("--mapping", o->mapping,
                  "mapped (the net places u, the set is the target's inverse CDF of u) or "
                  "unmapped (the net places the points themselves)")
