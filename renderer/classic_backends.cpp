@@ -1,10 +1,12 @@
 // The classic backends: independent random numbers, Owen-scrambled Sobol and
 // randomized (Owen-permuted) Halton. Sobol and Halton are padded: every
 // (pixel, pair) gets its own independently scrambled copy of the first N
-// points of dimensions (0, 1), so pairs never correlate with each other.
+// points of dimensions (0, 1), dealt out in its own random order
+// (shufflePoints), so pairs are matched at random, never by index.
 
 #include <stdexcept>
 
+#include "renderer/padding.h"
 #include "renderer/sampler_backend.h"
 #include "sampler/sequences/rng.h"
 #include "sampler/sequences/sequence.h"
@@ -33,9 +35,9 @@ class SequenceBackend final : public SamplerBackend {
     // One seed per (pixel, pair), by two dependent mixes: hash3's five
     // were most of the cost of a 4-point set.
     const std::uint64_t pixelKey = mix64(seedKey_ + 0x9e3779b97f4a7c15ull * pixel);
-    const SequenceOptions o{kind_, Scramble::Owen,
-                            mix64(pixelKey ^ (0xd1b54a32d192ed03ull * (pair + 1)))};
-    generateSet(o, 0, out, 0);
+    const std::uint64_t seed = mix64(pixelKey ^ (0xd1b54a32d192ed03ull * (pair + 1)));
+    generateSet({kind_, Scramble::Owen, seed}, 0, out, 0);
+    shufflePoints(out, seed);
   }
 
  private:

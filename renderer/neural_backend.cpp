@@ -4,6 +4,7 @@
 #include <chrono>
 #include <stdexcept>
 
+#include "renderer/padding.h"
 #include "renderer/pointset_backend.h"
 #include "sampler/sequences/rng.h"
 #include "sampler/sequences/scrambling.h"
@@ -63,6 +64,7 @@ void NeuralBackend::primary(std::uint64_t pixel, std::uint32_t pair, std::span<P
   const std::uint64_t shift = hash3(seed_, pixel, pair);
   for (std::size_t i = 0; i < out.size(); ++i)
     out[i] = {cranleyPatterson(points[i].x, shift), cranleyPatterson(points[i].y, ~shift)};
+  shufflePoints(out, shift);
 }
 
 bool NeuralBackend::distributed(const Target &target, std::uint64_t pixel, std::uint32_t pair,
@@ -71,6 +73,7 @@ bool NeuralBackend::distributed(const Target &target, std::uint64_t pixel, std::
     return false;
   const auto points = pick(pixel, pair);
   std::copy(points.begin(), points.end(), out.begin());
+  shufflePoints(out, hash3(seed_, pixel, pair));
   return true;
 }
 

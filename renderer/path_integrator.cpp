@@ -10,13 +10,23 @@ namespace nuld {
 IntegratorKind parseIntegrator(const std::string &name) {
   if (name == "path") return IntegratorKind::Path;
   if (name == "direct") return IntegratorKind::Direct;
-  throw std::invalid_argument("unknown integrator '" + name + "': expected path or direct");
+  if (name == "light") return IntegratorKind::Light;
+  throw std::invalid_argument("unknown integrator '" + name + "': expected path, direct or light");
 }
 
-std::string toString(IntegratorKind k) { return k == IntegratorKind::Path ? "path" : "direct"; }
+std::string toString(IntegratorKind k) {
+  switch (k) {
+    case IntegratorKind::Path: return "path";
+    case IntegratorKind::Direct: return "direct";
+    case IntegratorKind::Light: return "light";
+  }
+  return "?";
+}
 
 PathIntegrator::PathIntegrator(const Scene &scene, IntegratorKind kind, int maxDepth)
-    : scene_(scene), maxDepth_(kind == IntegratorKind::Direct ? 1 : maxDepth) {
+    : scene_(scene),
+      maxDepth_(kind == IntegratorKind::Path ? maxDepth : 1),
+      lightOnly_(kind == IntegratorKind::Light) {
   if (maxDepth < 1) throw std::invalid_argument("max depth must be at least 1");
 }
 
@@ -102,12 +112,14 @@ Rgb PathIntegrator::radiance(const Ray &cameraRay, const std::optional<SurfaceHi
           const Ray shadow{offsetRayOrigin(hit->position, sh.ng, ls->wi), ls->wi};
           record(counters, shadow);
           if (!scene_.geometry.occluded(shadow)) {
-            const double w = powerHeuristic(ls->pdf, bsdfPdf);
+            const double w = lightOnly_ ? 1.0 : powerHeuristic(ls->pdf, bsdfPdf);
             L += (w * wi.z / ls->pdf) * beta * f * ls->radiance;
           }
         }
       }
     }
+
+    if (lightOnly_) break;  // the light sample was the whole estimate
 
     // The continuation direction by BSDF sampling.
     const auto bs = bsdf.sample(wo, samples.primary(SamplePairs::bsdf(depth), index));

@@ -3,7 +3,10 @@
 // light and BSDF sampling, combined by multiple importance sampling with the
 // power heuristic (Veach 1997), and Russian roulette after the second bounce.
 // The direct-lighting mode stops after the first bounce: it isolates the
-// estimator that the sampler backends differ in.
+// estimator that the sampler backends differ in. The light mode estimates
+// that direct lighting by environment-map sampling alone (no BSDF sample, no
+// MIS weight): the estimator of the supplement's environment-map experiment,
+// where only the light's points vary between backends.
 
 #include <cstdint>
 #include <optional>
@@ -16,8 +19,8 @@
 
 namespace nuld {
 
-enum class IntegratorKind { Path, Direct };
-IntegratorKind parseIntegrator(const std::string &name);  // "path" | "direct"
+enum class IntegratorKind { Path, Direct, Light };
+IntegratorKind parseIntegrator(const std::string &name);  // "path" | "direct" | "light"
 std::string toString(IntegratorKind k);
 
 // A traced ray as Embree saw it, for the benchmark that replays the
@@ -47,6 +50,7 @@ class PathIntegrator {
  private:
   const Scene &scene_;
   int maxDepth_;
+  bool lightOnly_;
 };
 
 inline double powerHeuristic(double pdfA, double pdfB) {

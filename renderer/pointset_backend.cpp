@@ -1,10 +1,10 @@
 #include "renderer/pointset_backend.h"
 
-#include "renderer/neural_backend.h"
-
 #include <filesystem>
 #include <stdexcept>
 
+#include "renderer/neural_backend.h"
+#include "renderer/padding.h"
 #include "sampler/io/pointset_io.h"
 #include "sampler/sequences/rng.h"
 #include "sampler/sequences/scrambling.h"
@@ -75,6 +75,7 @@ void PointSetBackend::primary(std::uint64_t pixel, std::uint32_t pair,
   const std::uint64_t shift = hash3(seed_, pixel, pair);
   for (std::size_t i = 0; i < out.size(); ++i)
     out[i] = {cranleyPatterson(points[i].x, shift), cranleyPatterson(points[i].y, ~shift)};
+  shufflePoints(out, shift);
 }
 
 bool PointSetBackend::distributed(const Target &target, std::uint64_t pixel, std::uint32_t pair,
@@ -84,6 +85,7 @@ bool PointSetBackend::distributed(const Target &target, std::uint64_t pixel, std
     return false;
   const auto points = set_.instance(pickInstance(pixel, pair));
   std::copy(points.begin(), points.end(), out.begin());
+  shufflePoints(out, hash3(seed_, pixel, pair));
   return true;
 }
 

@@ -86,7 +86,8 @@ void readRender(const JsonReader &r, LoadedScene &out) {
   if (r.has("spp")) out.settings.spp = std::size_t(r["spp"].integer(1, 1 << 24));
   if (r.has("integrator")) {
     const std::string name = r["integrator"].string();
-    if (name != "path" && name != "direct") r["integrator"].fail("\"path\" or \"direct\"");
+    if (name != "path" && name != "direct" && name != "light")
+      r["integrator"].fail("\"path\", \"direct\" or \"light\"");
     out.settings.integrator = parseIntegrator(name);
   }
   if (r.has("max_depth")) out.settings.maxDepth = r["max_depth"].integer(1, 1000);

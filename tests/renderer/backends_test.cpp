@@ -5,8 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <tuple>
 
 #include "renderer/environment_light.h"
 #include "renderer/image_metrics.h"
@@ -14,6 +16,7 @@
 #include "renderer/render.h"
 #include "sampler/io/pointset_io.h"
 #include "sampler/sequences/rng.h"
+#include "tests/common/chi_square.h"
 #include "tests/common/temp_dir.h"
 #include "tests/renderer/test_scenes.h"
 
@@ -53,6 +56,40 @@ TEST(Backends, SobolPixelsAreNetsAndPairsAreIndependentlyScrambled) {
   EXPECT_FALSE(isNet(a));
 }
 
+// Sample i of a pixel combines point i of every pair. The pairs of a pixel
+// are scrambled copies of one net; matched by index, their points would be
+// tied together (the first digits of two pairs' x equal or opposite for every
+// i). Shuffled, (camera x, light x) and (light y, bsdf y) over the N samples
+// must look like independent uniform pairs: chi-square on an 8 x 8 grid.
+TEST(Backends, PairsOfAPixelAreMatchedAtRandom) {
+  constexpr std::size_t N = 4096;
+  constexpr int G = 8;
+  for (const char *name : {"sobol", "halton"}) {
+    const auto backend = makeBackend(name, 3);
+    for (std::uint64_t pixel : {0u, 17u, 40000u}) {
+      std::vector<Point2> camera(N), light(N), bsdf(N);
+      backend->primary(pixel, SamplePairs::camera, camera);
+      backend->primary(pixel, SamplePairs::light(0), light);
+      backend->primary(pixel, SamplePairs::bsdf(0), bsdf);
+      if (std::string(name) == "sobol") EXPECT_TRUE(isNet(light)) << "shuffling keeps the net";
+      // The same coordinate of two pairs: scrambled copies of one dimension.
+      for (const auto &[a, b, useX] :
+           {std::tuple{&camera, &light, true}, std::tuple{&light, &bsdf, false}}) {
+        std::vector<double> observed(G * G, 0), expected(G * G, double(N) / (G * G));
+        for (std::size_t i = 0; i < N; ++i) {
+          const Point2 pa = (*a)[i], pb = (*b)[i];
+          ++observed[int((useX ? pa.x : pa.y) * G) * G + int((useX ? pb.x : pb.y) * G)];
+        }
+        // Both margins are stratified (exactly N / G per row and column), so
+        // the statistic is that of a contingency table: (G - 1)^2 dof.
+        const double stat = test::pooledChiSquare(observed, expected).statistic;
+        const double p = test::regularizedGammaQ(0.5 * (G - 1) * (G - 1), 0.5 * stat);
+        EXPECT_GT(p, test::sidakLevel(0.01, 12)) << name << " pixel " << pixel;
+      }
+    }
+  }
+}
+
 TEST(Backends, UnknownNameListsTheChoices) {
   try {
     makeBackend("sobolo", 0);
@@ -73,18 +110,26 @@ TEST(PointSetBackend, UniformSetsAreShiftedPerPixelAndDeeperPairsFallBack) {
   backend.prepare(8, nullptr);
   std::vector<Point2> out(8);
   backend.primary(11, SamplePairs::bsdf(0), out);
-  // out is one of the instances under a toroidal shift.
+  // out is one of the instances under a toroidal shift, in some order (the
+  // pairs' points are shuffled, see renderer/padding.h).
+  const auto same = [](Point2 a, Point2 b) {
+    return std::abs(std::remainder(a.x - b.x, 1.0)) < 1e-12 &&
+           std::abs(std::remainder(a.y - b.y, 1.0)) < 1e-12;
+  };
   bool found = false;
   for (std::size_t k = 0; k < 3 && !found; ++k) {
     const auto inst = set.instance(k);
-    const double dx = out[0].x - inst[0].x, dy = out[0].y - inst[0].y;
-    bool all = true;
-    for (int i = 0; i < 8; ++i) {
-      const double ex = std::remainder(out[i].x - inst[i].x - dx, 1.0);
-      const double ey = std::remainder(out[i].y - inst[i].y - dy, 1.0);
-      all = all && std::abs(ex) < 1e-12 && std::abs(ey) < 1e-12;
+    for (int j = 0; j < 8 && !found; ++j) {  // out[0] is inst[j] shifted
+      const Point2 shift{out[0].x - inst[j].x, out[0].y - inst[j].y};
+      bool all = true;
+      for (int i = 0; i < 8 && all; ++i) {
+        bool matched = false;
+        for (int m = 0; m < 8 && !matched; ++m)
+          matched = same(out[i], {inst[m].x + shift.x, inst[m].y + shift.y});
+        all = matched;
+      }
+      found = all;
     }
-    found = all;
   }
   EXPECT_TRUE(found);
   // A deeper pair falls back to Owen-scrambled Sobol with the same seed.
@@ -111,8 +156,13 @@ TEST(PointSetBackend, DistributedSetsServeOnlyTheirTargetAtTheFirstBounce) {
   EXPECT_NO_THROW(backend.prepare(4, light.target()));
   std::vector<Point2> out(4);
   ASSERT_TRUE(backend.distributed(*light.target(), 5, SamplePairs::light(0), out));
-  EXPECT_TRUE(std::equal(out.begin(), out.end(), set.instance(0).begin()) ||
-              std::equal(out.begin(), out.end(), set.instance(1).begin()));
+  // One of the instances, in some order (shuffled like every pair).
+  const auto sorted = [](auto points) {
+    std::vector<Point2> v(points.begin(), points.end());
+    std::sort(v.begin(), v.end(), [](Point2 a, Point2 b) { return a.x < b.x; });
+    return v;
+  };
+  EXPECT_TRUE(sorted(out) == sorted(set.instance(0)) || sorted(out) == sorted(set.instance(1)));
   EXPECT_FALSE(backend.distributed(*light.target(), 5, SamplePairs::light(1), out));
 
   const auto message = [&](std::size_t spp, const Target *t) {

@@ -33,8 +33,9 @@ Runner addRender(CLI::App &app) {
   app.add_option("--assets", o->assets,
                  "asset root for the scene's meshes and maps (default: $NULD_ASSETS, else "
                  "../shared/assets beside the checkout)");
-  app.add_option("--integrator", o->integrator, "path or direct (first bounce only)")
-      ->check(CLI::IsMember({"path", "direct"}));
+  app.add_option("--integrator", o->integrator,
+                 "path, direct (first bounce only) or light (first bounce, light sampling only)")
+      ->check(CLI::IsMember({"path", "direct", "light"}));
   app.add_option("--max-depth", o->maxDepth, "maximum path length in bounces")
       ->check(CLI::Range(1, 1000));
   app.add_option("--seed", o->seed, "seed of the backend's randomization")

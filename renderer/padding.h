@@ -1,0 +1,28 @@
+#pragma once
+// Padding (Kollig & Keller 2002): the renderer asks every dimension pair of a
+// pixel for its N points separately, and sample i combines point i of each
+// pair. Pairs cut from the same net (every pair of the sobol and halton
+// backends is a scrambled copy of dimensions 0 and 1; optimized sets come
+// from one bank) share its index order: scrambling each copy independently
+// still ties point i of one pair to point i of another by a fixed bijection,
+// so the N combined samples lie on a lower-dimensional pattern whose error
+// does not fall with N (measured on a glossy sphere: MSE flat from 256 to
+// 4096 spp, while independent samples kept falling). Each (pixel, pair)
+// therefore deals its points out in a random order of its own: pairs are
+// matched at random, and every pair keeps its stratification.
+
+#include <span>
+
+#include "sampler/point.h"
+#include "sampler/sequences/rng.h"
+
+namespace nuld {
+
+// A uniformly random permutation of `points` keyed by `seed` (Fisher-Yates).
+inline void shufflePoints(std::span<Point2> points, std::uint64_t seed) {
+  Rng rng(seed, 0x5eed5bu);
+  for (std::size_t i = points.size(); i > 1; --i)
+    std::swap(points[i - 1], points[rng.uniformInt(std::uint32_t(i))]);
+}
+
+}  // namespace nuld
