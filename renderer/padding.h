@@ -18,11 +18,18 @@
 
 namespace nuld {
 
-// A uniformly random permutation of `points` keyed by `seed` (Fisher-Yates).
+// A uniformly random permutation of `points` keyed by `seed` (Fisher-Yates;
+// each 64-bit draw serves two swaps, by Lemire's multiply-shift on 32 bits).
 inline void shufflePoints(std::span<Point2> points, std::uint64_t seed) {
   Rng rng(seed, 0x5eed5bu);
-  for (std::size_t i = points.size(); i > 1; --i)
-    std::swap(points[i - 1], points[rng.uniformInt(std::uint32_t(i))]);
+  const auto below = [](std::uint64_t bits32, std::size_t n) {
+    return std::size_t((bits32 * n) >> 32);
+  };
+  for (std::size_t i = points.size(); i > 1; i -= 2) {
+    const std::uint64_t bits = rng.nextBits();
+    std::swap(points[i - 1], points[below(bits & 0xffffffffu, i)]);
+    if (i > 2) std::swap(points[i - 2], points[below(bits >> 32, i - 1)]);
+  }
 }
 
 }  // namespace nuld
