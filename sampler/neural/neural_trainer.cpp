@@ -25,6 +25,7 @@ double secondsSince(Clock::time_point t) {
 // What one step's loss needs besides the points: the batch's targets, their
 // boxes and exact masses, the sigmoid scale.
 struct Batch {
+  GradientPullback pullback = GradientPullback::Exact;
   std::vector<Point2> z;
   std::vector<double> gamma;
   std::vector<std::vector<Box2>> boxes;
@@ -35,12 +36,22 @@ struct Batch {
   double *kernelSeconds = nullptr;
 };
 
+// J^T g with component k divided by |column k of J|; a coordinate whose
+// column is zero or not finite moves x nowhere useful and gets 0.
+Point2 balanced(Point2 pulled, const Jacobian2 &j) {
+  auto scaled = [](double component, double a, double b) {
+    const double length = std::hypot(a, b);
+    return length > 0 && std::isfinite(length) ? component / length : 0.0;
+  };
+  return {scaled(pulled.x, j.m[0][0], j.m[1][0]), scaled(pulled.y, j.m[0][1], j.m[1][1])};
+}
+
 // The soft box loss as a LibTorch autograd function: forward runs the
 // sampler's kernel on each set and keeps its analytic gradient, backward
 // hands that gradient on. Points leave the network unwrapped; the loss sees
 // them placed into the domain (NeuralGenerator::place: the inverse CDF when
 // mapped, a clamp or a pole reflection when not), and the gradient is pulled
-// back through that map's Jacobian.
+// back through that map's Jacobian (scaled per coordinate when balanced).
 struct SoftBoxLossFunction : torch::autograd::Function<SoftBoxLossFunction> {
   static torch::Tensor forward(torch::autograd::AutogradContext *ctx, torch::Tensor points,
                                const Batch *batch) {
@@ -58,7 +69,8 @@ struct SoftBoxLossFunction : torch::autograd::Function<SoftBoxLossFunction> {
         placed[i] = batch->generator->place(px[b * n + i], *batch->targets[b], &jac[i]);
       loss += softBoxLoss(placed, batch->boxes[b], batch->masses[b], batch->options, g);
       for (std::int64_t i = 0; i < n; ++i) {
-        const Point2 gi = jac[i].transposeTimes(g[i]);
+        Point2 gi = jac[i].transposeTimes(g[i]);
+        if (batch->pullback == GradientPullback::Balanced) gi = balanced(gi, jac[i]);
         pg[b * n + i] = {gi.x / double(B), gi.y / double(B)};
       }
     }
@@ -75,6 +87,17 @@ struct SoftBoxLossFunction : torch::autograd::Function<SoftBoxLossFunction> {
 
 }  // namespace
 
+GradientPullback parseGradientPullback(const std::string &name) {
+  if (name == "exact") return GradientPullback::Exact;
+  if (name == "balanced") return GradientPullback::Balanced;
+  throw std::invalid_argument("unknown gradient pull-back '" + name +
+                              "': expected exact or balanced");
+}
+
+std::string toString(GradientPullback p) {
+  return p == GradientPullback::Balanced ? "balanced" : "exact";
+}
+
 struct NeuralTrainer::State {
   std::unique_ptr<torch::optim::Adam> adam;
 };
@@ -85,8 +108,8 @@ std::string TrainerSettings::describe() const {
   s << "steps=" << steps << " batch=" << batch << " boxes=" << boxes
     << " box_kind=" << toString(boxKind) << " lr=" << lrStart << " lr_end=" << lrEnd
     << " alpha=" << alphaStart << " alpha_end=" << alphaEnd << " ramp=" << rampFraction
-    << " cutoff=" << cutoff << " seed=" << seed << " validation=" << validationSets
-    << " validation_grid=" << validationGrid;
+    << " cutoff=" << cutoff << " pullback=" << toString(pullback) << " seed=" << seed
+    << " validation=" << validationSets << " validation_grid=" << validationGrid;
   return s.str();
 }
 
@@ -116,19 +139,14 @@ double NeuralTrainer::stepLoss(int step, Mode mode) {
   const std::size_t g = gen_.gammaDimension(), B = s.batch;
   Batch batch;
   batch.generator = &gen_;
+  batch.pullback = s.pullback;
   batch.targets.resize(B);
   batch.options = {linearRamp(s.alphaStart, s.alphaEnd, s.rampFraction, step, s.steps), s.cutoff};
   batch.kernelSeconds = &lossSeconds_;
 
   // The batch's offsets, parameters, boxes and masses: all keyed by (seed, step).
   const auto massStart = Clock::now();
-  Rng rng(s.seed, hashCombine(0x7EA1, std::uint64_t(step)));
-  batch.z.resize(B);
-  batch.gamma.resize(B * g);
-  for (std::size_t b = 0; b < B; ++b) {
-    batch.z[b] = {rng.uniform(), rng.uniform()};
-    for (std::size_t k = 0; k < g; ++k) batch.gamma[b * g + k] = rng.uniform();
-  }
+  batchInputs(step, batch.z, batch.gamma);
   batch.boxes.assign(B, std::vector<Box2>(s.boxes));
   batch.masses.assign(B, std::vector<double>(s.boxes));
   for (std::size_t b = 0; b < B; ++b) {
@@ -204,6 +222,18 @@ Validation NeuralTrainer::validate() {
   lossCount_ = 0;
   history_.push_back(v);
   return v;
+}
+
+void NeuralTrainer::batchInputs(int step, std::vector<Point2> &z,
+                                std::vector<double> &gamma) const {
+  const std::size_t B = settings_.batch, g = gen_.gammaDimension();
+  Rng rng(settings_.seed, hashCombine(0x7EA1, std::uint64_t(step)));
+  z.resize(B);
+  gamma.resize(B * g);
+  for (std::size_t b = 0; b < B; ++b) {
+    z[b] = {rng.uniform(), rng.uniform()};
+    for (std::size_t k = 0; k < g; ++k) gamma[b * g + k] = rng.uniform();
+  }
 }
 
 void NeuralTrainer::validationInputs(std::vector<Point2> &z, std::vector<double> &gamma) const {

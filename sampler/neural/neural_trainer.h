@@ -21,6 +21,20 @@
 
 namespace nuld {
 
+// How the loss gradient with respect to a placed point x becomes one with
+// respect to the net's output u in mapped mode (x = T(u), the target's
+// inverse CDF). Exact is J^T g, the true gradient. Where T stretches (dark
+// rows of a map, the quarter-disc's rim) |J| reaches 1e3 and more, so a few
+// points dominate every shared weight's gradient and Adam, which normalizes
+// per weight rather than per point, starves the rest. Balanced divides each
+// u-coordinate's component by the length of its Jacobian column: the
+// derivative along the unit direction that coordinate moves x in. It is a
+// positive per-coordinate rescaling, so still a descent direction; it leaves
+// unmapped training (J = +-identity) unchanged.
+enum class GradientPullback { Exact, Balanced };
+GradientPullback parseGradientPullback(const std::string &name);  // "exact" | "balanced"
+std::string toString(GradientPullback p);
+
 struct TrainerSettings {
   int steps = 2000;
   std::size_t batch = 16;
@@ -29,6 +43,7 @@ struct TrainerSettings {
   double lrStart = 5e-4, lrEnd = 5e-7;  // log-linear decay
   double alphaStart = 20, alphaEnd = 2000, rampFraction = 0.5;
   double cutoff = 36;
+  GradientPullback pullback = GradientPullback::Exact;
   std::uint64_t seed = 0;
   // Held-out validation (ours, not the supplement's): this many (z, gamma)
   // pairs, drawn once from the seed's own stream and never a training batch,
@@ -77,6 +92,9 @@ class NeuralTrainer {
   // validationSets is 0.
   Validation validate();
   const std::vector<Validation> &history() const { return history_; }
+  // Step `step`'s training pairs: batch offsets and their gammas, keyed by
+  // (seed, step).
+  void batchInputs(int step, std::vector<Point2> &z, std::vector<double> &gamma) const;
   // The held-out pairs validate() scores: validationSets offsets and their
   // gammas (gammaDimension() each), a pure function of the settings.
   void validationInputs(std::vector<Point2> &z, std::vector<double> &gamma) const;

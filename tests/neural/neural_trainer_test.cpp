@@ -10,6 +10,7 @@
 
 #include "sampler/metrics/discrepancy.h"
 #include "sampler/neural/fourier_mlp.h"
+#include "sampler/targets/target_spec.h"
 #include "tests/common/temp_dir.h"
 #include "tests/neural/test_families.h"
 #include "tests/neural/tiny_settings.h"
@@ -103,6 +104,60 @@ TEST(NeuralTrainer, GradientThroughTheNetAndTheInverseCdfMatchesFiniteDifference
 TEST(NeuralTrainer, GradientThroughTheNetMatchesFiniteDifferencesThroughThePoles) {
   test::registerTestSphereFamily();
   checkGradient("family:test-sphere", 9, 0.05, false);
+}
+
+// Balanced pull-back: each point's u-gradient component k is the exact one
+// (J^T g, checked against differences above) divided by |column k of J|.
+// Checked on the untrained quarter-disc net, whose points are T(base set),
+// through the last layer's bias gradient, which is the mean u-gradient over
+// the batch (batch 1 here, so each point's own). The rim of the disc
+// stretches T by far more than 1, so the rescaling is not a no-op.
+TEST(NeuralTrainer, BalancedPullbackDividesEachComponentByItsJacobianColumn) {
+  const std::size_t n = 64;
+  auto biasGradient = [&](GradientPullback pullback) {
+    NeuralGenerator gen(tinyNet("quarterdisc", n, 6));
+    gen.net().mlp->to(torch::kFloat64);
+    TrainerSettings t = tinyTraining(10);
+    t.batch = 1;
+    t.pullback = pullback;
+    NeuralTrainer trainer(gen, t);
+    trainer.lossAndGradient(3);
+    std::vector<Point2> z;
+    std::vector<double> gamma;
+    trainer.batchInputs(3, z, gamma);
+    std::vector<Point2> base(n);
+    gen.baseSet(z[0], base);
+    return std::pair{gen.net().mlp->l5->bias.grad().clone(), base};
+  };
+  const auto [exact, base] = biasGradient(GradientPullback::Exact);
+  const auto [balanced, unused] = biasGradient(GradientPullback::Balanced);
+  const auto target = makeTarget("quarterdisc");
+  double largestColumn = 0;
+  int nonzero = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Jacobian2 j = target->invert({wrapUnit(base[i].x), wrapUnit(base[i].y)}).jacobian;
+    for (int k = 0; k < 2; ++k) {
+      const double column = std::hypot(j.m[0][k], j.m[1][k]);
+      largestColumn = std::max(largestColumn, column);
+      const double e = exact[std::int64_t(2 * i + k)].item<double>();
+      const double b = balanced[std::int64_t(2 * i + k)].item<double>();
+      EXPECT_NEAR(b * column, e, 1e-12 * std::abs(e) + 1e-300) << "point " << i << " axis " << k;
+      nonzero += e != 0;
+    }
+  }
+  EXPECT_GT(largestColumn, 3);
+  EXPECT_GT(nonzero, int(n));
+}
+
+TEST(NeuralTrainer, UnknownPullbackIsRefusedByName) {
+  EXPECT_EQ(parseGradientPullback("balanced"), GradientPullback::Balanced);
+  EXPECT_EQ(toString(parseGradientPullback("exact")), "exact");
+  try {
+    parseGradientPullback("natural");
+    FAIL() << "accepted 'natural'";
+  } catch (const std::invalid_argument &e) {
+    EXPECT_NE(std::string(e.what()).find("natural"), std::string::npos) << e.what();
+  }
 }
 
 TEST(NeuralTrainer, LossFallsOnATinyConfiguration) {

@@ -110,6 +110,8 @@ grep -q '^kept best$' "$dir/out" && grep -q '^best_step [0-6]$' "$dir/out" && [[
   || { echo "FAIL: train keeps the best held-out weights"; cat "$dir/out"; failures=$((failures + 1)); }
 ok "train keep last" "$nuld" train --target quarterdisc --n 8 --hidden 8 --steps 4 --batch 2 --boxes 64 --keep last -q -o "$dir/l.nuldnet"
 grep -q '^kept last$' "$dir/out" && [[ -f "$dir/l.nuldnet" && ! -e "$dir/l.nuldnet.best" ]] || { echo "FAIL: train --keep last"; cat "$dir/out"; failures=$((failures + 1)); }
+ok "train balanced" "$nuld" train --target quarterdisc --n 8 --hidden 8 --steps 2 --batch 2 --boxes 64 --gradient balanced -q -o "$dir/b.nuldnet"
+fails_with "train unknown gradient" "gradient" "$nuld" train --target quarterdisc --n 8 --steps 2 --gradient natural -q -o "$dir/x.nuldnet"
 ok "train no validation" "$nuld" train --target quarterdisc --n 8 --hidden 8 --steps 2 --batch 2 --boxes 64 --validation 0 -q -o "$dir/v.nuldnet"
 [[ -f "$dir/v.nuldnet" && ! -e "$dir/v.nuldnet.validation.csv" ]] && ! grep -q '^kept' "$dir/out" || { echo "FAIL: train --validation 0"; failures=$((failures + 1)); }
 ok "generate --model" "$nuld" generate --model "$dir/g.nuldnet" --gamma 0.5,0.5,0.2 --instances 3 -o "$dir/ng.txt"

@@ -40,7 +40,7 @@ void writeValidationCurve(const std::string &path, const std::vector<Validation>
 
 Runner addTrain(CLI::App &app) {
   struct Options {
-    std::string target, output, mapping = "mapped";
+    std::string target, output, mapping = "mapped", pullback = "exact";
     NeuralSettings net;
     TrainerSettings train;
     long checkpointEvery = 0, stopAfter = -1;
@@ -64,6 +64,11 @@ Runner addTrain(CLI::App &app) {
                  "mapped (the net places u, the set is the target's inverse CDF of u) or "
                  "unmapped (the net places the points themselves)")
       ->check(CLI::IsMember({"mapped", "unmapped"}))
+      ->capture_default_str();
+  app.add_option("--gradient", o->pullback,
+                 "mapped mode: exact (J^T g) or balanced (each coordinate's gradient divided by "
+                 "how far x moves per unit of it, so stretched regions do not dominate)")
+      ->check(CLI::IsMember({"exact", "balanced"}))
       ->capture_default_str();
   app.add_option("--steps", o->train.steps, "training steps")->capture_default_str();
   app.add_option("--batch", o->train.batch, "(z, gamma) pairs per step")->capture_default_str();
@@ -95,6 +100,7 @@ Runner addTrain(CLI::App &app) {
     ns.mapped = o->mapping == "mapped";
     TrainerSettings ts = o->train;
     ts.seed = ns.seed;
+    ts.pullback = parseGradientPullback(o->pullback);
     NeuralGenerator gen(ns);
     NeuralTrainer trainer(gen, ts);
 
