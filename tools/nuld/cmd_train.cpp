@@ -40,7 +40,7 @@ void writeValidationCurve(const std::string &path, const std::vector<Validation>
 
 Runner addTrain(CLI::App &app) {
   struct Options {
-    std::string target, output, mapping = "mapped", pullback = "exact";
+    std::string target, output, mapping = "mapped", pullback = "balanced";
     NeuralSettings net;
     TrainerSettings train;
     long checkpointEvery = 0, stopAfter = -1;
