@@ -51,6 +51,14 @@ enum class Domain { Square, Sphere, Hemisphere };
 std::string toString(Domain d);
 Domain parseDomain(const std::string &s);
 
+// Maps a point into its domain. On the sphere (and hemisphere) longitude is
+// periodic and a point past a pole comes back on the other side, (u + 1/2,
+// -v) or (u + 1/2, 2 - v), as often as it crossed one; `vSign` receives
+// dv_out/dv_in (+1 or -1). On the square the point is clamped to [0, 1)^2.
+// The direct optimizer's unmapped sphere points and the neural generator's
+// unmapped outputs both land through it.
+Point2 wrapToDomain(Point2 p, Domain domain, double *vSign = nullptr);
+
 // A point set: `instances` sets of `n` points each, stored one after another.
 // Metadata is free-form text carried through files (target, settings, metrics).
 struct PointSet {

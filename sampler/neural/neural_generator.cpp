@@ -128,29 +128,6 @@ void NeuralSettings::validate() const {
   if (encodingDims < 2 || encodingDims % 2 != 0) bad("the encoding size must be even and >= 2");
 }
 
-Point2 wrapToDomain(Point2 p, Domain domain, double *vSign) {
-  constexpr double kBelowOne = 0x1.fffffffffffffp-1;
-  double sign = 1;
-  if (domain != Domain::Square) {
-    // Unfolded along a meridian, v is 2-periodic: past the south pole (v > 1)
-    // the point is on the opposite meridian heading north; past the north
-    // pole again it is back on its own meridian (two half turns).
-    double v = p.y - 2 * std::floor(p.y / 2);
-    if (v >= 2) v = 0;
-    if (v > 1) {
-      v = 2 - v;
-      p.x += 0.5;
-      sign = -1;
-    }
-    p.y = std::min(v, kBelowOne);
-    p.x = wrapUnit(p.x);
-  } else {
-    p = {std::clamp(p.x, 0.0, kBelowOne), std::clamp(p.y, 0.0, kBelowOne)};
-  }
-  if (vSign) *vSign = sign;
-  return p;
-}
-
 Point2 NeuralGenerator::place(Point2 raw, const Target &target, Jacobian2 *jacobian) const {
   if (settings_.mapped) {
     // u wraps around the square like the Cranley-Patterson base set itself.

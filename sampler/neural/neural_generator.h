@@ -40,17 +40,6 @@ struct NeuralSettings {
   void validate() const;
 };
 
-// Maps a raw output point into the domain. On the sphere (and hemisphere)
-// longitude is periodic and a point past a pole comes back on the other side,
-// (u + 1/2, -v) or (u + 1/2, 2 - v); `vSign` receives dv_out/dv_in (+1 or -1).
-// On the square the point is clamped, and training passes the gradient
-// straight through the clamp (as the direct optimizer's `clamp` mapping
-// does: the loss is measured at the clamped point). Measured on tiny models
-// (N 64, 3000 steps), a toroidal wrap instead never learned the Gaussian
-// family (held-out loss 0.077 -> 0.080; clamped 0.077 -> 0.0098) and failed on
-// the quarter-disc, whose wrap joins its densest edge to its empty corner.
-Point2 wrapToDomain(Point2 p, Domain domain, double *vSign = nullptr);
-
 class NeuralGenerator {
  public:
   explicit NeuralGenerator(const NeuralSettings &settings);  // untrained
@@ -85,7 +74,13 @@ class NeuralGenerator {
   void baseSet(Point2 z, std::span<Point2> out) const;
   // Where a raw network point lands: T(u) (mapped) or wrapToDomain (not),
   // with d(out)/d(raw) for the loss gradient. `target` is the family's
-  // member for the set's gamma.
+  // member for the set's gamma. Unmapped on the square the point is clamped
+  // and training passes the gradient straight through the clamp (as the
+  // direct optimizer's `clamp` mapping does: the loss is measured at the
+  // clamped point). Measured on tiny models (N 64, 3000 steps), a toroidal
+  // wrap instead never learned the Gaussian family (held-out loss 0.077 ->
+  // 0.080; clamped 0.077 -> 0.0098) and failed on the quarter-disc, whose
+  // wrap joins its densest edge to its empty corner.
   Point2 place(Point2 raw, const Target &target, Jacobian2 *jacobian = nullptr) const;
 
   // K = z.size() sets at once: set k uses z[k] and gamma[k g, (k + 1) g);

@@ -178,25 +178,14 @@ double DirectOptimizer::instanceEpoch(std::size_t k, int epoch, std::span<Point2
 }
 
 void DirectOptimizer::constrain(std::span<Point2> params) const {
-  constexpr double kBelowOne = 0x1.fffffffffffffp-1;
-  const bool sphere = target_.domain() != Domain::Square;
+  // Mapped points are u, clamped to the unit square (the inverse CDF is not
+  // periodic in u); unmapped ones go through the poles on the sphere and are
+  // clamped, or wrapped when toroidal, on the square.
+  const Domain domain = settings_.mapping == Mapping::Mapped ? Domain::Square : target_.domain();
+  const bool toroidal = domain == Domain::Square && settings_.mapping == Mapping::Toroidal;
   for (Point2 &p : params) {
     if (!isFinite(p)) throw std::runtime_error("optimizer: a point became non-finite");
-    if (settings_.mapping == Mapping::Mapped) {
-      // u lives in the unit square; the inverse CDF is not periodic in u.
-      p = {std::clamp(p.x, 0.0, kBelowOne), std::clamp(p.y, 0.0, kBelowOne)};
-    } else if (sphere) {
-      // Through a pole: the same meridian plane, half a turn around; longitude is periodic.
-      if (p.y < 0)
-        p = {p.x + 0.5, -p.y};
-      else if (p.y > 1)
-        p = {p.x + 0.5, 2 - p.y};
-      p = {wrapUnit(p.x), std::clamp(p.y, 0.0, kBelowOne)};
-    } else if (settings_.mapping == Mapping::Toroidal) {
-      p = {wrapUnit(p.x), wrapUnit(p.y)};
-    } else {
-      p = {std::clamp(p.x, 0.0, kBelowOne), std::clamp(p.y, 0.0, kBelowOne)};
-    }
+    p = toroidal ? Point2{wrapUnit(p.x), wrapUnit(p.y)} : wrapToDomain(p, domain);
   }
 }
 
