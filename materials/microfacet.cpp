@@ -14,30 +14,10 @@ constexpr double kPi = std::numbers::pi;
 
 }  // namespace
 
-double schlickWeight(double cosTheta) {
-  const double m = std::clamp(1 - cosTheta, 0.0, 1.0);
-  const double m2 = m * m;
-  return m2 * m2 * m;
-}
-
 // ---------------------------------------------------------------------- GGX
 
 GgxDistribution::GgxDistribution(double alphaX, double alphaY)
     : ax_(std::max(kMinAlpha, alphaX)), ay_(std::max(kMinAlpha, alphaY)) {}
-
-double GgxDistribution::D(Vec3 m) const {
-  if (!(m.z > 0)) return 0;
-  // cos^4 theta (1 + tan^2 theta (cos^2 phi / ax^2 + sin^2 phi / ay^2))^2,
-  // multiplied out so that no tangent appears (m is unit).
-  const double x = m.x / ax_, y = m.y / ay_;
-  const double e = x * x + y * y + m.z * m.z;
-  return 1 / (kPi * ax_ * ay_ * e * e);
-}
-
-double GgxDistribution::stretchedLength(Vec3 w) const {
-  const double x = ax_ * w.x, y = ay_ * w.y;
-  return std::sqrt(x * x + y * y + w.z * w.z);
-}
 
 double GgxDistribution::lambda(Vec3 w) const {
   if (!(w.z > 0)) return std::numeric_limits<double>::infinity();
@@ -54,12 +34,6 @@ double GgxDistribution::G2(Vec3 wo, Vec3 wi) const {
   // 1 / (1 + L(wo) + L(wi)) with L(w) = (s(w) / w.z - 1) / 2.
   const double so = stretchedLength(wo), si = stretchedLength(wi);
   return 2 * wo.z * wi.z / (so * wi.z + si * wo.z);
-}
-
-double GgxDistribution::visibility(Vec3 wo, Vec3 wi) const {
-  if (!(wo.z > 0) || !(wi.z > 0)) return 0;
-  // G2 / (4 wo.z wi.z) with the cosines cancelled.
-  return 0.5 / (stretchedLength(wo) * wi.z + stretchedLength(wi) * wo.z);
 }
 
 double GgxDistribution::visibleD(Vec3 wo, Vec3 m) const {

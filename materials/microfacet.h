@@ -11,7 +11,9 @@
 // (see visibility and reflectionPdf): they stay finite down to grazing
 // angles and for alpha at its floor.
 
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <optional>
 
 #include "materials/vec3.h"
@@ -19,8 +21,13 @@
 
 namespace nuld {
 
-// (1 - cos)^5, the weight in Schlick's Fresnel F = F0 + (1 - F0) w.
-double schlickWeight(double cosTheta);
+// (1 - cos)^5, the weight in Schlick's Fresnel F = F0 + (1 - F0) w. Inline,
+// like D, visibility and stretchedLength below: every Disney eval calls them.
+inline double schlickWeight(double cosTheta) {
+  const double m = std::clamp(1 - cosTheta, 0.0, 1.0);
+  const double m2 = m * m;
+  return m2 * m2 * m;
+}
 
 class GgxDistribution {
  public:
@@ -36,7 +43,14 @@ class GgxDistribution {
   double alphaY() const { return ay_; }
 
   // Microfacet normal density; integral of D(m) m.z over the hemisphere = 1.
-  double D(Vec3 m) const;
+  double D(Vec3 m) const {
+    if (!(m.z > 0)) return 0;
+    // cos^4 theta (1 + tan^2 theta (cos^2 phi / ax^2 + sin^2 phi / ay^2))^2,
+    // multiplied out so that no tangent appears (m is unit).
+    const double x = m.x / ax_, y = m.y / ay_;
+    const double e = x * x + y * y + m.z * m.z;
+    return 1 / (std::numbers::pi * ax_ * ay_ * e * e);
+  }
   // Smith's auxiliary function; +infinity for w.z <= 0.
   double lambda(Vec3 w) const;
   // Masking 1 / (1 + lambda(w)), in [0, 1]; 0 for w.z <= 0.
@@ -45,7 +59,11 @@ class GgxDistribution {
   double G2(Vec3 wo, Vec3 wi) const;
   // G2 / (4 wo.z wi.z), the factor of the specular BRDF besides D and F;
   // 0 unless both are above the surface.
-  double visibility(Vec3 wo, Vec3 wi) const;
+  double visibility(Vec3 wo, Vec3 wi) const {
+    if (!(wo.z > 0) || !(wi.z > 0)) return 0;
+    // G2 / (4 wo.z wi.z) with the cosines cancelled.
+    return 0.5 / (stretchedLength(wo) * wi.z + stretchedLength(wi) * wo.z);
+  }
 
   // Visible-normal density D_wo(m) = G1(wo) max(0, wo.m) D(m) / wo.z.
   double visibleD(Vec3 wo, Vec3 m) const;
@@ -66,7 +84,10 @@ class GgxDistribution {
 
  private:
   // sqrt(w.z^2 + (ax w.x)^2 + (ay w.y)^2): lambda(w) = (s / w.z - 1) / 2.
-  double stretchedLength(Vec3 w) const;
+  double stretchedLength(Vec3 w) const {
+    const double x = ax_ * w.x, y = ay_ * w.y;
+    return std::sqrt(x * x + y * y + w.z * w.z);
+  }
 
   double ax_, ay_;
 };
