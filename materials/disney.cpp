@@ -73,7 +73,10 @@ DisneyBrdf::DisneyBrdf(const DisneyParams &params)
   sheenColor_ = lerp(params.sheenTint, Rgb::grey(1), tint_);
 }
 
-std::optional<DisneyBrdf::Geometry> DisneyBrdf::geometry(Vec3 wo, Vec3 wi) {
+// Forced inline into its two callers (this file only): the call and the
+// optional's copy were a visible share of every eval.
+[[gnu::always_inline]] inline std::optional<DisneyBrdf::Geometry> DisneyBrdf::geometry(Vec3 wo,
+                                                                                       Vec3 wi) {
   if (!(wo.z > 0) || !(wi.z > 0)) return std::nullopt;
   const auto h = halfVector(wo, wi);
   if (!h) return std::nullopt;
