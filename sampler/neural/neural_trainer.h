@@ -24,8 +24,8 @@ namespace nuld {
 // How the loss gradient with respect to a placed point x becomes one with
 // respect to the net's output u in mapped mode (x = T(u), the target's
 // inverse CDF). Exact is J^T g, the true gradient. Where T stretches (dark
-// rows of a map, the quarter-disc's rim) |J| reaches 1e3 and more, so a few
-// points dominate every shared weight's gradient and Adam, which normalizes
+// rows of a map, the quarter-disc's rim) J's columns grow like 1/density, so
+// a few points dominate every shared weight's gradient and Adam, which normalizes
 // per weight rather than per point, starves the rest. Balanced divides each
 // u-coordinate's component by the length of its Jacobian column: the
 // derivative along the unit direction that coordinate moves x in. It is a
