@@ -150,6 +150,41 @@ void EmbreeScene::intersectCoherent(std::span<const Ray> rays,
   }
 }
 
+void EmbreeScene::intersect(std::span<const Ray> rays,
+                            std::span<std::optional<SurfaceHit>> hits) const {
+  if (hits.size() != rays.size()) throw std::invalid_argument("intersect: one hit slot per ray");
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  constexpr std::size_t kGroup = 16;
+  for (std::size_t first = 0; first < rays.size(); first += kGroup) {
+    const std::size_t n = std::min(kGroup, rays.size() - first);
+    RTCRayHit rh[kGroup];
+    for (std::size_t k = 0; k < n; ++k) {
+      rh[k] = makeRayHit(rays[first + k]);
+      rtcIntersect1(handles_->scene, &context, &rh[k]);
+      if (rh[k].hit.geomID != RTC_INVALID_GEOMETRY_ID)
+        __builtin_prefetch(&meshes_[rh[k].hit.geomID].triangles[rh[k].hit.primID]);
+    }
+    // The vertices once their indices have arrived, then the hits.
+    for (std::size_t k = 0; k < n; ++k) {
+      if (rh[k].hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+      const TriangleMesh &mesh = meshes_[rh[k].hit.geomID];
+      for (std::uint32_t v : mesh.triangles[rh[k].hit.primID]) {
+        __builtin_prefetch(&mesh.positions[v]);
+        if (!mesh.normals.empty()) __builtin_prefetch(&mesh.normals[v]);
+      }
+    }
+    for (std::size_t k = 0; k < n; ++k) {
+      auto &hit = hits[first + k];
+      if (rh[k].hit.geomID == RTC_INVALID_GEOMETRY_ID)
+        hit.reset();
+      else
+        hit = surfaceHit(rays[first + k], rh[k].ray.tfar, rh[k].hit.geomID, rh[k].hit.primID,
+                         rh[k].hit.u, rh[k].hit.v);
+    }
+  }
+}
+
 SurfaceHit EmbreeScene::surfaceHit(const Ray &ray, float t, unsigned meshId, unsigned triangle,
                                    float u, float v) const {
   SurfaceHit hit;

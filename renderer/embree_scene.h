@@ -42,6 +42,11 @@ class EmbreeScene {
   // hit intersect() finds up to float rounding; any rays are accepted.
   void intersectCoherent(std::span<const Ray> rays,
                          std::span<std::optional<SurfaceHit>> hits) const;
+  // The closest hits of several unrelated rays (a packet's bounce rays),
+  // one rtcIntersect1 each; the same hits as intersect(). The meshes' data
+  // of all hits is fetched before any hit is built, so on a large mesh their
+  // cache misses overlap instead of following one another.
+  void intersect(std::span<const Ray> rays, std::span<std::optional<SurfaceHit>> hits) const;
   // True when anything blocks the segment (origin, origin + tMax * direction).
   bool occluded(const Ray &ray) const;
 

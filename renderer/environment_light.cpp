@@ -49,11 +49,20 @@ EnvironmentLight::EnvironmentLight(Image latlong, double scale, double rotationD
   target_ = makeEnvmapTarget(image, source_);
   reserveLargeTable(texels_, std::size_t(width_) * height_);
   texels_.resize(std::size_t(width_) * height_);
+  // The target's density is the luminance (clamped at 0, which the radiance
+  // already is) normalized: its ratio to the luminance is the same in every
+  // cell, read here from the brightest one.
+  double brightest = 0;
   for (int j = 0; j < height_; ++j)
-    for (int i = 0; i < width_; ++i)
-      texels_[std::size_t(j) * width_ + i] = {
-          target_->cellDensity(i, j) * kInvFourPi,
-          {image.at(i, j, 0), image.at(i, j, 1), image.at(i, j, 2)}};
+    for (int i = 0; i < width_; ++i) {
+      Texel &t = texels_[std::size_t(j) * width_ + i];
+      t = {{image.at(i, j, 0), image.at(i, j, 1), image.at(i, j, 2)}};
+      const double lum = rgbOf(t).luminance();
+      if (lum > brightest) {
+        brightest = lum;
+        pdfPerLuminance_ = target_->cellDensity(i, j) * kInvFourPi / lum;
+      }
+    }
 }
 
 // Map-local frame: z up (+Y world), phi = 0 towards -Z world, phi = pi/2
@@ -81,7 +90,8 @@ Rgb EnvironmentLight::radiance(Vec3 w, double &pdf) const { return radiance(find
 EnvironmentLight::Lookup EnvironmentLight::find(Vec3 w) const {
   if (!target_) return {};
   const Texel &t = texel(target_->locate(spherePoint(toLocal(w))));
-  __builtin_prefetch(&t);
+  __builtin_prefetch(&t.rgb[0]);
+  __builtin_prefetch(&t.rgb[2]);  // a texel may straddle two cache lines
   return {&t};
 }
 
@@ -89,8 +99,9 @@ Rgb EnvironmentLight::radiance(Lookup lookup, double &pdf) const {
   pdf = 0;
   if (!lookup.texel) return {};
   const Texel &t = *static_cast<const Texel *>(lookup.texel);
-  pdf = t.pdf;
-  return rgbOf(t);
+  const Rgb L = rgbOf(t);
+  pdf = pdfOf(L);
+  return L;
 }
 
 double EnvironmentLight::pdf(Vec3 w) const {
@@ -100,9 +111,10 @@ double EnvironmentLight::pdf(Vec3 w) const {
 }
 
 std::optional<LightSample> EnvironmentLight::sampleCell(Point2 x, GridTarget::Cell c) const {
-  const Texel &t = texel(c);
-  if (!(t.pdf > 0)) return std::nullopt;  // a point off the target's support
-  return LightSample{toWorld(sphereDirection(x)), rgbOf(t), t.pdf};
+  const Rgb L = rgbOf(texel(c));
+  const double pdf = pdfOf(L);
+  if (!(pdf > 0)) return std::nullopt;  // a point off the target's support
+  return LightSample{toWorld(sphereDirection(x)), L, pdf};
 }
 
 std::optional<LightSample> EnvironmentLight::sampleTarget(Point2 x) const {

@@ -69,20 +69,25 @@ class EnvironmentLight {
   Vec3 toLocal(Vec3 world) const;
 
  private:
-  // What a lookup needs of a cell (the map's pixel and the target's cell),
-  // side by side: a path that escapes, or a light sample, touches one cache
-  // line instead of one in the image and one in the density table (those
-  // misses were most of the light's cost on a 1024 x 512 map).
-  struct alignas(32) Texel {
-    double pdf;    // per unit solid angle: the target's cell density / (4 pi)
-    float rgb[3];  // radiance, scale applied
+  // A cell's radiance (scale applied); 12 bytes, so that the table of a
+  // 1024 x 512 map is 6 MiB. Random directions read all of it, and the
+  // smaller it is the more of it stays in cache: escaping rays and light
+  // samples spent much of their time waiting for these reads. The pdf is
+  // not stored: the target's density is the radiance's luminance over a
+  // constant, so pdfOf() recomputes it (to a few ulps of the target's
+  // cellDensity(), and identically for radiance() and sample()).
+  struct Texel {
+    float rgb[3];
   };
+  static_assert(sizeof(Texel) == 12);
   const Texel &texel(GridTarget::Cell c) const { return texels_[std::size_t(c.j) * width_ + c.i]; }
   static Rgb rgbOf(const Texel &t) { return {t.rgb[0], t.rgb[1], t.rgb[2]}; }
+  double pdfOf(const Rgb &radiance) const { return radiance.luminance() * pdfPerLuminance_; }
   std::optional<LightSample> sampleCell(Point2 x, GridTarget::Cell c) const;
 
   int width_, height_;
-  std::vector<Texel> texels_;  // row-major; empty for a black map
+  std::vector<Texel> texels_;   // row-major; empty for a black map
+  double pdfPerLuminance_ = 0;  // solid-angle pdf of a cell / its luminance
   std::unique_ptr<GridTarget> target_;
   double cosRot_, sinRot_;
   std::string source_;

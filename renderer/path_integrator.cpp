@@ -1,5 +1,6 @@
 #include "renderer/path_integrator.h"
 
+#include <array>
 #include <cmath>
 #include <stdexcept>
 
@@ -54,95 +55,167 @@ void record(PathCounters &c, const Ray &r) {
                            {float(r.direction.x), float(r.direction.y), float(r.direction.z)}});
 }
 
-// The light sample of sample `index` at bounce `depth`. At the first bounce
-// nearly every sample of a pixel needs one, so all N are drawn in one batch
-// whose cache misses on a large map overlap; deeper, most paths have ended
-// and a batch would mostly draw samples nobody uses. Same values either way.
-std::optional<LightSample> lightSample(const EnvironmentLight &light, PixelSamples &samples,
-                                       int depth, std::size_t index) {
+// One path's state between bounces.
+struct PathState {
+  Rgb L, beta{1, 1, 1};
+  Ray ray;
+  double lastBsdfPdf = 0;  // 0: the camera ray (no MIS on what it sees)
+  bool alive = true;
+  PixelSamples *samples = nullptr;
+  std::size_t index = 0;
+  EnvironmentLight::Lookup escape;  // the map's cell for `ray`, if it escapes
+  // At the current hit:
+  const Bsdf *bsdf = nullptr;
+  Shading sh;
+  Vec3 wo;
+};
+
+// The light samples of the live paths at bounce `depth` into ls[k]. At the
+// first bounce nearly every sample of a pixel needs one, so PixelSamples
+// draws all N of a pixel in one batch; deeper, the live paths' samples are
+// drawn together instead. Same values either way (the batch forms of the
+// light equal its one-point forms).
+void lightSamples(const EnvironmentLight &light, std::span<PathState> paths, int depth,
+                  std::span<std::optional<LightSample>> ls) {
   const std::uint32_t pair = SamplePairs::light(depth);
-  if (depth == 0) return samples.lightSample(light, pair, index);
-  const Point2 *x = samples.distributed(*light.target(), pair, index);
-  return x ? light.sampleTarget(*x) : light.sample(samples.primary(pair, index));
+  if (depth == 0) {
+    for (std::size_t k = 0; k < paths.size(); ++k)
+      if (paths[k].alive) ls[k] = paths[k].samples->lightSample(light, pair, paths[k].index);
+    return;
+  }
+  constexpr std::size_t kMax = PathIntegrator::kMaxPaths;
+  Point2 target[kMax], primary[kMax];
+  std::size_t targetOf[kMax], primaryOf[kMax], nt = 0, np = 0;
+  for (std::size_t k = 0; k < paths.size(); ++k) {
+    if (!paths[k].alive) continue;
+    PixelSamples &s = *paths[k].samples;
+    if (const Point2 *x = s.distributed(*light.target(), pair, paths[k].index)) {
+      target[nt] = *x, targetOf[nt++] = k;
+    } else {
+      primary[np] = s.primary(pair, paths[k].index), primaryOf[np++] = k;
+    }
+  }
+  std::optional<LightSample> out[kMax];
+  light.sampleTarget(std::span(target, nt), std::span(out, nt));
+  for (std::size_t q = 0; q < nt; ++q) ls[targetOf[q]] = out[q];
+  light.sample(std::span(primary, np), std::span(out, np));
+  for (std::size_t q = 0; q < np; ++q) ls[primaryOf[q]] = out[q];
 }
 
 }  // namespace
 
-Rgb PathIntegrator::radiance(const Ray &cameraRay, const std::optional<SurfaceHit> &cameraHit,
-                             PixelSamples &samples, std::size_t index,
-                             PathCounters &counters) const {
+void PathIntegrator::radiance(std::span<const Ray> rays,
+                              std::span<const std::optional<SurfaceHit>> hits,
+                              std::span<PixelSamples *const> samples,
+                              std::span<const std::size_t> indices, std::span<Rgb> out,
+                              PathCounters &counters) const {
+  const std::size_t n = rays.size();
+  if (n > kMaxPaths || hits.size() != n || samples.size() != n || indices.size() != n ||
+      out.size() != n)
+    throw std::invalid_argument("PathIntegrator::radiance: at most 16 paths, one of each per path");
   const EnvironmentLight *light = scene_.environment ? &*scene_.environment : nullptr;
-  Rgb L, beta{1, 1, 1};
-  Ray ray = cameraRay;
-  double lastBsdfPdf = 0;  // 0: the camera ray (no MIS on what it sees)
-  for (int depth = 0;; ++depth) {
-    record(counters, ray);
-    // Rays after a bounce escape more often than not in an open scene: start
-    // loading the map's cell for the ray's direction before tracing it.
-    // Camera rays mostly hit, so their lookup waits until they escape.
-    EnvironmentLight::Lookup escape;
-    if (light && depth > 0) escape = light->find(ray.direction);
-    std::optional<SurfaceHit> traced;
-    if (depth > 0) traced = scene_.geometry.intersect(ray);
-    const std::optional<SurfaceHit> &hit = depth > 0 ? traced : cameraHit;
-    if (!hit) {
-      if (light) {
-        double lightPdf;
-        const Rgb Le = light->radiance(depth > 0 ? escape : light->find(ray.direction), lightPdf);
-        const double w = lastBsdfPdf > 0 ? powerHeuristic(lastBsdfPdf, lightPdf) : 1.0;
-        L += w * beta * Le;
-      }
-      break;
-    }
-    if (depth >= maxDepth_) break;
+  std::array<PathState, kMaxPaths> path;
+  std::array<std::optional<SurfaceHit>, kMaxPaths> hit;
+  for (std::size_t k = 0; k < n; ++k) {
+    path[k].ray = rays[k];
+    path[k].samples = samples[k];
+    path[k].index = indices[k];
+    hit[k] = hits[k];
+    record(counters, rays[k]);
+  }
+  const std::span<PathState> live(path.data(), n);
 
-    const Bsdf &bsdf = *scene_.materials[hit->mesh];
-    const Vec3 woWorld = -ray.direction;
-    const Shading sh = shadingAt(*hit, woWorld);
-    const Vec3 wo = sh.frame.toLocal(woWorld);
-    if (!(wo.z > 0)) break;
+  for (int depth = 0;; ++depth) {
+    // Rays that escaped, paths that end here, and the shading at each hit.
+    bool any = false;
+    for (std::size_t k = 0; k < n; ++k) {
+      PathState &p = path[k];
+      if (!p.alive) continue;
+      if (!hit[k]) {
+        if (light) {
+          double lightPdf;
+          const Rgb Le =
+              light->radiance(depth > 0 ? p.escape : light->find(p.ray.direction), lightPdf);
+          const double w = p.lastBsdfPdf > 0 ? powerHeuristic(p.lastBsdfPdf, lightPdf) : 1.0;
+          p.L += w * p.beta * Le;
+        }
+        p.alive = false;
+        continue;
+      }
+      if (depth >= maxDepth_) {
+        p.alive = false;
+        continue;
+      }
+      p.bsdf = scene_.materials[hit[k]->mesh].get();
+      p.sh = shadingAt(*hit[k], -p.ray.direction);
+      p.wo = p.sh.frame.toLocal(-p.ray.direction);
+      p.alive = p.wo.z > 0;
+      any = any || p.alive;
+    }
+    if (!any) break;
 
     // Next-event estimation of the environment.
     if (light && light->target()) {
-      const auto ls = lightSample(*light, samples, depth, index);
-      if (ls && dot(ls->wi, sh.ng) > 0) {
-        const Vec3 wi = sh.frame.toLocal(ls->wi);
-        const auto [f, bsdfPdf] = bsdf.evalWithPdf(wo, wi);
-        if (wi.z > 0 && !f.isBlack()) {
-          const Ray shadow{offsetRayOrigin(hit->position, sh.ng, ls->wi), ls->wi};
-          record(counters, shadow);
-          if (!scene_.geometry.occluded(shadow)) {
-            const double w = lightOnly_ ? 1.0 : powerHeuristic(ls->pdf, bsdfPdf);
-            L += (w * wi.z / ls->pdf) * beta * f * ls->radiance;
-          }
-        }
+      std::array<std::optional<LightSample>, kMaxPaths> ls;
+      lightSamples(*light, live, depth, ls);
+      for (std::size_t k = 0; k < n; ++k) {
+        PathState &p = path[k];
+        if (!p.alive || !ls[k] || !(dot(ls[k]->wi, p.sh.ng) > 0)) continue;
+        const Vec3 wi = p.sh.frame.toLocal(ls[k]->wi);
+        const auto [f, bsdfPdf] = p.bsdf->evalWithPdf(p.wo, wi);
+        if (!(wi.z > 0) || f.isBlack()) continue;
+        const Ray shadow{offsetRayOrigin(hit[k]->position, p.sh.ng, ls[k]->wi), ls[k]->wi};
+        record(counters, shadow);
+        if (scene_.geometry.occluded(shadow)) continue;
+        const double w = lightOnly_ ? 1.0 : powerHeuristic(ls[k]->pdf, bsdfPdf);
+        p.L += (w * wi.z / ls[k]->pdf) * p.beta * f * ls[k]->radiance;
       }
     }
-
     if (lightOnly_) break;  // the light sample was the whole estimate
 
-    // The continuation direction by BSDF sampling.
-    const auto bs = bsdf.sample(wo, samples.primary(SamplePairs::bsdf(depth), index));
-    if (!bs || !(bs->pdf > 0)) break;
-    const Vec3 wiWorld = sh.frame.toWorld(bs->wi);
-    if (dot(wiWorld, sh.ng) <= 0) break;  // below the geometric surface: a light leak
-    beta *= (bs->wi.z / bs->pdf) * bs->f;
-    lastBsdfPdf = bs->pdf;
-    ray = {offsetRayOrigin(hit->position, sh.ng, wiWorld), wiWorld};
-
-    // Russian roulette (pbrt-v4's rule) once the path has bounced twice.
-    if (depth >= 1 && beta.maxComponent() < 1) {
-      const double q = std::max(0.0, 1 - beta.maxComponent());
-      if (samples.primary(SamplePairs::roulette(depth), index).x < q) break;
-      beta = beta / (1 - q);
+    // The continuation directions by BSDF sampling, and Russian roulette
+    // (pbrt-v4's rule) once a path has bounced twice.
+    std::array<Ray, kMaxPaths> next;
+    std::array<std::size_t, kMaxPaths> nextOf;
+    std::size_t m = 0;
+    for (std::size_t k = 0; k < n; ++k) {
+      PathState &p = path[k];
+      if (!p.alive) continue;
+      p.alive = false;
+      const auto bs = p.bsdf->sample(p.wo, p.samples->primary(SamplePairs::bsdf(depth), p.index));
+      if (!bs || !(bs->pdf > 0)) continue;
+      const Vec3 wiWorld = p.sh.frame.toWorld(bs->wi);
+      if (dot(wiWorld, p.sh.ng) <= 0) continue;  // below the geometric surface: a light leak
+      p.beta *= (bs->wi.z / bs->pdf) * bs->f;
+      p.lastBsdfPdf = bs->pdf;
+      p.ray = {offsetRayOrigin(hit[k]->position, p.sh.ng, wiWorld), wiWorld};
+      if (depth >= 1 && p.beta.maxComponent() < 1) {
+        const double q = std::max(0.0, 1 - p.beta.maxComponent());
+        if (p.samples->primary(SamplePairs::roulette(depth), p.index).x < q) continue;
+        p.beta = p.beta / (1 - q);
+      }
+      if (p.beta.isBlack()) continue;
+      p.alive = true;
+      record(counters, p.ray);
+      // Rays after a bounce escape more often than not in an open scene:
+      // start loading the map's cell for each ray before tracing them.
+      if (light) p.escape = light->find(p.ray.direction);
+      next[m] = p.ray, nextOf[m++] = k;
     }
-    if (beta.isBlack()) break;
+    if (m == 0) break;
+    std::array<std::optional<SurfaceHit>, kMaxPaths> traced;
+    scene_.geometry.intersect(std::span(next.data(), m), std::span(traced.data(), m));
+    for (std::size_t q = 0; q < m; ++q) hit[nextOf[q]] = std::move(traced[q]);
   }
-  if (!L.isFinite()) {
-    ++counters.rejected;
-    return {};
+
+  for (std::size_t k = 0; k < n; ++k) {
+    if (path[k].L.isFinite()) {
+      out[k] = path[k].L;
+    } else {
+      ++counters.rejected;
+      out[k] = {};
+    }
   }
-  return L;
 }
 
 }  // namespace nuld

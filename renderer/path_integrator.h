@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -39,11 +40,19 @@ class PathIntegrator {
  public:
   PathIntegrator(const Scene &scene, IntegratorKind kind, int maxDepth);
 
-  // Radiance along camera ray `ray` for sample `index` of the current pixel,
-  // given the ray's closest hit, which the caller traces (the renderer traces
-  // camera rays in coherent packets, EmbreeScene::intersectCoherent).
-  Rgb radiance(const Ray &ray, const std::optional<SurfaceHit> &cameraHit, PixelSamples &samples,
-               std::size_t index, PathCounters &counters) const;
+  // The radiance of up to kMaxPaths paths: path k starts on camera ray
+  // rays[k], whose closest hit hits[k] the caller traces (the renderer traces
+  // camera rays in coherent packets, EmbreeScene::intersectCoherent), and is
+  // sample indices[k] of the pixel *samples[k]; out[k] receives it. The
+  // paths advance together one bounce at a time, so the random reads of a
+  // bounce (the light's tables, the meshes, the map's texels of escaping
+  // rays) are issued for all of them before any is waited on. Each path's
+  // arithmetic is that of a path traced alone: the result does not depend on
+  // which paths share a call.
+  static constexpr std::size_t kMaxPaths = 16;
+  void radiance(std::span<const Ray> rays, std::span<const std::optional<SurfaceHit>> hits,
+                std::span<PixelSamples *const> samples, std::span<const std::size_t> indices,
+                std::span<Rgb> out, PathCounters &counters) const;
 
   int maxDepth() const { return maxDepth_; }
 

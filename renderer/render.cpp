@@ -27,7 +27,7 @@ Image render(const Scene &scene, const RenderSettings &s, SamplerBackend &backen
   Image image{s.width, s.height, 3, std::vector<float>(std::size_t(s.width) * s.height * 3)};
 
   constexpr int tile = 16;
-  constexpr std::size_t kPacket = 16;
+  constexpr std::size_t kPacket = PathIntegrator::kMaxPaths;
   const int tilesX = (s.width + tile - 1) / tile, tilesY = (s.height + tile - 1) / tile;
   const std::size_t tileCount = std::size_t(tilesX) * tilesY;
   tbb::enumerable_thread_specific<PathCounters> counters;
@@ -47,6 +47,9 @@ Image render(const Scene &scene, const RenderSettings &s, SamplerBackend &backen
     std::array<Rgb, kPacket> sums;
     std::array<Ray, kPacket> cameraRays;
     std::array<std::optional<SurfaceHit>, kPacket> cameraHits;
+    std::array<PixelSamples *, kPacket> pathSamples;
+    std::array<std::size_t, kPacket> pathIndices;
+    std::array<Rgb, kPacket> radiance;
     const int x0 = int(t % tilesX) * tile, y0 = int(t / tilesX) * tile;
     const int xEnd = std::min(x0 + tile, s.width);
     for (int y = y0; y < std::min(y0 + tile, s.height); ++y)
@@ -67,9 +70,13 @@ Image render(const Scene &scene, const RenderSettings &s, SamplerBackend &backen
           scene.geometry.intersectCoherent(std::span(cameraRays.data(), n),
                                            std::span(cameraHits.data(), n));
           for (std::size_t k = 0; k < n; ++k) {
-            const std::size_t p = (first + k) / s.spp, i = (first + k) % s.spp;
-            sums[p] += integrator.radiance(cameraRays[k], cameraHits[k], samples[p], i, c);
+            pathSamples[k] = &samples[(first + k) / s.spp];
+            pathIndices[k] = (first + k) % s.spp;
           }
+          integrator.radiance(std::span(cameraRays.data(), n), std::span(cameraHits.data(), n),
+                              std::span(pathSamples.data(), n), std::span(pathIndices.data(), n),
+                              std::span(radiance.data(), n), c);
+          for (std::size_t k = 0; k < n; ++k) sums[(first + k) / s.spp] += radiance[k];
         }
         for (int p = 0; p < pixels; ++p) {
           const Rgb mean = sums[p] / double(s.spp);

@@ -49,6 +49,26 @@ TEST(EmbreeScene, MissesAndRespectsTMax) {
   EXPECT_FALSE(scene.occluded({{3, 3, 3}, {0, 0, 1}}));
 }
 
+// Checks hits[k] against intersect(rays[k]), the oracle, with t and the
+// position equal to within `tolerance` (0: exactly); returns the hit count.
+int compareWithSingleRays(const EmbreeScene &scene, const std::vector<Ray> &rays,
+                          const std::vector<std::optional<SurfaceHit>> &hits, double tolerance) {
+  int hitCount = 0;
+  for (std::size_t k = 0; k < rays.size(); ++k) {
+    const auto single = scene.intersect(rays[k]);
+    EXPECT_EQ(bool(hits[k]), bool(single)) << "ray " << k;
+    if (!single || !hits[k]) continue;
+    ++hitCount;
+    EXPECT_NEAR(hits[k]->t, single->t, tolerance) << "ray " << k;
+    EXPECT_EQ(hits[k]->mesh, single->mesh);
+    EXPECT_EQ(hits[k]->triangle, single->triangle);
+    EXPECT_NEAR(length(hits[k]->position - single->position), 0, tolerance);
+    EXPECT_EQ(hits[k]->geometricNormal, single->geometricNormal);
+    EXPECT_EQ(hits[k]->shadingNormal, single->shadingNormal);
+  }
+  return hitCount;
+}
+
 // Packets are checked against single rays, the oracle: 37 rays (two full
 // packets and a partial one) from a camera-like fan, some hitting the quad
 // (through either triangle), some missing it, one stopped short of it by tMax).
@@ -62,24 +82,36 @@ TEST(EmbreeScene, CoherentPacketsFindTheHitsOfSingleRays) {
   rays[18].tMax = 2.0;  // straight down: it hits at t ~ 3 without the limit
   std::vector<std::optional<SurfaceHit>> hits(rays.size());
   scene.intersectCoherent(rays, hits);
-  int hitCount = 0;
-  for (std::size_t k = 0; k < rays.size(); ++k) {
-    const auto single = scene.intersect(rays[k]);
-    ASSERT_EQ(bool(hits[k]), bool(single)) << "ray " << k;
-    if (!single) continue;
-    ++hitCount;
-    EXPECT_NEAR(hits[k]->t, single->t, 1e-5) << "ray " << k;
-    EXPECT_EQ(hits[k]->mesh, single->mesh);
-    EXPECT_EQ(hits[k]->triangle, single->triangle);
-    EXPECT_NEAR(length(hits[k]->position - single->position), 0, 1e-5);
-    EXPECT_EQ(hits[k]->geometricNormal, single->geometricNormal);
-  }
+  const int hitCount = compareWithSingleRays(scene, rays, hits, 1e-5);
   EXPECT_GT(hitCount, 10);
   EXPECT_LT(hitCount, 36);
   EXPECT_FALSE(hits[18]);
   // No rays is a valid request; a hit span of another length is refused.
   scene.intersectCoherent({}, {});
   EXPECT_THROW(scene.intersectCoherent(rays, std::span(hits.data(), 3)), std::invalid_argument);
+}
+
+// The batch form of intersect() must give exactly the single-ray hits (it
+// only reorders memory reads): unrelated rays from scattered origins, more
+// than one group of 16, including misses and one stopped short by tMax.
+TEST(EmbreeScene, BatchedIncoherentRaysFindExactlyTheSingleRayHits) {
+  const EmbreeScene scene(quadAndDegenerate());
+  std::vector<Ray> rays;
+  for (int k = 0; k < 41; ++k) {
+    const double a = std::sin(1.7 * k), b = std::cos(2.3 * k);
+    const Vec3 origin{0.8 * a, 0.8 * b, k % 2 ? 2.0 : -2.0};
+    const Vec3 target{0.5 * std::sin(0.9 * k), 0.5 * std::cos(1.1 * k), 0};
+    rays.push_back({origin, normalize(target - origin + Vec3{0, 0, k % 7 == 0 ? 5.0 : 0.0})});
+  }
+  rays[4].tMax = 0.5;
+  std::vector<std::optional<SurfaceHit>> hits(rays.size());
+  scene.intersect(rays, hits);
+  const int hitCount = compareWithSingleRays(scene, rays, hits, 0.0);
+  EXPECT_GT(hitCount, 5);
+  EXPECT_LT(hitCount, 40);
+  EXPECT_FALSE(hits[4]);
+  scene.intersect(std::span<const Ray>{}, {});
+  EXPECT_THROW(scene.intersect(rays, std::span(hits.data(), 3)), std::invalid_argument);
 }
 
 TEST(EmbreeScene, DegenerateTrianglesNeverProduceNonFiniteNormals) {

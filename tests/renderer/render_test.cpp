@@ -6,10 +6,12 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <array>
 #include <cmath>
 
 #include "materials/disney.h"
 #include "renderer/image_metrics.h"
+#include "renderer/path_integrator.h"
 #include "tests/renderer/test_scenes.h"
 
 namespace nuld {
@@ -141,6 +143,57 @@ Scene glossySphereUnderHotSpot() {
   p.roughness = 0.4;
   p.metallic = 0.5;
   return sceneWith({unitSphere()}, {std::make_shared<DisneyBrdf>(p)}, sky, kLookAtSphere);
+}
+
+// The integrator advances up to 16 paths together; each must come out exactly
+// as if traced alone (the oracle: the same path in a call of its own). A
+// sphere on a floor, so paths bounce between them, escape, end by roulette
+// or by depth; pixels where the sphere meets the floor.
+TEST(Render, PathsTracedTogetherEqualPathsTracedAlone) {
+  DisneyParams p;
+  p.roughness = 0.3;
+  p.metallic = 0.7;
+  Image sky = constantMap(0.3f, 32, 16);
+  for (int c = 0; c < 3; ++c) sky.at(9, 3, c) = 60.0f;
+  const Scene scene =
+      sceneWith({unitSphere(), makeFloor(6, -1, "floor")},
+                {std::make_shared<DisneyBrdf>(p), std::make_shared<Lambertian>(Rgb::grey(0.8))},
+                sky, kLookAtSphere);
+  const PerspectiveCamera camera(kLookAtSphere, 32, 32);
+  for (const char *name : {"sobol", "independent"}) {
+    auto backend = makeBackend(name, 3);
+    backend->prepare(16, scene.environment->target());
+    const PathIntegrator integrator(scene, IntegratorKind::Path, 6);
+    for (int pixel : {16 * 32 + 16, 24 * 32 + 12, 26 * 32 + 20}) {
+      PixelSamples together(*backend, 16);
+      together.startPixel(pixel);
+      std::array<Ray, 16> rays;
+      std::array<std::optional<SurfaceHit>, 16> hits;
+      std::array<PixelSamples *, 16> samples;
+      std::array<std::size_t, 16> indices;
+      std::array<Rgb, 16> L;
+      for (std::size_t k = 0; k < 16; ++k) {
+        const Point2 j = together.primary(SamplePairs::camera, k);
+        rays[k] = camera.generateRay({pixel % 32 + j.x, pixel / 32 + j.y});
+        hits[k] = scene.geometry.intersect(rays[k]);
+        samples[k] = &together;
+        indices[k] = k;
+      }
+      PathCounters counters;
+      integrator.radiance(rays, hits, samples, indices, L, counters);
+      for (std::size_t k = 0; k < 16; ++k) {
+        PixelSamples alone(*backend, 16);
+        alone.startPixel(pixel);
+        PixelSamples *one = &alone;
+        Rgb single;
+        integrator.radiance(std::span(&rays[k], 1), std::span(&hits[k], 1), std::span(&one, 1),
+                            std::span(&indices[k], 1), std::span(&single, 1), counters);
+        EXPECT_EQ(L[k].r, single.r) << name << " pixel " << pixel << " path " << k;
+        EXPECT_EQ(L[k].g, single.g);
+        EXPECT_EQ(L[k].b, single.b);
+      }
+    }
+  }
 }
 
 // Direct lighting by light sampling alone and by MIS of light and BSDF
