@@ -70,19 +70,13 @@ struct PathState {
   Vec3 wo;
 };
 
-// The light samples of the live paths at bounce `depth` into ls[k]. At the
-// first bounce nearly every sample of a pixel needs one, so PixelSamples
-// draws all N of a pixel in one batch; deeper, the live paths' samples are
-// drawn together instead. Same values either way (the batch forms of the
-// light equal its one-point forms).
+// The light samples of the live paths at bounce `depth` into ls[k], drawn
+// together: their reads of the light's tables overlap (the batch forms of the
+// light give the same values as its one-point forms). At 4 spp a packet holds
+// four pixels, so this batches more than one pixel's samples could.
 void lightSamples(const EnvironmentLight &light, std::span<PathState> paths, int depth,
                   std::span<std::optional<LightSample>> ls) {
   const std::uint32_t pair = SamplePairs::light(depth);
-  if (depth == 0) {
-    for (std::size_t k = 0; k < paths.size(); ++k)
-      if (paths[k].alive) ls[k] = paths[k].samples->lightSample(light, pair, paths[k].index);
-    return;
-  }
   constexpr std::size_t kMax = PathIntegrator::kMaxPaths;
   Point2 target[kMax], primary[kMax];
   std::size_t targetOf[kMax], primaryOf[kMax], nt = 0, np = 0;

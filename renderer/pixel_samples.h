@@ -4,11 +4,10 @@
 // the pairs of deeper bounces). One object per worker, reused across pixels.
 
 #include <cstdint>
-#include <optional>
 #include <vector>
 
-#include "renderer/environment_light.h"
 #include "renderer/sampler_backend.h"
+#include "sampler/targets/target.h"
 
 namespace nuld {
 
@@ -18,7 +17,7 @@ class PixelSamples {
 
   void startPixel(std::uint64_t pixel) {
     pixel_ = pixel;
-    for (Pair &p : pairs_) p.primaryReady = p.distributedKnown = p.lightReady = false;
+    for (Pair &p : pairs_) p.primaryReady = p.distributedKnown = false;
   }
 
   // Point i of the pair, uniform in [0,1)^2.
@@ -44,33 +43,10 @@ class PixelSamples {
     return p.hasDistributed ? &p.distributed[i] : nullptr;
   }
 
-  // The light sample that point i of the pair stands for: the backend's
-  // point distributed by the light's target where it has one, else its
-  // primary point mapped by the light. The first call for a pair draws the
-  // samples of all N points in one batch: their cache misses on a large
-  // environment map overlap (the samples themselves are the same).
-  const std::optional<LightSample> &lightSample(const EnvironmentLight &light, std::uint32_t pair,
-                                                std::size_t i) {
-    Pair &p = slot(pair);
-    if (!p.lightReady) {
-      p.light.resize(spp_);
-      if (distributed(*light.target(), pair, 0)) {
-        light.sampleTarget(p.distributed, p.light);
-      } else {
-        primary(pair, 0);
-        light.sample(p.primary, p.light);
-      }
-      p.lightReady = true;
-    }
-    return p.light[i];
-  }
-
  private:
   struct Pair {
     std::vector<Point2> primary, distributed;
-    std::vector<std::optional<LightSample>> light;
     bool primaryReady = false, distributedKnown = false, hasDistributed = false;
-    bool lightReady = false;
   };
   Pair &slot(std::uint32_t pair) {
     if (pair >= pairs_.size()) pairs_.resize(pair + 1);
