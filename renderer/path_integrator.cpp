@@ -106,7 +106,9 @@ void PathIntegrator::radiance(std::span<const Ray> rays,
   const std::size_t n = rays.size();
   if (n > kMaxPaths || hits.size() != n || samples.size() != n || indices.size() != n ||
       out.size() != n)
-    throw std::invalid_argument("PathIntegrator::radiance: at most 16 paths, one of each per path");
+    throw std::invalid_argument(
+        "PathIntegrator::radiance: at most 16 paths, and one ray, hit, sample "
+        "set, index and result for each");
   const EnvironmentLight *light = scene_.environment ? &*scene_.environment : nullptr;
   std::array<PathState, kMaxPaths> path;
   std::array<std::optional<SurfaceHit>, kMaxPaths> hit;
@@ -117,7 +119,7 @@ void PathIntegrator::radiance(std::span<const Ray> rays,
     hit[k] = hits[k];
     record(counters, rays[k]);
   }
-  const std::span<PathState> live(path.data(), n);
+  const std::span<PathState> packet(path.data(), n);
 
   for (int depth = 0;; ++depth) {
     // Rays that escaped, paths that end here, and the shading at each hit.
@@ -151,7 +153,7 @@ void PathIntegrator::radiance(std::span<const Ray> rays,
     // Next-event estimation of the environment.
     if (light && light->target()) {
       std::array<std::optional<LightSample>, kMaxPaths> ls;
-      lightSamples(*light, live, depth, ls);
+      lightSamples(*light, packet, depth, ls);
       for (std::size_t k = 0; k < n; ++k) {
         PathState &p = path[k];
         if (!p.alive || !ls[k] || !(dot(ls[k]->wi, p.sh.ng) > 0)) continue;
