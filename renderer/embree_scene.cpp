@@ -107,7 +107,6 @@ std::optional<SurfaceHit> EmbreeScene::intersect(const Ray &ray) const {
   rtcInitIntersectContext(&context);
   RTCRayHit rh = makeRayHit(ray);
   rtcIntersect1(handles_->scene, &context, &rh);
-  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
   return surfaceHit(ray, rh.ray.tfar, rh.hit.geomID, rh.hit.primID, rh.hit.u, rh.hit.v);
 }
 
@@ -139,14 +138,9 @@ void EmbreeScene::intersectCoherent(std::span<const Ray> rays,
       packet.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
     }
     rtcIntersect16(valid, handles_->scene, &context, &packet);
-    for (std::size_t k = 0; k < n; ++k) {
-      auto &hit = hits[first + k];
-      if (packet.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID)
-        hit.reset();
-      else
-        hit = surfaceHit(rays[first + k], packet.ray.tfar[k], packet.hit.geomID[k],
-                         packet.hit.primID[k], packet.hit.u[k], packet.hit.v[k]);
-    }
+    for (std::size_t k = 0; k < n; ++k)
+      hits[first + k] = surfaceHit(rays[first + k], packet.ray.tfar[k], packet.hit.geomID[k],
+                                   packet.hit.primID[k], packet.hit.u[k], packet.hit.v[k]);
   }
 }
 
@@ -174,19 +168,15 @@ void EmbreeScene::intersect(std::span<const Ray> rays,
         if (!mesh.normals.empty()) __builtin_prefetch(&mesh.normals[v]);
       }
     }
-    for (std::size_t k = 0; k < n; ++k) {
-      auto &hit = hits[first + k];
-      if (rh[k].hit.geomID == RTC_INVALID_GEOMETRY_ID)
-        hit.reset();
-      else
-        hit = surfaceHit(rays[first + k], rh[k].ray.tfar, rh[k].hit.geomID, rh[k].hit.primID,
-                         rh[k].hit.u, rh[k].hit.v);
-    }
+    for (std::size_t k = 0; k < n; ++k)
+      hits[first + k] = surfaceHit(rays[first + k], rh[k].ray.tfar, rh[k].hit.geomID,
+                                   rh[k].hit.primID, rh[k].hit.u, rh[k].hit.v);
   }
 }
 
-SurfaceHit EmbreeScene::surfaceHit(const Ray &ray, float t, unsigned meshId, unsigned triangle,
-                                   float u, float v) const {
+std::optional<SurfaceHit> EmbreeScene::surfaceHit(const Ray &ray, float t, unsigned meshId,
+                                                  unsigned triangle, float u, float v) const {
+  if (meshId == RTC_INVALID_GEOMETRY_ID) return std::nullopt;  // the ray missed
   SurfaceHit hit;
   hit.t = t;
   hit.mesh = meshId;

@@ -60,9 +60,10 @@ class EmbreeScene {
   float rawIntersect(const float origin[3], const float direction[3]) const;
 
  private:
-  // What a hit is from Embree's answer (mesh, triangle, barycentrics, t).
-  SurfaceHit surfaceHit(const Ray &ray, float t, unsigned mesh, unsigned triangle, float u,
-                        float v) const;
+  // What a hit is from Embree's answer (mesh, triangle, barycentrics, t);
+  // nullopt when the answer is a miss (Embree's invalid geometry id).
+  std::optional<SurfaceHit> surfaceHit(const Ray &ray, float t, unsigned mesh, unsigned triangle,
+                                       float u, float v) const;
 
   struct Handles;
   std::unique_ptr<Handles> handles_;
