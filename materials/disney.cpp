@@ -63,6 +63,8 @@ DisneyBrdf::DisneyBrdf(const DisneyParams &params)
       specular_(burleyGgx(params)),
       clearcoat_(lerp(params.clearcoatGloss, 0.1, 0.001)),
       clearcoatMasking_(0.25, 0.25) {
+  lobeHasValue_ = {
+      params.metallic<1, params.metallic<1 && params.subsurface> 0, true, params.clearcoat> 0};
   const Rgb base = params.baseColor;
   // Tints carry the hue of the base colour, not its brightness. Burley weighs
   // luminance .3/.6/.1; we use Rec. 709 like the rest of the renderer.
@@ -181,7 +183,7 @@ BsdfValue DisneyBrdf::evalWithPdf(Vec3 wo, Vec3 wi) const {
   double sum = 0;
   for (int k = 0; k < lobeCount_; ++k) {
     const double d = microfacetD(lobe(k), g->h);
-    out.f += lobeValue(lobe(k), wo, wi, *g, d);
+    if (lobeHasValue_[k]) out.f += lobeValue(lobe(k), wo, wi, *g, d);
     sum += lobePdf(lobe(k), wo, wi, *g, d);
   }
   out.pdf = sum / lobeCount_;

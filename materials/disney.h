@@ -82,6 +82,11 @@ class DisneyBrdf final : public Bsdf {
 
   DisneyParams params_;
   int lobeCount_;
+  // Whether lobe k's term of f can be non-zero: a metal has no diffuse or
+  // subsurface term, a material without subsurface no subsurface term.
+  // evalWithPdf skips the others (adding their exact zeros changes nothing);
+  // their pdfs still count, since sampling picks every lobe.
+  std::array<bool, 4> lobeHasValue_;
   Rgb tint_;        // base colour normalized to luminance 1
   Rgb specular0_;   // Cspec0: specular colour at normal incidence
   Rgb sheenColor_;  // Csheen

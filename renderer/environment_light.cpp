@@ -138,11 +138,11 @@ void EnvironmentLight::sample(std::span<const Point2> u,
   if (!target_) return std::fill(out.begin(), out.end(), std::nullopt);
   for (std::size_t first = 0; first < u.size(); first += kGroup) {
     const std::size_t n = std::min(kGroup, u.size() - first);
-    Inversion inv[kGroup];
+    Point2 x[kGroup];
     GridTarget::Cell cell[kGroup];
-    target_->invert(u.subspan(first, n), std::span(inv, n), std::span(cell, n));
+    target_->invert(u.subspan(first, n), std::span(x, n), std::span(cell, n));
     for (std::size_t k = 0; k < n; ++k) __builtin_prefetch(&texel(cell[k]));
-    for (std::size_t k = 0; k < n; ++k) out[first + k] = sampleCell(inv[k].x, cell[k]);
+    for (std::size_t k = 0; k < n; ++k) out[first + k] = sampleCell(x[k], cell[k]);
   }
 }
 

@@ -158,11 +158,13 @@ void PathIntegrator::radiance(std::span<const Ray> rays,
         PathState &p = path[k];
         if (!p.alive || !ls[k] || !(dot(ls[k]->wi, p.sh.ng) > 0)) continue;
         const Vec3 wi = p.sh.frame.toLocal(ls[k]->wi);
-        const auto [f, bsdfPdf] = p.bsdf->evalWithPdf(p.wo, wi);
-        if (!(wi.z > 0) || f.isBlack()) continue;
+        if (!(wi.z > 0)) continue;  // below the shading hemisphere: f = 0
+        // Visibility before the BSDF: an occluded sample then costs no eval.
         const Ray shadow{offsetRayOrigin(hit[k]->position, p.sh.ng, ls[k]->wi), ls[k]->wi};
         record(counters, shadow);
         if (scene_.geometry.occluded(shadow)) continue;
+        const auto [f, bsdfPdf] = p.bsdf->evalWithPdf(p.wo, wi);
+        if (f.isBlack()) continue;
         const double w = lightOnly_ ? 1.0 : powerHeuristic(ls[k]->pdf, bsdfPdf);
         p.L += (w * wi.z / ls[k]->pdf) * p.beta * f * ls[k]->radiance;
       }

@@ -53,10 +53,12 @@ class GridTarget final : public Target {
   };
   Cell locate(Point2 p) const { return {xCells_.cell(xEdges_, p.x), yCells_.cell(yEdges_, p.y)}; }
   Inversion invert(Point2 u, Cell &cell) const;
-  // invert(u[k], cells[k]) for every k into out[k], the same values; the
-  // table reads of the points overlap, which is faster when the tables do
-  // not fit in cache (a large environment map). Spans of equal size.
-  void invert(std::span<const Point2> u, std::span<Inversion> out, std::span<Cell> cells) const;
+  // The points of invert(u[k], cells[k]) for every k into x[k], the same
+  // values, without the Jacobians (an environment light needs only the
+  // points and their cells). The table reads of the points overlap, which
+  // is faster when the tables do not fit in cache (a large environment
+  // map). Spans of equal size.
+  void invert(std::span<const Point2> u, std::span<Point2> x, std::span<Cell> cells) const;
 
   int cols() const { return cols_; }
   const std::vector<double> &xEdges() const { return xEdges_; }
@@ -70,7 +72,14 @@ class GridTarget final : public Target {
   // invert() in steps: u clamped to [0,1), its row, the rest.
   static Point2 clampedUnit(Point2 u);
   int rowOf(double uy) const;
-  Inversion invertInRow(Point2 u, int row, Cell &cell) const;
+  // The point for u in row `row`, its cell, and the masses the Jacobian
+  // divides by.
+  struct InRow {
+    Point2 x;
+    Cell cell;
+    double cellFraction, rowMass;
+  };
+  InRow invertInRow(Point2 u, int row) const;
 
   std::vector<double> xEdges_, yEdges_;
   EdgeLocator xCells_, yCells_;
