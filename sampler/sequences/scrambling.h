@@ -10,6 +10,7 @@
 // a hash-seeded random permutation per digit prefix.
 // Cranley-Patterson rotation (a toroidal shift) applies to any point.
 
+#include <array>
 #include <cstdint>
 
 #include "sampler/sequences/rng.h"
@@ -44,8 +45,12 @@ class OwenTree {
   // (length < 32): they sit under a prefix no other point of the set shares.
   // Sibling prefixes share one hash, a 32-bit half each.
   std::uint32_t tailFlips(std::uint64_t prefix, int length) const {
-    const std::uint64_t h = prefixHash(prefix >> 1, length);
-    return static_cast<std::uint32_t>(prefix & 1 ? h : h >> 32) >> length;
+    return siblingTailFlips(prefix >> 1, length)[prefix & 1];
+  }
+  // tailFlips of the siblings 2q and 2q + 1 from their one hash.
+  std::array<std::uint32_t, 2> siblingTailFlips(std::uint64_t q, int length) const {
+    const std::uint64_t h = prefixHash(q, length);
+    return {static_cast<std::uint32_t>(h >> 32) >> length, static_cast<std::uint32_t>(h) >> length};
   }
 
  private:

@@ -118,15 +118,21 @@ void owenSobolCoordinate(std::uint64_t seed, std::uint32_t dim, int d, std::span
                          double Point2::*coordinate) {
   const OwenTree tree(seed);
   // flips[(1 << l) - 1 + q]: the flips of digits 0..l under the l-digit
-  // prefix q; bits: the points' Sobol integers. On the stack for the
+  // prefix q; all[p]: every flip of a point with d-digit prefix p, tail
+  // included; bits: the points' Sobol integers. On the stack for the
   // renderer's small sets (spp <= 256), in per-thread buffers beyond.
   constexpr int kStackLevels = 8;
   std::array<std::uint32_t, (1 << kStackLevels) - 1> smallFlips;
-  std::array<std::uint32_t, 1 << kStackLevels> smallBits;
-  thread_local std::vector<std::uint32_t> largeFlips, largeBits;
+  std::array<std::uint32_t, 1 << kStackLevels> smallAll, smallBits;
+  thread_local std::vector<std::uint32_t> largeFlips, largeAll, largeBits;
   const bool small = d <= kStackLevels;
-  if (!small) largeFlips.resize((std::size_t(1) << d) - 1), largeBits.resize(out.size());
+  if (!small) {
+    largeFlips.resize((std::size_t(1) << d) - 1);
+    largeAll.resize(std::size_t(1) << d);
+    largeBits.resize(out.size());
+  }
   std::uint32_t *const flips = small ? smallFlips.data() : largeFlips.data();
+  std::uint32_t *const all = small ? smallAll.data() : largeAll.data();
   const std::span<std::uint32_t> bits(small ? smallBits.data() : largeBits.data(), out.size());
   for (int l = 0; l < d; ++l)
     for (std::uint64_t q = 0; q < (std::uint64_t(1) << l); ++q)
@@ -137,13 +143,16 @@ void owenSobolCoordinate(std::uint64_t seed, std::uint32_t dim, int d, std::span
     out[0].*coordinate = (bits[0] ^ tree.tailFlips(0, 0)) * 0x1.0p-32;
     return;
   }
+  // The tails by prefix, one hash per pair of siblings (2^d < 2n, so fewer
+  // hashes than one per point); d < 32 here, so every point has a tail.
   const std::uint32_t *const deepest = flips + (std::size_t(1) << (d - 1)) - 1;
-  for (std::size_t i = 0; i < out.size(); ++i) {
-    const std::uint32_t prefix = bits[i] >> (32 - d);
-    std::uint32_t f = deepest[prefix >> 1];
-    if (d < 32) f |= tree.tailFlips(prefix, d);
-    out[i].*coordinate = (bits[i] ^ f) * 0x1.0p-32;
+  for (std::uint64_t q = 0; q < (std::uint64_t(1) << (d - 1)); ++q) {
+    const auto tails = tree.siblingTailFlips(q, d);
+    all[2 * q] = deepest[q] | tails[0];
+    all[2 * q + 1] = deepest[q] | tails[1];
   }
+  for (std::size_t i = 0; i < out.size(); ++i)
+    out[i].*coordinate = (bits[i] ^ all[bits[i] >> (32 - d)]) * 0x1.0p-32;
 }
 
 // Sets up to this size use the prefix table (it has about n entries).

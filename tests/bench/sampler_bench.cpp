@@ -117,6 +117,20 @@ void BM_L2(benchmark::State &state) {
 }
 BENCHMARK(BM_L2)->Arg(4096)->Unit(benchmark::kMillisecond)->UseRealTime();
 
+// One Owen-scrambled Sobol set of N points with a fresh seed each time: what
+// the renderer's sobol backend does for every pixel and dimension pair.
+void BM_OwenSobolSet(benchmark::State &state) {
+  std::vector<Point2> pts(std::size_t(state.range(0)));
+  std::uint64_t seed = 0;
+  for (auto _ : state) {
+    generateSet({SequenceKind::Sobol, Scramble::Owen, ++seed}, 0, pts);
+    benchmark::DoNotOptimize(pts.data());
+  }
+  state.counters["points_per_second"] = benchmark::Counter(
+      double(state.iterations()) * double(pts.size()), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_OwenSobolSet)->Arg(4)->Arg(64)->Arg(256);
+
 }  // namespace
 }  // namespace nuld
 

@@ -73,7 +73,9 @@ TEST(Backends, PairsOfAPixelAreMatchedAtRandom) {
       backend->primary(pixel, SamplePairs::camera, camera);
       backend->primary(pixel, SamplePairs::light(0), light);
       backend->primary(pixel, SamplePairs::bsdf(0), bsdf);
-      if (std::string(name) == "sobol") EXPECT_TRUE(isNet(light)) << "shuffling keeps the net";
+      if (std::string(name) == "sobol") {
+        EXPECT_TRUE(isNet(light)) << "shuffling keeps the net";
+      }
       // The same coordinate of two pairs: scrambled copies of one dimension.
       for (const auto &[a, b, useX] :
            {std::tuple{&camera, &light, true}, std::tuple{&light, &bsdf, false}}) {

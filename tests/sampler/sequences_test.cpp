@@ -206,7 +206,9 @@ TEST(GenerateSet, KeepsNetsAndStratificationForAnyN) {
       }
       // Dimension 0 (base 2 for both) is stratified for power-of-two n; for
       // Halton's base-3 dimension 1, n = 243 = 3^5 is stratified too.
-      if ((n & (n - 1)) == 0) EXPECT_EQ(xs.size(), n) << toString(kind) << " n " << n;
+      if ((n & (n - 1)) == 0) {
+        EXPECT_EQ(xs.size(), n) << toString(kind) << " n " << n;
+      }
       if (kind == SequenceKind::Halton && n == 243) {
         for (const Point2 &p : pts) ys.insert(int(p.y * n));
         EXPECT_EQ(ys.size(), n);
