@@ -19,7 +19,7 @@ struct FourierMlpImpl : torch::nn::Module {
   torch::Tensor forward(torch::Tensor v);
   torch::Tensor encode(torch::Tensor v) const;
 
-  torch::Tensor B;  // [encodingDims / 2, 2 + g], a buffer (saved, not trained)
+  torch::Tensor B;  // [encodingDims / 2 (+ harmonics), 2 + g], a buffer (saved, not trained)
   torch::nn::Linear l1{nullptr}, l2{nullptr}, l3{nullptr}, l4{nullptr}, l5{nullptr};
 };
 TORCH_MODULE(FourierMlp);

@@ -31,11 +31,25 @@ torch::Tensor drawFrequencies(int rows, int cols, double sigma, std::uint64_t se
   return b;
 }
 
+// The integer frequencies (a, b) of z with max(|a|, |b|) <= k, one of each
+// +- pair (a > 0, or a = 0 and b > 0); gamma's columns are 0.
+torch::Tensor zHarmonicFrequencies(int k, int cols) {
+  const int rows = ((2 * k + 1) * (2 * k + 1) - 1) / 2;
+  torch::Tensor b = torch::zeros({rows, cols}, torch::kFloat32);
+  auto a = b.accessor<float, 2>();
+  int r = 0;
+  for (int fx = 0; fx <= k; ++fx)
+    for (int fy = -k; fy <= k; ++fy)
+      if (fx > 0 || fy > 0) a[r][0] = float(fx), a[r][1] = float(fy), ++r;
+  return b;
+}
+
 std::unique_ptr<NeuralGenerator::Net> makeNet(const NeuralSettings &s, std::size_t gammaDim) {
   auto net = std::make_unique<NeuralGenerator::Net>();
   torch::manual_seed(s.seed);  // LibTorch's default initialization of the hidden layers
-  net->mlp = FourierMlp(drawFrequencies(s.encodingDims / 2, int(2 + gammaDim), s.sigma, s.seed),
-                        s.hidden, std::int64_t(2 * s.n));
+  torch::Tensor B = drawFrequencies(s.encodingDims / 2, int(2 + gammaDim), s.sigma, s.seed);
+  if (s.zHarmonics > 0) B = torch::cat({B, zHarmonicFrequencies(s.zHarmonics, int(2 + gammaDim))});
+  net->mlp = FourierMlp(B, s.hidden, std::int64_t(2 * s.n));
   return net;
 }
 
@@ -126,6 +140,7 @@ void NeuralSettings::validate() const {
   if (hidden < 1 || hidden > 16384) bad("hidden width must be in [1, 16384]");
   if (!(sigma > 0 && std::isfinite(sigma))) bad("sigma must be positive");
   if (encodingDims < 2 || encodingDims % 2 != 0) bad("the encoding size must be even and >= 2");
+  if (zHarmonics < 0 || zHarmonics > 32) bad("z harmonics must be in [0, 32]");
 }
 
 Point2 NeuralGenerator::place(Point2 raw, const Target &target, Jacobian2 *jacobian) const {
@@ -224,6 +239,7 @@ std::map<std::string, std::string> NeuralGenerator::metadata() const {
           {"hidden", std::to_string(settings_.hidden)},
           {"sigma", formatDouble(settings_.sigma)},
           {"encoding_dims", std::to_string(settings_.encodingDims)},
+          {"z_harmonics", std::to_string(settings_.zHarmonics)},
           {"seed", std::to_string(settings_.seed)},
           {"base", "sobol rotated by z"},
           {"mapping", settings_.mapped ? "mapped" : "unmapped"}};
@@ -287,6 +303,8 @@ NeuralGenerator NeuralGenerator::load(const std::string &path) {
   s.hidden = int(number("hidden"));
   s.sigma = number("sigma");
   s.encodingDims = int(number("encoding_dims"));
+  // Files from before the option have no key: no harmonics.
+  if (file.metadata.count("z_harmonics")) s.zHarmonics = int(number("z_harmonics"));
   try {
     s.seed = std::stoull(file.value("seed", path));
   } catch (const std::logic_error &) {

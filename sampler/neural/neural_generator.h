@@ -23,10 +23,18 @@
 namespace nuld {
 
 struct NeuralSettings {
-  std::size_t n = 256;     // points per set
-  int hidden = 256;        // width of the four hidden layers (64/256/512/1024 in the paper)
-  double sigma = 0.1;      // standard deviation of the Fourier frequencies B
-  int encodingDims = 32;   // [cos 2 pi B v, sin 2 pi B v]: B has encodingDims / 2 rows
+  std::size_t n = 256;    // points per set
+  int hidden = 256;       // width of the four hidden layers (64/256/512/1024 in the paper)
+  double sigma = 0.1;     // standard deviation of the Fourier frequencies B
+  int encodingDims = 32;  // [cos 2 pi B v, sin 2 pi B v]: B has encodingDims / 2 rows
+  // Ours, not the supplement's (0 = off): B also gets the rows (a, b, 0...)
+  // for every integer pair with max(|a|, |b|) <= zHarmonics (one of each +-
+  // pair), the Fourier basis of the torus z lives on. The base set moves
+  // rigidly with z, so a point's best correction is a function of where z
+  // has carried it, periodic in z; these rows let the last layers combine
+  // that directly. The supplement's Gaussian rows (sigma 0.1: nearly linear
+  // in z) barely tell nearby offsets apart (see README).
+  int zHarmonics = 0;
   std::string family;      // a TargetFamily spec
   std::uint64_t seed = 0;  // draws B and the initial weights
   // Mapped: the net's points are u in the unit square (wrapped toroidally)

@@ -5,8 +5,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <set>
+#include <utility>
 
 #include "sampler/sequences/sobol.h"
 #include "tests/common/temp_dir.h"
@@ -103,6 +106,46 @@ TEST(NeuralGenerator, SaveLoadRoundTripsAndRebuildsTheSameNet) {
   const std::vector<double> gamma = {0.5, 0.5, 0.5};
   const PointSet a = gen.generateSets(1, 9, gamma), b = back.generateSets(1, 9, gamma);
   EXPECT_EQ(a.points, b.points);
+}
+
+// The z harmonics: every integer frequency pair up to the order, one of each
+// +- pair, with zero gamma columns, after the Gaussian rows; they survive a
+// save and load, and a file that predates them loads without them.
+TEST(NeuralGenerator, ZHarmonicsAreTheTorusFrequenciesAndRoundTrip) {
+  test::TempDir dir;
+  NeuralSettings s = tiny("family:gaussian", 16, 8);
+  s.zHarmonics = 3;
+  const NeuralGenerator gen(s);
+  const ModelFile file = gen.toModelFile();
+  const ModelTensor &B = file.tensor("B", "in memory");
+  const std::int64_t gaussianRows = s.encodingDims / 2, cols = 2 + 3, harmonics = (7 * 7 - 1) / 2;
+  ASSERT_EQ(B.shape, (std::vector<std::int64_t>{gaussianRows + harmonics, cols}));
+  std::set<std::pair<int, int>> seen;
+  for (std::int64_t r = gaussianRows; r < gaussianRows + harmonics; ++r) {
+    const float a = B.data[r * cols], b = B.data[r * cols + 1];
+    EXPECT_EQ(a, std::round(a));
+    EXPECT_EQ(b, std::round(b));
+    EXPECT_LE(std::max(std::abs(a), std::abs(b)), 3.0f);
+    for (std::int64_t c = 2; c < cols; ++c) EXPECT_EQ(B.data[r * cols + c], 0.0f);
+    EXPECT_TRUE(seen.insert({int(a), int(b)}).second) << a << ' ' << b;
+    EXPECT_FALSE(seen.count({-int(a), -int(b)})) << "both of a +- pair";
+  }
+  EXPECT_FALSE(seen.count({0, 0}));
+
+  const std::string path = (dir / "h.nuldnet").string();
+  gen.save(path);
+  const NeuralGenerator back = NeuralGenerator::load(path);
+  EXPECT_EQ(back.settings().zHarmonics, 3);
+  const std::vector<double> gamma = {0.5, 0.5, 0.5};
+  EXPECT_EQ(gen.generateSets(2, 9, gamma).points, back.generateSets(2, 9, gamma).points);
+
+  ModelFile old = NeuralGenerator(tiny("quarterdisc", 8, 8)).toModelFile();
+  old.metadata.erase("z_harmonics");
+  writeModelFile((dir / "old").string(), old);
+  EXPECT_EQ(NeuralGenerator::load((dir / "old").string()).settings().zHarmonics, 0);
+  NeuralSettings bad = tiny("quarterdisc", 8, 8);
+  bad.zHarmonics = -1;
+  EXPECT_THROW(NeuralGenerator{bad}, std::invalid_argument);
 }
 
 TEST(NeuralGenerator, ForeignOrInconsistentModelFilesAreClearErrors) {

@@ -248,7 +248,9 @@ TEST(NeuralTrainer, ValidationHistoryResumesExactly) {
   for (std::size_t i = 0; i < a.history().size(); ++i) {
     EXPECT_EQ(c.history()[i].step, a.history()[i].step);
     EXPECT_EQ(c.history()[i].l2, a.history()[i].l2) << i;
-    if (i > 0) EXPECT_EQ(c.history()[i].meanLoss, a.history()[i].meanLoss) << i;
+    if (i > 0) {
+      EXPECT_EQ(c.history()[i].meanLoss, a.history()[i].meanLoss) << i;
+    }
   }
   EXPECT_EQ(c.best()->step, a.best()->step);
 }

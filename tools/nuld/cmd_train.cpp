@@ -60,6 +60,10 @@ Runner addTrain(CLI::App &app) {
   app.add_option("--encoding-dims", o->net.encodingDims,
                  "width of the Fourier encoding of (z, gamma) (even; the supplement's is 32)")
       ->capture_default_str();
+  app.add_option("--z-harmonics", o->net.zHarmonics,
+                 "also encode z by every integer frequency up to this order (the torus's own "
+                 "Fourier basis; not in the supplement; 0: off). Train with --lr 1e-4")
+      ->capture_default_str();
   app.add_option("--mapping", o->mapping,
                  "mapped (the net places u, the set is the target's inverse CDF of u) or "
                  "unmapped (the net places the points themselves)")
