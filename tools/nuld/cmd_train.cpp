@@ -62,7 +62,7 @@ Runner addTrain(CLI::App &app) {
       ->capture_default_str();
   app.add_option("--z-harmonics", o->net.zHarmonics,
                  "also encode z by every integer frequency up to this order (the torus's own "
-                 "Fourier basis; not in the supplement; 0: off). Train with --lr 1e-4")
+                 "Fourier basis; not in the supplement; 0: off); needs a smaller --lr (see README)")
       ->capture_default_str();
   app.add_option("--mapping", o->mapping,
                  "mapped (the net places u, the set is the target's inverse CDF of u) or "
