@@ -63,8 +63,8 @@ DisneyBrdf::DisneyBrdf(const DisneyParams &params)
       specular_(burleyGgx(params)),
       clearcoat_(lerp(params.clearcoatGloss, 0.1, 0.001)),
       clearcoatMasking_(0.25, 0.25) {
-  lobeHasValue_ = {
-      params.metallic<1, params.metallic<1 && params.subsurface> 0, true, params.clearcoat> 0};
+  const bool metal = params.metallic >= 1;
+  lobeHasValue_ = {!metal, !metal && params.subsurface > 0, true, params.clearcoat > 0};
   const Rgb base = params.baseColor;
   // Tints carry the hue of the base colour, not its brightness. Burley weighs
   // luminance .3/.6/.1; we use Rec. 709 like the rest of the renderer.
