@@ -141,6 +141,7 @@ void NeuralSettings::validate() const {
   if (!(sigma > 0 && std::isfinite(sigma))) bad("sigma must be positive");
   if (encodingDims < 2 || encodingDims % 2 != 0) bad("the encoding size must be even and >= 2");
   if (zHarmonics < 0 || zHarmonics > 32) bad("z harmonics must be in [0, 32]");
+  if (!(offsetRange > 0 && offsetRange <= 1)) bad("the offset range must be in (0, 1]");
 }
 
 Point2 NeuralGenerator::place(Point2 raw, const Target &target, Jacobian2 *jacobian) const {
@@ -181,8 +182,9 @@ std::size_t NeuralGenerator::parameterCount() const {
 void NeuralGenerator::baseSet(Point2 z, std::span<Point2> out) const {
   if (out.size() != settings_.n) throw std::invalid_argument("neural: base set size mismatch");
   const bool square = domain() == Domain::Square;
+  const Point2 offset{settings_.offsetRange * z.x, settings_.offsetRange * z.y};
   for (std::size_t i = 0; i < sobol_.size(); ++i) {
-    const Point2 p = sobol_[i] + z;
+    const Point2 p = sobol_[i] + offset;
     // The rotation wraps around the square (Cranley-Patterson).
     out[i] = square ? Point2{wrapUnit(p.x), wrapUnit(p.y)} : p;
   }
@@ -240,6 +242,7 @@ std::map<std::string, std::string> NeuralGenerator::metadata() const {
           {"sigma", formatDouble(settings_.sigma)},
           {"encoding_dims", std::to_string(settings_.encodingDims)},
           {"z_harmonics", std::to_string(settings_.zHarmonics)},
+          {"offset_range", formatDouble(settings_.offsetRange)},
           {"seed", std::to_string(settings_.seed)},
           {"base", "sobol rotated by z"},
           {"mapping", settings_.mapped ? "mapped" : "unmapped"}};
@@ -305,6 +308,7 @@ NeuralGenerator NeuralGenerator::load(const std::string &path) {
   s.encodingDims = int(number("encoding_dims"));
   // Files from before the option have no key: no harmonics.
   if (file.metadata.count("z_harmonics")) s.zHarmonics = int(number("z_harmonics"));
+  if (file.metadata.count("offset_range")) s.offsetRange = number("offset_range");
   try {
     s.seed = std::stoull(file.value("seed", path));
   } catch (const std::logic_error &) {

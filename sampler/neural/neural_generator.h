@@ -35,6 +35,14 @@ struct NeuralSettings {
   // that directly. The supplement's Gaussian rows (sigma 0.1: nearly linear
   // in z) barely tell nearby offsets apart (see README).
   int zHarmonics = 0;
+  // Ours, a diagnostic (1 = the supplement's): the base set is Sobol rotated
+  // by offsetRange * z, so offsets span [0, offsetRange)^2 while the net
+  // still sees z in [0, 1)^2. Below 1/sqrt(N)-ish ranges no base point
+  // crosses the square's edge as z varies, which isolates what those
+  // crossings cost (README, "What limits the neural sets"). Sets are then no
+  // longer randomized over the torus: each point stays in a small box, so
+  // estimates from them are biased. Not for rendering.
+  double offsetRange = 1;
   std::string family;      // a TargetFamily spec
   std::uint64_t seed = 0;  // draws B and the initial weights
   // Mapped: the net's points are u in the unit square (wrapped toroidally)
@@ -77,8 +85,8 @@ class NeuralGenerator {
   // Metadata read from the file by load() (empty for a new generator).
   const std::map<std::string, std::string> &fileMetadata() const { return fileMetadata_; }
 
-  // The base set for offset z (N points, before wrapping into the domain
-  // for directions).
+  // The base set for offset z: the first N Sobol points rotated by
+  // offsetRange * z (wrapped on the square, not for directions).
   void baseSet(Point2 z, std::span<Point2> out) const;
   // Where a raw network point lands: T(u) (mapped) or wrapToDomain (not),
   // with d(out)/d(raw) for the loss gradient. `target` is the family's

@@ -148,6 +148,39 @@ TEST(NeuralGenerator, ZHarmonicsAreTheTorusFrequenciesAndRoundTrip) {
   EXPECT_THROW(NeuralGenerator{bad}, std::invalid_argument);
 }
 
+// The offset range scales the rotation (base(z) with range R is base(R z)
+// with range 1), survives a save and load, and files that predate it load
+// with the supplement's full range.
+TEST(NeuralGenerator, OffsetRangeScalesTheRotationAndRoundTrips) {
+  test::TempDir dir;
+  NeuralSettings s = tiny("quarterdisc", 16, 8);
+  s.offsetRange = 1.0 / 64;
+  const NeuralGenerator narrow(s), full(tiny("quarterdisc", 16, 8));
+  const Point2 z{0.7, 0.3};
+  std::vector<Point2> a(16), b(16);
+  narrow.baseSet(z, a);
+  full.baseSet({z.x / 64, z.y / 64}, b);
+  EXPECT_EQ(a, b);
+  full.baseSet(z, b);
+  EXPECT_NE(a, b);
+
+  const std::string path = (dir / "r.nuldnet").string();
+  narrow.save(path);
+  const NeuralGenerator back = NeuralGenerator::load(path);
+  EXPECT_EQ(back.settings().offsetRange, 1.0 / 64);
+  EXPECT_EQ(narrow.generateSets(2, 5, {}).points, back.generateSets(2, 5, {}).points);
+
+  ModelFile old = full.toModelFile();
+  old.metadata.erase("offset_range");
+  writeModelFile((dir / "old").string(), old);
+  EXPECT_EQ(NeuralGenerator::load((dir / "old").string()).settings().offsetRange, 1.0);
+  for (const double bad : {0.0, -0.5, 1.5}) {
+    NeuralSettings t = tiny("quarterdisc", 8, 8);
+    t.offsetRange = bad;
+    EXPECT_THROW(NeuralGenerator{t}, std::invalid_argument) << bad;
+  }
+}
+
 TEST(NeuralGenerator, ForeignOrInconsistentModelFilesAreClearErrors) {
   test::TempDir dir;
   auto expectError = [](const std::string &path, const std::string &fragment) {

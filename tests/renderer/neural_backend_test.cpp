@@ -87,6 +87,18 @@ TEST(NeuralBackend, RefusesModelsThatNeedGammaAndUnreadableFiles) {
   EXPECT_NE(errorOf([&] { makeBackend("neural:" + model, 0); }).find("gamma"), std::string::npos);
   EXPECT_THROW(makeBackend("neural:" + (dir / "absent").string(), 0), std::runtime_error);
   EXPECT_NE(errorOf([&] { makeBackend("neural", 0); }).find("neural:MODEL"), std::string::npos);
+
+  // A model whose offsets do not span the torus makes unrandomized sets.
+  NeuralSettings narrow;
+  narrow.n = 4;
+  narrow.hidden = 8;
+  narrow.family = "uniform";
+  narrow.offsetRange = 0.0625;
+  const std::string narrowPath = (dir / "narrow.nuldnet").string();
+  NeuralGenerator(narrow).save(narrowPath);
+  const std::string why = errorOf([&] { makeBackend("neural:" + narrowPath, 0); });
+  EXPECT_NE(why.find("--offset-range"), std::string::npos) << why;
+  EXPECT_NE(why.find(narrowPath), std::string::npos) << why;
 }
 
 }  // namespace

@@ -466,6 +466,16 @@ TEST(IntegrationStudyRun, BadInputIsAClearError) {
   IntegrateOptions e = o;
   e.neuralModels = {dir.write("junk.nuldnet", "not a model")};
   fails(e, "--neural");
+  NeuralSettings narrow;
+  narrow.n = 16;
+  narrow.hidden = 8;
+  narrow.family = "quarterdisc";
+  narrow.offsetRange = 0.25;
+  IntegrateOptions f = o;
+  f.integrands = {"quarterdisc*bilinear"};
+  f.neuralModels = {(dir / "narrow.nuldnet").string()};
+  NeuralGenerator(narrow).save(f.neuralModels[0]);
+  fails(f, "--offset-range");
   EXPECT_FALSE(fs::exists(integrateCsvPath(o.outDir)));  // nothing written on bad input
 }
 

@@ -32,6 +32,12 @@ int generateFromModel(const Options &o) {
   set.metadata["target"] = gen.family().target(gamma)->spec();
   set.metadata["domain"] = toString(gen.domain());
   if (!o.gamma.empty()) set.metadata["gamma"] = o.gamma;
+  if (gen.settings().offsetRange < 1) {
+    set.metadata["offset_range"] = std::to_string(gen.settings().offsetRange);
+    std::cerr << "note: " << o.model << " rotates its base set by offsets in [0, "
+              << gen.settings().offsetRange << ")^2 only (--offset-range): these sets are not "
+              << "randomized over the torus\n";
+  }
   writePointSet(o.output, set);
   std::cerr << "wrote " << set.instances() << " x " << set.n << " points to " << o.output << "\n";
   return 0;

@@ -64,6 +64,12 @@ Runner addTrain(CLI::App &app) {
                  "also encode z by every integer frequency up to this order (the torus's own "
                  "Fourier basis; not in the supplement; 0: off); needs a smaller --lr (see README)")
       ->capture_default_str();
+  app.add_option("--offset-range", o->net.offsetRange,
+                 "diagnostic: rotate the base set by R z, so offsets span [0, R)^2 (the "
+                 "supplement's is 1); below 1 the sets are not randomized and are not for "
+                 "rendering (see README)")
+      ->check(CLI::Range(1e-9, 1.0))
+      ->capture_default_str();
   app.add_option("--mapping", o->mapping,
                  "mapped (the net places u, the set is the target's inverse CDF of u) or "
                  "unmapped (the net places the points themselves)")
