@@ -37,11 +37,12 @@ struct NeuralSettings {
   int zHarmonics = 0;
   // Ours, a diagnostic (1 = the supplement's): the base set is Sobol rotated
   // by offsetRange * z, so offsets span [0, offsetRange)^2 while the net
-  // still sees z in [0, 1)^2. Below 1/sqrt(N)-ish ranges no base point
-  // crosses the square's edge as z varies, which isolates what those
-  // crossings cost (README, "What limits the neural sets"). Sets are then no
-  // longer randomized over the torus: each point stays in a small box, so
-  // estimates from them are biased. Not for rendering.
+  // still sees z in [0, 1)^2. It measures how the quality of one network's
+  // sets depends on how much of the offset torus it must cover (README: at
+  // N = 256 a 1/16 patch trains to better than direct optimization, the
+  // whole torus does not). Below 1 the sets are not randomized over the
+  // torus: each point stays in a small box, so estimates from them are
+  // biased. Not for rendering.
   double offsetRange = 1;
   std::string family;      // a TargetFamily spec
   std::uint64_t seed = 0;  // draws B and the initial weights

@@ -1,4 +1,5 @@
 #include <iostream>
+#include <sstream>
 
 #include "sampler/io/pointset_io.h"
 #include "sampler/neural/neural_generator.h"
@@ -33,7 +34,10 @@ int generateFromModel(const Options &o) {
   set.metadata["domain"] = toString(gen.domain());
   if (!o.gamma.empty()) set.metadata["gamma"] = o.gamma;
   if (gen.settings().offsetRange < 1) {
-    set.metadata["offset_range"] = std::to_string(gen.settings().offsetRange);
+    std::ostringstream range;
+    range.precision(17);
+    range << gen.settings().offsetRange;
+    set.metadata["offset_range"] = range.str();
     std::cerr << "note: " << o.model << " rotates its base set by offsets in [0, "
               << gen.settings().offsetRange << ")^2 only (--offset-range): these sets are not "
               << "randomized over the torus\n";
