@@ -1,7 +1,10 @@
 // Neural generator benchmarks (Google Benchmark; not timed tests):
-//  - TrainStep/hH_nN: one training step, batch 16, 8192 boxes per set, on the
-//    quarter-disc; counters split the step into the network (forward,
-//    backward, Adam) and the soft box loss kernel (with the box masses).
+//  - TrainStep/hH_nN_alphaA: one training step, batch 16, 8192 boxes per set,
+//    on the quarter-disc, at sigmoid scale A; counters split the step into
+//    the network (forward, backward, Adam) and the soft box loss kernel (with
+//    the box masses). The kernel's cost falls as alpha rises (a sharper
+//    sigmoid reaches fewer point-box pairs within the cutoff), so a training
+//    run, whose alpha ramps 20 -> 2000, averages between the two rows.
 //  - Inference/hH_nN: one set from one offset z (batch 1), and per set when
 //    64 sets are generated in one batched call.
 
@@ -26,6 +29,7 @@ void TrainStep(benchmark::State &state) {
   t.steps = 1 << 30;
   t.batch = 16;
   t.boxes = 8192;
+  t.alphaStart = t.alphaEnd = double(state.range(2));
   NeuralTrainer trainer(gen, t);
   TrainReport last;
   trainer.run(1, [&](const TrainReport &r) { last = r; });  // warm-up
@@ -53,9 +57,11 @@ void Inference(benchmark::State &state) {
 }
 
 BENCHMARK(TrainStep)
-    ->ArgNames({"hidden", "n"})
-    ->Args({256, 256})
-    ->Args({1024, 2048})
+    ->ArgNames({"hidden", "n", "alpha"})
+    ->Args({256, 256, 20})
+    ->Args({256, 256, 2000})
+    ->Args({1024, 2048, 20})
+    ->Args({1024, 2048, 2000})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 BENCHMARK(Inference)
