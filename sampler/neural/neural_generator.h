@@ -38,11 +38,11 @@ struct NeuralSettings {
   // Ours, a diagnostic (1 = the supplement's): the base set is Sobol rotated
   // by offsetRange * z, so offsets span [0, offsetRange)^2 while the net
   // still sees z in [0, 1)^2. It measures how the quality of one network's
-  // sets depends on how much of the offset torus it must cover (README: at
-  // N = 256 a 1/16 patch trains to better than direct optimization, the
-  // whole torus does not). Below 1 the sets are not randomized over the
-  // torus: each point stays in a small box, so estimates from them are
-  // biased. Not for rendering.
+  // sets depends on how much of the offset torus it must cover (README:
+  // over small ranges the network cancels the offset and makes one set,
+  // better than direct optimization's; its distinct sets are not). Below 1
+  // the sets are not randomized over the torus: each point stays in a small
+  // box, so estimates from them are biased. Not for rendering.
   double offsetRange = 1;
   std::string family;      // a TargetFamily spec
   std::uint64_t seed = 0;  // draws B and the initial weights

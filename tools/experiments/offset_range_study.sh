@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
-# How much of the offset torus one neural generator can cover (README, "What
-# limits the neural sets"): trains the supplement's network on the
+# Neural sets against the range of offsets one network must cover (README,
+# "The neural generator"): trains the supplement's network on the
 # quarter-disc with offsets restricted to [0, R)^2 (`nuld train
 # --offset-range R`) for each R, and scores 16 sets at unseen z against the
-# direct optimizer and Owen-Sobol + inverse CDF at the same N. Writes
+# direct optimizer and Owen-Sobol + inverse CDF at the same N. The set
+# distance column shows when the network collapses to one set. Writes
 # OUT/offset_range.csv (one row per sampler; training seconds for the nets).
 # Usage: offset_range_study.sh OUT [N [HIDDEN [STEPS [R ...]]]]
 # Defaults: N 256, hidden 1024, 3000 steps, R = 1/256 1/64 1/16 1/8 1/4 1
