@@ -22,11 +22,9 @@ NeuralBackend::NeuralBackend(std::string name, const std::string &modelPath, std
         source_ + ": a model for the family '" + generator_.family().spec() +
         "' needs the shading point's gamma, which the renderer's backends do not receive; "
         "the renderer takes models of one target (the scene's environment map, or uniform)");
-  if (generator_.settings().offsetRange < 1)
-    throw std::invalid_argument(source_ + ": trained with --offset-range " +
-                                std::to_string(generator_.settings().offsetRange) +
-                                " (a diagnostic): its sets are not randomized over the torus, so "
-                                "a render from them would be biased; retrain without it");
+  if (const std::string why = generator_.notRandomizedReason(); !why.empty())
+    throw std::invalid_argument(source_ + ": " + why +
+                                "; a render from them would be biased; retrain without it");
   targetSpec_ = generator_.family().target({})->spec();
   uniform_ = targetSpec_ == "uniform";
 }

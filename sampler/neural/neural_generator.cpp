@@ -190,6 +190,14 @@ void NeuralGenerator::baseSet(Point2 z, std::span<Point2> out) const {
   }
 }
 
+std::string NeuralGenerator::notRandomizedReason() const {
+  if (settings_.offsetRange >= 1) return "";
+  const std::string r = formatDouble(settings_.offsetRange);
+  return "trained with --offset-range " + r +
+         " (a diagnostic): its base set moves by offsets in [0, " + r +
+         ")^2 only, so its sets are not randomized over the torus";
+}
+
 void NeuralGenerator::generate(std::span<const Point2> z, std::span<const double> gamma,
                                std::span<Point2> out) const {
   const std::size_t K = z.size(), n = settings_.n, g = gammaDimension();
@@ -306,7 +314,7 @@ NeuralGenerator NeuralGenerator::load(const std::string &path) {
   s.hidden = int(number("hidden"));
   s.sigma = number("sigma");
   s.encodingDims = int(number("encoding_dims"));
-  // Files from before the option have no key: no harmonics.
+  // Files from before these options have no keys: no harmonics, full range.
   if (file.metadata.count("z_harmonics")) s.zHarmonics = int(number("z_harmonics"));
   if (file.metadata.count("offset_range")) s.offsetRange = number("offset_range");
   try {

@@ -89,6 +89,10 @@ class NeuralGenerator {
   // The base set for offset z: the first N Sobol points rotated by
   // offsetRange * z (wrapped on the square, not for directions).
   void baseSet(Point2 z, std::span<Point2> out) const;
+  // Empty for the supplement's full offset range; otherwise why the sets are
+  // not randomized (naming --offset-range and its value), for the callers
+  // that refuse or flag such models.
+  std::string notRandomizedReason() const;
   // Where a raw network point lands: T(u) (mapped) or wrapToDomain (not),
   // with d(out)/d(raw) for the loss gradient. `target` is the family's
   // member for the set's gamma. Unmapped on the square the point is clamped

@@ -1,5 +1,4 @@
 #include <iostream>
-#include <sstream>
 
 #include "sampler/io/pointset_io.h"
 #include "sampler/neural/neural_generator.h"
@@ -33,14 +32,9 @@ int generateFromModel(const Options &o) {
   set.metadata["target"] = gen.family().target(gamma)->spec();
   set.metadata["domain"] = toString(gen.domain());
   if (!o.gamma.empty()) set.metadata["gamma"] = o.gamma;
-  if (gen.settings().offsetRange < 1) {
-    std::ostringstream range;
-    range.precision(17);
-    range << gen.settings().offsetRange;
-    set.metadata["offset_range"] = range.str();
-    std::cerr << "note: " << o.model << " rotates its base set by offsets in [0, "
-              << gen.settings().offsetRange << ")^2 only (--offset-range): these sets are not "
-              << "randomized over the torus\n";
+  if (const std::string why = gen.notRandomizedReason(); !why.empty()) {
+    set.metadata["offset_range"] = gen.metadata().at("offset_range");
+    std::cerr << "note: " << o.model << ": " << why << "\n";
   }
   writePointSet(o.output, set);
   std::cerr << "wrote " << set.instances() << " x " << set.n << " points to " << o.output << "\n";

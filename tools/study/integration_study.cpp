@@ -112,11 +112,10 @@ NeuralModel loadModel(const SamplerChoice &s, const std::vector<Integrand> &inte
     throw std::runtime_error("--neural '" + s.model + "': cannot use the model: " + e.what());
   }
   const NeuralGenerator &g = *m.generator;
-  if (g.settings().offsetRange < 1)
-    throw std::runtime_error("--neural '" + s.model + "': trained with --offset-range " +
-                             std::to_string(g.settings().offsetRange) +
-                             " (a diagnostic): its sets are not randomized, so the study's "
-                             "error over instances would be mostly bias; retrain without it");
+  if (const std::string why = g.notRandomizedReason(); !why.empty())
+    throw std::runtime_error("--neural '" + s.model + "': " + why +
+                             "; the study's error over instances would be mostly bias; retrain "
+                             "without it");
   const bool fixed = g.gammaDimension() == 0;
   const std::string trainedFor = fixed ? g.family().target({})->spec() : g.family().spec();
   for (const Integrand &in : integrands) {
