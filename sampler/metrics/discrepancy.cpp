@@ -64,6 +64,38 @@ double l2asd(std::span<const Point2> p) {
   return std::sqrt(std::max(0.0, d2));
 }
 
+double periodicL2Squared(std::span<const Point2> p, std::span<Point2> grad) {
+  requireNonEmpty(p, "l2per");
+  if (!grad.empty() && grad.size() != p.size())
+    throw std::invalid_argument("l2per: gradient size does not match the points");
+  const std::size_t n = p.size();
+  const double N = double(n);
+  // The kernel of one coordinate: the probability that a random toroidal
+  // interval holds two points d apart (along the interval's direction).
+  auto kernel = [](double d) { return 0.5 - d * (1 - d); };
+  const double pairs = orderedSum(n, [&](std::size_t i) {
+    double s = 0;
+    Point2 g{};
+    for (std::size_t j = 0; j < n; ++j) {
+      const double dx = wrapUnit(p[i].x - p[j].x), dy = wrapUnit(p[i].y - p[j].y);
+      const double kx = kernel(dx), ky = kernel(dy);
+      s += kx * ky;
+      if (j == i) continue;  // the diagonal term is a constant
+      // d(kernel(frac(xi - xj)))/dxi = 2 d - 1; the pair (j, i) has
+      // d' = 1 - d and the same derivative, hence the factor 2 below.
+      g.x += (2 * dx - 1) * ky;
+      g.y += (2 * dy - 1) * kx;
+    }
+    if (!grad.empty()) grad[i] = (2 / (N * N)) * g;
+    return s;
+  });
+  return pairs / (N * N) - 1.0 / 9.0;
+}
+
+double periodicL2(std::span<const Point2> p) {
+  return std::sqrt(std::max(0.0, periodicL2Squared(p)));
+}
+
 double starDiscrepancy(std::span<const Point2> p, const Target *target) {
   requireNonEmpty(p, "dstar");
   const std::size_t n = p.size();

@@ -18,6 +18,21 @@ double l2StarDiscrepancy(std::span<const Point2> points);
 // box spanned by c and y (closed form of DESIGN.md §3), O(N^2).
 double l2asd(std::span<const Point2> points);
 
+// Periodic L2 discrepancy: the root mean square, over all boxes of the unit
+// torus (in each coordinate the interval from a_k up to b_k, wrapping past 1
+// when b_k < a_k; a and b uniform), of count / N - volume. A closed form,
+// O(N^2):
+//   D^2 = (1/N^2) sum_i sum_j prod_k (1/2 - d_k (1 - d_k)) - (1/3)^2,
+//   d_k = frac(x_ik - x_jk).
+// Any toroidal shift of all points leaves it unchanged, so a set optimized
+// for it keeps its quality under Cranley-Patterson randomization. (Hickernell's
+// wrap-around discrepancy, scipy's 'WD', sums this over every projection of
+// the coordinates: WD^2 = D_x^2 + D_y^2 + D^2 in 2D.) Points are read modulo 1.
+double periodicL2(std::span<const Point2> points);
+// D^2 and, unless `grad` is empty, dD^2/dx_i into grad (size N):
+//   (2/N^2) sum_j (2 d_k - 1) prod_{l != k} (1/2 - d_l (1 - d_l)).
+double periodicL2Squared(std::span<const Point2> points, std::span<Point2> grad = {});
+
 // Exact star discrepancy sup over anchored boxes [0,a] x [0,b] of
 // |count/N - mu|, open and closed boxes alike. With `target` null mu is the
 // area. O(N^2) mass evaluations, parallel over the critical a values.

@@ -1,11 +1,9 @@
 #pragma once
-// LibTorch internals of the neural generator. Only the generator's and the
-// trainer's translation units (and the neural tests) include this: one file
-// including <torch/torch.h> costs ~15 s and ~1 GB to compile (DESIGN.md §6).
+// LibTorch internals of the supplement's network. Only the neural translation
+// units (and the neural tests) include this: one file including
+// <torch/torch.h> costs ~15 s and ~1 GB to compile (DESIGN.md §6).
 
 #include <torch/torch.h>
-
-#include "sampler/neural/neural_generator.h"
 
 namespace nuld {
 
@@ -23,19 +21,5 @@ struct FourierMlpImpl : torch::nn::Module {
   torch::nn::Linear l1{nullptr}, l2{nullptr}, l3{nullptr}, l4{nullptr}, l5{nullptr};
 };
 TORCH_MODULE(FourierMlp);
-
-struct NeuralGenerator::Net {
-  FourierMlp mlp{nullptr};
-
-  // The network's outputs for input rows v (no autograd): the same values
-  // as mlp->forward(v) up to single-precision summation order.
-  torch::Tensor residuals(const torch::Tensor &v) const;
-  // The input rows (z, gamma) for K sets, in the module's dtype.
-  torch::Tensor inputs(std::span<const Point2> z, std::span<const double> gamma,
-                       std::size_t gammaDim) const;
-};
-
-// The base sets for the given offsets as a [K, N, 2] double tensor.
-torch::Tensor baseSets(const NeuralGenerator &gen, std::span<const Point2> z);
 
 }  // namespace nuld

@@ -6,8 +6,8 @@
 #include <stdexcept>
 
 #include "sampler/neural/dense_inference.h"
-#include "sampler/neural/fourier_mlp.h"
 #include "sampler/neural/model_file.h"
+#include "sampler/neural/network.h"
 #include "sampler/sequences/rng.h"
 #include "sampler/sequences/sobol.h"
 
@@ -44,9 +44,35 @@ torch::Tensor zHarmonicFrequencies(int k, int cols) {
   return b;
 }
 
-std::unique_ptr<NeuralGenerator::Net> makeNet(const NeuralSettings &s, std::size_t gammaDim) {
+// The graph generator's input widths: per point the torus harmonics of u,
+// the placed point x, three Jacobian features, log N, and gamma raw and
+// Fourier-encoded; per edge the neighbour's offset in u and in x.
+std::int64_t graphNodeFeatures(const NeuralSettings &s, std::size_t gammaDim) {
+  const std::int64_t harmonics =
+      ((2 * s.positionHarmonics + 1) * (2 * s.positionHarmonics + 1) - 1);
+  return harmonics + 2 + 3 + 1 + std::int64_t(gammaDim) + (gammaDim > 0 ? s.encodingDims : 0);
+}
+constexpr std::int64_t kGraphEdgeFeatures = 4;
+
+std::unique_ptr<NeuralGenerator::Net> makeNet(const NeuralSettings &s, std::size_t gammaDim,
+                                              std::span<const Point2> base) {
   auto net = std::make_unique<NeuralGenerator::Net>();
   torch::manual_seed(s.seed);  // LibTorch's default initialization of the hidden layers
+  if (s.arch == NetworkArch::Graph) {
+    const torch::Tensor B = drawFrequencies(s.encodingDims / 2, int(gammaDim), s.sigma, s.seed);
+    net->graph =
+        GraphNet(B, graphNodeFeatures(s, gammaDim), kGraphEdgeFeatures, s.hidden, s.rounds);
+    net->torus = buildTorusGraph(base, std::size_t(s.neighbours));
+    const std::int64_t n = std::int64_t(s.n), k = std::int64_t(net->torus.k);
+    net->neighbours =
+        torch::from_blob(net->torus.neighbours.data(), {n * k}, torch::kInt64).clone();
+    net->baseOffsets = torch::empty({n, k, 2}, torch::kFloat64);
+    auto *o = reinterpret_cast<Point2 *>(net->baseOffsets.data_ptr<double>());
+    const double scale = std::sqrt(double(s.n));
+    for (std::size_t e = 0; e < net->torus.offsets.size(); ++e)
+      o[e] = scale * net->torus.offsets[e];
+    return net;
+  }
   torch::Tensor B = drawFrequencies(s.encodingDims / 2, int(2 + gammaDim), s.sigma, s.seed);
   if (s.zHarmonics > 0) B = torch::cat({B, zHarmonicFrequencies(s.zHarmonics, int(2 + gammaDim))});
   net->mlp = FourierMlp(B, s.hidden, std::int64_t(2 * s.n));
@@ -87,6 +113,99 @@ torch::Tensor FourierMlpImpl::forward(torch::Tensor v) {
   h = torch::relu(l3(torch::cat({h, e}, 1)));
   h = torch::relu(l4(torch::cat({h, e}, 1)));
   return l5(torch::cat({h, e}, 1));
+}
+
+torch::nn::Module &NeuralGenerator::Net::module() {
+  return graph ? static_cast<torch::nn::Module &>(*graph) : *mlp;
+}
+
+const torch::nn::Module &NeuralGenerator::Net::module() const {
+  return graph ? static_cast<const torch::nn::Module &>(*graph) : *mlp;
+}
+
+torch::Tensor NeuralGenerator::Net::forward(const NeuralGenerator &gen, std::span<const Point2> z,
+                                            std::span<const double> gamma,
+                                            const torch::Tensor &base) {
+  const std::int64_t K = std::int64_t(z.size()), n = std::int64_t(gen.settings().n);
+  if (!graph) return mlp->forward(inputs(z, gamma, gen.gammaDimension())).reshape({K, n, 2});
+  const auto [nodes, edges] = graphInputs(gen, gamma, base);
+  // Residuals in units of the point spacing, 1 / sqrt(N).
+  return graph->forward(nodes, edges, neighbours) * (1 / std::sqrt(double(n)));
+}
+
+std::pair<torch::Tensor, torch::Tensor> NeuralGenerator::Net::graphInputs(
+    const NeuralGenerator &gen, std::span<const double> gamma, const torch::Tensor &base) const {
+  const NeuralSettings &s = gen.settings();
+  const std::size_t K = std::size_t(base.size(0)), n = s.n, g = gen.gammaDimension(), k = torus.k;
+  const std::int64_t F = graphNodeFeatures(s, g);
+  const torch::Tensor harmonics = zHarmonicFrequencies(s.positionHarmonics, 2).to(torch::kFloat64);
+  const std::int64_t H = harmonics.size(0);
+  const double rootN = std::sqrt(double(n)), logN = std::log2(double(n)) / 10;
+  const bool sphere = gen.domain() != Domain::Square;
+
+  torch::Tensor nodes = torch::empty({std::int64_t(K), std::int64_t(n), F}, torch::kFloat64);
+  torch::Tensor edges =
+      torch::empty({std::int64_t(K), std::int64_t(n), std::int64_t(k), 2}, torch::kFloat64);
+  const auto *pb = reinterpret_cast<const Point2 *>(base.data_ptr<double>());
+  double *pn = nodes.data_ptr<double>();
+  auto *pe = reinterpret_cast<Point2 *>(edges.data_ptr<double>());
+  const auto hf = harmonics.accessor<double, 2>();
+  std::vector<Point2> x(n);
+  std::shared_ptr<const Target> target;
+  for (std::size_t set = 0; set < K; ++set) {
+    const std::span<const double> gs = gamma.subspan(set * g, g);
+    if (!target || g > 0) target = gen.family().target(gs);
+    std::vector<double> gammaCode;
+    if (g > 0) {
+      const torch::Tensor v =
+          torch::from_blob(const_cast<double *>(gs.data()), {1, std::int64_t(g)}, torch::kFloat64);
+      const torch::Tensor angle =
+          (2 * std::numbers::pi) * torch::matmul(v, graph->B.to(torch::kFloat64).t());
+      const torch::Tensor code = torch::cat({torch::cos(angle), torch::sin(angle)}, 1).contiguous();
+      gammaCode.assign(code.data_ptr<double>(), code.data_ptr<double>() + code.numel());
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      const Point2 raw = pb[set * n + i], u{wrapUnit(raw.x), wrapUnit(raw.y)};
+      Jacobian2 j;
+      x[i] = gen.place(raw, *target, &j);
+      double *f = pn + (set * n + i) * std::size_t(F);
+      for (std::int64_t h = 0; h < H; ++h) {
+        const double angle = 2 * std::numbers::pi * (hf[h][0] * u.x + hf[h][1] * u.y);
+        *f++ = std::cos(angle);
+        *f++ = std::sin(angle);
+      }
+      *f++ = 2 * x[i].x - 1;
+      *f++ = 2 * x[i].y - 1;
+      // How T stretches around u: the log lengths of J's columns and the
+      // cosine between them (a zero or non-finite column reads as the floor).
+      const double c0 = std::hypot(j.m[0][0], j.m[1][0]), c1 = std::hypot(j.m[0][1], j.m[1][1]);
+      auto logLength = [](double c) {
+        return c > 0 && std::isfinite(c) ? std::clamp(std::log(c), -8.0, 8.0) / 4 : -2.0;
+      };
+      *f++ = logLength(c0);
+      *f++ = logLength(c1);
+      const double dot = j.m[0][0] * j.m[0][1] + j.m[1][0] * j.m[1][1];
+      *f++ = c0 > 0 && c1 > 0 && std::isfinite(dot / (c0 * c1)) ? dot / (c0 * c1) : 0.0;
+      *f++ = logN;
+      for (std::size_t q = 0; q < g; ++q) *f++ = 2 * gs[q] - 1;
+      for (const double c : gammaCode) *f++ = c;
+    }
+    // Edges: the neighbour's offset in u (the same for every z) and in x,
+    // both in units of the spacing; x's is clamped, as a neighbour across
+    // the square's seam or a stretched region is simply far.
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t e = 0; e < k; ++e) {
+        const std::size_t j = std::size_t(torus.neighbours[i * k + e]);
+        Point2 dx = x[j] - x[i];
+        if (sphere) dx.x -= std::floor(dx.x + 0.5);  // longitude is periodic
+        auto clampSpacing = [&](double d) { return std::clamp(d * rootN, -4.0, 4.0); };
+        pe[((set * n + i) * k + e)] = {clampSpacing(dx.x), clampSpacing(dx.y)};
+      }
+  }
+  const torch::Tensor uOffsets =
+      baseOffsets.unsqueeze(0).expand({std::int64_t(K), std::int64_t(n), std::int64_t(k), 2});
+  const auto dtype = graph->embed->weight.scalar_type();
+  return {nodes.to(dtype), torch::cat({uOffsets, edges}, 3).to(dtype)};
 }
 
 torch::Tensor NeuralGenerator::Net::residuals(const torch::Tensor &v) const {
@@ -142,6 +261,24 @@ void NeuralSettings::validate() const {
   if (encodingDims < 2 || encodingDims % 2 != 0) bad("the encoding size must be even and >= 2");
   if (zHarmonics < 0 || zHarmonics > 32) bad("z harmonics must be in [0, 32]");
   if (!(offsetRange > 0 && offsetRange <= 1)) bad("the offset range must be in (0, 1]");
+  if (arch == NetworkArch::Graph) {
+    if (zHarmonics != 0) bad("z harmonics belong to the supplement's network, not the graph one");
+    if (neighbours < 1 || neighbours > 64) bad("neighbours must be in [1, 64]");
+    if (rounds < 0 || rounds > 16) bad("rounds must be in [0, 16]");
+    if (positionHarmonics < 1 || positionHarmonics > 16)
+      bad("position harmonics must be in [1, 16]");
+  }
+}
+
+NetworkArch parseNetworkArch(const std::string &name) {
+  if (name == "supplement") return NetworkArch::Supplement;
+  if (name == "graph") return NetworkArch::Graph;
+  throw std::invalid_argument("unknown network architecture '" + name +
+                              "': expected supplement or graph");
+}
+
+std::string toString(NetworkArch arch) {
+  return arch == NetworkArch::Graph ? "graph" : "supplement";
 }
 
 Point2 NeuralGenerator::place(Point2 raw, const Target &target, Jacobian2 *jacobian) const {
@@ -166,7 +303,7 @@ NeuralGenerator::NeuralGenerator(const NeuralSettings &settings) : settings_(set
                                 "' has no inverse CDF; train it unmapped");
   sobol_.resize(settings_.n);
   for (std::size_t i = 0; i < settings_.n; ++i) sobol_[i] = {sobolSample(i, 0), sobolSample(i, 1)};
-  net_ = makeNet(settings_, family_->gammaDimension());
+  net_ = makeNet(settings_, family_->gammaDimension(), sobol_);
 }
 
 NeuralGenerator::NeuralGenerator(NeuralGenerator &&) noexcept = default;
@@ -175,7 +312,7 @@ NeuralGenerator::~NeuralGenerator() = default;
 
 std::size_t NeuralGenerator::parameterCount() const {
   std::size_t count = 0;
-  for (const auto &p : net_->mlp->parameters()) count += std::size_t(p.numel());
+  for (const auto &p : net_->module().parameters()) count += std::size_t(p.numel());
   return count;
 }
 
@@ -206,11 +343,13 @@ void NeuralGenerator::generate(std::span<const Point2> z, std::span<const double
   for (std::size_t k = 0; k < K; ++k) checkGamma(*family_, gamma.subspan(k * g, g));
   if (K == 0) return;
   torch::NoGradGuard noGrad;
-  const torch::Tensor residual = net_->residuals(net_->inputs(z, gamma, g))
-                                     .to(torch::kFloat64)
-                                     .reshape({std::int64_t(K), std::int64_t(n), 2})
-                                     .contiguous();
-  const torch::Tensor points = (baseSets(*this, z) + residual).contiguous();
+  const torch::Tensor base = baseSets(*this, z);
+  const torch::Tensor r = settings_.arch == NetworkArch::Supplement
+                              ? net_->residuals(net_->inputs(z, gamma, g))
+                              : net_->forward(*this, z, gamma, base);
+  const torch::Tensor residual =
+      r.to(torch::kFloat64).reshape({std::int64_t(K), std::int64_t(n), 2}).contiguous();
+  const torch::Tensor points = (base + residual).contiguous();
   const auto *p = reinterpret_cast<const Point2 *>(points.data_ptr<double>());
   std::shared_ptr<const Target> target;
   for (std::size_t k = 0; k < K; ++k) {
@@ -239,21 +378,28 @@ PointSet NeuralGenerator::generateSets(std::size_t instances, std::uint64_t seed
 }
 
 std::map<std::string, std::string> NeuralGenerator::metadata() const {
-  return {{"format", kFormat},
-          {"version", std::to_string(kVersion)},
-          {"n", std::to_string(settings_.n)},
-          {"dimension", "2"},
-          {"domain", toString(domain())},
-          {"family", settings_.family},
-          {"gamma_dimension", std::to_string(gammaDimension())},
-          {"hidden", std::to_string(settings_.hidden)},
-          {"sigma", formatDouble(settings_.sigma)},
-          {"encoding_dims", std::to_string(settings_.encodingDims)},
-          {"z_harmonics", std::to_string(settings_.zHarmonics)},
-          {"offset_range", formatDouble(settings_.offsetRange)},
-          {"seed", std::to_string(settings_.seed)},
-          {"base", "sobol rotated by z"},
-          {"mapping", settings_.mapped ? "mapped" : "unmapped"}};
+  std::map<std::string, std::string> m = {{"format", kFormat},
+                                          {"arch", toString(settings_.arch)},
+                                          {"version", std::to_string(kVersion)},
+                                          {"n", std::to_string(settings_.n)},
+                                          {"dimension", "2"},
+                                          {"domain", toString(domain())},
+                                          {"family", settings_.family},
+                                          {"gamma_dimension", std::to_string(gammaDimension())},
+                                          {"hidden", std::to_string(settings_.hidden)},
+                                          {"sigma", formatDouble(settings_.sigma)},
+                                          {"encoding_dims", std::to_string(settings_.encodingDims)},
+                                          {"z_harmonics", std::to_string(settings_.zHarmonics)},
+                                          {"offset_range", formatDouble(settings_.offsetRange)},
+                                          {"seed", std::to_string(settings_.seed)},
+                                          {"base", "sobol rotated by z"},
+                                          {"mapping", settings_.mapped ? "mapped" : "unmapped"}};
+  if (settings_.arch == NetworkArch::Graph) {
+    m["neighbours"] = std::to_string(settings_.neighbours);
+    m["rounds"] = std::to_string(settings_.rounds);
+    m["position_harmonics"] = std::to_string(settings_.positionHarmonics);
+  }
+  return m;
 }
 
 ModelFile NeuralGenerator::toModelFile(const std::map<std::string, std::string> &extra) const {
@@ -266,8 +412,8 @@ ModelFile NeuralGenerator::toModelFile(const std::map<std::string, std::string> 
         {name, std::vector<std::int64_t>(f.sizes().begin(), f.sizes().end()),
          std::vector<float>(f.data_ptr<float>(), f.data_ptr<float>() + f.numel())});
   };
-  for (const auto &item : net_->mlp->named_buffers()) add(item.key(), item.value());
-  for (const auto &item : net_->mlp->named_parameters()) add(item.key(), item.value());
+  for (const auto &item : net_->module().named_buffers()) add(item.key(), item.value());
+  for (const auto &item : net_->module().named_parameters()) add(item.key(), item.value());
   return file;
 }
 
@@ -285,8 +431,8 @@ void NeuralGenerator::loadWeights(const ModelFile &file, const std::string &path
                                "' has the wrong shape for the network its metadata describes");
     t.copy_(torch::from_blob(const_cast<float *>(mt.data.data()), t.sizes(), torch::kFloat32));
   };
-  for (auto &item : net_->mlp->named_buffers()) fill(item.key(), item.value());
-  for (auto &item : net_->mlp->named_parameters()) fill(item.key(), item.value());
+  for (auto &item : net_->module().named_buffers()) fill(item.key(), item.value());
+  for (auto &item : net_->module().named_parameters()) fill(item.key(), item.value());
 }
 
 NeuralGenerator NeuralGenerator::load(const std::string &path) {
@@ -310,6 +456,19 @@ NeuralGenerator NeuralGenerator::load(const std::string &path) {
     }
   };
   NeuralSettings s;
+  // Files from before the graph generator have no 'arch': the supplement's.
+  if (file.metadata.count("arch")) {
+    try {
+      s.arch = parseNetworkArch(file.metadata.at("arch"));
+    } catch (const std::invalid_argument &e) {
+      throw std::runtime_error(path + ": model metadata 'arch': " + e.what());
+    }
+  }
+  if (s.arch == NetworkArch::Graph) {
+    s.neighbours = int(number("neighbours"));
+    s.rounds = int(number("rounds"));
+    s.positionHarmonics = int(number("position_harmonics"));
+  }
   s.n = std::size_t(number("n"));
   s.hidden = int(number("hidden"));
   s.sigma = number("sigma");

@@ -5,9 +5,15 @@
 // by z: wrapped on the square, unwrapped for directions). The last layer
 // starts at zero, so an untrained generator returns its base set.
 //
-// This header does not include LibTorch; the network lives behind `Net`
-// (sampler/neural/fourier_mlp.h), which only the generator's and trainer's
-// translation units see.
+// Two architectures share the base set, the mappings, the loss, the model
+// files and the backends: the supplement's MLP (fourier_mlp.h), which maps
+// (z, gamma) to all N x 2 residuals at once, and the graph generator
+// (graph_net.h, ours), which computes each point's residual with weights
+// shared by all points, from the point's position and its neighbours in the
+// base set.
+//
+// This header does not include LibTorch; the networks live behind `Net`
+// (sampler/neural/network.h), which only the neural translation units see.
 
 #include <cstdint>
 #include <map>
@@ -22,9 +28,26 @@
 
 namespace nuld {
 
+// Which network computes the residuals.
+enum class NetworkArch {
+  Supplement,  // the supplement's five-layer MLP of (z, gamma)
+  Graph,       // ours: per-point message passing over the base set's k-NN graph
+};
+NetworkArch parseNetworkArch(const std::string &name);  // "supplement" | "graph"
+std::string toString(NetworkArch arch);
+
 struct NeuralSettings {
-  std::size_t n = 256;    // points per set
-  int hidden = 256;       // width of the four hidden layers (64/256/512/1024 in the paper)
+  NetworkArch arch = NetworkArch::Supplement;
+  std::size_t n = 256;  // points per set
+  // Supplement: the width of the four hidden layers (64/256/512/1024 in the
+  // paper). Graph: the width of each point's state.
+  int hidden = 256;
+  // Graph only: neighbours per point, message-passing rounds, and the order
+  // of the torus harmonics that encode a point's position u (every integer
+  // frequency pair (a, b) with max(|a|, |b|) <= positionHarmonics).
+  int neighbours = 8;
+  int rounds = 3;
+  int positionHarmonics = 2;
   double sigma = 0.1;     // standard deviation of the Fourier frequencies B
   int encodingDims = 32;  // [cos 2 pi B v, sin 2 pi B v]: B has encodingDims / 2 rows
   // Ours, not the supplement's (0 = off): B also gets the rows (a, b, 0...)

@@ -10,7 +10,7 @@
 #include "sampler/loss/box_mass.h"
 #include "sampler/loss/soft_box_loss.h"
 #include "sampler/metrics/discrepancy.h"
-#include "sampler/neural/fourier_mlp.h"
+#include "sampler/neural/network.h"
 #include "sampler/optimize/schedule.h"
 #include "sampler/sequences/rng.h"
 
@@ -128,7 +128,7 @@ NeuralTrainer::NeuralTrainer(NeuralGenerator &generator, TrainerSettings setting
     : gen_(generator), settings_(std::move(settings)), state_(std::make_unique<State>()) {
   settings_.validate();
   state_->adam = std::make_unique<torch::optim::Adam>(
-      gen_.net().mlp->parameters(),
+      gen_.net().module().parameters(),
       torch::optim::AdamOptions(settings_.lrStart).betas({0.9, 0.999}).eps(1e-8).weight_decay(0));
 }
 
@@ -159,10 +159,9 @@ double NeuralTrainer::stepLoss(int step, Mode mode) {
 
   const auto netStart = Clock::now();
   const double kernelBefore = lossSeconds_;
-  auto &mlp = gen_.net().mlp;
-  torch::Tensor residual = mlp->forward(gen_.net().inputs(batch.z, batch.gamma, g));
-  residual = residual.reshape({std::int64_t(B), std::int64_t(gen_.settings().n), 2});
-  const torch::Tensor points = baseSets(gen_, batch.z).to(residual.scalar_type()) + residual;
+  const torch::Tensor base = baseSets(gen_, batch.z);
+  const torch::Tensor residual = gen_.net().forward(gen_, batch.z, batch.gamma, base);
+  const torch::Tensor points = base.to(residual.scalar_type()) + residual;
   torch::Tensor loss = SoftBoxLossFunction::apply(points, &batch);
   if (mode != Mode::Evaluate) {
     state_->adam->zero_grad();
@@ -314,10 +313,15 @@ void NeuralTrainer::loadCheckpoint(const std::string &path) {
     throw std::runtime_error(path + ": checkpoint was made with other training settings (" +
                              described + "; now " + settings_.describe() + ")");
   const auto expected = gen_.metadata();
-  for (const char *key : {"n", "hidden", "family", "seed", "mapping"})
-    if (file.value(key, path) != expected.at(key))
+  for (const char *key : {"arch", "n", "hidden", "family", "seed", "mapping"}) {
+    // Checkpoints from before the graph generator have no 'arch'.
+    const std::string found = std::string(key) == "arch" && !file.metadata.count(key)
+                                  ? "supplement"
+                                  : file.value(key, path);
+    if (found != expected.at(key))
       throw std::runtime_error(path + ": checkpoint is for another network ('" + key + "' is " +
-                               file.value(key, path) + ")");
+                               found + ")");
+  }
   gen_.loadWeights(file, path);
   const ModelTensor &t = file.tensor("trainer.adam_state", path);
   std::string blob(t.data.size() * 4, '\0');

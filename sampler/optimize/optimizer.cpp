@@ -12,6 +12,7 @@
 #include "sampler/io/atomic_file.h"
 #include "sampler/loss/box_mass.h"
 #include "sampler/loss/soft_box_loss.h"
+#include "sampler/metrics/discrepancy.h"
 #include "sampler/optimize/adam.h"
 #include "sampler/optimize/schedule.h"
 #include "sampler/sequences/rng.h"
@@ -39,10 +40,18 @@ std::string toString(Mapping m) {
 Objective parseObjective(const std::string &s) {
   if (s == "soft") return Objective::SoftBoxes;
   if (s == "l2asd") return Objective::ExactL2asd;
-  throw std::invalid_argument("unknown objective '" + s + "' (expected soft or l2asd)");
+  if (s == "l2per") return Objective::PeriodicL2;
+  throw std::invalid_argument("unknown objective '" + s + "' (expected soft, l2asd or l2per)");
 }
 
-std::string toString(Objective o) { return o == Objective::SoftBoxes ? "soft" : "l2asd"; }
+std::string toString(Objective o) {
+  switch (o) {
+    case Objective::SoftBoxes: return "soft";
+    case Objective::ExactL2asd: return "l2asd";
+    case Objective::PeriodicL2: return "l2per";
+  }
+  return "soft";
+}
 
 std::string OptimizerSettings::describe() const {
   std::ostringstream s;
@@ -127,6 +136,16 @@ DirectOptimizer::DirectOptimizer(const Target &target, OptimizerSettings setting
     // grid target's CDF is bilinear on its own cells.
     exactObjective_ = std::make_shared<NonuniformL2asd>(target, 1);
   }
+  if (settings_.objective == Objective::PeriodicL2) {
+    if (!target.isUniform())
+      throw std::invalid_argument(
+          "optimizer: the l2per objective optimizes uniform sets on the torus; target '" +
+          target.spec() + "' is not uniform (optimize --target uniform, then nuld map --shifts)");
+    if (settings_.mapping != Mapping::Toroidal)
+      throw std::invalid_argument(
+          "optimizer: the l2per objective needs --mapping toroidal (the points live on the "
+          "torus)");
+  }
 }
 
 OptimizerState DirectOptimizer::initialState() const {
@@ -160,6 +179,8 @@ double DirectOptimizer::instanceEpoch(std::size_t k, int epoch, std::span<Point2
   double loss;
   if (s.objective == Objective::ExactL2asd) {
     loss = exactObjective_->squared(x, grad);
+  } else if (s.objective == Objective::PeriodicL2) {
+    loss = periodicL2Squared(x, grad);
   } else {
     Rng rng(hashCombine(s.seed, k), std::uint64_t(epoch));
     std::vector<Box2> boxes(s.boxes);

@@ -29,8 +29,11 @@ namespace nuld {
 
 enum class Mapping { Mapped, Clamp, Toroidal };
 // ExactL2asd: the closed-form expectation of the hard box loss, for uniform
-// and piecewise-constant (grid) targets.
-enum class Objective { SoftBoxes, ExactL2asd };
+// and piecewise-constant (grid) targets. PeriodicL2: the closed-form periodic
+// L2 discrepancy (periodicL2Squared), uniform target and toroidal mapping
+// only: a set whose quality any Cranley-Patterson shift keeps, to be shifted
+// and then mapped to a target by its inverse CDF (`nuld map --shifts`).
+enum class Objective { SoftBoxes, ExactL2asd, PeriodicL2 };
 
 Mapping parseMapping(const std::string &s);
 std::string toString(Mapping m);

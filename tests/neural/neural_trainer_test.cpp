@@ -9,7 +9,7 @@
 #include <cmath>
 
 #include "sampler/metrics/discrepancy.h"
-#include "sampler/neural/fourier_mlp.h"
+#include "sampler/neural/network.h"
 #include "sampler/targets/target_spec.h"
 #include "tests/common/temp_dir.h"
 #include "tests/neural/test_families.h"
@@ -43,15 +43,22 @@ TrainerSettings tinyTraining(int steps) {
 // cannot see, so that case uses N = 1 (one point, at z, kept inside); the
 // sphere case moves 9 points per set across the poles; the mapped cases go
 // through the targets' inverse CDFs.
-void checkGradient(const std::string &family, std::size_t n, double lastLayerScale, bool mapped) {
-  NeuralGenerator gen(tinyNet(family, n, 6, mapped));
-  auto &mlp = gen.net().mlp;
-  mlp->to(torch::kFloat64);
+void checkGradient(const std::string &family, std::size_t n, double lastLayerScale, bool mapped,
+                   NetworkArch arch = NetworkArch::Supplement) {
+  NeuralSettings settings = tinyNet(family, n, 6, mapped);
+  settings.arch = arch;
+  settings.neighbours = 3;
+  settings.rounds = 2;
+  NeuralGenerator gen(settings);
+  torch::nn::Module &net = gen.net().module();
+  net.to(torch::kFloat64);
   {
     torch::NoGradGuard noGrad;
     torch::manual_seed(1);
-    mlp->l5->weight.normal_(0, lastLayerScale);
-    mlp->l5->bias.normal_(0, lastLayerScale);
+    const torch::nn::Linear last =
+        arch == NetworkArch::Graph ? gen.net().graph->out : gen.net().mlp->l5;
+    last->weight.normal_(0, lastLayerScale);
+    last->bias.normal_(0, lastLayerScale);
   }
   TrainerSettings t = tinyTraining(10);
   t.alphaStart = t.alphaEnd = 8;         // smooth enough for differences of 1e-6
@@ -59,7 +66,7 @@ void checkGradient(const std::string &family, std::size_t n, double lastLayerSca
   NeuralTrainer trainer(gen, t);
   trainer.lossAndGradient(2);
   int checked = 0;
-  for (auto &item : mlp->named_parameters()) {
+  for (auto &item : net.named_parameters()) {
     torch::Tensor p = item.value();
     const torch::Tensor grad = p.grad().clone();
     const double scale = grad.abs().max().item<double>();
@@ -105,6 +112,16 @@ TEST(NeuralTrainer, GradientThroughTheNetAndTheInverseCdfMatchesFiniteDifference
 TEST(NeuralTrainer, GradientThroughTheNetMatchesFiniteDifferencesThroughThePoles) {
   test::registerTestSphereFamily();
   checkGradient("family:test-sphere", 9, 0.05, false);
+}
+
+// The graph generator: every layer of every round, messages included, with
+// and without gamma, through the inverse CDF and through the poles. The
+// inputs (features of the base set) carry no gradient; the points do.
+TEST(NeuralTrainer, GradientThroughTheGraphNetMatchesFiniteDifferences) {
+  checkGradient("family:gaussian", 9, 0.5, true, NetworkArch::Graph);
+  checkGradient("quarterdisc", 11, 0.5, true, NetworkArch::Graph);
+  test::registerTestSphereFamily();
+  checkGradient("family:test-sphere", 9, 0.5, false, NetworkArch::Graph);
 }
 
 // Balanced pull-back: each point's u-gradient component k is the exact one

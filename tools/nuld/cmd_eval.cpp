@@ -21,8 +21,9 @@ Runner addEval(CLI::App &app) {
   app.add_option("file", o->file, "point-set file")->required();
   app.add_option("--target", o->target, "target SPEC (default: the file's, else uniform)");
   app.add_option("--metric", o->metric,
-                 "l2star, l2asd, dstar, l2 (grid L2asd against the target) or all")
-      ->check(CLI::IsMember({"l2star", "l2asd", "dstar", "l2", "all"}))
+                 "l2star, l2asd, dstar, l2 (grid L2asd against the target), l2per (periodic "
+                 "L2, uniform target only) or all")
+      ->check(CLI::IsMember({"l2star", "l2asd", "dstar", "l2", "l2per", "all"}))
       ->capture_default_str();
   app.add_option("--grid", o->grid, "grid resolution of the non-uniform L2 measures")
       ->check(CLI::Range(1, 4096))
@@ -39,8 +40,8 @@ Runner addEval(CLI::App &app) {
                  "with the points as importance samples of the target; prints its RMSE and bias");
   app.footer(
       "Values are plain (not squared) discrepancies, averaged over the file's instances.\n"
-      "Against a uniform target l2star and l2asd are exact closed forms; against a\n"
-      "non-uniform one they integrate on a grid. dstar is exact either way.");
+      "Against a uniform target l2star, l2asd and l2per are exact closed forms; against a\n"
+      "non-uniform one l2star and l2asd integrate on a grid. dstar is exact either way.");
   return [o] {
     const PointSet set = readPointSet(o->file);
     const auto target = targetFor(o->target, set);
@@ -52,10 +53,17 @@ Runner addEval(CLI::App &app) {
       return 0;
     }
     std::vector<std::string> metrics;
-    if (o->metric == "all")
+    if (o->metric == "all") {
       metrics = {"l2star", "l2asd", "dstar", "l2"};
-    else
+      if (uniform) metrics.push_back("l2per");
+    } else {
       metrics = {o->metric};
+    }
+    if (o->metric == "l2per" && !uniform)
+      throw std::invalid_argument(o->file +
+                                  ": --metric l2per measures uniform sets on the torus; "
+                                  "the target is '" +
+                                  target->spec() + "'");
     for (const std::string &m : metrics) {
       double sum = 0;
       for (std::size_t k = 0; k < set.instances(); ++k) {
@@ -66,6 +74,7 @@ Runner addEval(CLI::App &app) {
         if (m == "l2asd") v = uniform ? l2asd(pts) : nonuniformL2asd(pts, *target, o->grid);
         if (m == "dstar") v = starDiscrepancy(pts, uniform ? nullptr : target.get());
         if (m == "l2") v = nonuniformL2asd(pts, *target, o->grid);
+        if (m == "l2per") v = periodicL2(pts);
         if (o->perInstance) std::printf("%s[%zu] %.9g\n", m.c_str(), k, v);
         sum += v;
       }

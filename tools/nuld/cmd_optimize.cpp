@@ -33,7 +33,9 @@ Runner addOptimize(CLI::App &app) {
   app.add_option("--mass", o->mass, "exact or mc:K (Monte Carlo with K space samples)");
   app.add_option("--mapping", o->mapping, "mapped, clamp or toroidal");
   app.add_option("--objective", o->objective,
-                 "soft (Algorithm 1) or l2asd (exact closed form, uniform)");
+                 "soft (Algorithm 1), l2asd (exact closed form; uniform and grid targets) or "
+                 "l2per (periodic L2, closed form; uniform target, toroidal: sets that keep "
+                 "their quality under any Cranley-Patterson shift)");
   app.add_option("--lr", o->lr, "initial learning rate");
   app.add_option("--lr-end", o->lrEnd, "final learning rate");
   app.add_option("--alpha", o->alpha, "initial sigmoid scale");
@@ -59,6 +61,8 @@ Runner addOptimize(CLI::App &app) {
     if (!o->boxKind.empty()) s.boxKind = parseBoxKind(o->boxKind);
     if (!o->mapping.empty()) s.mapping = parseMapping(o->mapping);
     if (!o->objective.empty()) s.objective = parseObjective(o->objective);
+    // The periodic objective's points live on the torus.
+    if (s.objective == Objective::PeriodicL2 && o->mapping.empty()) s.mapping = Mapping::Toroidal;
     if (o->mass == "exact")
       s.mcSamples = 0;
     else if (o->mass.rfind("mc:", 0) == 0) {

@@ -40,7 +40,7 @@ void writeValidationCurve(const std::string &path, const std::vector<Validation>
 
 Runner addTrain(CLI::App &app) {
   struct Options {
-    std::string target, output, mapping = "mapped", pullback = "balanced";
+    std::string target, output, mapping = "mapped", pullback = "balanced", arch = "supplement";
     NeuralSettings net;
     TrainerSettings train;
     long checkpointEvery = 0, stopAfter = -1;
@@ -53,7 +53,19 @@ Runner addTrain(CLI::App &app) {
                  "(gamma drawn per batch entry)")
       ->required();
   app.add_option("--n", o->net.n, "points per set")->required()->check(CLI::PositiveNumber);
-  app.add_option("--hidden", o->net.hidden, "hidden layer width (64, 256, 512, 1024)")
+  app.add_option("--arch", o->arch,
+                 "supplement (the paper's MLP of z and gamma) or graph (ours: per-point message "
+                 "passing over the base set's nearest neighbours; see README)")
+      ->check(CLI::IsMember({"supplement", "graph"}))
+      ->capture_default_str();
+  app.add_option("--hidden", o->net.hidden,
+                 "hidden width (supplement: 64, 256, 512, 1024; default 256) or each point's "
+                 "state width (graph; default 64)");
+  app.add_option("--neighbours", o->net.neighbours, "graph: neighbours per point")
+      ->capture_default_str();
+  app.add_option("--rounds", o->net.rounds, "graph: message-passing rounds")->capture_default_str();
+  app.add_option("--position-harmonics", o->net.positionHarmonics,
+                 "graph: order of the torus harmonics that encode each point's position")
       ->capture_default_str();
   app.add_option("--sigma", o->net.sigma, "standard deviation of the Fourier frequencies")
       ->capture_default_str();
@@ -104,8 +116,14 @@ Runner addTrain(CLI::App &app) {
   app.add_option("--stop-after", o->stopAfter, "stop (with a checkpoint) after this step");
   app.add_flag("-q,--quiet", o->quiet, "no progress bar or messages (results still print)");
   app.add_option("-o,--output", o->output, "model file to write")->required();
-  return [o] {
+  return [o, &app] {
     NeuralSettings ns = o->net;
+    ns.arch = parseNetworkArch(o->arch);
+    if (ns.arch == NetworkArch::Graph && app.count("--hidden") == 0) ns.hidden = 64;
+    if (ns.arch == NetworkArch::Supplement)
+      for (const char *graphOnly : {"--neighbours", "--rounds", "--position-harmonics"})
+        if (app.count(graphOnly))
+          throw std::invalid_argument(std::string(graphOnly) + " applies to --arch graph only");
     ns.family = o->target;
     ns.mapped = o->mapping == "mapped";
     TrainerSettings ts = o->train;
@@ -122,7 +140,8 @@ Runner addTrain(CLI::App &app) {
       std::cerr << "no checkpoint at " << ckpt << "; starting fresh\n";
     }
     if (!o->quiet)
-      std::cerr << "train " << gen.family().spec() << ": n=" << ns.n << " hidden=" << ns.hidden
+      std::cerr << "train " << gen.family().spec() << ": arch=" << toString(ns.arch)
+                << " n=" << ns.n << " hidden=" << ns.hidden
                 << " parameters=" << gen.parameterCount() << " " << ts.describe() << "\n";
     const long every = o->checkpointEvery > 0 ? o->checkpointEvery : std::max(1, ts.steps / 20);
     const int until = o->stopAfter >= 0 ? int(std::min<long>(o->stopAfter, ts.steps)) : ts.steps;

@@ -1,0 +1,47 @@
+#pragma once
+// The network behind a NeuralGenerator, whichever its architecture. LibTorch
+// internals: only the neural translation units and tests include this.
+
+#include <torch/torch.h>
+
+#include "sampler/neural/fourier_mlp.h"
+#include "sampler/neural/graph_net.h"
+#include "sampler/neural/neural_generator.h"
+#include "sampler/neural/torus_graph.h"
+
+namespace nuld {
+
+struct NeuralGenerator::Net {
+  FourierMlp mlp{nullptr};  // NetworkArch::Supplement
+  GraphNet graph{nullptr};  // NetworkArch::Graph
+  // Graph only: the base set's neighbour graph (the same for every z) as
+  // an index tensor [N k] and its edge offsets times sqrt(N) [N, k, 2].
+  TorusGraph torus;
+  torch::Tensor neighbours, baseOffsets;
+
+  // The one module that holds the weights (parameters, buffers, dtype).
+  torch::nn::Module &module();
+  const torch::nn::Module &module() const;
+
+  // The residuals of K sets, [K, N, 2] in the module's dtype; they carry
+  // autograd unless a NoGradGuard is active. `base` is baseSets(gen, z).
+  torch::Tensor forward(const NeuralGenerator &gen, std::span<const Point2> z,
+                        std::span<const double> gamma, const torch::Tensor &base);
+
+  // Supplement only: the network's outputs for input rows v (no autograd):
+  // the same values as mlp->forward(v) up to single-precision summation order.
+  torch::Tensor residuals(const torch::Tensor &v) const;
+  // Supplement only: the input rows (z, gamma) for K sets, in the module's dtype.
+  torch::Tensor inputs(std::span<const Point2> z, std::span<const double> gamma,
+                       std::size_t gammaDim) const;
+  // Graph only: the per-point and per-edge inputs ([K, N, F], [K, N, k, E],
+  // module dtype) of K sets whose base sets are `base`.
+  std::pair<torch::Tensor, torch::Tensor> graphInputs(const NeuralGenerator &gen,
+                                                      std::span<const double> gamma,
+                                                      const torch::Tensor &base) const;
+};
+
+// The base sets for the given offsets as a [K, N, 2] double tensor.
+torch::Tensor baseSets(const NeuralGenerator &gen, std::span<const Point2> z);
+
+}  // namespace nuld

@@ -1,0 +1,187 @@
+// The graph generator (--arch graph): its neighbour graph against brute
+// force, the untrained net is its base set, permuting the points permutes
+// the output, and its model files round-trip and fail clearly.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <numeric>
+#include <random>
+
+#include "sampler/neural/network.h"
+#include "sampler/neural/neural_trainer.h"
+#include "sampler/sequences/rng.h"
+#include "tests/common/temp_dir.h"
+#include "tests/neural/tiny_settings.h"
+
+namespace nuld {
+namespace {
+
+NeuralSettings tinyGraph(const std::string &family, std::size_t n, bool mapped = true) {
+  NeuralSettings s = test::tinyNeuralSettings(family, n, 12, mapped, 7);
+  s.arch = NetworkArch::Graph;
+  s.neighbours = 5;
+  s.rounds = 2;
+  return s;
+}
+
+std::vector<Point2> randomPoints(std::size_t n, std::uint64_t seed) {
+  Rng rng(seed, 1);
+  std::vector<Point2> p(n);
+  for (Point2 &q : p) q = {rng.uniform(), rng.uniform()};
+  return p;
+}
+
+TEST(TorusGraph, EqualsBruteForceNearestNeighbours) {
+  for (const std::size_t n : {1, 2, 3, 9, 300, 1500}) {
+    const std::vector<Point2> p = randomPoints(n, n);
+    const TorusGraph g = buildTorusGraph(p, 8);
+    ASSERT_EQ(g.k, std::min<std::size_t>(8, n - 1)) << n;
+    for (std::size_t i = 0; i < n; ++i) {
+      std::vector<std::pair<double, std::int64_t>> all;
+      for (std::size_t j = 0; j < n; ++j) {
+        if (j == i) continue;
+        // Brute force over the nine images of j around the unit square.
+        double best = 1e9;
+        for (int sx = -1; sx <= 1; ++sx)
+          for (int sy = -1; sy <= 1; ++sy)
+            best = std::min(best, std::hypot(p[j].x + sx - p[i].x, p[j].y + sy - p[i].y));
+        all.push_back({best, std::int64_t(j)});
+      }
+      std::sort(all.begin(), all.end());
+      for (std::size_t e = 0; e < g.k; ++e) {
+        ASSERT_EQ(g.neighbours[i * g.k + e], all[e].second) << n << " " << i << " " << e;
+        const Point2 d = g.offsets[i * g.k + e];
+        EXPECT_NEAR(std::hypot(d.x, d.y), all[e].first, 1e-12);
+        EXPECT_TRUE(d.x >= -0.5 && d.x < 0.5 && d.y >= -0.5 && d.y < 0.5);
+      }
+    }
+  }
+}
+
+TEST(GraphGenerator, UntrainedOutputIsTheBaseSetThroughTheTarget) {
+  for (const std::size_t n : {1, 37}) {
+    const NeuralGenerator gen(tinyGraph("family:gaussian", n));
+    const std::vector<double> gamma = {0.2, 0.7, 0.4, 0.9, 0.1, 0.6};
+    const std::vector<Point2> z = {{0.61, 0.05}, {0.999, 0.3}};
+    std::vector<Point2> base(n), out(2 * n);
+    gen.generate(z, gamma, out);
+    for (std::size_t k = 0; k < 2; ++k) {
+      const auto target = gen.family().target(std::span(gamma).subspan(3 * k, 3));
+      gen.baseSet(z[k], base);
+      for (std::size_t i = 0; i < n; ++i) EXPECT_EQ(out[k * n + i], target->invert(base[i]).x);
+    }
+  }
+}
+
+// Equivariance: the same per-point inputs in another order, with the graph
+// rebuilt from the reordered points, give the same residuals reordered.
+TEST(GraphGenerator, PermutingThePointsPermutesTheOutput) {
+  const std::size_t n = 40, k = 6;
+  const std::int64_t F = 5;
+  torch::manual_seed(3);
+  GraphNet net(torch::zeros({0, 0}), F, 4, 16, 3);
+  {
+    torch::NoGradGuard noGrad;
+    net->out->weight.normal_(0, 1);
+    net->out->bias.normal_(0, 1);
+  }
+  const std::vector<Point2> p = randomPoints(n, 11);
+  const torch::Tensor features = torch::randn({1, std::int64_t(n), F});
+  std::vector<std::size_t> perm(n);
+  std::iota(perm.begin(), perm.end(), 0);
+  std::shuffle(perm.begin(), perm.end(), std::mt19937(5));
+  auto run = [&](const std::vector<Point2> &points, const torch::Tensor &nodes) {
+    const TorusGraph g = buildTorusGraph(points, k);
+    torch::Tensor edges = torch::empty({1, std::int64_t(n), std::int64_t(k), 4});
+    for (std::size_t e = 0; e < n * k; ++e) {
+      const Point2 d = g.offsets[e];
+      edges[0][std::int64_t(e / k)][std::int64_t(e % k)] =
+          torch::tensor({float(d.x), float(d.y), float(d.x * d.y), float(d.x - d.y)});
+    }
+    const torch::Tensor nb = torch::from_blob(const_cast<std::int64_t *>(g.neighbours.data()),
+                                              {std::int64_t(n * k)}, torch::kInt64)
+                                 .clone();
+    torch::NoGradGuard noGrad;
+    return net->forward(nodes, edges, nb);
+  };
+  std::vector<Point2> q(n);
+  std::vector<std::int64_t> index(n);
+  for (std::size_t i = 0; i < n; ++i) q[i] = p[perm[i]], index[i] = std::int64_t(perm[i]);
+  const torch::Tensor a = run(p, features);
+  const torch::Tensor b = run(q, features.index_select(1, torch::tensor(index)));
+  EXPECT_GT(a.abs().max().item<double>(), 0.1);
+  EXPECT_LE((b - a.index_select(1, torch::tensor(index))).abs().max().item<double>(), 1e-5);
+}
+
+TEST(GraphGenerator, TrainedWeightsSaveAndLoadBitExactly) {
+  test::TempDir dir;
+  NeuralGenerator gen(tinyGraph("quarterdisc", 24));
+  TrainerSettings t;
+  t.steps = 4;
+  t.batch = 2;
+  t.boxes = 128;
+  t.lrStart = t.lrEnd = 1e-2;
+  t.validationSets = 0;
+  NeuralTrainer trainer(gen, t);
+  trainer.run(4);
+  const std::string path = (dir / "g.nuldnet").string();
+  gen.save(path);
+  const NeuralGenerator back = NeuralGenerator::load(path);
+  EXPECT_EQ(back.settings().arch, NetworkArch::Graph);
+  EXPECT_EQ(back.settings().neighbours, 5);
+  EXPECT_EQ(back.settings().rounds, 2);
+  EXPECT_EQ(back.settings().positionHarmonics, gen.settings().positionHarmonics);
+  const auto pa = gen.net().module().parameters(), pb = back.net().module().parameters();
+  ASSERT_EQ(pa.size(), pb.size());
+  for (std::size_t i = 0; i < pa.size(); ++i) EXPECT_TRUE(torch::equal(pa[i], pb[i])) << i;
+  EXPECT_GT(gen.net().graph->out->weight.abs().max().item<float>(), 0);  // trained
+  const PointSet a = gen.generateSets(3, 9, {}), b = back.generateSets(3, 9, {});
+  EXPECT_EQ(a.points, b.points);
+  const PointSet base = NeuralGenerator(tinyGraph("quarterdisc", 24)).generateSets(3, 9, {});
+  EXPECT_NE(a.points, base.points);
+}
+
+TEST(GraphGenerator, BadArchitectureMetadataAndSettingsAreClearErrors) {
+  test::TempDir dir;
+  auto expectError = [](const std::string &path, const std::string &fragment) {
+    try {
+      NeuralGenerator::load(path);
+      FAIL() << path;
+    } catch (const std::runtime_error &e) {
+      EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    }
+  };
+  const NeuralGenerator gen(tinyGraph("quarterdisc", 8));
+  ModelFile file = gen.toModelFile();
+  file.metadata["arch"] = "transformer";
+  writeModelFile((dir / "arch").string(), file);
+  expectError((dir / "arch").string(), "expected supplement or graph");
+  file = gen.toModelFile();
+  file.metadata.erase("rounds");
+  writeModelFile((dir / "rounds").string(), file);
+  expectError((dir / "rounds").string(), "rounds");
+  file = gen.toModelFile();
+  file.metadata["arch"] = "supplement";  // a graph's weights under the MLP's name
+  writeModelFile((dir / "mismatch").string(), file);
+  expectError((dir / "mismatch").string(), "wrong shape");
+
+  // A file from before the graph generator (no 'arch') is the supplement's.
+  NeuralSettings old = test::tinyNeuralSettings("quarterdisc", 8, 8, true, 1);
+  file = NeuralGenerator(old).toModelFile();
+  file.metadata.erase("arch");
+  writeModelFile((dir / "old").string(), file);
+  EXPECT_EQ(NeuralGenerator::load((dir / "old").string()).settings().arch, NetworkArch::Supplement);
+
+  NeuralSettings s = tinyGraph("quarterdisc", 8);
+  s.zHarmonics = 2;
+  EXPECT_THROW(NeuralGenerator{s}, std::invalid_argument);
+  s = tinyGraph("quarterdisc", 8);
+  s.neighbours = 0;
+  EXPECT_THROW(NeuralGenerator{s}, std::invalid_argument);
+  EXPECT_THROW(parseNetworkArch("mlp"), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace nuld
