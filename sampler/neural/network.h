@@ -4,6 +4,7 @@
 
 #include <torch/torch.h>
 
+#include "sampler/metrics/nonuniform_l2.h"
 #include "sampler/neural/fourier_mlp.h"
 #include "sampler/neural/graph_net.h"
 #include "sampler/neural/neural_generator.h"
@@ -14,10 +15,13 @@ namespace nuld {
 struct NeuralGenerator::Net {
   FourierMlp mlp{nullptr};  // NetworkArch::Supplement
   GraphNet graph{nullptr};  // NetworkArch::Graph
-  // Graph only: the base set's neighbour graph (the same for every z) as
-  // an index tensor [N k] and its edge offsets times sqrt(N) [N, k, 2].
+  // Graph only: the base set's neighbour graph (the same for every z) and
+  // its index tensor [N k].
   TorusGraph torus;
-  torch::Tensor neighbours, baseOffsets;
+  torch::Tensor neighbours;
+  // Graph with discrepancyGradient: the objective whose gradient the points
+  // see, kept for a family without gamma (one target).
+  mutable std::shared_ptr<const NonuniformL2asd> objective;
 
   // The one module that holds the weights (parameters, buffers, dtype).
   torch::nn::Module &module();
@@ -35,10 +39,11 @@ struct NeuralGenerator::Net {
   torch::Tensor inputs(std::span<const Point2> z, std::span<const double> gamma,
                        std::size_t gammaDim) const;
   // Graph only: the per-point and per-edge inputs ([K, N, F], [K, N, k, E],
-  // module dtype) of K sets whose base sets are `base`.
+  // module dtype) of K sets whose current raw points are `points` ([K, N,
+  // 2] double: the base set plus the residuals of earlier stages).
   std::pair<torch::Tensor, torch::Tensor> graphInputs(const NeuralGenerator &gen,
                                                       std::span<const double> gamma,
-                                                      const torch::Tensor &base) const;
+                                                      const torch::Tensor &points) const;
 };
 
 // The base sets for the given offsets as a [K, N, 2] double tensor.

@@ -50,7 +50,8 @@ torch::Tensor zHarmonicFrequencies(int k, int cols) {
 std::int64_t graphNodeFeatures(const NeuralSettings &s, std::size_t gammaDim) {
   const std::int64_t harmonics =
       ((2 * s.positionHarmonics + 1) * (2 * s.positionHarmonics + 1) - 1);
-  return harmonics + 2 + 3 + 1 + std::int64_t(gammaDim) + (gammaDim > 0 ? s.encodingDims : 0);
+  return harmonics + 2 + 3 + 1 + std::int64_t(gammaDim) + (gammaDim > 0 ? s.encodingDims : 0) +
+         (s.discrepancyGradient ? 3 : 0);
 }
 constexpr std::int64_t kGraphEdgeFeatures = 4;
 
@@ -66,11 +67,6 @@ std::unique_ptr<NeuralGenerator::Net> makeNet(const NeuralSettings &s, std::size
     const std::int64_t n = std::int64_t(s.n), k = std::int64_t(net->torus.k);
     net->neighbours =
         torch::from_blob(net->torus.neighbours.data(), {n * k}, torch::kInt64).clone();
-    net->baseOffsets = torch::empty({n, k, 2}, torch::kFloat64);
-    auto *o = reinterpret_cast<Point2 *>(net->baseOffsets.data_ptr<double>());
-    const double scale = std::sqrt(double(s.n));
-    for (std::size_t e = 0; e < net->torus.offsets.size(); ++e)
-      o[e] = scale * net->torus.offsets[e];
     return net;
   }
   torch::Tensor B = drawFrequencies(s.encodingDims / 2, int(2 + gammaDim), s.sigma, s.seed);
@@ -128,15 +124,25 @@ torch::Tensor NeuralGenerator::Net::forward(const NeuralGenerator &gen, std::spa
                                             const torch::Tensor &base) {
   const std::int64_t K = std::int64_t(z.size()), n = std::int64_t(gen.settings().n);
   if (!graph) return mlp->forward(inputs(z, gamma, gen.gammaDimension())).reshape({K, n, 2});
-  const auto [nodes, edges] = graphInputs(gen, gamma, base);
-  // Residuals in units of the point spacing, 1 / sqrt(N).
-  return graph->forward(nodes, edges, neighbours) * (1 / std::sqrt(double(n)));
+  // Residuals in units of the point spacing, 1 / sqrt(N). Each stage sees
+  // where the earlier ones put the points (as an input: no gradient flows
+  // through the features), and its residual adds to theirs.
+  torch::Tensor total;
+  torch::Tensor current = base;
+  for (int stage = 0; stage < gen.settings().stages; ++stage) {
+    const auto [nodes, edges] = graphInputs(gen, gamma, current);
+    const torch::Tensor r = graph->forward(nodes, edges, neighbours) * (1 / std::sqrt(double(n)));
+    total = stage == 0 ? r : total + r;
+    if (stage + 1 < gen.settings().stages)
+      current = (base + total.detach().to(torch::kFloat64)).contiguous();
+  }
+  return total;
 }
 
 std::pair<torch::Tensor, torch::Tensor> NeuralGenerator::Net::graphInputs(
-    const NeuralGenerator &gen, std::span<const double> gamma, const torch::Tensor &base) const {
+    const NeuralGenerator &gen, std::span<const double> gamma, const torch::Tensor &points) const {
   const NeuralSettings &s = gen.settings();
-  const std::size_t K = std::size_t(base.size(0)), n = s.n, g = gen.gammaDimension(), k = torus.k;
+  const std::size_t K = std::size_t(points.size(0)), n = s.n, g = gen.gammaDimension(), k = torus.k;
   const std::int64_t F = graphNodeFeatures(s, g);
   const torch::Tensor harmonics = zHarmonicFrequencies(s.positionHarmonics, 2).to(torch::kFloat64);
   const std::int64_t H = harmonics.size(0);
@@ -145,12 +151,13 @@ std::pair<torch::Tensor, torch::Tensor> NeuralGenerator::Net::graphInputs(
 
   torch::Tensor nodes = torch::empty({std::int64_t(K), std::int64_t(n), F}, torch::kFloat64);
   torch::Tensor edges =
-      torch::empty({std::int64_t(K), std::int64_t(n), std::int64_t(k), 2}, torch::kFloat64);
-  const auto *pb = reinterpret_cast<const Point2 *>(base.data_ptr<double>());
+      torch::empty({std::int64_t(K), std::int64_t(n), std::int64_t(k), 4}, torch::kFloat64);
+  const auto *pb = reinterpret_cast<const Point2 *>(points.data_ptr<double>());
   double *pn = nodes.data_ptr<double>();
   auto *pe = reinterpret_cast<Point2 *>(edges.data_ptr<double>());
   const auto hf = harmonics.accessor<double, 2>();
-  std::vector<Point2> x(n);
+  std::vector<Point2> x(n), u(n), gradient(s.discrepancyGradient ? n : 0);
+  std::vector<Jacobian2> jacobian(n);
   std::shared_ptr<const Target> target;
   for (std::size_t set = 0; set < K; ++set) {
     const std::span<const double> gs = gamma.subspan(set * g, g);
@@ -165,12 +172,32 @@ std::pair<torch::Tensor, torch::Tensor> NeuralGenerator::Net::graphInputs(
       gammaCode.assign(code.data_ptr<double>(), code.data_ptr<double>() + code.numel());
     }
     for (std::size_t i = 0; i < n; ++i) {
-      const Point2 raw = pb[set * n + i], u{wrapUnit(raw.x), wrapUnit(raw.y)};
-      Jacobian2 j;
-      x[i] = gen.place(raw, *target, &j);
+      const Point2 raw = pb[set * n + i];
+      u[i] = {wrapUnit(raw.x), wrapUnit(raw.y)};
+      x[i] = gen.place(raw, *target, &jacobian[i]);
+    }
+    // The descent direction: dL2^2/du (pulled back through T and balanced
+    // per coordinate as the trainer does), over its root mean square.
+    double gradientScale = 0;
+    if (s.discrepancyGradient) {
+      std::shared_ptr<const NonuniformL2asd> objectiveHere = objective;
+      if (!objectiveHere || g > 0) {
+        objectiveHere = std::make_shared<const NonuniformL2asd>(*target, 64);
+        if (g == 0) objective = objectiveHere;
+      }
+      objectiveHere->squared(x, gradient);
+      for (std::size_t i = 0; i < n; ++i) {
+        gradient[i] = balancedPullback(jacobian[i].transposeTimes(gradient[i]), jacobian[i]);
+        gradientScale +=
+            (gradient[i].x * gradient[i].x + gradient[i].y * gradient[i].y) / double(n);
+      }
+      gradientScale = std::sqrt(gradientScale);
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      const Jacobian2 &j = jacobian[i];
       double *f = pn + (set * n + i) * std::size_t(F);
       for (std::int64_t h = 0; h < H; ++h) {
-        const double angle = 2 * std::numbers::pi * (hf[h][0] * u.x + hf[h][1] * u.y);
+        const double angle = 2 * std::numbers::pi * (hf[h][0] * u[i].x + hf[h][1] * u[i].y);
         *f++ = std::cos(angle);
         *f++ = std::sin(angle);
       }
@@ -189,23 +216,33 @@ std::pair<torch::Tensor, torch::Tensor> NeuralGenerator::Net::graphInputs(
       *f++ = logN;
       for (std::size_t q = 0; q < g; ++q) *f++ = 2 * gs[q] - 1;
       for (const double c : gammaCode) *f++ = c;
+      if (s.discrepancyGradient) {
+        const bool usable = gradientScale > 0 && std::isfinite(gradientScale);
+        *f++ = usable ? gradient[i].x / gradientScale : 0.0;
+        *f++ = usable ? gradient[i].y / gradientScale : 0.0;
+        *f++ = usable
+                   ? std::clamp(std::log(gradientScale * double(n) * double(n)), -20.0, 20.0) / 10
+                   : -2.0;
+      }
     }
-    // Edges: the neighbour's offset in u (the same for every z) and in x,
-    // both in units of the spacing; x's is clamped, as a neighbour across
-    // the square's seam or a stretched region is simply far.
+    // Edges: the neighbour's offset on the torus of u (for the base set the
+    // same for every z) and in x, both in units of the spacing; x's is
+    // clamped, as a neighbour across the square's seam or a stretched
+    // region is simply far.
     for (std::size_t i = 0; i < n; ++i)
       for (std::size_t e = 0; e < k; ++e) {
         const std::size_t j = std::size_t(torus.neighbours[i * k + e]);
+        const Point2 du = torusDifference(u[i], u[j]);
         Point2 dx = x[j] - x[i];
         if (sphere) dx.x -= std::floor(dx.x + 0.5);  // longitude is periodic
         auto clampSpacing = [&](double d) { return std::clamp(d * rootN, -4.0, 4.0); };
-        pe[((set * n + i) * k + e)] = {clampSpacing(dx.x), clampSpacing(dx.y)};
+        Point2 *edge = pe + 2 * ((set * n + i) * k + e);
+        edge[0] = rootN * du;
+        edge[1] = {clampSpacing(dx.x), clampSpacing(dx.y)};
       }
   }
-  const torch::Tensor uOffsets =
-      baseOffsets.unsqueeze(0).expand({std::int64_t(K), std::int64_t(n), std::int64_t(k), 2});
   const auto dtype = graph->embed->weight.scalar_type();
-  return {nodes.to(dtype), torch::cat({uOffsets, edges}, 3).to(dtype)};
+  return {nodes.to(dtype), edges.to(dtype)};
 }
 
 torch::Tensor NeuralGenerator::Net::residuals(const torch::Tensor &v) const {
@@ -267,7 +304,16 @@ void NeuralSettings::validate() const {
     if (rounds < 0 || rounds > 16) bad("rounds must be in [0, 16]");
     if (positionHarmonics < 1 || positionHarmonics > 16)
       bad("position harmonics must be in [1, 16]");
+    if (stages < 1 || stages > 16) bad("stages must be in [1, 16]");
   }
+}
+
+Point2 balancedPullback(Point2 pulled, const Jacobian2 &j) {
+  auto scaled = [](double component, double a, double b) {
+    const double length = std::hypot(a, b);
+    return length > 0 && std::isfinite(length) ? component / length : 0.0;
+  };
+  return {scaled(pulled.x, j.m[0][0], j.m[1][0]), scaled(pulled.y, j.m[0][1], j.m[1][1])};
 }
 
 NetworkArch parseNetworkArch(const std::string &name) {
@@ -398,6 +444,8 @@ std::map<std::string, std::string> NeuralGenerator::metadata() const {
     m["neighbours"] = std::to_string(settings_.neighbours);
     m["rounds"] = std::to_string(settings_.rounds);
     m["position_harmonics"] = std::to_string(settings_.positionHarmonics);
+    m["stages"] = std::to_string(settings_.stages);
+    m["discrepancy_gradient"] = settings_.discrepancyGradient ? "1" : "0";
   }
   return m;
 }
@@ -468,6 +516,8 @@ NeuralGenerator NeuralGenerator::load(const std::string &path) {
     s.neighbours = int(number("neighbours"));
     s.rounds = int(number("rounds"));
     s.positionHarmonics = int(number("position_harmonics"));
+    s.stages = int(number("stages"));
+    s.discrepancyGradient = number("discrepancy_gradient") != 0;
   }
   s.n = std::size_t(number("n"));
   s.hidden = int(number("hidden"));

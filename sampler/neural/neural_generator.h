@@ -48,6 +48,13 @@ struct NeuralSettings {
   int neighbours = 8;
   int rounds = 3;
   int positionHarmonics = 2;
+  // Graph only: stages of the generator, each adding a residual computed
+  // from the points the previous stages left (the same weights every
+  // stage), and whether each point also sees the gradient of its set's grid
+  // L2 discrepancy at its current position (so a stage can act as a learned
+  // descent step rather than guess the direction from the neighbourhood).
+  int stages = 1;
+  bool discrepancyGradient = false;
   double sigma = 0.1;     // standard deviation of the Fourier frequencies B
   int encodingDims = 32;  // [cos 2 pi B v, sin 2 pi B v]: B has encodingDims / 2 rows
   // Ours, not the supplement's (0 = off): B also gets the rows (a, b, 0...)
@@ -79,6 +86,12 @@ struct NeuralSettings {
   // Throws std::invalid_argument naming the bad setting.
   void validate() const;
 };
+
+// J^T g (`pulled`) with component k divided by |column k of J|: the
+// derivative along the unit direction that u's coordinate k moves x in (the
+// trainer's balanced pull-back, GradientPullback). A coordinate whose column
+// is zero or not finite moves x nowhere useful and gets 0.
+Point2 balancedPullback(Point2 pulled, const Jacobian2 &j);
 
 class NeuralGenerator {
  public:

@@ -36,16 +36,6 @@ struct Batch {
   double *kernelSeconds = nullptr;
 };
 
-// J^T g with component k divided by |column k of J|; a coordinate whose
-// column is zero or not finite moves x nowhere useful and gets 0.
-Point2 balanced(Point2 pulled, const Jacobian2 &j) {
-  auto scaled = [](double component, double a, double b) {
-    const double length = std::hypot(a, b);
-    return length > 0 && std::isfinite(length) ? component / length : 0.0;
-  };
-  return {scaled(pulled.x, j.m[0][0], j.m[1][0]), scaled(pulled.y, j.m[0][1], j.m[1][1])};
-}
-
 // The soft box loss as a LibTorch autograd function: forward runs the
 // sampler's kernel on each set and keeps its analytic gradient, backward
 // hands that gradient on. Points leave the network unwrapped; the loss sees
@@ -70,7 +60,7 @@ struct SoftBoxLossFunction : torch::autograd::Function<SoftBoxLossFunction> {
       loss += softBoxLoss(placed, batch->boxes[b], batch->masses[b], batch->options, g);
       for (std::int64_t i = 0; i < n; ++i) {
         Point2 gi = jac[i].transposeTimes(g[i]);
-        if (batch->pullback == GradientPullback::Balanced) gi = balanced(gi, jac[i]);
+        if (batch->pullback == GradientPullback::Balanced) gi = balancedPullback(gi, jac[i]);
         pg[b * n + i] = {gi.x / double(B), gi.y / double(B)};
       }
     }

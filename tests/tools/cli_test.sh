@@ -28,7 +28,7 @@ ok "generate sobol" "$nuld" generate --sequence sobol --n 100 --instances 3 -o "
 ok "generate mapped halton" "$nuld" generate --sequence halton --n 64 --target quarterdisc -o "$dir/q.ptsb"
 ok "eval" "$nuld" eval "$dir/s.txt"
 grep -q '^l2star [0-9.e-]*$' "$dir/out" || { echo "FAIL: eval output lines"; cat "$dir/out"; failures=$((failures + 1)); }
-[[ $(wc -l <"$dir/out") -eq 4 ]] || { echo "FAIL: eval all prints 4 metrics"; failures=$((failures + 1)); }
+[[ $(wc -l <"$dir/out") -eq 5 ]] && grep -q "^l2per " "$dir/out" || { echo "FAIL: eval all prints 5 metrics on a uniform set (l2per included)"; failures=$((failures + 1)); }
 ok "eval target from metadata" "$nuld" eval "$dir/q.ptsb" --metric dstar --integrand disc
 grep -q '^integration_rmse' "$dir/out" || { echo "FAIL: integrand output"; failures=$((failures + 1)); }
 ok "plot" "$nuld" plot "$dir/q.ptsb" -o "$dir/q.png"
@@ -121,6 +121,18 @@ fails_with "generate --model gamma range" "must lie in \[0, 1\]" "$nuld" generat
 head -c 100 "$dir/g.nuldnet" >"$dir/cut.nuldnet"
 fails_with "generate truncated model" "cut.nuldnet" "$nuld" generate --model "$dir/cut.nuldnet" -o "$dir/x.txt"
 fails_with "generate foreign model" "not a nuld model file" "$nuld" generate --model "$dir/s.txt" -o "$dir/x.txt"
+# The graph generator: train, generate; its options refused for the supplement's net.
+ok "train graph" "$nuld" train --arch graph --discrepancy-gradient --stages 2 --target quarterdisc --n 12 --hidden 8 --steps 3 --batch 2 --boxes 64 -q -o "$dir/gr.nuldnet"
+ok "generate graph" "$nuld" generate --model "$dir/gr.nuldnet" --instances 3 -o "$dir/gr.txt"
+fails_with "graph option without --arch graph" "applies to --arch graph only" "$nuld" train --target quarterdisc --n 8 --steps 2 --stages 2 -q -o "$dir/x.nuldnet"
+# The periodic objective and shifted mapping.
+ok "optimize l2per" "$nuld" optimize --target uniform --n 16 --objective l2per --epochs 20 -q -o "$dir/per.txt"
+ok "eval l2per" "$nuld" eval "$dir/per.txt" --metric l2per
+ok "map --shifts" "$nuld" map "$dir/per.txt" --target quarterdisc --shifts 3 --seed 2 -o "$dir/per3.txt"
+[[ $(grep -vc '^#' "$dir/per3.txt") -eq 48 ]] || { echo "FAIL: map --shifts writes K sets per input set"; failures=$((failures + 1)); }
+fails_with "l2per on a non-uniform target" "not uniform" "$nuld" optimize --target quarterdisc --n 16 --objective l2per --epochs 2 -q -o "$dir/x.txt"
+fails_with "eval l2per non-uniform" "measures uniform sets" "$nuld" eval "$dir/per3.txt" --metric l2per
+fails_with "map --seed without --shifts" "give --shifts" "$nuld" map "$dir/per.txt" --target quarterdisc --seed 2 -o "$dir/x.txt"
 fails_with "train unknown family" "unknown family 'blob'" "$nuld" train --target family:blob --n 8 --steps 2 -q -o "$dir/x.nuldnet"
 
 # Render study: a tiny study, its table, a resumed rerun, the report; bad input.

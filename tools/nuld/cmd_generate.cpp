@@ -2,6 +2,7 @@
 
 #include "sampler/io/pointset_io.h"
 #include "sampler/neural/neural_generator.h"
+#include "sampler/sequences/rng.h"
 #include "sampler/sequences/sequence.h"
 #include "sampler/targets/target_spec.h"
 #include "tools/nuld/cli_util.h"
@@ -87,16 +88,42 @@ Runner addGenerate(CLI::App &app) {
 Runner addMap(CLI::App &app) {
   struct Options {
     std::string input, target, output;
+    std::size_t shifts = 0;
+    std::uint64_t seed = 0;
   };
   auto o = std::make_shared<Options>();
   app.add_option("file", o->input, "point-set file of uniform points")->required();
   app.add_option("--target", o->target, "target SPEC to map to by inverse CDF")->required();
+  app.add_option("--shifts", o->shifts,
+                 "randomize first: K Cranley-Patterson shifts (from --seed) of every input set, "
+                 "so the output has K times its instances (for sets optimized with --objective "
+                 "l2per, whose quality no shift changes)")
+      ->check(CLI::Range(1, 1 << 20));
+  app.add_option("--seed", o->seed, "seed of the shifts")->capture_default_str();
   app.add_option("-o,--output", o->output, "output file")->required();
-  return [o] {
+  return [o, &app] {
+    if (app.count("--seed") && o->shifts == 0)
+      throw std::invalid_argument("map: --seed draws the --shifts; give --shifts K");
     PointSet set = readPointSet(o->input);
     if (auto it = set.metadata.find("target"); it != set.metadata.end() && it->second != "uniform")
       throw std::invalid_argument(o->input + ": holds points for target '" + it->second +
                                   "'; expected uniform points to map");
+    if (o->shifts > 0) {
+      // Shift s of set k moves every point by the same offset modulo 1.
+      PointSet shifted;
+      shifted.n = set.n;
+      shifted.metadata = set.metadata;
+      Rng rng(o->seed, 0xC9);
+      for (std::size_t k = 0; k < set.instances(); ++k)
+        for (std::size_t s = 0; s < o->shifts; ++s) {
+          const Point2 z{rng.uniform(), rng.uniform()};
+          for (const Point2 &p : set.instance(k))
+            shifted.points.push_back({wrapUnit(p.x + z.x), wrapUnit(p.y + z.y)});
+        }
+      shifted.metadata["randomization"] =
+          "cranley-patterson x" + std::to_string(o->shifts) + " seed " + std::to_string(o->seed);
+      set = std::move(shifted);
+    }
     if (set.metadata.count("generator")) set.metadata["generator"] += "+inverse-cdf";
     mapByInverseCdf(set, *makeTarget(o->target));
     writePointSet(o->output, set);

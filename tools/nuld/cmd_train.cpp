@@ -67,6 +67,13 @@ Runner addTrain(CLI::App &app) {
   app.add_option("--position-harmonics", o->net.positionHarmonics,
                  "graph: order of the torus harmonics that encode each point's position")
       ->capture_default_str();
+  app.add_option("--stages", o->net.stages,
+                 "graph: stages, each adding a residual computed from where the earlier ones "
+                 "left the points (shared weights)")
+      ->capture_default_str();
+  app.add_flag("--discrepancy-gradient", o->net.discrepancyGradient,
+               "graph: each point also sees the gradient of its set's grid L2 discrepancy at "
+               "its current position (a learned descent step)");
   app.add_option("--sigma", o->net.sigma, "standard deviation of the Fourier frequencies")
       ->capture_default_str();
   app.add_option("--encoding-dims", o->net.encodingDims,
@@ -121,7 +128,8 @@ Runner addTrain(CLI::App &app) {
     ns.arch = parseNetworkArch(o->arch);
     if (ns.arch == NetworkArch::Graph && app.count("--hidden") == 0) ns.hidden = 64;
     if (ns.arch == NetworkArch::Supplement)
-      for (const char *graphOnly : {"--neighbours", "--rounds", "--position-harmonics"})
+      for (const char *graphOnly : {"--neighbours", "--rounds", "--position-harmonics", "--stages",
+                                    "--discrepancy-gradient"})
         if (app.count(graphOnly))
           throw std::invalid_argument(std::string(graphOnly) + " applies to --arch graph only");
     ns.family = o->target;
