@@ -1,11 +1,15 @@
 #pragma once
 // LibTorch internals of the supplement's network. Only the neural translation
 // units (and the neural tests) include this: one file including
-// <torch/torch.h> costs ~15 s and ~1 GB to compile (DESIGN.md §6).
+// <torch/torch.h> costs ~15 s and ~1 GB to compile.
 
 #include <torch/torch.h>
 
 namespace nuld {
+
+// The Fourier features [cos 2 pi v B^T, sin 2 pi v B^T] of the rows of v:
+// the supplement's encoding of (z, gamma), and the graph generator's of gamma.
+torch::Tensor fourierFeatures(const torch::Tensor &v, const torch::Tensor &B);
 
 // Five fully connected layers with ReLU; the Fourier encoding e of the input
 // v = (z, gamma) is the first layer's input and is concatenated to the input

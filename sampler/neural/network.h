@@ -19,9 +19,9 @@ struct NeuralGenerator::Net {
   // its index tensor [N k].
   TorusGraph torus;
   torch::Tensor neighbours;
-  // Graph with discrepancyGradient: the objective whose gradient the points
-  // see, kept for a family without gamma (one target).
-  mutable std::shared_ptr<const NonuniformL2asd> objective;
+  // Graph with discrepancyGradient and a family without gamma (one target):
+  // the objective whose gradient the points see, built with the generator.
+  std::shared_ptr<const NonuniformL2asd> objective;
 
   // The one module that holds the weights (parameters, buffers, dtype).
   torch::nn::Module &module();

@@ -54,6 +54,9 @@ std::int64_t graphNodeFeatures(const NeuralSettings &s, std::size_t gammaDim) {
          (s.discrepancyGradient ? 3 : 0);
 }
 constexpr std::int64_t kGraphEdgeFeatures = 4;
+// The grid of the L2 objective whose gradient --discrepancy-gradient feeds
+// (exact on grid targets' own cells; 64^2 cells for closed-form ones).
+constexpr int kGradientGrid = 64;
 
 std::unique_ptr<NeuralGenerator::Net> makeNet(const NeuralSettings &s, std::size_t gammaDim,
                                               std::span<const Point2> base) {
@@ -97,10 +100,12 @@ FourierMlpImpl::FourierMlpImpl(torch::Tensor frequencies, int hidden, std::int64
   l5->bias.zero_();
 }
 
-torch::Tensor FourierMlpImpl::encode(torch::Tensor v) const {
+torch::Tensor fourierFeatures(const torch::Tensor &v, const torch::Tensor &B) {
   const torch::Tensor angle = (2 * std::numbers::pi) * torch::matmul(v, B.t());
   return torch::cat({torch::cos(angle), torch::sin(angle)}, 1);
 }
+
+torch::Tensor FourierMlpImpl::encode(torch::Tensor v) const { return fourierFeatures(v, B); }
 
 torch::Tensor FourierMlpImpl::forward(torch::Tensor v) {
   const torch::Tensor e = encode(v);
@@ -166,9 +171,7 @@ std::pair<torch::Tensor, torch::Tensor> NeuralGenerator::Net::graphInputs(
     if (g > 0) {
       const torch::Tensor v =
           torch::from_blob(const_cast<double *>(gs.data()), {1, std::int64_t(g)}, torch::kFloat64);
-      const torch::Tensor angle =
-          (2 * std::numbers::pi) * torch::matmul(v, graph->B.to(torch::kFloat64).t());
-      const torch::Tensor code = torch::cat({torch::cos(angle), torch::sin(angle)}, 1).contiguous();
+      const torch::Tensor code = fourierFeatures(v, graph->B.to(torch::kFloat64)).contiguous();
       gammaCode.assign(code.data_ptr<double>(), code.data_ptr<double>() + code.numel());
     }
     for (std::size_t i = 0; i < n; ++i) {
@@ -180,11 +183,10 @@ std::pair<torch::Tensor, torch::Tensor> NeuralGenerator::Net::graphInputs(
     // per coordinate as the trainer does), over its root mean square.
     double gradientScale = 0;
     if (s.discrepancyGradient) {
-      std::shared_ptr<const NonuniformL2asd> objectiveHere = objective;
-      if (!objectiveHere || g > 0) {
-        objectiveHere = std::make_shared<const NonuniformL2asd>(*target, 64);
-        if (g == 0) objective = objectiveHere;
-      }
+      // One target: the objective built with the generator; a family: this
+      // set's member.
+      const auto objectiveHere =
+          g == 0 ? objective : std::make_shared<const NonuniformL2asd>(*target, kGradientGrid);
       objectiveHere->squared(x, gradient);
       for (std::size_t i = 0; i < n; ++i) {
         gradient[i] = balancedPullback(jacobian[i].transposeTimes(gradient[i]), jacobian[i]);
@@ -350,6 +352,9 @@ NeuralGenerator::NeuralGenerator(const NeuralSettings &settings) : settings_(set
   sobol_.resize(settings_.n);
   for (std::size_t i = 0; i < settings_.n; ++i) sobol_[i] = {sobolSample(i, 0), sobolSample(i, 1)};
   net_ = makeNet(settings_, family_->gammaDimension(), sobol_);
+  if (settings_.arch == NetworkArch::Graph && settings_.discrepancyGradient &&
+      gammaDimension() == 0)
+    net_->objective = std::make_shared<const NonuniformL2asd>(*family_->target({}), kGradientGrid);
 }
 
 NeuralGenerator::NeuralGenerator(NeuralGenerator &&) noexcept = default;

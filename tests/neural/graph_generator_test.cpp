@@ -12,6 +12,7 @@
 #include "sampler/neural/neural_trainer.h"
 #include "sampler/sequences/rng.h"
 #include "tests/common/temp_dir.h"
+#include "tests/neural/expect_load_error.h"
 #include "tests/neural/tiny_settings.h"
 
 namespace nuld {
@@ -144,28 +145,20 @@ TEST(GraphGenerator, TrainedWeightsSaveAndLoadBitExactly) {
 
 TEST(GraphGenerator, BadArchitectureMetadataAndSettingsAreClearErrors) {
   test::TempDir dir;
-  auto expectError = [](const std::string &path, const std::string &fragment) {
-    try {
-      NeuralGenerator::load(path);
-      FAIL() << path;
-    } catch (const std::runtime_error &e) {
-      EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
-      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
-    }
-  };
+  using test::expectLoadError;
   const NeuralGenerator gen(tinyGraph("quarterdisc", 8));
   ModelFile file = gen.toModelFile();
   file.metadata["arch"] = "transformer";
   writeModelFile((dir / "arch").string(), file);
-  expectError((dir / "arch").string(), "expected supplement or graph");
+  expectLoadError((dir / "arch").string(), "expected supplement or graph");
   file = gen.toModelFile();
   file.metadata.erase("rounds");
   writeModelFile((dir / "rounds").string(), file);
-  expectError((dir / "rounds").string(), "rounds");
+  expectLoadError((dir / "rounds").string(), "rounds");
   file = gen.toModelFile();
   file.metadata["arch"] = "supplement";  // a graph's weights under the MLP's name
   writeModelFile((dir / "mismatch").string(), file);
-  expectError((dir / "mismatch").string(), "wrong shape");
+  expectLoadError((dir / "mismatch").string(), "wrong shape");
 
   // A file from before the graph generator (no 'arch') is the supplement's.
   NeuralSettings old = test::tinyNeuralSettings("quarterdisc", 8, 8, true, 1);

@@ -13,6 +13,7 @@
 
 #include "sampler/sequences/sobol.h"
 #include "tests/common/temp_dir.h"
+#include "tests/neural/expect_load_error.h"
 #include "tests/neural/test_families.h"
 #include "tests/neural/tiny_settings.h"
 
@@ -183,37 +184,29 @@ TEST(NeuralGenerator, OffsetRangeScalesTheRotationAndRoundTrips) {
 
 TEST(NeuralGenerator, ForeignOrInconsistentModelFilesAreClearErrors) {
   test::TempDir dir;
-  auto expectError = [](const std::string &path, const std::string &fragment) {
-    try {
-      NeuralGenerator::load(path);
-      FAIL() << path;
-    } catch (const std::runtime_error &e) {
-      EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
-      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
-    }
-  };
+  using test::expectLoadError;
   ModelFile other;
   other.metadata["format"] = "something-else";
   writeModelFile((dir / "other").string(), other);
-  expectError((dir / "other").string(), "not a neural generator");
+  expectLoadError((dir / "other").string(), "not a neural generator");
 
   NeuralGenerator gen(tiny("quarterdisc", 8, 8));
   ModelFile file = gen.toModelFile();
   file.metadata["hidden"] = "9";  // the weights no longer fit the described net
   writeModelFile((dir / "shape").string(), file);
-  expectError((dir / "shape").string(), "wrong shape");
+  expectLoadError((dir / "shape").string(), "wrong shape");
   file = gen.toModelFile();
   file.metadata["n"] = "eight";
   writeModelFile((dir / "n").string(), file);
-  expectError((dir / "n").string(), "'n'");
+  expectLoadError((dir / "n").string(), "'n'");
   file = gen.toModelFile();
   file.metadata["family"] = "family:nosuch";
   writeModelFile((dir / "family").string(), file);
-  expectError((dir / "family").string(), "nosuch");
+  expectLoadError((dir / "family").string(), "nosuch");
   file = gen.toModelFile();
   file.metadata.erase("sigma");
   writeModelFile((dir / "sigma").string(), file);
-  expectError((dir / "sigma").string(), "sigma");
+  expectLoadError((dir / "sigma").string(), "sigma");
 }
 
 TEST(NeuralGenerator, RejectsBadSettingsAndGamma) {
