@@ -270,6 +270,32 @@ class DisneyFamily final : public TargetFamily {
 
 }  // namespace
 
+std::optional<std::array<double, 2>> disneyFamilyGamma(const std::string &familySpec,
+                                                       const std::string &targetSpec) {
+  // The part after `disney` (with its colon) of a spec that starts with PREFIX.
+  const auto argsAfter = [](const std::string &spec,
+                            const std::string &prefix) -> std::optional<std::string> {
+    if (spec == prefix) return std::string();
+    if (spec.rfind(prefix + ":", 0) != 0) return std::nullopt;
+    return spec.substr(prefix.size() + 1);
+  };
+  const auto familyArgs = argsAfter(familySpec, "family:disney");
+  const auto targetArgs = argsAfter(targetSpec, "disney");
+  if (!familyArgs || !targetArgs) return std::nullopt;
+  try {
+    const DisneyTargetSpec base = parseDisneyTargetArgs(*familyArgs);
+    const DisneyTargetSpec t = parseDisneyTargetArgs(*targetArgs);
+    if (!(t.params == base.params) || t.phiCells != base.phiCells ||
+        t.thetaRows != base.thetaRows || t.thetaDegrees > DisneyFamily::kMaxThetaDegrees)
+      return std::nullopt;
+    const double phi = t.phiDegrees / 360;
+    return std::array<double, 2>{t.thetaDegrees / DisneyFamily::kMaxThetaDegrees,
+                                 phi - std::floor(phi)};
+  } catch (const std::invalid_argument &) {
+    return std::nullopt;  // not a spec this family could have made
+  }
+}
+
 void registerMaterialTargets() {
   registerTargetFamily("disney", [](const std::string &args) -> std::unique_ptr<Target> {
     return makeDisneyTarget(parseDisneyTargetArgs(args));

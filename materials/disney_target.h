@@ -23,7 +23,9 @@
 // out take the supplement's instance (supplementDisneyParams) and wo at
 // theta 45, phi 0.
 
+#include <array>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "materials/disney.h"
@@ -66,6 +68,13 @@ std::unique_ptr<GridTarget> makeDisneyTarget(const DisneyParams &params, Vec3 wo
                                              int phiCells = 256, int thetaRows = 128);
 // The same from a parsed spec; the target reports toSpec(spec).
 std::unique_ptr<GridTarget> makeDisneyTarget(const DisneyTargetSpec &spec);
+
+// The gamma at which the target family `familySpec` (`family:disney` or
+// `family:disney:ARGS`) makes the `disney` target `targetSpec`: the same
+// material and table size, theta within the family's range. nullopt when the
+// family makes no such target (another family, another material).
+std::optional<std::array<double, 2>> disneyFamilyGamma(const std::string &familySpec,
+                                                       const std::string &targetSpec);
 
 // Registers the `disney` target family with makeTarget.
 void registerMaterialTargets();

@@ -1,9 +1,14 @@
 // The classic backends: independent random numbers, Owen-scrambled Sobol and
-// randomized (Owen-permuted) Halton. Sobol and Halton are padded: every
+// randomized (Owen-permuted) Halton, and sobol-tabulated: the same Sobol
+// points, mapped for every lobe context through the tabulated lobe's inverse
+// CDF instead of the material's lobe-selection mapping (the strongest
+// classic baseline for BSDF sampling; the light pair is inverse-CDF mapped by
+// every backend). Sobol and Halton are padded: every
 // (pixel, pair) gets its own independently scrambled copy of the first N
 // points of dimensions (0, 1), dealt out in its own random order
 // (shufflePoints), so pairs are matched at random, never by index.
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "renderer/padding.h"
@@ -29,8 +34,15 @@ class IndependentBackend final : public SamplerBackend {
 
 class SequenceBackend final : public SamplerBackend {
  public:
-  SequenceBackend(SequenceKind kind, std::uint64_t seed) : kind_(kind), seedKey_(mix64(seed)) {}
-  std::string name() const override { return kind_ == SequenceKind::Sobol ? "sobol" : "halton"; }
+  SequenceBackend(SequenceKind kind, std::uint64_t seed, bool tabulated = false)
+      : kind_(kind), seedKey_(mix64(seed)), tabulated_(tabulated) {}
+  std::string name() const override {
+    return kind_ == SequenceKind::Sobol ? (tabulated_ ? "sobol-tabulated" : "sobol") : "halton";
+  }
+  bool samplesLobes() const override { return tabulated_; }
+  void prepare(std::size_t, const SamplingTargets &targets) override {
+    lobes_ = tabulated_ ? targets.lobes : std::vector<const Target *>{};
+  }
   void primary(std::uint64_t pixel, std::uint32_t pair, std::span<Point2> out) const override {
     // One seed per (pixel, pair), by two dependent mixes: hash3's five
     // were most of the cost of a 4-point set.
@@ -39,10 +51,21 @@ class SequenceBackend final : public SamplerBackend {
     generateSet({kind_, Scramble::Owen, seed}, 0, out, 0);
     shufflePoints(out, seed);
   }
+  // The pair's primary points through the lobe's inverse CDF: for a pixel
+  // whose samples all sample one table, exactly Owen-Sobol through it.
+  bool distributed(const Target &target, std::uint64_t pixel, std::uint32_t pair,
+                   std::span<Point2> out) const override {
+    if (std::find(lobes_.begin(), lobes_.end(), &target) == lobes_.end()) return false;
+    primary(pixel, pair, out);
+    for (Point2 &p : out) p = target.invert(p).x;
+    return true;
+  }
 
  private:
   SequenceKind kind_;
   std::uint64_t seedKey_;
+  bool tabulated_;
+  std::vector<const Target *> lobes_;  // set by prepare()
 };
 
 }  // namespace
@@ -50,6 +73,8 @@ class SequenceBackend final : public SamplerBackend {
 std::unique_ptr<SamplerBackend> makeClassicBackend(const std::string &name, std::uint64_t seed) {
   if (name == "independent" || name == "random") return std::make_unique<IndependentBackend>(seed);
   if (name == "sobol") return std::make_unique<SequenceBackend>(SequenceKind::Sobol, seed);
+  if (name == "sobol-tabulated")
+    return std::make_unique<SequenceBackend>(SequenceKind::Sobol, seed, true);
   if (name == "halton") return std::make_unique<SequenceBackend>(SequenceKind::Halton, seed);
   return nullptr;
 }

@@ -4,80 +4,78 @@
 #include <chrono>
 #include <stdexcept>
 
-#include "renderer/padding.h"
-#include "renderer/pointset_backend.h"
-#include "sampler/sequences/rng.h"
-#include "sampler/sequences/scrambling.h"
+#include "materials/disney_target.h"
 
 namespace nuld {
 
+namespace {
+constexpr std::uint64_t kNeuralSalt = 0x6e657572616cull;
+}
+
 NeuralBackend::NeuralBackend(std::string name, const std::string &modelPath, std::uint64_t seed)
-    : name_(std::move(name)),
+    : BankBackend(std::move(name), {}, seed, kNeuralSalt),
       source_(modelPath),
       generator_(NeuralGenerator::load(modelPath)),
-      seed_(seed),
-      fallback_(makeClassicBackend("sobol", seed)) {
-  if (generator_.gammaDimension() > 0)
+      seed_(seed) {
+  const std::string family = generator_.family().spec();
+  lobeFamily_ = family.rfind("family:disney", 0) == 0;
+  if (generator_.gammaDimension() > 0 && !lobeFamily_)
     throw std::invalid_argument(
-        source_ + ": a model for the family '" + generator_.family().spec() +
-        "' needs the shading point's gamma, which the renderer's backends do not receive; "
-        "the renderer takes models of one target (the scene's environment map, or uniform)");
+        source_ + ": a model for the family '" + family +
+        "' needs a gamma that no sampling context of a render gives; the renderer takes "
+        "models of one target (the scene's environment map, or uniform) and of family:disney "
+        "(gamma = the lobe's view direction)");
   if (const std::string why = generator_.notRandomizedReason(); !why.empty())
     throw std::invalid_argument(source_ + ": " + why +
                                 "; a render from them would be biased; retrain without it");
-  targetSpec_ = generator_.family().target({})->spec();
-  uniform_ = targetSpec_ == "uniform";
 }
 
-void NeuralBackend::prepare(std::size_t spp, const Target *lightTarget) {
+std::size_t NeuralBackend::bankSets() const {
+  std::size_t sets = 0;
+  for (const SetBank &b : banks()) sets += b.sets.instances();
+  return sets;
+}
+
+void NeuralBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
   const std::size_t n = generator_.settings().n;
   if (spp != n)
     throw std::invalid_argument(source_ + ": the model makes sets of " + std::to_string(n) +
                                 " points, but the render asks for " + std::to_string(spp) +
                                 " samples per pixel (use --spp " + std::to_string(n) + ")");
-  servedTarget_ = nullptr;
-  if (!uniform_) {
-    if (!lightTarget || !sameTarget(targetSpec_, lightTarget->spec()))
+  // The banks to make: one per gamma the scene asks for.
+  std::vector<std::string> specs;
+  std::vector<std::vector<double>> gammas;
+  if (!lobeFamily_) {
+    specs.push_back(generator_.family().target({})->spec());
+    gammas.emplace_back();
+  } else {
+    for (const Target *t : targets.lobes)
+      if (const auto g = disneyFamilyGamma(generator_.family().spec(), t->spec())) {
+        specs.push_back(t->spec());
+        gammas.push_back({(*g)[0], (*g)[1]});
+      }
+    if (specs.empty())
       throw std::invalid_argument(
-          source_ + ": the model was trained for '" + targetSpec_ + "', but the scene's " +
-          (lightTarget ? "environment map samples '" + lightTarget->spec() + "'"
-                       : std::string("has no environment map")));
-    servedTarget_ = lightTarget;
+          source_ + ": the model's family '" + generator_.family().spec() +
+          "' makes none of the scene's " + std::to_string(targets.lobes.size()) +
+          " lobe tables (it serves a scene material with the family's parameters)");
   }
-  if (bank_.n == n) return;
-  const auto start = std::chrono::steady_clock::now();
-  const std::size_t sets = std::clamp<std::size_t>((std::size_t(1) << 22) / n, 1, kMaxBankSets);
-  bank_ = generator_.generateSets(sets, seed_, {});
-  generationSeconds_ =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-std::span<const Point2> NeuralBackend::pick(std::uint64_t pixel, std::uint32_t pair) const {
-  return bank_.instance(hash3(seed_ ^ 0x6e657572616cull, pixel, pair) % bank_.instances());
-}
-
-void NeuralBackend::primary(std::uint64_t pixel, std::uint32_t pair, std::span<Point2> out) const {
-  if (!uniform_ || pair > SamplePairs::bsdf(0) || out.size() != bank_.n) {
-    fallback_->primary(pixel, pair, out);
-    return;
+  if (specs != bankSpecs_) {
+    const auto start = std::chrono::steady_clock::now();
+    const std::size_t total = std::clamp<std::size_t>((std::size_t(1) << 22) / n, 1, kMaxBankSets);
+    const std::size_t each = std::max(total / specs.size(), std::min(total, kMinSetsPerGamma));
+    std::vector<SetBank> banks;
+    for (std::size_t k = 0; k < specs.size(); ++k) {
+      SetBank bank{generator_.generateSets(each, seed_ + k, gammas[k]), source_};
+      bank.sets.metadata["target"] = specs[k];
+      banks.push_back(std::move(bank));
+    }
+    setBanks(std::move(banks));
+    bankSpecs_ = specs;
+    generationSeconds_ =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
-  // A Cranley-Patterson shift per (pixel, pair) keeps the estimator unbiased,
-  // as for uniform optimized sets.
-  const auto points = pick(pixel, pair);
-  const std::uint64_t shift = hash3(seed_, pixel, pair);
-  for (std::size_t i = 0; i < out.size(); ++i)
-    out[i] = {cranleyPatterson(points[i].x, shift), cranleyPatterson(points[i].y, ~shift)};
-  shufflePoints(out, shift);
-}
-
-bool NeuralBackend::distributed(const Target &target, std::uint64_t pixel, std::uint32_t pair,
-                                std::span<Point2> out) const {
-  if (&target != servedTarget_ || pair != SamplePairs::light(0) || out.size() != bank_.n)
-    return false;
-  const auto points = pick(pixel, pair);
-  std::copy(points.begin(), points.end(), out.begin());
-  shufflePoints(out, hash3(seed_, pixel, pair));
-  return true;
+  BankBackend::prepare(spp, targets);
 }
 
 }  // namespace nuld

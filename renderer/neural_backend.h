@@ -1,55 +1,49 @@
 #pragma once
 // The `neural:MODEL` backend: point sets from a trained neural generator
-// (sampler/neural). The generator is conditioned on an offset z; prepare()
-// draws a bank of offsets and generates their sets in one batched inference,
-// and each (pixel, pair) picks one by hash, so neighbouring pixels get
-// different sets as with a per-pixel z, without one network call per pixel.
+// (sampler/neural), dealt out by the bank mechanism (renderer/bank_backend.h).
+// The generator is conditioned on an offset z; prepare() draws a bank of
+// offsets and generates their sets in one batched inference, and each
+// (pixel, pair) picks one by hash, so neighbouring pixels get different sets
+// as with a per-pixel z, without one network call per pixel.
 //
 //  - A model for the scene's environment map serves the first bounce's light
-//    pair with points already distributed by it (as optimized:FILE does).
-//  - A model for the uniform target serves the first bounce's pairs as
-//    primary-sample-space points, under a Cranley-Patterson shift per
-//    (pixel, pair) that keeps the estimator unbiased.
-//  - Models with a distribution parameter gamma (Disney lobes, Gaussian, ...)
-//    need the shading point's gamma, which this interface does not pass;
-//    prepare() refuses them with that reason. Deeper bounces use Sobol.
+//    pair; a model for the uniform target serves the first bounce's pairs as
+//    primary points under a Cranley-Patterson shift per (pixel, pair).
+//  - A model for a `family:disney` target family is conditioned on the lobe's
+//    gamma = (theta_o, phi_o): it makes one bank per lobe table of the scene
+//    that the family contains (the same material), at that table's gamma, and
+//    serves the first bounce's BSDF pair there. Other families have no
+//    sampling context in a render and are refused.
 
-#include <memory>
 #include <string>
 
-#include "renderer/sampler_backend.h"
+#include "renderer/bank_backend.h"
 #include "sampler/neural/neural_generator.h"
 
 namespace nuld {
 
-class NeuralBackend final : public SamplerBackend {
+class NeuralBackend final : public BankBackend {
  public:
-  // The bank holds at most this many sets (fewer when N is large: at most
-  // 2^22 points in all).
+  // The banks hold at most this many sets in all (fewer when N is large: at
+  // most 2^22 points in all), and at least kMinSetsPerGamma per lobe table.
   static constexpr std::size_t kMaxBankSets = 4096;
+  static constexpr std::size_t kMinSetsPerGamma = 64;
 
   NeuralBackend(std::string name, const std::string &modelPath, std::uint64_t seed);
 
-  std::string name() const override { return name_; }
-  void prepare(std::size_t spp, const Target *lightTarget) override;
-  void primary(std::uint64_t pixel, std::uint32_t pair, std::span<Point2> out) const override;
-  bool distributed(const Target &target, std::uint64_t pixel, std::uint32_t pair,
-                   std::span<Point2> out) const override;
+  bool samplesLobes() const override { return lobeFamily_; }
+  void prepare(std::size_t spp, const SamplingTargets &targets) override;
 
-  std::size_t bankSets() const { return bank_.instances(); }
-  // Seconds prepare() spent generating the bank (the backend's own cost).
+  std::size_t bankSets() const;
+  // Seconds prepare() spent generating the banks (the backend's own cost).
   double generationSeconds() const { return generationSeconds_; }
 
  private:
-  std::span<const Point2> pick(std::uint64_t pixel, std::uint32_t pair) const;
-
-  std::string name_, source_, targetSpec_;
+  std::string source_;
   NeuralGenerator generator_;
   std::uint64_t seed_;
-  bool uniform_;
-  PointSet bank_;
-  std::unique_ptr<SamplerBackend> fallback_;
-  const Target *servedTarget_ = nullptr;
+  bool lobeFamily_ = false;
+  std::vector<std::string> bankSpecs_;  // the targets of the banks made so far
   double generationSeconds_ = 0;
 };
 

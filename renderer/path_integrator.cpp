@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "materials/frame.h"
+#include "materials/sphere_map.h"
 
 namespace nuld {
 
@@ -12,22 +13,30 @@ IntegratorKind parseIntegrator(const std::string &name) {
   if (name == "path") return IntegratorKind::Path;
   if (name == "direct") return IntegratorKind::Direct;
   if (name == "light") return IntegratorKind::Light;
-  throw std::invalid_argument("unknown integrator '" + name + "': expected path, direct or light");
+  if (name == "bsdf") return IntegratorKind::Bsdf;
+  throw std::invalid_argument("unknown integrator '" + name +
+                              "': expected path, direct, light or bsdf");
 }
+
+std::vector<std::string> integratorNames() { return {"path", "direct", "light", "bsdf"}; }
 
 std::string toString(IntegratorKind k) {
   switch (k) {
     case IntegratorKind::Path: return "path";
     case IntegratorKind::Direct: return "direct";
     case IntegratorKind::Light: return "light";
+    case IntegratorKind::Bsdf: return "bsdf";
   }
   return "?";
 }
 
-PathIntegrator::PathIntegrator(const Scene &scene, IntegratorKind kind, int maxDepth)
+PathIntegrator::PathIntegrator(const Scene &scene, IntegratorKind kind, int maxDepth,
+                               const LobeTables *lobes)
     : scene_(scene),
+      lobes_(lobes),
       maxDepth_(kind == IntegratorKind::Path ? maxDepth : 1),
-      lightOnly_(kind == IntegratorKind::Light) {
+      lightOnly_(kind == IntegratorKind::Light),
+      bsdfOnly_(kind == IntegratorKind::Bsdf) {
   if (maxDepth < 1) throw std::invalid_argument("max depth must be at least 1");
 }
 
@@ -68,6 +77,11 @@ struct PathState {
   const Bsdf *bsdf = nullptr;
   Shading sh;
   Vec3 wo;
+  // The BSDF strategy of this sample at the hit: the tabulated lobe `lobe`
+  // with the backend's point `lobePoint`, or (lobe.table null) the material's
+  // own sample().
+  LobeFrame lobe;
+  Point2 lobePoint;
 };
 
 // The light samples of the live paths at bounce `depth` into ls[k], drawn
@@ -94,6 +108,15 @@ void lightSamples(const EnvironmentLight &light, std::span<PathState> paths, int
   for (std::size_t q = 0; q < nt; ++q) ls[targetOf[q]] = out[q];
   light.sample(std::span(primary, np), std::span(out, np));
   for (std::size_t q = 0; q < np; ++q) ls[primaryOf[q]] = out[q];
+}
+
+// The direction the table's point x stands for, with the table's density
+// there (the pdf of the strategy used, not the material's).
+std::optional<BsdfSample> sampleTable(const Bsdf &bsdf, Vec3 wo, const LobeFrame &lobe, Point2 x) {
+  const Vec3 wi = lobe.direction(x);
+  const double pdf = lobe.table->pdf(x) * kInvFourPi;
+  if (!(wi.z > 0) || !(pdf > 0)) return std::nullopt;
+  return BsdfSample{wi, bsdf.eval(wo, wi), pdf};
 }
 
 }  // namespace
@@ -132,7 +155,8 @@ void PathIntegrator::radiance(std::span<const Ray> rays,
           double lightPdf;
           const Rgb Le =
               light->radiance(depth > 0 ? p.escape : light->find(p.ray.direction), lightPdf);
-          const double w = p.lastBsdfPdf > 0 ? powerHeuristic(p.lastBsdfPdf, lightPdf) : 1.0;
+          const double w =
+              p.lastBsdfPdf > 0 && !bsdfOnly_ ? powerHeuristic(p.lastBsdfPdf, lightPdf) : 1.0;
           p.L += w * p.beta * Le;
         }
         p.alive = false;
@@ -150,8 +174,25 @@ void PathIntegrator::radiance(std::span<const Ray> rays,
     }
     if (!any) break;
 
+    // The BSDF strategy of each sample, decided before next-event estimation
+    // because the light sample's MIS weight needs its pdf.
+    for (std::size_t k = 0; k < n && !lightOnly_; ++k) {
+      PathState &p = path[k];
+      p.lobe = {};
+      if (!p.alive || !lobes_) continue;
+      const auto frame = lobes_->frame(p.bsdf, p.wo);
+      if (!frame) continue;
+      if (const Point2 *x =
+              p.samples->distributed(*frame->table, SamplePairs::bsdf(depth), p.index)) {
+        p.lobe = *frame;
+        p.lobePoint = *x;
+      } else if (depth == 0) {
+        ++counters.classicFallbacks;
+      }
+    }
+
     // Next-event estimation of the environment.
-    if (light && light->target()) {
+    if (light && light->target() && !bsdfOnly_) {
       std::array<std::optional<LightSample>, kMaxPaths> ls;
       lightSamples(*light, packet, depth, ls);
       for (std::size_t k = 0; k < n; ++k) {
@@ -163,8 +204,9 @@ void PathIntegrator::radiance(std::span<const Ray> rays,
         const Ray shadow{offsetRayOrigin(hit[k]->position, p.sh.ng, ls[k]->wi), ls[k]->wi};
         record(counters, shadow);
         if (scene_.geometry.occluded(shadow)) continue;
-        const auto [f, bsdfPdf] = p.bsdf->evalWithPdf(p.wo, wi);
+        const auto [f, classicPdf] = p.bsdf->evalWithPdf(p.wo, wi);
         if (f.isBlack()) continue;
+        const double bsdfPdf = p.lobe.table ? p.lobe.pdf(wi) : classicPdf;
         const double w = lightOnly_ ? 1.0 : powerHeuristic(ls[k]->pdf, bsdfPdf);
         p.L += (w * wi.z / ls[k]->pdf) * p.beta * f * ls[k]->radiance;
       }
@@ -180,7 +222,10 @@ void PathIntegrator::radiance(std::span<const Ray> rays,
       PathState &p = path[k];
       if (!p.alive) continue;
       p.alive = false;
-      const auto bs = p.bsdf->sample(p.wo, p.samples->primary(SamplePairs::bsdf(depth), p.index));
+      const auto bs =
+          p.lobe.table
+              ? sampleTable(*p.bsdf, p.wo, p.lobe, p.lobePoint)
+              : p.bsdf->sample(p.wo, p.samples->primary(SamplePairs::bsdf(depth), p.index));
       if (!bs || !(bs->pdf > 0)) continue;
       const Vec3 wiWorld = p.sh.frame.toWorld(bs->wi);
       if (dot(wiWorld, p.sh.ng) <= 0) continue;  // below the geometric surface: a light leak

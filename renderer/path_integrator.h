@@ -6,7 +6,15 @@
 // estimator that the sampler backends differ in. The light mode estimates
 // that direct lighting by environment-map sampling alone (no BSDF sample, no
 // MIS weight): the estimator of the supplement's environment-map experiment,
-// where only the light's points vary between backends.
+// where only the light's points vary between backends. The BSDF mode is its
+// mirror image: the first bounce by BSDF sampling alone (the estimator in
+// which only the BSDF pair's points vary).
+//
+// BSDF sampling at a Disney material samples its tabulated lobe
+// (renderer/lobe_tables.h) when the backend hands over points distributed by
+// the shading point's table, and the material's own lobe-selection mapping
+// otherwise; every estimator and MIS weight uses the pdf of the strategy the
+// sample actually used.
 
 #include <cstdint>
 #include <optional>
@@ -15,13 +23,17 @@
 #include <vector>
 
 #include "materials/rgb.h"
+#include "renderer/lobe_tables.h"
 #include "renderer/pixel_samples.h"
 #include "renderer/scene.h"
 
 namespace nuld {
 
-enum class IntegratorKind { Path, Direct, Light };
-IntegratorKind parseIntegrator(const std::string &name);  // "path" | "direct" | "light"
+enum class IntegratorKind { Path, Direct, Light, Bsdf };
+// "path" | "direct" | "light" | "bsdf"
+IntegratorKind parseIntegrator(const std::string &name);
+// Every name parseIntegrator accepts, in that order.
+std::vector<std::string> integratorNames();
 std::string toString(IntegratorKind k);
 
 // A traced ray as Embree saw it, for the benchmark that replays the
@@ -33,12 +45,15 @@ struct RecordedRay {
 struct PathCounters {
   std::uint64_t rays = 0;                        // intersection and shadow rays traced
   std::uint64_t rejected = 0;                    // non-finite sample values dropped (should stay 0)
+  std::uint64_t classicFallbacks = 0;            // first-bounce lobe contexts the backend declined
   std::vector<RecordedRay> *recorder = nullptr;  // when set, every ray is appended
 };
 
 class PathIntegrator {
  public:
-  PathIntegrator(const Scene &scene, IntegratorKind kind, int maxDepth);
+  // `lobes`: the tables BSDF pairs are asked for (null: never asked).
+  PathIntegrator(const Scene &scene, IntegratorKind kind, int maxDepth,
+                 const LobeTables *lobes = nullptr);
 
   // The radiance of up to kMaxPaths paths: path k starts on camera ray
   // rays[k], whose closest hit hits[k] the caller traces (the renderer traces
@@ -58,13 +73,17 @@ class PathIntegrator {
 
  private:
   const Scene &scene_;
+  const LobeTables *lobes_;
   int maxDepth_;
-  bool lightOnly_;
+  bool lightOnly_, bsdfOnly_;
 };
 
+// The weight of strategy A; written with the ratio so that pdfs whose
+// squares underflow (or overflow) still give weights that sum to one.
 inline double powerHeuristic(double pdfA, double pdfB) {
-  const double a = pdfA * pdfA, b = pdfB * pdfB;
-  return a > 0 ? a / (a + b) : 0.0;
+  if (!(pdfA > 0)) return 0.0;
+  const double r = pdfB / pdfA;
+  return 1 / (1 + r * r);
 }
 
 }  // namespace nuld

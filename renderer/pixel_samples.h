@@ -1,8 +1,14 @@
 #pragma once
 // The samples of one pixel: for each dimension pair, the backend's N points,
 // fetched the first time a pair is used (paths that end early never pay for
-// the pairs of deeper bounces). One object per worker, reused across pixels.
+// the pairs of deeper bounces), and for each (pair, sampling context) the
+// distributed points, fetched the first time a sample asks for that context.
+// Sample i uses point i of whichever set its own context selects, so the
+// samples of a pixel whose first hits share a context (the usual case) use
+// one set, and a sample with another context still gets a point of a
+// properly randomized set. One object per worker, reused across pixels.
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -17,7 +23,10 @@ class PixelSamples {
 
   void startPixel(std::uint64_t pixel) {
     pixel_ = pixel;
-    for (Pair &p : pairs_) p.primaryReady = p.distributedKnown = false;
+    for (Pair &p : pairs_) {
+      p.primaryReady = false;
+      p.activeContexts = 0;  // their buffers stay allocated for the next pixel
+    }
   }
 
   // Point i of the pair, uniform in [0,1)^2.
@@ -32,21 +41,33 @@ class PixelSamples {
   }
 
   // Point i of the pair already distributed by `target`, if the backend has
-  // such points (decided once per pixel and pair).
+  // such points (asked once per pixel, pair and target).
   const Point2 *distributed(const Target &target, std::uint32_t pair, std::size_t i) {
     Pair &p = slot(pair);
-    if (!p.distributedKnown) {
-      p.distributed.resize(spp_);
-      p.hasDistributed = backend_.distributed(target, pixel_, pair, p.distributed);
-      p.distributedKnown = true;
+    const auto active = p.contexts.begin() + std::ptrdiff_t(p.activeContexts);
+    auto it = std::find_if(p.contexts.begin(), active,
+                           [&](const Context &c) { return c.target == &target; });
+    if (it == active) {
+      if (p.activeContexts == p.contexts.size()) p.contexts.emplace_back();
+      it = p.contexts.begin() + std::ptrdiff_t(p.activeContexts++);
+      it->target = &target;
+      it->points.resize(spp_);
+      it->served = backend_.distributed(target, pixel_, pair, it->points);
     }
-    return p.hasDistributed ? &p.distributed[i] : nullptr;
+    return it->served ? &it->points[i] : nullptr;
   }
 
  private:
+  struct Context {
+    const Target *target = nullptr;
+    std::vector<Point2> points;
+    bool served = false;
+  };
   struct Pair {
-    std::vector<Point2> primary, distributed;
-    bool primaryReady = false, distributedKnown = false, hasDistributed = false;
+    std::vector<Point2> primary;
+    bool primaryReady = false;
+    std::vector<Context> contexts;  // the first activeContexts are this pixel's
+    std::size_t activeContexts = 0;
   };
   Pair &slot(std::uint32_t pair) {
     if (pair >= pairs_.size()) pairs_.resize(pair + 1);

@@ -8,6 +8,7 @@
 #include <atomic>
 #include <chrono>
 #include <mutex>
+#include <optional>
 #include <stdexcept>
 
 namespace nuld {
@@ -18,12 +19,19 @@ Image render(const Scene &scene, const RenderSettings &s, SamplerBackend &backen
   if (s.spp == 0) throw std::invalid_argument("render: spp must be at least 1");
   if (scene.materials.size() != scene.geometry.meshes().size())
     throw std::invalid_argument("render: every mesh needs a material");
-  const GridTarget *lightTarget = scene.environment ? scene.environment->target() : nullptr;
-  backend.prepare(s.spp, lightTarget);
+  const auto setupStart = std::chrono::steady_clock::now();
+  SamplingTargets targets;
+  targets.light = scene.environment ? scene.environment->target() : nullptr;
+  std::optional<LobeTables> lobes;
+  if (backend.samplesLobes() && s.integrator != IntegratorKind::Light) {
+    lobes.emplace(scene.materials, s.lobeTables);
+    targets.lobes = lobes->targets();
+  }
+  backend.prepare(s.spp, targets);
 
   const auto start = std::chrono::steady_clock::now();
   const PerspectiveCamera camera(scene.camera, s.width, s.height);
-  const PathIntegrator integrator(scene, s.integrator, s.maxDepth);
+  const PathIntegrator integrator(scene, s.integrator, s.maxDepth, lobes ? &*lobes : nullptr);
   Image image{s.width, s.height, 3, std::vector<float>(std::size_t(s.width) * s.height * 3)};
 
   constexpr int tile = 16;
@@ -97,10 +105,12 @@ Image render(const Scene &scene, const RenderSettings &s, SamplerBackend &backen
   if (stats) {
     stats->seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    stats->rays = stats->rejectedSamples = 0;
+    stats->setupSeconds = std::chrono::duration<double>(start - setupStart).count();
+    stats->rays = stats->rejectedSamples = stats->classicFallbacks = 0;
     for (const PathCounters &c : counters) {
       stats->rays += c.rays;
       stats->rejectedSamples += c.rejected;
+      stats->classicFallbacks += c.classicFallbacks;
     }
   }
   return image;

@@ -19,12 +19,17 @@ struct RenderSettings {
   std::size_t spp = 16;
   IntegratorKind integrator = IntegratorKind::Path;
   int maxDepth = 5;
+  // The lobe tables of a backend that samples lobes (built from the scene's
+  // materials for each render, and only for such a backend).
+  LobeTableSettings lobeTables{};
 };
 
 struct RenderStats {
-  double seconds = 0;
+  double seconds = 0;       // the render, setup excluded
+  double setupSeconds = 0;  // building the lobe tables and preparing the backend
   std::uint64_t rays = 0;
-  std::uint64_t rejectedSamples = 0;  // non-finite values dropped
+  std::uint64_t rejectedSamples = 0;   // non-finite values dropped
+  std::uint64_t classicFallbacks = 0;  // first-bounce lobe contexts the backend declined
   double raysPerSecond() const { return seconds > 0 ? rays / seconds : 0; }
 };
 

@@ -7,14 +7,20 @@
 // of each pair. A backend gives either
 //  - primary-sample-space points, uniform in [0,1)^2, which the light or the
 //    BSDF maps by its own inverse CDF; or
-//  - for a pair and a target it knows, points already distributed by that
-//    target (optimized or neural sets), which the light uses with the
-//    target's pdf.
+//  - for a pair and a *sampling context* it serves, points already
+//    distributed by the context's target, which the caller uses with that
+//    target's pdf. The context is the target being sampled: the scene's
+//    environment map for a light pair, the shading point's tabulated lobe
+//    (renderer/lobe_tables.h) for a BSDF pair. Optimized and neural sets
+//    serve the contexts they were made for, sobol-tabulated serves every lobe
+//    through its inverse CDF; a declined context gets primary points and the
+//    classic mapping.
 
 #include <cstdint>
 #include <memory>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "sampler/point.h"
 #include "sampler/targets/target.h"
@@ -31,6 +37,13 @@ struct SamplePairs {
   static constexpr std::uint32_t roulette(int depth) { return 3 + 3 * std::uint32_t(depth); }
 };
 
+// Every target a render may ask a backend for: the context of the light pairs
+// and, when the backend samples lobes, those of the BSDF pairs.
+struct SamplingTargets {
+  const Target *light = nullptr;        // the environment map's, null without one
+  std::vector<const Target *> lobes{};  // every lobe table (LobeTables::targets)
+};
+
 class SamplerBackend {
  public:
   virtual ~SamplerBackend() = default;
@@ -38,11 +51,17 @@ class SamplerBackend {
   // The name as given on the command line (e.g. "sobol", "optimized:FILE").
   virtual std::string name() const = 0;
 
-  // Checks that the backend can serve `spp` samples per pixel in a scene
-  // whose environment light samples `lightTarget` (null without one); throws
-  // std::invalid_argument saying why not (a point-set file of another N, or
-  // points that follow a target the scene does not use).
-  virtual void prepare(std::size_t spp, const Target *lightTarget) {}
+  // Whether BSDF pairs should be asked with lobe contexts: the renderer then
+  // tabulates the lobes of the scene's materials (only then: classic
+  // backends never pay for the tables).
+  virtual bool samplesLobes() const { return false; }
+
+  // Checks that the backend can serve `spp` samples per pixel for a scene
+  // with these targets, and remembers which ones it serves (by address: the
+  // same objects are passed to distributed()); throws std::invalid_argument
+  // saying why not (a point-set file of another N, or points that follow no
+  // target of the scene).
+  virtual void prepare(std::size_t spp, const SamplingTargets &targets) {}
 
   // N = out.size() uniform points in [0,1)^2 for (pixel, pair). A pure
   // function of its arguments, so renders are deterministic for any thread
@@ -52,18 +71,21 @@ class SamplerBackend {
   // Fills `out` with points distributed by `target` (in its unit-square
   // parameterization) and returns true, or returns false when this backend
   // has no such points for the pair: the caller then maps primary() points
-  // through target.invert().
+  // classically (the light through target.invert(), a BSDF by its own
+  // sample()). Also a pure function of its arguments.
   virtual bool distributed(const Target &target, std::uint64_t pixel, std::uint32_t pair,
                            std::span<Point2> out) const {
     return false;
   }
 };
 
-// independent | sobol | halton; null for any other name.
+// independent | sobol | halton | sobol-tabulated (Owen-scrambled Sobol
+// through the inverse CDF of every lobe context); null for any other name.
 std::unique_ptr<SamplerBackend> makeClassicBackend(const std::string &name, std::uint64_t seed);
 
-// A classic backend, `optimized:FILE` / `points:FILE` (a point-set file, see
-// PointSetBackend) or `neural:MODEL` (see NeuralBackend). Throws
+// A classic backend, `optimized:PATHS` / `points:PATHS` (point-set files or
+// directories of them, comma-separated; see BankBackend) or `neural:MODEL`
+// (see NeuralBackend). Throws
 // std::invalid_argument listing the choices.
 std::unique_ptr<SamplerBackend> makeBackend(const std::string &spec, std::uint64_t seed);
 

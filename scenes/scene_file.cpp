@@ -1,5 +1,6 @@
 #include "scenes/scene_file.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -86,8 +87,9 @@ void readRender(const JsonReader &r, LoadedScene &out) {
   if (r.has("spp")) out.settings.spp = std::size_t(r["spp"].integer(1, 1 << 24));
   if (r.has("integrator")) {
     const std::string name = r["integrator"].string();
-    if (name != "path" && name != "direct" && name != "light")
-      r["integrator"].fail("\"path\", \"direct\" or \"light\"");
+    const auto names = integratorNames();
+    if (std::find(names.begin(), names.end(), name) == names.end())
+      r["integrator"].fail("\"path\", \"direct\", \"light\" or \"bsdf\"");
     out.settings.integrator = parseIntegrator(name);
   }
   if (r.has("max_depth")) out.settings.maxDepth = r["max_depth"].integer(1, 1000);

@@ -11,10 +11,10 @@
 #include <map>
 #include <tuple>
 
+#include "renderer/bank_backend.h"
 #include "renderer/environment_light.h"
 #include "renderer/image_metrics.h"
 #include "renderer/padding.h"
-#include "renderer/pointset_backend.h"
 #include "renderer/render.h"
 #include "sampler/io/pointset_io.h"
 #include "sampler/sequences/rng.h"
@@ -127,19 +127,19 @@ TEST(Backends, UnknownNameListsTheChoices) {
     makeBackend("sobolo", 0);
     FAIL();
   } catch (const std::invalid_argument &e) {
-    EXPECT_NE(std::string(e.what()).find("independent, sobol, halton"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("independent, sobol, sobol-tabulated, halton"), std::string::npos);
   }
   EXPECT_THROW(makeBackend("optimized:/no/such/file.txt", 0), std::exception);
 }
 
-TEST(PointSetBackend, UniformSetsAreShiftedPerPixelAndDeeperPairsFallBack) {
+TEST(BankBackend, UniformSetsAreShiftedPerPixelAndDeeperPairsFallBack) {
   PointSet set;
   set.n = 8;
   Rng rng(1);
   for (int i = 0; i < 3 * 8; ++i) set.points.push_back({rng.uniform(), rng.uniform()});
   set.metadata["target"] = "uniform";
-  PointSetBackend backend("optimized:test", set, "test", 4);
-  backend.prepare(8, nullptr);
+  BankBackend backend("optimized:test", {{set, "test"}}, 4);
+  backend.prepare(8, {});
   std::vector<Point2> out(8);
   backend.primary(11, SamplePairs::bsdf(0), out);
   // out is one of the instances under a toroidal shift, in some order (the
@@ -169,10 +169,10 @@ TEST(PointSetBackend, UniformSetsAreShiftedPerPixelAndDeeperPairsFallBack) {
   backend.primary(11, SamplePairs::light(1), deep);
   makeBackend("sobol", 4)->primary(11, SamplePairs::light(1), sobol);
   EXPECT_EQ(deep, sobol);
-  EXPECT_THROW(backend.prepare(16, nullptr), std::invalid_argument);
+  EXPECT_THROW(backend.prepare(16, {}), std::invalid_argument);
 }
 
-TEST(PointSetBackend, DistributedSetsServeOnlyTheirTargetAtTheFirstBounce) {
+TEST(BankBackend, DistributedSetsServeOnlyTheirTargetAtTheFirstBounce) {
   const test::TempDir dir;
   const std::string mapPath = (dir / "map.exr").string();
   test::writeHotPixelMap(mapPath);
@@ -184,8 +184,8 @@ TEST(PointSetBackend, DistributedSetsServeOnlyTheirTargetAtTheFirstBounce) {
   for (int i = 0; i < 2 * 4; ++i) set.points.push_back({0.1 * i, 0.05 * i});
   // The same file reached through a different spelling of its path.
   set.metadata["target"] = "envmap:" + (dir.path() / "." / "map.exr").string();
-  PointSetBackend backend("optimized:x", set, "x.ptsb", 0);
-  EXPECT_NO_THROW(backend.prepare(4, light.target()));
+  BankBackend backend("optimized:x", {{set, "x.ptsb"}}, 0);
+  EXPECT_NO_THROW(backend.prepare(4, {light.target()}));
   std::vector<Point2> out(4);
   ASSERT_TRUE(backend.distributed(*light.target(), 5, SamplePairs::light(0), out));
   // One of the instances, in some order (shuffled like every pair).
@@ -199,7 +199,7 @@ TEST(PointSetBackend, DistributedSetsServeOnlyTheirTargetAtTheFirstBounce) {
 
   const auto message = [&](std::size_t spp, const Target *t) {
     try {
-      backend.prepare(spp, t);
+      backend.prepare(spp, {t});
     } catch (const std::invalid_argument &e) {
       return std::string(e.what());
     }
@@ -213,7 +213,7 @@ TEST(PointSetBackend, DistributedSetsServeOnlyTheirTargetAtTheFirstBounce) {
 // A file of inverse-CDF-mapped Owen-Sobol sets, served as distributed points,
 // renders the same image in expectation as the sobol backend: both estimate
 // the same integral, so both land close to a converged reference.
-TEST(PointSetBackend, DistributedPointsRenderTheSameImage) {
+TEST(BankBackend, DistributedPointsRenderTheSameImage) {
   Image sky = test::constantMap(0.2f, 32, 16);
   for (int c = 0; c < 3; ++c) sky.at(10, 4, c) = 80.0f;
   const test::TempDir dir;
@@ -233,7 +233,7 @@ TEST(PointSetBackend, DistributedPointsRenderTheSameImage) {
     for (const Point2 &p : u) set.points.push_back(scene.environment->target()->invert(p).x);
   }
   set.metadata["target"] = scene.environment->target()->spec();
-  PointSetBackend optimized("optimized:mapped", set, "mapped", 3);
+  BankBackend optimized("optimized:mapped", {{set, "mapped"}}, 3);
 
   const RenderSettings settings{16, 16, spp, IntegratorKind::Direct, 1};
   auto ref = makeBackend("sobol", 99);

@@ -45,7 +45,7 @@ TEST(NeuralBackend, EnvironmentModelServesTheFirstLightPairFromItsBank) {
   const std::string model = saveModel(dir, "env.nuldnet", "envmap:" + mapPath, 8);
 
   NeuralBackend backend("neural:" + model, model, 4);
-  backend.prepare(8, light.target());
+  backend.prepare(8, {light.target()});
   EXPECT_GT(backend.bankSets(), 1000u);
   std::vector<Point2> a(8), b(8);
   ASSERT_TRUE(backend.distributed(*light.target(), 5, SamplePairs::light(0), a));
@@ -55,11 +55,10 @@ TEST(NeuralBackend, EnvironmentModelServesTheFirstLightPairFromItsBank) {
   EXPECT_FALSE(backend.distributed(*light.target(), 5, SamplePairs::light(1), a));
   EXPECT_FALSE(backend.distributed(*other.target(), 5, SamplePairs::light(0), a));
 
-  EXPECT_NE(errorOf([&] { backend.prepare(16, light.target()); }).find("--spp 8"),
+  EXPECT_NE(errorOf([&] { backend.prepare(16, {light.target()}); }).find("--spp 8"),
             std::string::npos);
-  EXPECT_NE(errorOf([&] { backend.prepare(8, nullptr); }).find("no environment map"),
-            std::string::npos);
-  EXPECT_NE(errorOf([&] { backend.prepare(8, other.target()); }).find("other.exr"),
+  EXPECT_NE(errorOf([&] { backend.prepare(8, {}); }).find("no environment map"), std::string::npos);
+  EXPECT_NE(errorOf([&] { backend.prepare(8, {other.target()}); }).find("other.exr"),
             std::string::npos);
 }
 
@@ -67,7 +66,7 @@ TEST(NeuralBackend, UniformModelIsShiftedPerPixelAndRendersFiniteImages) {
   const test::TempDir dir;
   const std::string model = saveModel(dir, "u.nuldnet", "uniform", 4);
   auto backend = makeBackend("neural:" + model, 1);
-  backend->prepare(4, nullptr);
+  backend->prepare(4, {});
   std::vector<Point2> a(4), b(4);
   backend->primary(3, SamplePairs::camera, a);
   backend->primary(3, SamplePairs::bsdf(0), b);

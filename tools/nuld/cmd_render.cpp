@@ -25,8 +25,10 @@ Runner addRender(CLI::App &app) {
   app.add_option("scene", o->scene, "scene file (JSON) or 'default' (built in, needs no files)")
       ->required();
   app.add_option("--backend", o->backend,
-                 "sampler backend: independent, sobol, halton, optimized:FILE "
-                 "(default: the scene's, else sobol)");
+                 "sampler backend: independent, sobol, halton, sobol-tabulated (Sobol through "
+                 "the tabulated lobe's inverse CDF for BSDF sampling), optimized:PATHS (point-set "
+                 "files or directories, comma-separated), neural:MODEL (default: the scene's, "
+                 "else sobol)");
   app.add_option("--spp", o->spp, "samples per pixel (default: the scene's)")
       ->check(CLI::Range(std::size_t(1), std::size_t(1) << 24));
   app.add_option("--res", o->res, "resolution W or WxH (default: the scene's)");
@@ -34,8 +36,9 @@ Runner addRender(CLI::App &app) {
                  "asset root for the scene's meshes and maps (default: $NULD_ASSETS, else "
                  "../shared/assets beside the checkout)");
   app.add_option("--integrator", o->integrator,
-                 "path, direct (first bounce only) or light (first bounce, light sampling only)")
-      ->check(CLI::IsMember({"path", "direct", "light"}));
+                 "path, direct (first bounce, MIS of light and BSDF sampling), light (first "
+                 "bounce, light sampling only) or bsdf (first bounce, BSDF sampling only)")
+      ->check(CLI::IsMember(integratorNames()));
   app.add_option("--max-depth", o->maxDepth, "maximum path length in bounces")
       ->check(CLI::Range(1, 1000));
   app.add_option("--seed", o->seed, "seed of the backend's randomization")
@@ -67,9 +70,12 @@ Runner addRender(CLI::App &app) {
     std::printf("scene %s\nbackend %s\nspp %zu\nresolution %dx%d\nintegrator %s\n",
                 loaded.name.c_str(), backend->name().c_str(), s.spp, s.width, s.height,
                 toString(s.integrator).c_str());
-    std::printf("seconds %.3f\nrays %llu\nrays_per_second %.4g\nrejected_samples %llu\n",
-                stats.seconds, (unsigned long long)stats.rays, stats.raysPerSecond(),
-                (unsigned long long)stats.rejectedSamples);
+    std::printf("seconds %.3f\nsetup_seconds %.3f\nrays %llu\nrays_per_second %.4g\n",
+                stats.seconds, stats.setupSeconds, (unsigned long long)stats.rays,
+                stats.raysPerSecond());
+    std::printf("rejected_samples %llu\nclassic_fallbacks %llu\n",
+                (unsigned long long)stats.rejectedSamples,
+                (unsigned long long)stats.classicFallbacks);
     return 0;
   };
 }

@@ -12,7 +12,7 @@
 #include <memory>
 #include <stdexcept>
 
-#include "renderer/pointset_backend.h"
+#include "renderer/bank_backend.h"
 #include "sampler/io/pointset_io.h"
 #include "sampler/neural/neural_generator.h"
 #include "sampler/optimize/optimizer.h"

@@ -1,0 +1,180 @@
+#include "renderer/bank_backend.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <stdexcept>
+
+#include "renderer/neural_backend.h"
+#include "renderer/padding.h"
+#include "sampler/io/pointset_io.h"
+#include "sampler/sequences/rng.h"
+#include "sampler/sequences/scrambling.h"
+
+namespace nuld {
+
+namespace fs = std::filesystem;
+
+bool sameTarget(const std::string &a, const std::string &b) {
+  if (a == b) return true;
+  const auto colonA = a.find(':'), colonB = b.find(':');
+  if (colonA == std::string::npos || colonB == std::string::npos) return false;
+  const std::string familyA = a.substr(0, colonA), familyB = b.substr(0, colonB);
+  if (familyA != familyB || (familyA != "envmap" && familyA != "image")) return false;
+  std::error_code ec;
+  const fs::path pa = a.substr(colonA + 1), pb = b.substr(colonB + 1);
+  return fs::equivalent(pa, pb, ec) && !ec;
+}
+
+std::string SetBank::targetSpec() const {
+  const auto it = sets.metadata.find("target");
+  return it == sets.metadata.end() ? "uniform" : it->second;
+}
+
+namespace {
+
+SetBank loadBank(const fs::path &file) {
+  SetBank bank{readPointSet(file.string()), file.string()};
+  if (bank.sets.n == 0 || bank.sets.instances() == 0)
+    throw std::invalid_argument(bank.source + ": the point-set file holds no points");
+  return bank;
+}
+
+}  // namespace
+
+std::vector<SetBank> loadSetBanks(const std::string &paths) {
+  std::vector<SetBank> banks;
+  std::size_t pos = 0;
+  while (pos <= paths.size()) {
+    const std::size_t comma = std::min(paths.find(',', pos), paths.size());
+    const fs::path path = paths.substr(pos, comma - pos);
+    pos = comma + 1;
+    if (path.empty()) throw std::invalid_argument("'" + paths + "': an empty path in the list");
+    std::error_code ec;
+    if (!fs::is_directory(path, ec)) {
+      banks.push_back(loadBank(path));
+      continue;
+    }
+    std::vector<fs::path> files;
+    for (const auto &entry : fs::directory_iterator(path, ec))
+      if (entry.is_regular_file()) files.push_back(entry.path());
+    if (ec) throw std::invalid_argument(path.string() + ": cannot list the directory");
+    if (files.empty()) throw std::invalid_argument(path.string() + ": no point-set files in it");
+    std::sort(files.begin(), files.end());
+    for (const fs::path &f : files) banks.push_back(loadBank(f));
+  }
+  return banks;
+}
+
+BankBackend::BankBackend(std::string name, std::vector<SetBank> banks, std::uint64_t seed,
+                         std::uint64_t salt)
+    : name_(std::move(name)),
+      seed_(seed),
+      salt_(salt),
+      fallback_(makeClassicBackend("sobol", seed)) {
+  setBanks(std::move(banks));
+}
+
+void BankBackend::setBanks(std::vector<SetBank> banks) {
+  for (const SetBank &b : banks) {
+    if (b.sets.n == 0 || b.sets.instances() == 0)
+      throw std::invalid_argument(b.source + ": the bank holds no points");
+    for (const Point2 &p : b.sets.points)
+      if (!isFinite(p) || p.x < 0 || p.x > 1 || p.y < 0 || p.y > 1)
+        throw std::invalid_argument(b.source + ": a point lies outside the unit square");
+  }
+  banks_ = std::move(banks);
+  served_.clear();
+  uniform_ = nullptr;
+}
+
+bool BankBackend::samplesLobes() const {
+  return std::any_of(banks_.begin(), banks_.end(),
+                     [](const SetBank &b) { return b.targetSpec().rfind("disney", 0) == 0; });
+}
+
+void BankBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
+  served_.clear();
+  uniform_ = nullptr;
+  light_ = targets.light;
+  n_ = spp;
+  if (banks_.empty()) throw std::invalid_argument(name_ + ": the backend has no point sets");
+  std::vector<const SetBank *> sized;
+  for (const SetBank &b : banks_)
+    if (b.sets.n == spp) sized.push_back(&b);
+  if (sized.empty()) {
+    const std::string n = std::to_string(banks_.front().sets.n);
+    throw std::invalid_argument(banks_.front().source + ": the file holds sets of " + n +
+                                " points, but the render asks for " + std::to_string(spp) +
+                                " samples per pixel (use --spp " + n + ")");
+  }
+  const auto bankFor = [&](const Target *t) -> const SetBank * {
+    for (const SetBank *b : sized)
+      if (t && sameTarget(b->targetSpec(), t->spec())) return b;
+    return nullptr;
+  };
+  for (const SetBank *b : sized)
+    if (b->targetSpec() == "uniform") uniform_ = b;
+  if (const SetBank *b = bankFor(targets.light)) served_.push_back({targets.light, b});
+  for (const Target *t : targets.lobes)
+    if (const SetBank *b = bankFor(t)) served_.push_back({t, b});
+  if (uniform_ || !served_.empty()) return;
+
+  const SetBank &first = *sized.front();
+  const Target *light = targets.light;
+  std::string why = first.source + ": its points follow the target '" + first.targetSpec() +
+                    "', but the scene's " +
+                    (light ? "environment map samples '" + light->spec() + "'"
+                           : std::string("has no environment map"));
+  if (first.targetSpec().rfind("disney", 0) == 0)
+    why += " and none of its " + std::to_string(targets.lobes.size()) +
+           " lobe tables is that lobe (optimize for the scene's materials with nuld study "
+           "render, or use uniform points)";
+  else
+    why += " (optimize for the scene's map, or use uniform points)";
+  throw std::invalid_argument(why);
+}
+
+std::span<const Point2> BankBackend::pick(const SetBank &bank, std::uint64_t pixel,
+                                          std::uint32_t pair) const {
+  return bank.sets.instance(hash3(seed_ ^ salt_, pixel, pair) % bank.sets.instances());
+}
+
+void BankBackend::primary(std::uint64_t pixel, std::uint32_t pair, std::span<Point2> out) const {
+  if (!uniform_ || pair > SamplePairs::bsdf(0) || out.size() != n_) {
+    fallback_->primary(pixel, pair, out);
+    return;
+  }
+  const auto points = pick(*uniform_, pixel, pair);
+  const std::uint64_t shift = hash3(seed_, pixel, pair);
+  for (std::size_t i = 0; i < out.size(); ++i)
+    out[i] = {cranleyPatterson(points[i].x, shift), cranleyPatterson(points[i].y, ~shift)};
+  shufflePoints(out, shift);
+}
+
+bool BankBackend::distributed(const Target &target, std::uint64_t pixel, std::uint32_t pair,
+                              std::span<Point2> out) const {
+  // Targets were matched by spec once in prepare(); here they are addresses.
+  const auto it = std::find_if(served_.begin(), served_.end(),
+                               [&](const auto &s) { return s.first == &target; });
+  if (it == served_.end() || out.size() != n_) return false;
+  if (pair != (&target == light_ ? SamplePairs::light(0) : SamplePairs::bsdf(0))) return false;
+  const auto points = pick(*it->second, pixel, pair);
+  std::copy(points.begin(), points.end(), out.begin());
+  shufflePoints(out, hash3(seed_, pixel, pair));
+  return true;
+}
+
+std::unique_ptr<SamplerBackend> makeBackend(const std::string &spec, std::uint64_t seed) {
+  if (auto classic = makeClassicBackend(spec, seed)) return classic;
+  for (const std::string prefix : {"optimized:", "points:"})
+    if (spec.rfind(prefix, 0) == 0 && spec.size() > prefix.size())
+      return std::make_unique<BankBackend>(spec, loadSetBanks(spec.substr(prefix.size())), seed);
+  constexpr std::string_view kNeural = "neural:";
+  if (spec.rfind(kNeural, 0) == 0 && spec.size() > kNeural.size())
+    return std::make_unique<NeuralBackend>(spec, spec.substr(kNeural.size()), seed);
+  throw std::invalid_argument("unknown backend '" + spec +
+                              "': expected independent, sobol, sobol-tabulated, halton, "
+                              "optimized:PATHS, points:PATHS or neural:MODEL");
+}
+
+}  // namespace nuld

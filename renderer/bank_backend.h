@@ -1,0 +1,81 @@
+#pragma once
+// Banks of point sets and the one backend that deals them out: the
+// `optimized:PATHS` backend (point-set files written by `nuld optimize` or
+// the studies) and, filled by a generator, `neural:MODEL`.
+//
+// A bank is K instances of N = spp points that follow one target (metadata
+// `target`). At prepare() every bank is matched to the scene's sampling
+// contexts (renderer/sampler_backend.h) by its target spec:
+//  - a bank for the scene's environment map serves the first bounce's light
+//    pair, a bank for a tabulated lobe (renderer/lobe_tables.h) the first
+//    bounce's BSDF pair of the shading points that sample that table; one
+//    instance is picked per (pixel, pair), as the paper does with its bank of
+//    optimized sets, and dealt out in a random order;
+//  - a bank for the uniform target serves the first bounce's pairs as
+//    primary-sample-space points, one instance per (pixel, pair) under its
+//    own Cranley-Patterson shift, which keeps the estimator unbiased.
+// Every other pair and context (deeper bounces, other materials) falls back
+// to Owen-scrambled Sobol with the same seed, bit for bit what `sobol` gives.
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "renderer/sampler_backend.h"
+#include "sampler/point.h"
+
+namespace nuld {
+
+struct SetBank {
+  PointSet sets;       // K instances of N points
+  std::string source;  // where they came from, for messages
+
+  // The metadata's `target`, or "uniform" without one.
+  std::string targetSpec() const;
+};
+
+// The banks of PATHS: point-set files or directories of them (every regular
+// file in a directory, in name order), separated by commas. Throws naming the
+// path when one cannot be read, or holds no points.
+std::vector<SetBank> loadSetBanks(const std::string &paths);
+
+class BankBackend : public SamplerBackend {
+ public:
+  // `salt` keeps the instance choice of different kinds of bank independent.
+  BankBackend(std::string name, std::vector<SetBank> banks, std::uint64_t seed,
+              std::uint64_t salt = 0x6f7074696d697a65ull);
+
+  std::string name() const override { return name_; }
+  bool samplesLobes() const override;
+  void prepare(std::size_t spp, const SamplingTargets &targets) override;
+  void primary(std::uint64_t pixel, std::uint32_t pair, std::span<Point2> out) const override;
+  bool distributed(const Target &target, std::uint64_t pixel, std::uint32_t pair,
+                   std::span<Point2> out) const override;
+
+  const std::vector<SetBank> &banks() const { return banks_; }
+  // How many of the scene's targets the last prepare() matched to a bank.
+  std::size_t servedTargets() const { return served_.size(); }
+
+ protected:
+  // For a backend that makes its banks in prepare() (NeuralBackend).
+  void setBanks(std::vector<SetBank> banks);
+
+ private:
+  std::span<const Point2> pick(const SetBank &bank, std::uint64_t pixel, std::uint32_t pair) const;
+
+  std::string name_;
+  std::vector<SetBank> banks_;
+  std::uint64_t seed_, salt_;
+  std::unique_ptr<SamplerBackend> fallback_;
+  // Set by prepare(): the served targets (by address) and their banks.
+  std::vector<std::pair<const Target *, const SetBank *>> served_;
+  const SetBank *uniform_ = nullptr;
+  const Target *light_ = nullptr;
+  std::size_t n_ = 0;
+};
+
+// Whether two target specs name the same target: equal strings, or for
+// image:/envmap: the same file reached through different paths.
+bool sameTarget(const std::string &specA, const std::string &specB);
+
+}  // namespace nuld
