@@ -68,6 +68,9 @@ ok "render default" "$nuld" render default --spp 2 --res 16x12 -q -o "$dir/a.exr
 grep -q '^rejected_samples 0$' "$dir/out" || { echo "FAIL: render reports rejected samples"; failures=$((failures + 1)); }
 [[ -s "$dir/a.exr" && -s "$dir/a.png" ]] || { echo "FAIL: render wrote no EXR + PNG"; failures=$((failures + 1)); }
 ok "render halton direct" "$nuld" render default --backend halton --integrator direct --spp 4 --res 16x12 -q -o "$dir/b.exr"
+ok "render sobol-tabulated bsdf" "$nuld" render default --backend sobol-tabulated --integrator bsdf --spp 4 --res 16x12 -q -o "$dir/t.exr"
+grep -q '^classic_fallbacks 0$' "$dir/out" && grep -q '^setup_seconds ' "$dir/out" ||
+  { echo "FAIL: render reports fallbacks and setup"; cat "$dir/out"; failures=$((failures + 1)); }
 ok "compare" "$nuld" compare "$dir/b.exr" "$dir/a.exr" --error-map "$dir/err.png"
 grep -q '^mse [0-9.e+-]*$' "$dir/out" && grep -q '^relmse [0-9.e+-]*$' "$dir/out" ||
   { echo "FAIL: compare output"; cat "$dir/out"; failures=$((failures + 1)); }
@@ -142,6 +145,8 @@ grep -q '^halton  *4 ' "$dir/out" || { echo "FAIL: study render prints its table
 ok "study render rerun" "$nuld" study render default --res 16x12 --spp 2,4 --reference-spp 16 --integrator direct --backends sobol,halton -q --no-report -o "$dir/study"
 [[ $(wc -l <"$dir/study/render.csv") == 5 ]] || { echo "FAIL: a rerun adds no rows"; failures=$((failures + 1)); }
 ok "study report" "$nuld" study report "$dir/study"
+ok "study render lobe banks" "$nuld" study render default --res 8x6 --spp 2 --reference-spp 8 --integrator bsdf --backends optimized-bsdf,optimized-both --opt-epochs 5 --opt-instances 2 -q --no-report -o "$dir/lobes"
+grep -q '^optimized-both  *2 ' "$dir/out" || { echo "FAIL: study render with lobe banks"; cat "$dir/out"; failures=$((failures + 1)); }
 fails_with "study unknown backend" "unknown backend 'sobel'" "$nuld" study render default --backends sobol,sobel -o "$dir/s2"
 fails_with "study bad spp" "spp" "$nuld" study render default --spp 4,x -o "$dir/s2"
 fails_with "study bad resolution" "expected W or WxH" "$nuld" study render default --res 12by4 -o "$dir/s2"

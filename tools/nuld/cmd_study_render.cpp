@@ -100,9 +100,12 @@ Runner addStudyRender(CLI::App &app) {
   };
   auto o = std::make_shared<Options>();
   app.add_option("scenes", o->s.scenes, "scene files (JSON) or 'default' (default: default)");
-  app.add_option("--backends", o->s.backends,
-                 "comma-separated: independent, sobol, halton, optimized (sets optimized for "
-                 "the scene's environment map), optimized-uniform, optimized:FILE, neural:MODEL")
+  app.add_option(
+         "--backends", o->s.backends,
+         "comma-separated: independent, sobol, halton, optimized (sets optimized for "
+         "the scene's environment map), optimized-uniform, optimized-bsdf (lobe banks for the "
+         "scene's Disney materials), optimized-both, sobol-tabulated, optimized:PATHS, "
+         "neural:MODEL")
       ->delimiter(',');
   app.add_option("--spp", o->s.spp, "comma-separated samples per pixel (default 4,16,64)")
       ->delimiter(',');
@@ -118,7 +121,8 @@ Runner addStudyRender(CLI::App &app) {
   app.add_option("--res", o->res, "resolution W or WxH (default: the scene's)");
   app.add_option("--res-scale", o->s.resolutionScale,
                  "scale each scene's own resolution (e.g. 0.25; ignored with --res)");
-  app.add_option("--integrator", o->integrator, "path, direct (MIS), light or bsdf (default: the scene's)")
+  app.add_option("--integrator", o->integrator,
+                 "path, direct (MIS), light or bsdf (default: the scene's)")
       ->check(CLI::IsMember(integratorNames()));
   app.add_option("--max-depth", o->s.maxDepth, "maximum path length")->check(CLI::Range(1, 1000));
   app.add_option("--repeats", o->s.repeats,

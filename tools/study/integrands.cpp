@@ -4,11 +4,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <stdexcept>
 
 #include "materials/disney_target.h"
 #include "materials/sphere_map.h"
+#include "sampler/sequences/rng.h"
 #include "sampler/targets/basic_targets.h"
 #include "sampler/targets/image_targets.h"
 
@@ -90,8 +92,9 @@ void gaussLegendre(int q, std::vector<double> &nodes, std::vector<double> &weigh
 }
 
 const std::vector<std::string> &integrandKinds() {
-  static const std::vector<std::string> kinds{"gaussian*step", "quarterdisc*bilinear", "envmap*cos",
-                                              "disney*envmap", "disney-grazing*envmap"};
+  static const std::vector<std::string> kinds{
+      "gaussian*step", "quarterdisc*bilinear",  "envmap*cos",
+      "disney*envmap", "disney-grazing*envmap", "disney*cosines"};
   return kinds;
 }
 
@@ -221,6 +224,20 @@ Integrand makeEnvmapCos(std::shared_ptr<const StudyEnvmap> map, Vec3 normal) {
   return in;
 }
 
+namespace {
+
+// The gamma under which a `family:disney` model makes the target `spec`.
+std::function<std::optional<std::vector<double>>(const TargetFamily &)> familyGammaOf(
+    std::string spec) {
+  return [spec](const TargetFamily &family) -> std::optional<std::vector<double>> {
+    const auto g = disneyFamilyGamma(family.spec(), spec);
+    if (!g) return std::nullopt;
+    return std::vector<double>{(*g)[0], (*g)[1]};
+  };
+}
+
+}  // namespace
+
 Integrand makeDisneyEnvmap(std::shared_ptr<const StudyEnvmap> map, const DisneyParams &params,
                            Vec3 wo) {
   wo = normalize(wo);
@@ -250,20 +267,7 @@ Integrand makeDisneyEnvmap(std::shared_ptr<const StudyEnvmap> map, const DisneyP
     if (!s) return 0.0;
     return s->f.luminance() * s->wi.z * map->luminanceAt(spherePoint(s->wi)) / s->pdf;
   };
-  in.familyGamma = [spec](const TargetFamily &family) -> std::optional<std::vector<double>> {
-    if (family.spec().rfind("family:disney", 0) != 0) return std::nullopt;
-    // The disney family's gamma: (theta / 89 degrees, phi / 360 degrees).
-    std::vector<double> gamma{spec.thetaDegrees / 89, spec.phiDegrees / 360};
-    const std::string made = family.target(gamma)->spec();
-    if (made.rfind("disney", 0) != 0) return std::nullopt;
-    const DisneyTargetSpec m =
-        parseDisneyTargetArgs(made.size() > 7 ? made.substr(7) : std::string());
-    const bool same = m.params == spec.params && m.phiCells == spec.phiCells &&
-                      m.thetaRows == spec.thetaRows &&
-                      std::abs(m.thetaDegrees - spec.thetaDegrees) < 1e-6 &&
-                      std::abs(m.phiDegrees - spec.phiDegrees) < 1e-6;
-    return same ? std::optional(gamma) : std::nullopt;
-  };
+  in.familyGamma = familyGammaOf(toSpec(spec));
 
   // Gauss-Legendre q x q in (phi, z) over each pixel's part above the
   // horizon, on sub-cells at most 2 pi / 128 wide and 1 / 32 of z high (a
@@ -304,6 +308,82 @@ Integrand makeDisneyEnvmap(std::shared_ptr<const StudyEnvmap> map, const DisneyP
   in.referenceError = std::abs(in.reference - reference(4));
   in.referenceMethod = "per pixel: 8x8 Gauss-Legendre in (phi, z) above the horizon";
   return in;
+}
+
+std::vector<Vec3> smoothLightNormals() {
+  std::vector<Vec3> normals;
+  Rng rng(0x636f73696e6573ull);  // fixed: the integrand is part of the study's definition
+  for (int k = 0; k < 8; ++k) {
+    const double z = 2 * rng.uniform() - 1, phi = 2 * kPi * rng.uniform();
+    const double r = std::sqrt(std::max(0.0, 1 - z * z));
+    normals.push_back({r * std::cos(phi), r * std::sin(phi), z});
+  }
+  return normals;
+}
+
+Integrand makeDisneyCosines(double thetaDegrees, const DisneyParams &params) {
+  if (!(thetaDegrees >= 0 && thetaDegrees < 90))
+    throw std::invalid_argument("disney*cosines: theta must lie in [0, 90) degrees");
+  DisneyTargetSpec spec;
+  spec.params = params;
+  spec.thetaDegrees = thetaDegrees;
+  const Vec3 wo = spec.wo();
+  auto brdf = std::make_shared<DisneyBrdf>(params);
+  const std::vector<Vec3> normals = smoothLightNormals();
+  const auto light = [normals](Vec3 wi) {
+    double l = 0;
+    for (const Vec3 &n : normals) l += std::max(0.0, dot(n, wi));
+    return l / double(normals.size());
+  };
+  const auto g = [brdf, wo, light](Vec3 wi) {
+    if (!(wi.z > 0)) return 0.0;
+    return brdf->eval(wo, wi).luminance() * wi.z * light(wi);
+  };
+
+  Integrand in;
+  in.name = disneyCosinesName(thetaDegrees);
+  in.target = makeDisneyTarget(spec);
+  in.f = [g](Point2 x) { return kFourPi * g(sphereDirection(x)); };
+  in.lobeContribution = [brdf, wo, light](Point2 u) {
+    const auto s = brdf->sample(wo, u);
+    if (!s) return 0.0;
+    return s->f.luminance() * s->wi.z * light(s->wi) / s->pdf;
+  };
+  in.familyGamma = familyGammaOf(toSpec(spec));
+
+  // Gauss-Legendre q x q on each of 256 x 128 cells of (phi, z) over the
+  // hemisphere (d omega = d phi d z); the light's kinks cost accuracy only
+  // in the cells they cross.
+  constexpr int kPhiCells = 256, kZCells = 128;
+  const auto reference = [&](int q) {
+    std::vector<double> xs, ws;
+    gaussLegendre(q, xs, ws);
+    const double hphi = kPi / kPhiCells, hz = 0.5 / kZCells;
+    return sumRows(kZCells, [&](int j) {
+      double row = 0;
+      for (int i = 0; i < kPhiCells; ++i)
+        for (int a = 0; a < q; ++a) {
+          const double z = (2 * j + 1) * hz + hz * xs[a], r = std::sqrt(std::max(0.0, 1 - z * z));
+          for (int b = 0; b < q; ++b) {
+            const double phi = (2 * i + 1) * hphi + hphi * xs[b];
+            row += ws[a] * ws[b] * g({r * std::cos(phi), r * std::sin(phi), z});
+          }
+        }
+      return row * hz * hphi;
+    });
+  };
+  in.reference = reference(6);
+  in.referenceError = std::abs(in.reference - reference(3));
+  in.referenceMethod = "6x6 Gauss-Legendre on 256 x 128 cells of (phi, cos theta)";
+  return in;
+}
+
+std::vector<double> disneyCosinesThetas() { return {20, 45, 70}; }
+
+std::string disneyCosinesName(double thetaDegrees) {
+  char name[64];
+  std::snprintf(name, sizeof name, "disney*cosines:theta=%g", thetaDegrees);
+  return name;
 }
 
 }  // namespace nuld::study

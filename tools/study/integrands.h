@@ -53,9 +53,9 @@ struct Integrand {
 };
 
 // The kinds --integrands accepts: gaussian*step, quarterdisc*bilinear,
-// envmap*cos, disney*envmap and disney-grazing*envmap (the last three once
+// envmap*cos, disney*envmap and disney-grazing*envmap (these three once
 // per environment map; the grazing one views the lobe from 89 degrees, a
-// stability case).
+// stability case) and disney*cosines (once per view angle, no map).
 const std::vector<std::string> &integrandKinds();
 
 // Target gaussian:0.5,0.5,0.15; f = p(x) [x.x < 0.6], so f / p is the step
@@ -114,6 +114,19 @@ Integrand makeEnvmapCos(std::shared_ptr<const StudyEnvmap> map, Vec3 normal = en
 Integrand makeDisneyEnvmap(std::shared_ptr<const StudyEnvmap> map,
                            const DisneyParams &params = supplementDisneyParams(),
                            Vec3 wo = supplementWo());
+
+// `disney*cosines:theta=T`: the lobe of `params` at wo = (theta T, phi 0)
+// against a smooth light, the mean of 8 clamped cosines max(0, n_k . wi)
+// around fixed random normals (the kind of incident light diffuse
+// interreflection gives): g(wi) = lum(f(wo, wi)) cos theta_i L(wi).
+// Importance-sampled by the tabulated `disney` target at wo; the study makes
+// one per disneyCosinesThetas(). Reference: Gauss-Legendre 6 x 6 on 256 x 128
+// cells of (phi, cos theta) (3 x 3 gives the error estimate).
+Integrand makeDisneyCosines(double thetaDegrees,
+                            const DisneyParams &params = supplementDisneyParams());
+std::vector<double> disneyCosinesThetas();
+std::string disneyCosinesName(double thetaDegrees);
+std::vector<Vec3> smoothLightNormals();
 
 // omega_o 89 degrees from the normal, in the plane of the tangent: the
 // grazing view of disney-grazing*envmap.

@@ -145,6 +145,7 @@ std::vector<Integrand> selectIntegrands(const IntegrateOptions &o,
     known.push_back("disney*envmap:" + envmapShortName(m));
     known.push_back("disney-grazing*envmap:" + envmapShortName(m));
   }
+  for (double theta : disneyCosinesThetas()) known.push_back(disneyCosinesName(theta));
   for (const auto &t : o.integrands)
     if (t != "all" && std::find(known.begin(), known.end(), t) == known.end())
       throw std::invalid_argument("--integrands: unknown integrand '" + t + "' (expected " +
@@ -180,6 +181,8 @@ std::vector<Integrand> selectIntegrands(const IntegrateOptions &o,
       out.push_back(std::move(in));
     }
   }
+  for (double theta : disneyCosinesThetas())
+    if (wants(kinds[5], disneyCosinesName(theta))) out.push_back(makeDisneyCosines(theta));
   for (const auto &in : out) {
     notes.push_back(in.name + ": reference " + formatPrecise(in.reference) + " (" +
                     in.referenceMethod + "; estimated error " +

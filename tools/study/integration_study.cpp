@@ -42,40 +42,12 @@ std::string formatPrecise(double v) {
 
 namespace {
 
-std::uint64_t hashString(const std::string &s) {
-  std::uint64_t h = 1469598103934665603ull;  // FNV-1a
-  for (unsigned char c : s) h = (h ^ c) * 1099511628211ull;
-  return h;
-}
-
 // A loaded neural model and the integrands it serves (with their gamma).
 struct NeuralModel {
   std::string path, name;
   std::shared_ptr<const NeuralGenerator> generator;
   std::map<std::string, std::vector<double>> gammaFor;  // integrand name -> gamma
 };
-
-// envmap:/long/path/grace_latlong.exr -> envmap:grace_latlong, for names.
-std::string shortSpec(const std::string &spec) {
-  const auto colon = spec.find(':');
-  if (colon == std::string::npos || (spec.rfind("envmap:", 0) != 0 && spec.rfind("image:", 0) != 0))
-    return spec;
-  return spec.substr(0, colon + 1) + fs::path(spec.substr(colon + 1)).stem().string();
-}
-
-// The cache file of the optimized sets for a target, N and settings: the
-// name shows the target and N, the hash covers the full spec and settings.
-fs::path cachePath(const fs::path &dir, const Target &target, const OptimizerSettings &s) {
-  const std::string spec = target.spec();
-  std::string slug = shortSpec(spec);
-  for (char &c : slug)
-    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '-') c = '_';
-  if (slug.size() > 48) slug.resize(48);
-  char hash[17];
-  std::snprintf(hash, sizeof hash, "%016llx",
-                static_cast<unsigned long long>(hashString(spec + "|" + s.describe())));
-  return dir / ("optimized_" + slug + "_n" + std::to_string(s.n) + "_" + hash + ".ptsb");
-}
 
 }  // namespace
 
@@ -235,11 +207,9 @@ class StudyRunner {
     request.instances = o_.optimizedInstances;
     request.epochs = o_.optEpochs;
     request.seed = o_.seed;
-    OptimizerSettings settings = presetSettings(defaultPreset(target), n);
-    settings.instances = request.instances;
-    settings.seed = request.seed;
-    if (request.epochs > 0) settings.epochs = request.epochs;
-    const fs::path file = cachePath(o_.outDir / "cache", target, settings);
+    request.objective = o_.optObjective;
+    const fs::path file =
+        cachedSetsPath(o_.outDir / "cache", target, optimizerSettings(target, request));
     const std::string what = "optimizing " + shortSpec(target.spec()) + " N=" + std::to_string(n) +
                              " (" + std::to_string(request.instances) + " sets)";
     int lastShown = -1;

@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "sampler/optimize/optimizer.h"
 #include "sampler/point.h"
 #include "tools/study/csv_table.h"
 #include "tools/study/integrands.h"
@@ -45,7 +46,8 @@ struct IntegrateOptions {
   // Larger N are left out for `optimized`: Algorithm 1's cost grows with N
   // times the boxes (and the preset doubles the boxes at N >= 2048).
   std::size_t optimizedMaxN = 1024;
-  int optEpochs = 0;  // 0: the preset's
+  int optEpochs = 0;                      // 0: the preset's
+  std::optional<Objective> optObjective;  // nullopt: the preset's
   std::vector<std::string> neuralModels;
   std::string assetRoot;  // resolved; maps are looked up in ASSETROOT/envmaps
   std::vector<std::string> envmaps{"grace"};

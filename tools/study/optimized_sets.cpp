@@ -1,6 +1,8 @@
 #include "tools/study/optimized_sets.h"
 
+#include <cctype>
 #include <chrono>
+#include <cstdio>
 #include <stdexcept>
 
 #include "sampler/io/pointset_io.h"
@@ -10,15 +12,41 @@ namespace nuld::study {
 
 namespace fs = std::filesystem;
 
-namespace {
-
-OptimizerSettings settingsFor(const Target &target, const OptimizedSetsRequest &r) {
+OptimizerSettings optimizerSettings(const Target &target, const OptimizedSetsRequest &r) {
   OptimizerSettings s = presetSettings(defaultPreset(target), r.n);
   s.instances = r.instances;
   s.seed = r.seed;
   if (r.epochs > 0) s.epochs = r.epochs;
+  if (r.objective) s.objective = *r.objective;
   return s;
 }
+
+std::uint64_t hashString(const std::string &s) {
+  std::uint64_t h = 1469598103934665603ull;  // FNV-1a
+  for (unsigned char c : s) h = (h ^ c) * 1099511628211ull;
+  return h;
+}
+
+std::string shortSpec(const std::string &spec) {
+  const auto colon = spec.find(':');
+  if (colon == std::string::npos || (spec.rfind("envmap:", 0) != 0 && spec.rfind("image:", 0) != 0))
+    return spec;
+  return spec.substr(0, colon + 1) + fs::path(spec.substr(colon + 1)).stem().string();
+}
+
+fs::path cachedSetsPath(const fs::path &dir, const Target &target, const OptimizerSettings &s) {
+  const std::string spec = target.spec();
+  std::string slug = shortSpec(spec);
+  for (char &c : slug)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '-') c = '_';
+  if (slug.size() > 48) slug.resize(48);
+  char hash[17];
+  std::snprintf(hash, sizeof hash, "%016llx",
+                static_cast<unsigned long long>(hashString(spec + "|" + s.describe())));
+  return dir / ("optimized_" + slug + "_n" + std::to_string(s.n) + "_" + hash + ".ptsb");
+}
+
+namespace {
 
 double recordedSeconds(const PointSet &set) {
   const auto it = set.metadata.find("optimize_seconds");
@@ -34,7 +62,7 @@ double recordedSeconds(const PointSet &set) {
 OptimizedSets optimizedSets(const Target &target, const OptimizedSetsRequest &request,
                             const fs::path &path,
                             const std::function<void(int, int, double)> &progress) {
-  const OptimizerSettings settings = settingsFor(target, request);
+  const OptimizerSettings settings = optimizerSettings(target, request);
   const DirectOptimizer opt(target, settings);
   if (fs::exists(path)) {
     const PointSet cached = readPointSet(path.string());

@@ -8,8 +8,10 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 
+#include "sampler/optimize/optimizer.h"
 #include "sampler/point.h"
 #include "sampler/targets/target.h"
 
@@ -20,7 +22,23 @@ struct OptimizedSetsRequest {
   std::size_t instances = 16;
   int epochs = 0;  // 0: the preset's (by the target: uniform, nonuniform, sphere)
   std::uint64_t seed = 1;
+  std::optional<Objective> objective;  // nullopt: the preset's
 };
+
+// The optimizer settings a request stands for: the target's preset, with
+// the request's overrides.
+OptimizerSettings optimizerSettings(const Target &target, const OptimizedSetsRequest &request);
+
+// A cache file name in `dir` for sets of the target made with `settings`:
+// readable (target and N) and unique (a hash of the full spec and settings).
+std::filesystem::path cachedSetsPath(const std::filesystem::path &dir, const Target &target,
+                                     const OptimizerSettings &settings);
+
+// FNV-1a of the string: the studies' stable hash for names and seeds.
+std::uint64_t hashString(const std::string &s);
+
+// envmap:/long/path/grace_latlong.exr -> envmap:grace_latlong, for names.
+std::string shortSpec(const std::string &spec);
 
 struct OptimizedSets {
   std::filesystem::path file;  // a point-set file, metadata "target" = target.spec()

@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 #include "renderer/image_metrics.h"
+#include "renderer/lobe_tables.h"
 #include "renderer/sampler_backend.h"
 #include "sampler/io/image_io.h"
 #include "sampler/targets/target_spec.h"
@@ -20,7 +22,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-bool isStudyBackend(const std::string &b) { return b == "optimized" || b == "optimized-uniform"; }
+bool isStudyBackend(const std::string &b) {
+  return b == "optimized" || b == "optimized-uniform" || b == "optimized-bsdf" ||
+         b == "optimized-both";
+}
 
 // Mean and standard error of the mean.
 struct Summary {
@@ -46,33 +51,74 @@ struct ResolvedBackend {
   std::string why;
 };
 
+// Optimized sets for one target, from the study's cache or made now.
+OptimizedSets setsFor(const Target &target, const OptimizedSetsRequest &request,
+                      const fs::path &file, const std::string &task,
+                      const StudyProgress &progress) {
+  return optimizedSets(target, request, file, [&](int e, int n, double loss) {
+    if (progress) progress(task, double(e) / n, "loss " + formatNumber(loss));
+  });
+}
+
 ResolvedBackend resolveBackend(const std::string &backend, const Scene &scene,
-                               const std::string &sceneSlug, std::size_t spp,
-                               const RenderStudySettings &s, const StudyProgress &progress) {
+                               const RenderSettings &render, const std::string &sceneSlug,
+                               std::size_t spp, const RenderStudySettings &s,
+                               const StudyProgress &progress) {
   if (!isStudyBackend(backend)) return {backend, 0, ""};
-  std::unique_ptr<Target> uniform;
-  const Target *target = nullptr;
-  fs::path file;
-  if (backend == "optimized") {
-    if (!scene.environment || !scene.environment->target())
-      return {"", 0, "the scene has no (non-black) environment map to optimize for"};
-    target = scene.environment->target();
-    file = s.out / "cache" / (sceneSlug + "_envmap_n" + std::to_string(spp) + ".ptsb");
-  } else {
-    uniform = makeTarget("uniform");
-    target = uniform.get();
-    file = s.out / "cache" / ("uniform_n" + std::to_string(spp) + ".ptsb");
-  }
   OptimizedSetsRequest request;
   request.n = spp;
   request.instances = s.optimizedInstances;
   request.epochs = s.optimizedEpochs;
   request.seed = s.seed;
   const std::string task = sceneSlug + ": " + backend + " N=" + std::to_string(spp);
-  const OptimizedSets sets = optimizedSets(*target, request, file, [&](int e, int n, double loss) {
-    if (progress) progress(task, double(e) / n, "loss " + formatNumber(loss));
-  });
-  return {"optimized:" + sets.file.string(), sets.seconds, ""};
+  const fs::path cache = s.out / "cache";
+  std::vector<std::string> paths;
+  double seconds = 0;
+
+  if (backend == "optimized-uniform") {
+    const auto uniform = makeTarget("uniform");
+    const OptimizedSets sets = setsFor(
+        *uniform, request, cache / ("uniform_n" + std::to_string(spp) + ".ptsb"), task, progress);
+    return {"optimized:" + sets.file.string(), sets.seconds, ""};
+  }
+  if (backend == "optimized" || backend == "optimized-both") {
+    if (!scene.environment || !scene.environment->target())
+      return {"", 0, "the scene has no (non-black) environment map to optimize for"};
+    const OptimizedSets sets =
+        setsFor(*scene.environment->target(), request,
+                cache / (sceneSlug + "_envmap_n" + std::to_string(spp) + ".ptsb"), task, progress);
+    paths.push_back(sets.file.string());
+    seconds += sets.seconds;
+  }
+  if (backend == "optimized-bsdf" || backend == "optimized-both") {
+    // A bank per lobe table the renderer will build for this scene (the same
+    // settings give the same specs), optimized for the exact L2asd
+    // objective: as good as the sphere preset's soft boxes for these targets
+    // at 1/30 to 1/100 of the time (tools/experiments/lobe_banks_log.md).
+    const LobeTables tables(scene.materials, render.lobeTables);
+    if (tables.materials() == 0)
+      return {"", 0, "the scene has no Disney material to optimize lobe sets for"};
+    request.objective = Objective::ExactL2asd;
+    const auto targets = tables.targets();
+    // The directory is the bank the renderer loads whole, so its name carries
+    // the settings: sets made with other settings never join it.
+    char hash[17];
+    std::snprintf(hash, sizeof hash, "%08llx",
+                  static_cast<unsigned long long>(
+                      hashString(optimizerSettings(*targets[0], request).describe()) >> 32));
+    const fs::path dir = cache / (sceneSlug + "_lobes_n" + std::to_string(spp) + "_" + hash);
+    for (std::size_t k = 0; k < targets.size(); ++k) {
+      const OptimizedSets sets = setsFor(
+          *targets[k], request,
+          cachedSetsPath(dir, *targets[k], optimizerSettings(*targets[k], request)),
+          task + " lobe " + std::to_string(k + 1) + "/" + std::to_string(targets.size()), progress);
+      seconds += sets.seconds;
+    }
+    paths.push_back(dir.string());
+  }
+  std::string spec = "optimized:";
+  for (std::size_t i = 0; i < paths.size(); ++i) spec += (i ? "," : "") + paths[i];
+  return {spec, seconds, ""};
 }
 
 ReferenceSettings referenceFor(const RenderStudySettings &s, const RenderSettings &render) {
@@ -186,7 +232,7 @@ RenderStudyResult runRenderStudy(const RenderStudySettings &s, const StudyProgre
           continue;
         }
         const ResolvedBackend resolved =
-            resolveBackend(backend, loaded.scene, sceneSlug, spp, s, progress);
+            resolveBackend(backend, loaded.scene, rs, sceneSlug, spp, s, progress);
         if (resolved.spec.empty()) {
           result.skipped.push_back(sceneSlug + " " + backend + " " + std::to_string(spp) + ": " +
                                    resolved.why);

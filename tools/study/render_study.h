@@ -7,12 +7,17 @@
 // separately as setup seconds.
 //
 // Study backends: the renderer's `independent`, `sobol`, `halton`,
-// `neural:MODEL` and `optimized:FILE`, plus two that the study makes itself:
+// `sobol-tabulated`, `neural:MODEL` and `optimized:PATHS`, plus four that the
+// study makes itself:
 //   optimized          Algorithm 1 sets for the scene's environment map at
 //                      N = spp, used as distributed light samples at the first
 //                      bounce (skipped for scenes without an environment map)
 //   optimized-uniform  Algorithm 1 sets for the uniform target, served as the
 //                      first bounce's primary samples under a toroidal shift
+//   optimized-bsdf     a bank per lobe table of the scene's Disney materials
+//                      (renderer/lobe_tables.h), optimized for the exact L2asd
+//                      objective, for the first bounce's BSDF pair
+//   optimized-both     optimized and optimized-bsdf together
 // A backend that cannot serve a spp (a neural model or a file of another N)
 // is skipped for it with the reason.
 
