@@ -14,6 +14,26 @@
 namespace nuld {
 namespace {
 
+// The targets of consecutive sets: a family's target is rebuilt only when
+// gamma changes (tabulating a Disney lobe costs milliseconds, and a bank
+// generates hundreds of sets per gamma).
+class FamilyTargets {
+ public:
+  explicit FamilyTargets(const TargetFamily &family) : family_(family) {}
+  const Target &at(std::span<const double> gamma) {
+    if (!target_ || !std::equal(gamma.begin(), gamma.end(), gamma_.begin(), gamma_.end())) {
+      target_ = family_.target(gamma);
+      gamma_.assign(gamma.begin(), gamma.end());
+    }
+    return *target_;
+  }
+
+ private:
+  const TargetFamily &family_;
+  std::vector<double> gamma_;
+  std::shared_ptr<const Target> target_;
+};
+
 constexpr const char *kFormat = "nuld-neural-generator";
 constexpr int kVersion = 1;
 
@@ -163,10 +183,10 @@ std::pair<torch::Tensor, torch::Tensor> NeuralGenerator::Net::graphInputs(
   const auto hf = harmonics.accessor<double, 2>();
   std::vector<Point2> x(n), u(n), gradient(s.discrepancyGradient ? n : 0);
   std::vector<Jacobian2> jacobian(n);
-  std::shared_ptr<const Target> target;
+  FamilyTargets targets(gen.family());
   for (std::size_t set = 0; set < K; ++set) {
     const std::span<const double> gs = gamma.subspan(set * g, g);
-    if (!target || g > 0) target = gen.family().target(gs);
+    const Target *target = &targets.at(gs);
     std::vector<double> gammaCode;
     if (g > 0) {
       const torch::Tensor v =
@@ -402,9 +422,9 @@ void NeuralGenerator::generate(std::span<const Point2> z, std::span<const double
       r.to(torch::kFloat64).reshape({std::int64_t(K), std::int64_t(n), 2}).contiguous();
   const torch::Tensor points = (base + residual).contiguous();
   const auto *p = reinterpret_cast<const Point2 *>(points.data_ptr<double>());
-  std::shared_ptr<const Target> target;
+  FamilyTargets targets(*family_);
   for (std::size_t k = 0; k < K; ++k) {
-    if (!target || g > 0) target = family_->target(gamma.subspan(k * g, g));
+    const Target *target = &targets.at(gamma.subspan(k * g, g));
     for (std::size_t i = k * n; i < (k + 1) * n; ++i) {
       if (!isFinite(p[i]))
         throw std::runtime_error("neural: the network produced a non-finite point");

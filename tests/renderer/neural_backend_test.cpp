@@ -7,7 +7,9 @@
 
 #include <cmath>
 
+#include "materials/disney_target.h"
 #include "renderer/environment_light.h"
+#include "renderer/lobe_tables.h"
 #include "renderer/render.h"
 #include "sampler/io/image_io.h"
 #include "tests/common/temp_dir.h"
@@ -78,6 +80,38 @@ TEST(NeuralBackend, UniformModelIsShiftedPerPixelAndRendersFiniteImages) {
   const Image image = render(scene, {8, 8, 4, IntegratorKind::Path, 4}, *backend, &stats);
   for (float v : image.pixels) EXPECT_TRUE(std::isfinite(v));
   EXPECT_EQ(stats.rejectedSamples, 0u);
+}
+
+// A model of family:disney serves the BSDF pair of a material with the
+// family's parameters: one bank per lobe table, generated at the table's
+// gamma, whose points follow that table (they start as its inverse-CDF
+// image, and the untrained network adds nothing). A material with other
+// parameters is not served.
+TEST(NeuralBackend, DisneyFamilyModelServesTheLobeTablesOfItsMaterial) {
+  registerMaterialTargets();  // what nuld's main does
+  const test::TempDir dir;
+  const std::string model = saveModel(dir, "lobe.nuldnet", "family:disney", 4);
+  NeuralBackend backend("neural:" + model, model, 2);
+  ASSERT_TRUE(backend.samplesLobes());
+  const auto supplement = std::make_shared<DisneyBrdf>(supplementDisneyParams());
+  const LobeTables tables({supplement}, {3, 2, 256});
+  const auto targets = tables.targets();
+  backend.prepare(4, {nullptr, targets});
+  EXPECT_EQ(backend.servedTargets(), targets.size());
+  EXPECT_GE(backend.bankSets(), targets.size() * NeuralBackend::kMinSetsPerGamma);
+  std::vector<Point2> out(4);
+  for (const Target *t : targets) {
+    ASSERT_TRUE(backend.distributed(*t, 9, SamplePairs::bsdf(0), out));
+    for (const Point2 &p : out) EXPECT_GT(t->pdf(p), 0) << t->spec();
+    EXPECT_FALSE(backend.distributed(*t, 9, SamplePairs::bsdf(1), out));
+  }
+  DisneyParams other = supplementDisneyParams();
+  other.roughness = 0.2;
+  const LobeTables otherTables({std::make_shared<DisneyBrdf>(other)}, {3, 2, 256});
+  EXPECT_NE(errorOf([&] {
+              backend.prepare(4, {nullptr, otherTables.targets()});
+            }).find("makes none of the scene's"),
+            std::string::npos);
 }
 
 TEST(NeuralBackend, RefusesModelsThatNeedGammaAndUnreadableFiles) {

@@ -18,6 +18,8 @@ OptimizerSettings optimizerSettings(const Target &target, const OptimizedSetsReq
   s.seed = r.seed;
   if (r.epochs > 0) s.epochs = r.epochs;
   if (r.objective) s.objective = *r.objective;
+  // The periodic objective is defined on the torus: points wrap.
+  if (s.objective == Objective::PeriodicL2) s.mapping = Mapping::Toroidal;
   return s;
 }
 

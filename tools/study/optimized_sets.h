@@ -26,7 +26,7 @@ struct OptimizedSetsRequest {
 };
 
 // The optimizer settings a request stands for: the target's preset, with
-// the request's overrides.
+// the request's overrides (the periodic objective implies toroidal mapping).
 OptimizerSettings optimizerSettings(const Target &target, const OptimizedSetsRequest &request);
 
 // A cache file name in `dir` for sets of the target made with `settings`:

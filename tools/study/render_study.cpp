@@ -76,9 +76,15 @@ ResolvedBackend resolveBackend(const std::string &backend, const Scene &scene,
   double seconds = 0;
 
   if (backend == "optimized-uniform") {
+    // Sets for the periodic L2 discrepancy: a Cranley-Patterson shift, which
+    // the backend applies per pixel and pair, leaves it unchanged, so every
+    // shifted set is as good as the optimized one (sets for the plain L2
+    // discrepancy lose their quality under the shift).
     const auto uniform = makeTarget("uniform");
+    request.objective = Objective::PeriodicL2;
     const OptimizedSets sets = setsFor(
-        *uniform, request, cache / ("uniform_n" + std::to_string(spp) + ".ptsb"), task, progress);
+        *uniform, request, cachedSetsPath(cache, *uniform, optimizerSettings(*uniform, request)),
+        task, progress);
     return {"optimized:" + sets.file.string(), sets.seconds, ""};
   }
   if (backend == "optimized" || backend == "optimized-both") {

@@ -12,8 +12,10 @@
 //   optimized          Algorithm 1 sets for the scene's environment map at
 //                      N = spp, used as distributed light samples at the first
 //                      bounce (skipped for scenes without an environment map)
-//   optimized-uniform  Algorithm 1 sets for the uniform target, served as the
-//                      first bounce's primary samples under a toroidal shift
+//   optimized-uniform  sets for the uniform target optimized for the periodic
+//                      L2 discrepancy (invariant under the toroidal shift the
+//                      backend applies per pixel and pair), served as the
+//                      first bounce's primary samples
 //   optimized-bsdf     a bank per lobe table of the scene's Disney materials
 //                      (renderer/lobe_tables.h), optimized for the exact L2asd
 //                      objective, for the first bounce's BSDF pair
