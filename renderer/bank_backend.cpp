@@ -9,6 +9,7 @@
 #include "sampler/io/pointset_io.h"
 #include "sampler/sequences/rng.h"
 #include "sampler/sequences/scrambling.h"
+#include "sampler/targets/grid_target.h"
 
 namespace nuld {
 
@@ -66,11 +67,12 @@ std::vector<SetBank> loadSetBanks(const std::string &paths) {
 }
 
 BankBackend::BankBackend(std::string name, std::vector<SetBank> banks, std::uint64_t seed,
-                         std::uint64_t salt)
+                         std::uint64_t salt, bool shifted)
     : name_(std::move(name)),
       seed_(seed),
       salt_(salt),
-      fallback_(makeClassicBackend("sobol", seed)) {
+      fallback_(makeClassicBackend("sobol", seed)),
+      shifted_(shifted) {
   setBanks(std::move(banks));
 }
 
@@ -114,9 +116,22 @@ void BankBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
   };
   for (const SetBank *b : sized)
     if (b->targetSpec() == "uniform") uniform_ = b;
-  if (const SetBank *b = bankFor(targets.light)) served_.push_back({targets.light, b});
-  for (const Target *t : targets.lobes)
-    if (const SetBank *b = bankFor(t)) served_.push_back({t, b});
+  const auto serve = [&](const Target *t) {
+    const SetBank *b = bankFor(t);
+    if (!b) return;
+    Served s{t, b, {}};
+    if (shifted_) {
+      const auto *grid = dynamic_cast<const GridTarget *>(t);
+      if (!grid)
+        throw std::invalid_argument(name_ + ": the target '" + t->spec() +
+                                    "' has no CDF map to shift its sets in");
+      s.primaries.reserve(b->sets.points.size());
+      for (const Point2 &p : b->sets.points) s.primaries.push_back(grid->primaryOf(p));
+    }
+    served_.push_back(std::move(s));
+  };
+  serve(targets.light);
+  for (const Target *t : targets.lobes) serve(t);
   if (uniform_ || !served_.empty()) return;
 
   const SetBank &first = *sized.front();
@@ -155,26 +170,36 @@ bool BankBackend::distributed(const Target &target, std::uint64_t pixel, std::ui
                               std::span<Point2> out) const {
   // Targets were matched by spec once in prepare(); here they are addresses.
   const auto it = std::find_if(served_.begin(), served_.end(),
-                               [&](const auto &s) { return s.first == &target; });
+                               [&](const Served &s) { return s.target == &target; });
   if (it == served_.end() || out.size() != n_) return false;
   if (pair != (&target == light_ ? SamplePairs::light(0) : SamplePairs::bsdf(0))) return false;
-  const auto points = pick(*it->second, pixel, pair);
-  std::copy(points.begin(), points.end(), out.begin());
-  shufflePoints(out, hash3(seed_, pixel, pair));
+  const auto points = pick(*it->bank, pixel, pair);
+  const std::uint64_t shift = hash3(seed_, pixel, pair);
+  if (shifted_) {
+    const std::size_t first = std::size_t(points.data() - it->bank->sets.points.data());
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      const Point2 u = it->primaries[first + i];
+      out[i] = target.invert({cranleyPatterson(u.x, shift), cranleyPatterson(u.y, ~shift)}).x;
+    }
+  } else {
+    std::copy(points.begin(), points.end(), out.begin());
+  }
+  shufflePoints(out, shift);
   return true;
 }
 
 std::unique_ptr<SamplerBackend> makeBackend(const std::string &spec, std::uint64_t seed) {
   if (auto classic = makeClassicBackend(spec, seed)) return classic;
-  for (const std::string prefix : {"optimized:", "points:"})
+  for (const std::string prefix : {"optimized:", "points:", "shifted:"})
     if (spec.rfind(prefix, 0) == 0 && spec.size() > prefix.size())
-      return std::make_unique<BankBackend>(spec, loadSetBanks(spec.substr(prefix.size())), seed);
+      return std::make_unique<BankBackend>(spec, loadSetBanks(spec.substr(prefix.size())), seed,
+                                           0x6f7074696d697a65ull, prefix == "shifted:");
   constexpr std::string_view kNeural = "neural:";
   if (spec.rfind(kNeural, 0) == 0 && spec.size() > kNeural.size())
     return std::make_unique<NeuralBackend>(spec, spec.substr(kNeural.size()), seed);
   throw std::invalid_argument("unknown backend '" + spec +
                               "': expected independent, sobol, sobol-tabulated, halton, "
-                              "optimized:PATHS, points:PATHS or neural:MODEL");
+                              "optimized:PATHS, points:PATHS, shifted:PATHS or neural:MODEL");
 }
 
 }  // namespace nuld

@@ -195,6 +195,16 @@ double GridTarget::mass(const Box2 &box) const {
   return {{x, y}, {i, j}, cellFraction, rowMass};
 }
 
+Point2 GridTarget::primaryOf(Point2 x) const {
+  const Cell c = locate(clampedUnit(x));
+  const int i = c.i, j = c.j;
+  const double ty = std::clamp((x.y - yEdges_[j]) / (yEdges_[j + 1] - yEdges_[j]), 0.0, 1.0);
+  const double tx = std::clamp((x.x - xEdges_[i]) / (xEdges_[i + 1] - xEdges_[i]), 0.0, 1.0);
+  const double *cdf = &colCdf_[std::size_t(j) * (cols_ + 1)];
+  return clampedUnit(
+      {cdf[i] + tx * (cdf[i + 1] - cdf[i]), rowCdf_[j] + ty * (rowCdf_[j + 1] - rowCdf_[j])});
+}
+
 Inversion GridTarget::invert(Point2 u) const {
   Cell cell;
   return invert(u, cell);

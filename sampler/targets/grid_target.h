@@ -53,6 +53,12 @@ class GridTarget final : public Target {
   };
   Cell locate(Point2 p) const { return {xCells_.cell(xEdges_, p.x), yCells_.cell(yEdges_, p.y)}; }
   Inversion invert(Point2 u, Cell &cell) const;
+  // The inverse of invert(): the primary point u that invert() maps to x
+  // (the Rosenblatt CDF map: the row's marginal CDF, then the column's
+  // conditional CDF in that row, each linear within a cell). Exact for x in
+  // a cell of positive density; a point in a zero-density cell maps to its
+  // row's or cell's CDF value.
+  Point2 primaryOf(Point2 x) const;
   // The points of invert(u[k], cells[k]) for every k into x[k], the same
   // values, without the Jacobians (an environment light needs only the
   // points and their cells). The table reads of the points overlap, which

@@ -218,6 +218,49 @@ TEST(LobeSampling, ABankForOneMaterialLeavesTheOtherAsSobol) {
   for (float v : withBank.pixels) EXPECT_TRUE(std::isfinite(v));
 }
 
+// A bank of one set is as unrandomized as a bank can be: unshifted, every
+// pixel gets the same points. shifted:PATHS pulls them back to primary
+// space and shifts them per pixel, so over pixels every point follows the
+// table exactly: chi-square of 4000 pixels' points against the table's box
+// masses passes shifted and fails unshifted.
+TEST(LobeSampling, ShiftedBanksFollowTheTableOverPixels) {
+  const auto material = disney(0.0, 0.3);
+  const LobeTables tables({material}, kSmallTables);
+  const Target &table = *tables.targets()[1];
+  constexpr std::size_t kN = 8;
+  SetBank bank{PointSet{}, "one set"};
+  bank.sets.n = kN;
+  Rng rng(2);
+  for (std::size_t i = 0; i < kN; ++i)
+    bank.sets.points.push_back(table.invert({(i + rng.uniform()) / kN, rng.uniform()}).x);
+  bank.sets.metadata["target"] = table.spec();
+  constexpr int kX = 8, kY = 4;
+  std::vector<double> expected(kX * kY);
+  for (int j = 0; j < kY; ++j)
+    for (int i = 0; i < kX; ++i)
+      expected[j * kX + i] =
+          table.mass({{double(i) / kX, 0.5 * j / kY}, {double(i + 1) / kX, 0.5 * (j + 1) / kY}}) *
+          4000.0 * kN;
+  for (const bool shifted : {true, false}) {
+    BankBackend backend("test", {bank}, 3, 0x6f7074696d697a65ull, shifted);
+    backend.prepare(kN, {nullptr, tables.targets()});
+    std::vector<double> observed(kX * kY, 0);
+    std::vector<Point2> out(kN);
+    for (std::uint64_t pixel = 0; pixel < 4000; ++pixel) {
+      ASSERT_TRUE(backend.distributed(table, pixel, SamplePairs::bsdf(0), out));
+      for (const Point2 &p : out) {
+        ASSERT_GT(table.pdf(p), 0);
+        observed[std::min(kY - 1, int(p.y * 2 * kY)) * kX + std::min(kX - 1, int(p.x * kX))] += 1;
+      }
+    }
+    const test::ChiSquare c = test::pooledChiSquare(observed, expected);
+    if (shifted)
+      EXPECT_GT(c.pValue, 0.01) << c.note;
+    else
+      EXPECT_LT(c.pValue, 1e-6);
+  }
+}
+
 TEST(LobeSampling, DeterministicForAnyThreadCount) {
   const Scene scene = sceneWith({test::unitSphere()}, {disney(0.3)}, constantMap(1.0f),
                                 {{0, 0, 4}, {0, 0, 0}, {0, 1, 0}, 40, false});

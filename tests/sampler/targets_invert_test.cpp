@@ -12,6 +12,7 @@
 
 #include "sampler/point.h"
 #include "sampler/sequences/rng.h"
+#include "sampler/targets/grid_target.h"
 #include "sampler/targets/target.h"
 #include "sampler/targets/target_spec.h"
 #include "tests/sampler/target_oracles.h"
@@ -197,6 +198,32 @@ TEST(TargetJacobian, DeterminantTimesPdfIsOne) {
     }
     EXPECT_LE(worst, 1e-6) << c.name << " at u = (" << worstU.x << ", " << worstU.y << ")";
     EXPECT_EQ(zeroPdf, 0) << c.name;
+  }
+}
+
+}  // namespace
+}  // namespace nuld
+
+namespace nuld {
+namespace {
+
+// GridTarget::primaryOf is the inverse of invert(): u -> x -> u round-trips
+// for every u, and so x -> u -> x for every x that invert() makes, on a
+// grid of uneven cells with zero-density cells and a zero-density row.
+TEST(TargetInvert, PrimaryOfInvertsTheGridMap) {
+  const std::vector<double> xs{0, 0.1, 0.5, 0.55, 1}, ys{0, 0.3, 0.5, 1};
+  const std::vector<double> density{1, 0, 3, 0.5,  // row 0
+                                    2, 7, 0, 1,    // row 1
+                                    0, 0, 0, 0};   // row 2: none
+  const GridTarget grid(xs, ys, density, "test-grid", Domain::Square, "test");
+  Rng rng(4);
+  for (int k = 0; k < 20000; ++k) {
+    const Point2 u{rng.uniform(), rng.uniform()};
+    const Point2 x = grid.invert(u).x;
+    const Point2 back = grid.primaryOf(x);
+    ASSERT_NEAR(back.x, u.x, 1e-12);
+    ASSERT_NEAR(back.y, u.y, 1e-12);
+    EXPECT_GT(grid.pdf(x), 0);
   }
 }
 

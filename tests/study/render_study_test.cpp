@@ -15,9 +15,12 @@
 #include <regex>
 #include <sstream>
 
+#include "materials/disney_target.h"
 #include "sampler/io/image_io.h"
+#include "sampler/io/pointset_io.h"
 #include "sampler/targets/target_spec.h"
 #include "scenes/scene_file.h"
+#include "tests/common/chi_square.h"
 #include "tests/common/temp_dir.h"
 #include "tools/study/csv_table.h"
 #include "tools/study/optimized_sets.h"
@@ -109,7 +112,10 @@ TEST_F(TinyStudy, CsvHasItsColumnsAndUnits) {
   }
   EXPECT_TRUE(fs::exists(*dir_ / "default" / "reference.exr"));
   EXPECT_TRUE(fs::exists(*dir_ / "cache" / "default_envmap_n64.ptsb"));
-  EXPECT_TRUE(fs::exists(*dir_ / "cache" / "uniform_n4.ptsb"));
+  bool uniformSets = false;  // named by target, N and a hash of the settings
+  for (const auto &e : fs::directory_iterator(*dir_ / "cache"))
+    uniformSets |= e.path().filename().string().rfind("optimized_uniform_n4_", 0) == 0;
+  EXPECT_TRUE(uniformSets);
 }
 
 TEST_F(TinyStudy, MseFallsWithSppForEveryBackend) {
@@ -284,26 +290,69 @@ TEST(RenderStudy, SceneWithoutEnvironmentMapSkipsOptimizedWithTheReason) {
 
 TEST(RenderStudy, StressSceneHasNoNonFiniteValueAnywhere) {
   // Roughness 0 and 1, grazing views of a glossy floor, a sun 1e6 times the
-  // sky: every backend, full paths. Non-finite sample values would be
-  // dropped and counted by the renderer; neither may happen.
-  TempDir tmp;
-  RenderStudySettings s = tinyStudy(tmp.path());
-  s.scenes = {"stress"};
-  s.integrator = IntegratorKind::Path;
-  s.spp = {16};
-  s.repeats = 1;
-  s.reference.spp = 64, s.reference.passSpp = 64;
-  runRenderStudy(s);
-  const CsvTable t = readTable(tmp.path());
-  ASSERT_EQ(t.rows().size(), 5u);
-  for (const auto &row : t.rows()) {
-    auto r = asMap(t.columns(), row);
-    EXPECT_EQ(r["nonfinite_pixels"], "0") << r["backend"];
-    EXPECT_EQ(r["rejected_samples"], "0") << r["backend"];
-    EXPECT_TRUE(std::isfinite(std::stod(r["mse"]))) << r["backend"];
+  // sky: every backend (lobe banks and tabulated lobes too), full paths and
+  // BSDF sampling alone. Non-finite sample values would be dropped and
+  // counted by the renderer; neither may happen.
+  for (const IntegratorKind kind : {IntegratorKind::Path, IntegratorKind::Bsdf}) {
+    TempDir tmp;
+    RenderStudySettings s = tinyStudy(tmp.path());
+    s.scenes = {"stress"};
+    s.backends.insert(s.backends.end(), {"sobol-tabulated", "optimized-bsdf", "optimized-both"});
+    s.integrator = kind;
+    s.spp = {16};
+    s.repeats = 1;
+    s.reference.spp = 64, s.reference.passSpp = 64;
+    runRenderStudy(s);
+    const CsvTable t = readTable(tmp.path());
+    ASSERT_EQ(t.rows().size(), 8u);
+    for (const auto &row : t.rows()) {
+      auto r = asMap(t.columns(), row);
+      EXPECT_EQ(r["nonfinite_pixels"], "0") << r["backend"];
+      EXPECT_EQ(r["rejected_samples"], "0") << r["backend"];
+      EXPECT_TRUE(std::isfinite(std::stod(r["mse"]))) << r["backend"];
+    }
+    const Image ref = readImage((tmp / "stress" / "reference.exr").string());
+    for (float v : ref.pixels) ASSERT_TRUE(std::isfinite(v) && v >= 0);
   }
-  const Image ref = readImage((tmp / "stress" / "reference.exr").string());
-  for (float v : ref.pixels) ASSERT_TRUE(std::isfinite(v) && v >= 0);
+}
+
+// The lobe banks of optimized-bsdf: sets optimized for the exact L2asd
+// objective against a tabulated lobe follow it. Chi-square of all the
+// bank's points (16 sets of 64, as the study makes them) in 16 x 8 boxes of
+// the upper hemisphere against the table's exact box masses, for the
+// supplement's instance at three view angles (the same points against the
+// lobe 40 degrees away fail: p < 1e-6). Optimized sets are more even than
+// independent points, so a wrong density, not chance, is what fails it.
+// Not asserted, because it does not hold: for a glossy lobe (a metal at
+// roughness 0.3) the instances converge to nearly one set and their union
+// misses the table (p ~ 1e-60; tools/experiments/lobe_banks_log.md).
+TEST(OptimizedSets, LobeBanksFollowTheirTable) {
+  registerMaterialTargets();
+  for (const int theta : {20, 45, 70}) {
+    const std::string spec = "disney:theta=" + std::to_string(theta) + ",res=64";
+    const auto target = makeTarget(spec);
+    TempDir tmp;
+    OptimizedSetsRequest request;
+    request.n = 64;
+    request.instances = 16;
+    request.objective = Objective::ExactL2asd;
+    const OptimizedSets made = optimizedSets(*target, request, tmp / "bank.ptsb");
+    const PointSet bank = readPointSet(made.file.string());
+    ASSERT_EQ(bank.points.size(), 64u * 16u);
+    constexpr int kX = 16, kY = 8;
+    std::vector<double> observed(kX * kY, 0), expected(kX * kY, 0);
+    for (const Point2 &p : bank.points) {
+      ASSERT_LE(p.y, 0.5) << "a point below the surface";
+      observed[std::min(kY - 1, int(p.y * 2 * kY)) * kX + std::min(kX - 1, int(p.x * kX))] += 1;
+    }
+    for (int j = 0; j < kY; ++j)
+      for (int i = 0; i < kX; ++i)
+        expected[j * kX + i] =
+            target->mass({{double(i) / kX, 0.5 * j / kY}, {double(i + 1) / kX, 0.5 * (j + 1) / kY}}) *
+            double(bank.points.size());
+    const test::ChiSquare c = test::pooledChiSquare(observed, expected);
+    EXPECT_GT(c.pValue, test::sidakLevel(0.01, 3)) << c.note << " " << spec;
+  }
 }
 
 TEST(RenderStudy, SlugsAreFileNameSafe) {

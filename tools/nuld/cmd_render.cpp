@@ -27,7 +27,8 @@ Runner addRender(CLI::App &app) {
   app.add_option("--backend", o->backend,
                  "sampler backend: independent, sobol, halton, sobol-tabulated (Sobol through "
                  "the tabulated lobe's inverse CDF for BSDF sampling), optimized:PATHS (point-set "
-                 "files or directories, comma-separated), neural:MODEL (default: the scene's, "
+                 "files or directories, comma-separated), shifted:PATHS (the same, each set "
+                 "shifted in primary space: unbiased), neural:MODEL (default: the scene's, "
                  "else sobol)");
   app.add_option("--spp", o->spp, "samples per pixel (default: the scene's)")
       ->check(CLI::Range(std::size_t(1), std::size_t(1) << 24));

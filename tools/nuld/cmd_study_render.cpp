@@ -104,7 +104,8 @@ Runner addStudyRender(CLI::App &app) {
          "--backends", o->s.backends,
          "comma-separated: independent, sobol, halton, optimized (sets optimized for "
          "the scene's environment map), optimized-uniform, optimized-bsdf (lobe banks for the "
-         "scene's Disney materials), optimized-both, sobol-tabulated, optimized:PATHS, "
+         "scene's Disney materials), optimized-both (each also with the suffix +shift: sets "
+         "randomized in primary space), sobol-tabulated, optimized:PATHS, shifted:PATHS, "
          "neural:MODEL")
       ->delimiter(',');
   app.add_option("--spp", o->s.spp, "comma-separated samples per pixel (default 4,16,64)")

@@ -22,9 +22,20 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// A study backend may carry the suffix "+shift": its non-uniform sets are
+// then randomized in primary space (the renderer's shifted:PATHS).
+constexpr std::string_view kShiftSuffix = "+shift";
+bool hasShiftSuffix(const std::string &b) {
+  return b.size() > kShiftSuffix.size() && b.ends_with(kShiftSuffix);
+}
+std::string withoutShift(const std::string &b) {
+  return hasShiftSuffix(b) ? b.substr(0, b.size() - kShiftSuffix.size()) : b;
+}
+
 bool isStudyBackend(const std::string &b) {
-  return b == "optimized" || b == "optimized-uniform" || b == "optimized-bsdf" ||
-         b == "optimized-both";
+  const std::string base = withoutShift(b);
+  return base == "optimized" || base == "optimized-uniform" || base == "optimized-bsdf" ||
+         base == "optimized-both";
 }
 
 // Mean and standard error of the mean.
@@ -65,6 +76,12 @@ ResolvedBackend resolveBackend(const std::string &backend, const Scene &scene,
                                std::size_t spp, const RenderStudySettings &s,
                                const StudyProgress &progress) {
   if (!isStudyBackend(backend)) return {backend, 0, ""};
+  if (hasShiftSuffix(backend)) {
+    ResolvedBackend r =
+        resolveBackend(withoutShift(backend), scene, render, sceneSlug, spp, s, progress);
+    if (r.spec.rfind("optimized:", 0) == 0) r.spec = "shifted:" + r.spec.substr(10);
+    return r;
+  }
   OptimizedSetsRequest request;
   request.n = spp;
   request.instances = s.optimizedInstances;

@@ -7,7 +7,7 @@
 // separately as setup seconds.
 //
 // Study backends: the renderer's `independent`, `sobol`, `halton`,
-// `sobol-tabulated`, `neural:MODEL` and `optimized:PATHS`, plus four that the
+// `sobol-tabulated`, `neural:MODEL`, `optimized:PATHS` and `shifted:PATHS`, plus four that the
 // study makes itself:
 //   optimized          Algorithm 1 sets for the scene's environment map at
 //                      N = spp, used as distributed light samples at the first
@@ -20,6 +20,8 @@
 //                      (renderer/lobe_tables.h), optimized for the exact L2asd
 //                      objective, for the first bounce's BSDF pair
 //   optimized-both     optimized and optimized-bsdf together
+// Each of these with the suffix `+shift` renders its sets through
+// `shifted:PATHS` (randomized in primary space: unbiased).
 // A backend that cannot serve a spp (a neural model or a file of another N)
 // is skipped for it with the reason.
 
