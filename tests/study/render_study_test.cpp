@@ -335,6 +335,7 @@ TEST(OptimizedSets, LobeBanksFollowTheirTable) {
     OptimizedSetsRequest request;
     request.n = 64;
     request.instances = 16;
+    request.epochs = 1000;
     request.objective = Objective::ExactL2asd;
     const OptimizedSets made = optimizedSets(*target, request, tmp / "bank.ptsb");
     const PointSet bank = readPointSet(made.file.string());
