@@ -127,7 +127,8 @@ TEST(Backends, UnknownNameListsTheChoices) {
     makeBackend("sobolo", 0);
     FAIL();
   } catch (const std::invalid_argument &e) {
-    EXPECT_NE(std::string(e.what()).find("independent, sobol, sobol-tabulated, halton"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("independent, sobol, sobol-tabulated, halton"),
+              std::string::npos);
   }
   EXPECT_THROW(makeBackend("optimized:/no/such/file.txt", 0), std::exception);
 }

@@ -348,9 +348,9 @@ TEST(OptimizedSets, LobeBanksFollowTheirTable) {
     }
     for (int j = 0; j < kY; ++j)
       for (int i = 0; i < kX; ++i)
-        expected[j * kX + i] =
-            target->mass({{double(i) / kX, 0.5 * j / kY}, {double(i + 1) / kX, 0.5 * (j + 1) / kY}}) *
-            double(bank.points.size());
+        expected[j * kX + i] = target->mass({{double(i) / kX, 0.5 * j / kY},
+                                             {double(i + 1) / kX, 0.5 * (j + 1) / kY}}) *
+                               double(bank.points.size());
     const test::ChiSquare c = test::pooledChiSquare(observed, expected);
     EXPECT_GT(c.pValue, test::sidakLevel(0.01, 3)) << c.note << " " << spec;
   }
