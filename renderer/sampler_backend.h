@@ -48,7 +48,7 @@ class SamplerBackend {
  public:
   virtual ~SamplerBackend() = default;
 
-  // The name as given on the command line (e.g. "sobol", "optimized:FILE").
+  // The name as given on the command line (e.g. "sobol", "optimized:PATHS").
   virtual std::string name() const = 0;
 
   // Whether BSDF pairs should be asked with lobe contexts: the renderer then
