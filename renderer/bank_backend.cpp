@@ -33,6 +33,9 @@ std::string SetBank::targetSpec() const {
 
 namespace {
 
+// Sets for a tabulated lobe (what BSDF pairs are asked for), not a map.
+bool isLobeSpec(const std::string &spec) { return spec.rfind("disney", 0) == 0; }
+
 SetBank loadBank(const fs::path &file) {
   SetBank bank{readPointSet(file.string()), file.string()};
   if (bank.sets.n == 0 || bank.sets.instances() == 0)
@@ -91,7 +94,7 @@ void BankBackend::setBanks(std::vector<SetBank> banks) {
 
 bool BankBackend::samplesLobes() const {
   return std::any_of(banks_.begin(), banks_.end(),
-                     [](const SetBank &b) { return b.targetSpec().rfind("disney", 0) == 0; });
+                     [](const SetBank &b) { return isLobeSpec(b.targetSpec()); });
 }
 
 void BankBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
@@ -110,8 +113,9 @@ void BankBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
                                 " samples per pixel (use --spp " + n + ")");
   }
   const auto bankFor = [&](const Target *t) -> const SetBank * {
+    if (!t) return nullptr;
     for (const SetBank *b : sized)
-      if (t && sameTarget(b->targetSpec(), t->spec())) return b;
+      if (sameTarget(b->targetSpec(), t->spec())) return b;
     return nullptr;
   };
   for (const SetBank *b : sized)
@@ -140,7 +144,7 @@ void BankBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
                     "', but the scene's " +
                     (light ? "environment map samples '" + light->spec() + "'"
                            : std::string("has no environment map"));
-  if (first.targetSpec().rfind("disney", 0) == 0)
+  if (isLobeSpec(first.targetSpec()))
     why += " and none of its " + std::to_string(targets.lobes.size()) +
            " lobe tables is that lobe (optimize for the scene's materials with nuld study "
            "render, or use uniform points)";
@@ -161,8 +165,7 @@ void BankBackend::primary(std::uint64_t pixel, std::uint32_t pair, std::span<Poi
   }
   const auto points = pick(*uniform_, pixel, pair);
   const std::uint64_t shift = hash3(seed_, pixel, pair);
-  for (std::size_t i = 0; i < out.size(); ++i)
-    out[i] = {cranleyPatterson(points[i].x, shift), cranleyPatterson(points[i].y, ~shift)};
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = cranleyPatterson(points[i], shift);
   shufflePoints(out, shift);
 }
 
@@ -177,10 +180,8 @@ bool BankBackend::distributed(const Target &target, std::uint64_t pixel, std::ui
   const std::uint64_t shift = hash3(seed_, pixel, pair);
   if (shifted_) {
     const std::size_t first = std::size_t(points.data() - it->bank->sets.points.data());
-    for (std::size_t i = 0; i < out.size(); ++i) {
-      const Point2 u = it->primaries[first + i];
-      out[i] = target.invert({cranleyPatterson(u.x, shift), cranleyPatterson(u.y, ~shift)}).x;
-    }
+    for (std::size_t i = 0; i < out.size(); ++i)
+      out[i] = target.invert(cranleyPatterson(it->primaries[first + i], shift)).x;
   } else {
     std::copy(points.begin(), points.end(), out.begin());
   }

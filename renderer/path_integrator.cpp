@@ -9,24 +9,34 @@
 
 namespace nuld {
 
+namespace {
+
+// Every integrator and its name, in the order integratorNames() lists them.
+constexpr std::array<std::pair<IntegratorKind, const char *>, 4> kIntegrators{{
+    {IntegratorKind::Path, "path"},
+    {IntegratorKind::Direct, "direct"},
+    {IntegratorKind::Light, "light"},
+    {IntegratorKind::Bsdf, "bsdf"},
+}};
+
+}  // namespace
+
 IntegratorKind parseIntegrator(const std::string &name) {
-  if (name == "path") return IntegratorKind::Path;
-  if (name == "direct") return IntegratorKind::Direct;
-  if (name == "light") return IntegratorKind::Light;
-  if (name == "bsdf") return IntegratorKind::Bsdf;
+  for (const auto &[kind, n] : kIntegrators)
+    if (name == n) return kind;
   throw std::invalid_argument("unknown integrator '" + name +
                               "': expected path, direct, light or bsdf");
 }
 
-std::vector<std::string> integratorNames() { return {"path", "direct", "light", "bsdf"}; }
+std::vector<std::string> integratorNames() {
+  std::vector<std::string> names;
+  for (const auto &[kind, n] : kIntegrators) names.push_back(n);
+  return names;
+}
 
 std::string toString(IntegratorKind k) {
-  switch (k) {
-    case IntegratorKind::Path: return "path";
-    case IntegratorKind::Direct: return "direct";
-    case IntegratorKind::Light: return "light";
-    case IntegratorKind::Bsdf: return "bsdf";
-  }
+  for (const auto &[kind, n] : kIntegrators)
+    if (kind == k) return n;
   return "?";
 }
 

@@ -13,6 +13,7 @@
 #include <array>
 #include <cstdint>
 
+#include "sampler/point.h"
 #include "sampler/sequences/rng.h"
 
 namespace nuld {
@@ -68,6 +69,11 @@ class OwenTree {
 std::uint32_t owenScramble(std::uint32_t bits, std::uint64_t seed, int distinctDigits = 32);
 std::uint32_t digitalShift(std::uint32_t bits, std::uint64_t seed);
 double cranleyPatterson(double x, std::uint64_t seed);
+// A point under the toroidal shift of `seed`: x by the seed's offset, y by
+// that of ~seed (the two coordinates are shifted independently).
+inline Point2 cranleyPatterson(Point2 p, std::uint64_t seed) {
+  return {cranleyPatterson(p.x, seed), cranleyPatterson(p.y, ~seed)};
+}
 
 enum class DigitRandomization { None, Owen, Shift };
 
