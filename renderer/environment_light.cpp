@@ -31,17 +31,36 @@ Image toRgb(const Image &in, double scale, const std::string &source) {
   return out;
 }
 
+// The shortest rotation taking +Y to `up` (unit), applied to v (Rodrigues'
+// formula about the axis Y x up); for up = -Y, where that axis vanishes, the
+// half-turn about +X.
+Vec3 tiltUp(Vec3 v, Vec3 up) {
+  const Vec3 axis = cross(Vec3{0, 1, 0}, up);
+  const double c = up.y, s = length(axis);  // cos and sin of the tilt
+  if (s == 0) return c > 0 ? v : Vec3{v.x, -v.y, -v.z};
+  const Vec3 a = axis / s;
+  return c * v + s * cross(a, v) + (1 - c) * dot(a, v) * a;
+}
+
 }  // namespace
 
 EnvironmentLight::EnvironmentLight(Image latlong, double scale, double rotationDegrees,
-                                   std::string source)
+                                   std::string source, Vec3 up)
     : source_(std::move(source)) {
+  if (!isFinite(up) || !(length(up) > 0))
+    throw std::invalid_argument(source_ +
+                                ": the environment's up direction must be a finite, "
+                                "non-zero vector");
+  up = normalize(up);
   const Image image = toRgb(latlong, scale, source_);
   width_ = image.width;
   height_ = image.height;
+  // Map frame -> world at up = +Y: z up, phi = 0 towards -Z, phi = pi/2
+  // towards +X; turned about +Y by the rotation; then tilted to `up`.
   const double rot = rotationDegrees * std::numbers::pi / 180;
-  cosRot_ = std::cos(rot);
-  sinRot_ = std::sin(rot);
+  const double c = std::cos(rot), s = std::sin(rot);
+  const Vec3 turned[3] = {{-s, 0, -c}, {c, 0, -s}, {0, 1, 0}};
+  for (int k = 0; k < 3; ++k) localToWorld_[k] = tiltUp(turned[k], up);
   bool black = true;
   for (float v : image.pixels) black = black && v == 0;
   // A black map emits nothing and has nothing to sample: no target.
@@ -65,16 +84,13 @@ EnvironmentLight::EnvironmentLight(Image latlong, double scale, double rotationD
     }
 }
 
-// Map-local frame: z up (+Y world), phi = 0 towards -Z world, phi = pi/2
-// towards +X world; then the map is turned about +Y by the rotation.
+// The frame is orthonormal, so world -> map is its transpose.
 Vec3 EnvironmentLight::toWorld(Vec3 l) const {
-  const Vec3 w{l.y, l.z, -l.x};
-  return {cosRot_ * w.x + sinRot_ * w.z, w.y, -sinRot_ * w.x + cosRot_ * w.z};
+  return l.x * localToWorld_[0] + l.y * localToWorld_[1] + l.z * localToWorld_[2];
 }
 
 Vec3 EnvironmentLight::toLocal(Vec3 w) const {
-  const Vec3 r{cosRot_ * w.x - sinRot_ * w.z, w.y, sinRot_ * w.x + cosRot_ * w.z};
-  return {-r.z, r.x, r.y};
+  return {dot(w, localToWorld_[0]), dot(w, localToWorld_[1]), dot(w, localToWorld_[2])};
 }
 
 // The map's pixels are the target's cells (columns uniform in u, rows at the

@@ -1,6 +1,11 @@
 #pragma once
-// An infinitely distant light from a lat-long HDR map (row 0 = zenith, +Y up;
-// column u = 0 faces -Z, u = 1/4 faces +X), scaled and rotated about +Y.
+// An infinitely distant light from a lat-long HDR map. In the map's own
+// frame row 0 is the zenith; by default the zenith is world +Y, column u = 0
+// faces -Z and u = 1/4 faces +X. The map is then scaled, turned about its
+// zenith by `rotation` degrees, and its zenith tilted to `up` (the shortest
+// turn from +Y; for up = -Y the half-turn about +X), as pbrt's scenes give an
+// infinite light a transform. A map stored upside down (most of its energy
+// in the lower rows) is set right with up = (0, -1, 0).
 //
 // Sampling is the sampler module's `envmap:` target: the map's luminance as a
 // piecewise-constant density whose rows are re-gridded to the equal-area v,
@@ -31,7 +36,8 @@ struct LightSample {
 class EnvironmentLight {
  public:
   // `source` names the map in errors and in the target's spec (envmap:SOURCE).
-  EnvironmentLight(Image latlong, double scale, double rotationDegrees, std::string source);
+  EnvironmentLight(Image latlong, double scale, double rotationDegrees, std::string source,
+                   Vec3 up = {0, 1, 0});
 
   Rgb radiance(Vec3 worldDirection) const;
   // Density per unit solid angle of sampleTarget() / sample(); 0 for a black map.
@@ -89,7 +95,7 @@ class EnvironmentLight {
   std::vector<Texel> texels_;   // row-major; empty for a black map
   double pdfPerLuminance_ = 0;  // solid-angle pdf of a cell / its luminance
   std::unique_ptr<GridTarget> target_;
-  double cosRot_, sinRot_;
+  Vec3 localToWorld_[3];  // the world images of the map frame's x, y and z axes
   std::string source_;
 };
 

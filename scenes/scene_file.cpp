@@ -168,13 +168,18 @@ LoadedScene loadScene(const std::string &path, const std::string &assetRoot) {
 
   if (root.has("environment")) {
     const JsonReader env = root["environment"];
-    env.allowOnly({"file", "scale", "rotation"});
+    env.allowOnly({"file", "scale", "rotation", "up"});
     const std::string file = assetPath(assetRoot, env["file"].string());
     if (!fs::exists(file))
       throw std::runtime_error(path + ": field 'environment.file': '" + file +
                                "' does not exist (check --assets or NULD_ASSETS)");
+    Vec3 up{0, 1, 0};
+    if (env.has("up")) {
+      up = env["up"].vec3();
+      if (!(length(up) > 0)) env["up"].fail("a non-zero direction (the map's zenith in the world)");
+    }
     out.scene.environment.emplace(readImage(file), env.number("scale", 1.0, 0, 1e12),
-                                  env.number("rotation", 0.0), file);
+                                  env.number("rotation", 0.0), file, up);
   }
   return out;
 }

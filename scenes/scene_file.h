@@ -10,7 +10,8 @@
 //     "film":        {"width": 512, "height": 512},
 //     "render":      {"spp": 64, "integrator": "path", "max_depth": 5,
 //                     "backend": "sobol", "seed": 0},
-//     "environment": {"file": "envmaps/grace_latlong.exr", "scale": 1, "rotation": 0},
+//     "environment": {"file": "envmaps/grace_latlong.exr", "scale": 1, "rotation": 0,
+//                     "up": [0,1,0]},
 //     "materials":   {"OuterMat": {"type": "disney", "base_color": [.9,.9,.9],
 //                                  "metallic": 1, "roughness": .2}, ...},
 //     "meshes":      [{"file": "lte_orb/lte_orb.glb", "skip": ["Material"]},
@@ -22,7 +23,10 @@
 //
 // A mesh gets the entry's "material" if given, else the material named like
 // its file material, else the one named like the mesh, else "default"; with
-// none of these the loader stops and names the mesh. A scene builds only what
+// none of these the loader stops and names the mesh. The environment's
+// "rotation" turns the map about its zenith (degrees) and "up" is the world
+// direction of its zenith (row 0; renderer/environment_light.h): a map stored
+// upside down takes [0,-1,0]. A scene builds only what
 // it uses: unused materials are never instantiated, and without an
 // "environment" no map is read.
 

@@ -62,6 +62,9 @@ std::string OptimizerSettings::describe() const {
     << " mapping=" << toString(mapping) << " objective=" << toString(objective) << " lr=" << lrStart
     << ".." << lrEnd << " alpha=" << alphaStart << ".." << alphaEnd << " ramp=" << rampFraction
     << " cutoff=" << cutoff << " seed=" << seed;
+  // Only when on, so that the sets and checkpoints made before the term
+  // existed keep their fingerprints.
+  if (unionWeight > 0) s << " union=" << unionWeight << "/" << unionGroupSize();
   return s.str();
 }
 
@@ -77,6 +80,12 @@ void OptimizerSettings::validate() const {
     bad("alpha must be finite and > 0");
   if (!(rampFraction >= 0 && rampFraction <= 1)) bad("ramp fraction must lie in [0, 1]");
   if (!(cutoff > 0)) bad("cutoff must be > 0");
+  if (!(unionWeight >= 0) || !std::isfinite(unionWeight))
+    bad("union weight must be finite and >= 0");
+  if (unionWeight > 0 && unionGroup == 1) bad("union group must hold >= 2 instances");
+  if (unionWeight > 0 && instances < 2) bad("the union term needs >= 2 instances");
+  if (unionWeight > 0 && objective != Objective::ExactL2asd)
+    bad("the union term is defined for the l2asd objective only");
 }
 
 OptimizerSettings presetSettings(const std::string &name, std::size_t n) {
@@ -163,19 +172,110 @@ OptimizerState DirectOptimizer::initialState() const {
   return s;
 }
 
+void DirectOptimizer::run(OptimizerState &state, int untilEpoch,
+                          const std::function<void(const EpochReport &)> &progress) const {
+  const OptimizerSettings &s = settings_;
+  const std::size_t n = s.n, K = s.instances;
+  if (state.params.size() != n * K || state.m.size() != n * K || state.v.size() != n * K)
+    throw std::invalid_argument("optimizer: state does not match the settings");
+  state.lastLoss.resize(K, 0.0);
+  untilEpoch = std::min(untilEpoch, s.epochs);
+  std::vector<Point2> grad(n * K);
+  for (int epoch = state.epoch; epoch < untilEpoch; ++epoch) {
+    const double lr = logLinear(s.lrStart, s.lrEnd, epoch, s.epochs);
+    // Instances are independent but for the bank term: run them side by
+    // side (the loss kernel is parallel inside too; TBB balances the two).
+    tbb::parallel_for(std::size_t(0), K, [&](std::size_t k) {
+      state.lastLoss[k] = instanceEpoch(k, epoch, std::span(state.params).subspan(k * n, n),
+                                        std::span(grad).subspan(k * n, n));
+    });
+    double unionLoss = 0;
+    if (s.unionWeight > 0) unionLoss = unionEpoch(epoch, state.params, grad);
+    tbb::parallel_for(std::size_t(0), K, [&](std::size_t k) {
+      const auto params = std::span(state.params).subspan(k * n, n);
+      adamStep(params, std::span(grad).subspan(k * n, n), std::span(state.m).subspan(k * n, n),
+               std::span(state.v).subspan(k * n, n), epoch + 1, lr);
+      constrain(params);
+    });
+    state.epoch = epoch + 1;
+    if (progress) {
+      EpochReport r;
+      r.epoch = epoch + 1;
+      r.epochs = s.epochs;
+      for (double l : state.lastLoss) r.loss += l / double(K);
+      r.unionLoss = unionLoss;
+      r.alpha = s.objective == Objective::SoftBoxes
+                    ? linearRamp(s.alphaStart, s.alphaEnd, s.rampFraction, epoch, s.epochs)
+                    : 0.0;
+      r.lr = lr;
+      progress(r);
+    }
+  }
+}
+
+double DirectOptimizer::unionEpoch(int epoch, std::span<const Point2> params,
+                                   std::span<Point2> grad) const {
+  const OptimizerSettings &s = settings_;
+  const std::size_t n = s.n, K = s.instances, group = s.unionGroupSize();
+  // A fresh partition every epoch (keyed by seed and epoch, so resumes stay
+  // bit-identical): over the run every pair of instances meets.
+  std::vector<std::size_t> order(K);
+  for (std::size_t k = 0; k < K; ++k) order[k] = k;
+  Rng rng(hashCombine(s.seed, 0x756e696f6eull), std::uint64_t(epoch));
+  for (std::size_t i = K - 1; i > 0; --i)
+    std::swap(order[i], order[rng.uniformInt(std::uint32_t(i + 1))]);
+  const std::size_t groups = (K + group - 1) / group;
+  std::vector<double> losses(groups, 0.0);
+  tbb::parallel_for(std::size_t(0), groups, [&](std::size_t g) {
+    const std::size_t first = g * group, size = std::min(group, K - first);
+    if (size < 2) return;  // a lone instance has no union to keep apart
+    std::vector<Point2> u;
+    u.reserve(size * n);
+    for (std::size_t j = 0; j < size; ++j) {
+      const auto inst = params.subspan(order[first + j] * n, n);
+      u.insert(u.end(), inst.begin(), inst.end());
+    }
+    std::vector<Point2> x, gx(u.size());
+    std::vector<Jacobian2> jac;
+    toDomain(u, x, jac);
+    const double w = s.unionWeight * double(size);
+    losses[g] = w * exactObjective_->squared(x, gx);
+    // Each group owns its instances' gradients: no two groups write one.
+    for (std::size_t j = 0; j < size; ++j)
+      for (std::size_t i = 0; i < n; ++i) {
+        const std::size_t at = j * n + i;
+        const Point2 gi = jac.empty() ? gx[at] : jac[at].transposeTimes(gx[at]);
+        Point2 &out = grad[order[first + j] * n + i];
+        out.x += w * gi.x;
+        out.y += w * gi.y;
+      }
+  });
+  double total = 0;
+  for (double l : losses) total += l;
+  return total / double(K);
+}
+
+void DirectOptimizer::toDomain(std::span<const Point2> params, std::vector<Point2> &x,
+                               std::vector<Jacobian2> &jac) const {
+  const bool mapped = settings_.mapping == Mapping::Mapped && !target_.isUniform();
+  x.assign(params.begin(), params.end());
+  jac.clear();
+  if (!mapped) return;
+  jac.resize(params.size());
+  for (std::size_t i = 0; i < params.size(); ++i) {
+    const Inversion inv = target_.invert(params[i]);
+    x[i] = inv.x;
+    jac[i] = inv.jacobian;
+  }
+}
+
 double DirectOptimizer::instanceEpoch(std::size_t k, int epoch, std::span<Point2> params,
                                       std::span<Point2> grad) const {
   const OptimizerSettings &s = settings_;
   const std::size_t n = s.n;
-  const bool mapped = s.mapping == Mapping::Mapped && !target_.isUniform();
-  std::vector<Point2> x(params.begin(), params.end());
-  std::vector<Jacobian2> jac(mapped ? n : 0);
-  if (mapped)
-    for (std::size_t i = 0; i < n; ++i) {
-      const Inversion inv = target_.invert(params[i]);
-      x[i] = inv.x;
-      jac[i] = inv.jacobian;
-    }
+  std::vector<Point2> x;
+  std::vector<Jacobian2> jac;
+  toDomain(params, x, jac);
   double loss;
   if (s.objective == Objective::ExactL2asd) {
     loss = exactObjective_->squared(x, grad);
@@ -193,7 +293,7 @@ double DirectOptimizer::instanceEpoch(std::size_t k, int epoch, std::span<Point2
     const double alpha = linearRamp(s.alphaStart, s.alphaEnd, s.rampFraction, epoch, s.epochs);
     loss = softBoxLoss(x, boxes, masses, {alpha, s.cutoff}, grad);
   }
-  if (mapped)
+  if (!jac.empty())
     for (std::size_t i = 0; i < n; ++i) grad[i] = jac[i].transposeTimes(grad[i]);
   return loss;
 }
@@ -207,42 +307,6 @@ void DirectOptimizer::constrain(std::span<Point2> params) const {
   for (Point2 &p : params) {
     if (!isFinite(p)) throw std::runtime_error("optimizer: a point became non-finite");
     p = toroidal ? Point2{wrapUnit(p.x), wrapUnit(p.y)} : wrapToDomain(p, domain);
-  }
-}
-
-void DirectOptimizer::run(OptimizerState &state, int untilEpoch,
-                          const std::function<void(const EpochReport &)> &progress) const {
-  const OptimizerSettings &s = settings_;
-  const std::size_t n = s.n, K = s.instances;
-  if (state.params.size() != n * K || state.m.size() != n * K || state.v.size() != n * K)
-    throw std::invalid_argument("optimizer: state does not match the settings");
-  state.lastLoss.resize(K, 0.0);
-  untilEpoch = std::min(untilEpoch, s.epochs);
-  std::vector<Point2> grad(n * K);
-  for (int epoch = state.epoch; epoch < untilEpoch; ++epoch) {
-    const double lr = logLinear(s.lrStart, s.lrEnd, epoch, s.epochs);
-    // Instances are independent: run them side by side (the loss kernel is
-    // parallel inside too; TBB balances the two levels).
-    tbb::parallel_for(std::size_t(0), K, [&](std::size_t k) {
-      const auto params = std::span(state.params).subspan(k * n, n);
-      const auto g = std::span(grad).subspan(k * n, n);
-      state.lastLoss[k] = instanceEpoch(k, epoch, params, g);
-      adamStep(params, g, std::span(state.m).subspan(k * n, n),
-               std::span(state.v).subspan(k * n, n), epoch + 1, lr);
-      constrain(params);
-    });
-    state.epoch = epoch + 1;
-    if (progress) {
-      EpochReport r;
-      r.epoch = epoch + 1;
-      r.epochs = s.epochs;
-      for (double l : state.lastLoss) r.loss += l / double(K);
-      r.alpha = s.objective == Objective::SoftBoxes
-                    ? linearRamp(s.alphaStart, s.alphaEnd, s.rampFraction, epoch, s.epochs)
-                    : 0.0;
-      r.lr = lr;
-      progress(r);
-    }
   }
 }
 

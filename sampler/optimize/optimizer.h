@@ -14,6 +14,7 @@
 // in a fixed order, so a run resumed from a checkpoint ends bit-identical to
 // an uninterrupted one.
 
+#include <algorithm>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -54,6 +55,22 @@ struct OptimizerSettings {
   double alphaStart = 20, alphaEnd = 2000, rampFraction = 0.5;
   double cutoff = 36;
   std::uint64_t seed = 0;
+  // The bank term (l2asd only): w * |G| * L2asd^2 of the union of each group
+  // G of `unionGroup` instances, regrouped every epoch. A peaked target has
+  // one best set, and instances optimized apart converge to it, so a bank
+  // that draws one instance per pixel estimates against the average of its
+  // sets, not the target (tools/experiments/lobe_banks_log.md §4). The term
+  // keeps the instances complementary: their union must follow the target
+  // too. 0 (the default) optimizes the instances independently. A group
+  // costs O((|G| N)^2) per epoch, so by default (unionGroup 0) it holds
+  // about 256 points: 16 instances at N = 16, 4 at N = 64, at least 2 and
+  // at most all of them.
+  double unionWeight = 0;
+  std::size_t unionGroup = 0;
+  std::size_t unionGroupSize() const {
+    if (unionGroup) return unionGroup;
+    return std::min(instances, std::max<std::size_t>(2, 256 / std::max<std::size_t>(n, 1)));
+  }
 
   // One line "key=value ..." naming every setting; checkpoints must match it.
   std::string describe() const;
@@ -83,6 +100,7 @@ struct OptimizerState {
 struct EpochReport {
   int epoch = 0, epochs = 0;  // epoch just completed (1-based)
   double loss = 0;            // mean over instances
+  double unionLoss = 0;       // the bank term per instance (0 when off)
   double alpha = 0, lr = 0;
 };
 
@@ -104,6 +122,13 @@ class DirectOptimizer {
  private:
   double instanceEpoch(std::size_t k, int epoch, std::span<Point2> params,
                        std::span<Point2> grad) const;
+  // Adds the bank term's gradient to `grad` for every instance; returns the
+  // term's value.
+  double unionEpoch(int epoch, std::span<const Point2> params, std::span<Point2> grad) const;
+  // The target-domain points of `params` and, when mapped, the Jacobians of
+  // the inverse CDF there.
+  void toDomain(std::span<const Point2> params, std::vector<Point2> &x,
+                std::vector<Jacobian2> &jac) const;
   void constrain(std::span<Point2> params) const;
 
   const Target &target_;

@@ -157,6 +157,42 @@ TEST(EnvironmentLight, MapOrientation) {
   // Rotating the map by 90 degrees about +Y turns -Z into -X.
   const EnvironmentLight turned(img, 1.0, 90.0, "tiny");
   EXPECT_GT(turned.radiance(normalize(Vec3{-1, 1, -0.1})).r, 0);
+  // up = -Y sets an upside-down map right: the top row now lights from below
+  // (the half-turn about +X, which also takes -Z to +Z).
+  const EnvironmentLight flipped(img, 1.0, 0.0, "tiny", {0, -1, 0});
+  EXPECT_GT(flipped.radiance(normalize(Vec3{0.1, -1, 1})).r, 0);
+  EXPECT_GT(flipped.radiance(normalize(Vec3{1, 1, -0.3})).g, 0);
+}
+
+// Any up direction (with any rotation) turns the map rigidly: the frame is
+// orthonormal with its z on `up` and the default frame's handedness (x x y =
+// -z: seen from above, u runs clockwise from -Z to +X), toLocal inverts toWorld,
+// and radiance and pdf are the unturned map's at the turned-back direction.
+TEST(EnvironmentLight, UpDirectionTurnsTheMapRigidly) {
+  const Image map = randomMap(64, 32, 4);
+  const EnvironmentLight plain(map, 1.0, 0.0, "random");
+  Rng rng(5);
+  for (const Vec3 up : {Vec3{0, -1, 0}, Vec3{1, 1, 0}, Vec3{0.2, -0.3, 0.9}, Vec3{0, 1, 1e-9}})
+    for (const double rotation : {0.0, 75.0}) {
+      const EnvironmentLight light(map, 1.0, rotation, "random", up);
+      const Vec3 x = light.toWorld({1, 0, 0}), y = light.toWorld({0, 1, 0}),
+                 z = light.toWorld({0, 0, 1});
+      EXPECT_NEAR(length(z - normalize(up)), 0, 1e-12);
+      EXPECT_NEAR(dot(x, y), 0, 1e-12);
+      EXPECT_NEAR(length(cross(x, y) + z), 0, 1e-12);
+      for (int i = 0; i < 200; ++i) {
+        const Vec3 w = sphereDirection({rng.uniform(), rng.uniform()});
+        const Vec3 local = light.toLocal(w);
+        EXPECT_NEAR(length(light.toWorld(local) - w), 0, 1e-12);
+        // The plain map's frame at rotation 0 is the reference: the same
+        // map-frame direction must see the same texel.
+        const Vec3 back = plain.toWorld(local);
+        EXPECT_EQ(light.pdf(w), plain.pdf(back));
+        EXPECT_EQ(light.radiance(w).r, plain.radiance(back).r);
+      }
+    }
+  EXPECT_THROW(EnvironmentLight(map, 1.0, 0.0, "zero", {0, 0, 0}), std::invalid_argument);
+  EXPECT_THROW(EnvironmentLight(map, 1.0, 0.0, "nan", {0, std::nan(""), 1}), std::invalid_argument);
 }
 
 TEST(EnvironmentLight, RejectsBadInput) {

@@ -209,6 +209,61 @@ TEST(DirectOptimizer, ResumeFromCheckpointIsBitIdentical) {
   std::filesystem::remove(path);
 }
 
+// The bank term: instances optimized for the L2asd of their groups' unions
+// as well as their own make a bank whose union is more even than that of
+// instances optimized apart, at a small cost to each set.
+TEST(DirectOptimizer, UnionTermKeepsABanksUnionEven) {
+  const UniformTarget u;
+  OptimizerSettings s = small(8, 300);
+  s.objective = Objective::ExactL2asd;
+  s.instances = 16;
+  s.lrStart = 1e-2;
+  auto optimized = [&](double weight) {
+    OptimizerSettings w = s;
+    w.unionWeight = weight;
+    w.unionGroup = 16;
+    const DirectOptimizer opt(u, w);
+    OptimizerState state = opt.initialState();
+    opt.run(state, w.epochs, [](const EpochReport &r) {
+      ASSERT_TRUE(std::isfinite(r.loss) && std::isfinite(r.unionLoss));
+    });
+    return opt.points(state);
+  };
+  const PointSet apart = optimized(0), bank = optimized(4);
+  const double unionApart = l2asd(apart.points), unionBank = l2asd(bank.points);
+  EXPECT_LT(unionBank, 0.8 * unionApart) << "union L2asd " << unionBank << " vs " << unionApart;
+  EXPECT_LT(meanL2asd(bank), 1.5 * meanL2asd(apart));
+  // Points still in the square, and the settings say the term is on.
+  for (const Point2 &p : bank.points) ASSERT_TRUE(p.x >= 0 && p.x < 1 && p.y >= 0 && p.y < 1);
+  EXPECT_NE(bank.metadata.at("settings").find("union=4/16"), std::string::npos);
+  EXPECT_EQ(apart.metadata.at("settings").find("union="), std::string::npos);
+}
+
+// The regrouping is keyed by seed and epoch, so a resumed bank ends the same.
+TEST(DirectOptimizer, UnionTermResumesBitIdentical) {
+  std::vector<double> density(64, 1.0);
+  for (int i = 0; i < 64; i += 5) density[i] = 9.0;
+  const GridTarget grid(GridTarget::uniformEdges(8), GridTarget::uniformEdges(8), density, "grid",
+                        Domain::Square, "test");
+  OptimizerSettings s = small(12, 40);
+  s.objective = Objective::ExactL2asd;
+  s.instances = 7;  // groups of 3, 3 and a lone instance
+  s.unionWeight = 2;
+  s.unionGroup = 3;
+  const DirectOptimizer opt(grid, s);
+  OptimizerState full = opt.initialState();
+  opt.run(full, s.epochs);
+  OptimizerState part = opt.initialState();
+  opt.run(part, 17);
+  opt.run(part, s.epochs);
+  EXPECT_EQ(part.params, full.params);
+  OptimizerState independent = opt.initialState();
+  OptimizerSettings off = s;
+  off.unionWeight = 0;
+  DirectOptimizer(grid, off).run(independent, s.epochs);
+  EXPECT_NE(independent.params, full.params);
+}
+
 TEST(DirectOptimizer, RejectsBadSettings) {
   const UniformTarget u;
   OptimizerSettings s = small(10, 10);
@@ -222,6 +277,22 @@ TEST(DirectOptimizer, RejectsBadSettings) {
   s = small(10, 10);
   s.objective = Objective::ExactL2asd;
   EXPECT_THROW(DirectOptimizer(disc, s), std::invalid_argument);  // neither uniform nor a grid
+  // The bank term: l2asd only, >= 2 instances, groups of >= 2, a weight >= 0.
+  s = small(10, 10);
+  s.unionWeight = 1;
+  EXPECT_THROW(DirectOptimizer(u, s), std::invalid_argument);  // soft boxes
+  s.objective = Objective::ExactL2asd;
+  EXPECT_NO_THROW(DirectOptimizer(u, s));
+  s.instances = 1;
+  EXPECT_THROW(DirectOptimizer(u, s), std::invalid_argument);
+  s.instances = 4;
+  s.unionGroup = 1;
+  EXPECT_THROW(DirectOptimizer(u, s), std::invalid_argument);
+  s.unionGroup = 2;
+  s.unionWeight = -1;
+  EXPECT_THROW(DirectOptimizer(u, s), std::invalid_argument);
+  s.unionWeight = std::nan("");
+  EXPECT_THROW(DirectOptimizer(u, s), std::invalid_argument);
 }
 
 }  // namespace

@@ -153,5 +153,43 @@ TEST(ShippedScenes, LoadWhenAssetsArePresent) {
   }
 }
 
+// The share of an environment's luminance (per solid angle, integrated)
+// that arrives from above the horizon: the light samples directions with a
+// density proportional to it, so it is the share of samples with y > 0
+// (256 x 256 stratified points).
+double energyAboveHorizon(const EnvironmentLight &light) {
+  constexpr int kSide = 256;
+  int above = 0;
+  for (int j = 0; j < kSide; ++j)
+    for (int i = 0; i < kSide; ++i) {
+      const auto s = light.sample({(i + 0.5) / kSide, (j + 0.5) / kSide});
+      if (s && s->wi.y > 0) ++above;
+    }
+  return double(above) / (kSide * kSide);
+}
+
+// Every shipped scene (each scenes/*.json, and the built-in default) is lit
+// the right way up: most of its map's energy comes from above the horizon.
+// grace_latlong.exr is stored upside down (79 % of its energy in the lower
+// rows), which is why lte-orb.json turns it with "up": [0, -1, 0].
+TEST(ShippedScenes, EnvironmentsAreLitFromAbove) {
+  const LoadedScene def = loadScene("default", "");
+  ASSERT_TRUE(def.scene.environment);
+  EXPECT_GT(energyAboveHorizon(*def.scene.environment), 0.5) << "default";
+  const std::string assets = resolveAssetRoot("");
+  if (!fs::exists(fs::path(assets) / "envmaps")) GTEST_SKIP() << "no assets at " << assets;
+  int checked = 0;
+  for (const auto &entry : fs::directory_iterator(fs::path(NULD_SOURCE_DIR) / "scenes")) {
+    if (entry.path().extension() != ".json") continue;
+    const LoadedScene s = loadScene(entry.path().string(), assets);
+    if (!s.scene.environment || !s.scene.environment->target()) continue;
+    const double share = energyAboveHorizon(*s.scene.environment);
+    EXPECT_GT(share, 0.5) << entry.path().filename() << ": " << share
+                          << " of the map's energy from above the horizon";
+    ++checked;
+  }
+  EXPECT_GE(checked, 3);
+}
+
 }  // namespace
 }  // namespace nuld

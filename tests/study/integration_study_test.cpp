@@ -193,6 +193,10 @@ TEST(IntegrationStudyEstimator, SummaryIdentity) {
   const double K = 4;
   EXPECT_NEAR(s.rmse * s.rmse, s.bias * s.bias + (K - 1) / K * s.std * s.std, 1e-14);
   EXPECT_NEAR(s.biasStderr, s.std / 2, 1e-15);
+  // Squared errors .0025 .0225 .0225 .1225: mean .0425, sample variance
+  // (.0016 + .0004 + .0004 + .0064) / 3, so the MSE's standard error is
+  // sqrt(.0088 / 3 / 4).
+  EXPECT_NEAR(s.mseStderr, std::sqrt(0.0088 / 12), 1e-12);
   EXPECT_THROW(summarize(std::vector<double>{1.0}, 1.0), std::invalid_argument);
 }
 
@@ -312,7 +316,7 @@ TEST(IntegrationStudyRun, CsvHasExactColumnsAndConsistentStatistics) {
   for (const auto &c : t.columns()) header += (header.empty() ? "" : ",") + c;
   EXPECT_EQ(header,
             "integrand,domain,sampler,n,instances,reference,mean,bias,bias_stderr,std,rmse,"
-            "rel_rmse,gen_seconds_per_set,setup_seconds_per_set");
+            "rel_rmse,mse_stderr,gen_seconds_per_set,setup_seconds_per_set");
   ASSERT_EQ(t.rows().size(), 4u);
   for (const auto &r : t.rows()) {
     const auto f = field(t, r);

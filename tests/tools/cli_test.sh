@@ -133,6 +133,10 @@ ok "optimize l2per" "$nuld" optimize --target uniform --n 16 --objective l2per -
 ok "eval l2per" "$nuld" eval "$dir/per.txt" --metric l2per
 ok "map --shifts" "$nuld" map "$dir/per.txt" --target quarterdisc --shifts 3 --seed 2 -o "$dir/per3.txt"
 [[ $(grep -vc '^#' "$dir/per3.txt") -eq 48 ]] || { echo "FAIL: map --shifts writes K sets per input set"; failures=$((failures + 1)); }
+ok "optimize l2asd bank term" "$nuld" optimize --target uniform --n 8 --instances 4 --objective l2asd --union-weight 4 --epochs 20 -q -o "$dir/bank.txt"
+grep -q 'union=4/4' "$dir/bank.txt" || { echo "FAIL: the bank term is recorded in the settings"; failures=$((failures + 1)); }
+fails_with "bank term with soft boxes" "l2asd objective only" "$nuld" optimize --target uniform --n 8 --instances 4 --union-weight 1 --epochs 2 -q -o "$dir/x.txt"
+fails_with "bank term with one instance" "needs >= 2 instances" "$nuld" optimize --target uniform --n 8 --objective l2asd --union-weight 1 --epochs 2 -q -o "$dir/x.txt"
 fails_with "l2per on a non-uniform target" "not uniform" "$nuld" optimize --target quarterdisc --n 16 --objective l2per --epochs 2 -q -o "$dir/x.txt"
 fails_with "eval l2per non-uniform" "measures uniform sets" "$nuld" eval "$dir/per3.txt" --metric l2per
 fails_with "map --seed without --shifts" "give --shifts" "$nuld" map "$dir/per.txt" --target quarterdisc --seed 2 -o "$dir/x.txt"

@@ -5,10 +5,13 @@
 #     against HDR maps (disney*envmap), N = 16 and 64: Owen-Sobol through the
 #     tabulated inverse CDF (sobol), through the lobe-selection mapping
 #     (sobol-lobes, the paper's baseline) and direct-optimized sets (exact
-#     L2asd objective), 128 instances each;
+#     L2asd objective with the bank term, weight 4: the studies' default),
+#     128 instances each;
 #  2. renders: dragon and cup at 1/4 resolution, 16 and 64 spp, 8 repeats,
 #     with --integrator bsdf (sobol, sobol-tabulated, optimized-bsdf) and
 #     --integrator direct (sobol, sobol-tabulated, optimized, optimized-both).
+# Banks without the bank term (the first measurements): add
+# --opt-union-weight 0 to both studies.
 # Usage: lobe_banks_study.sh OUT [REFERENCE_SPP [REPEATS]]
 # Defaults: 2048-spp references, 8 repeats (about 40 minutes on 2 cores).
 source "$(dirname "$0")/common.sh"

@@ -18,7 +18,8 @@ Runner addOptimize(CLI::App &app) {
     std::string target, preset, mass, mapping, objective, boxKind, output;
     std::size_t n = 0, instances = 1;
     long epochs = -1, boxes = -1, checkpointEvery = 0, stopAfter = -1;
-    double lr = -1, lrEnd = -1, alpha = -1, alphaEnd = -1, ramp = -1;
+    double lr = -1, lrEnd = -1, alpha = -1, alphaEnd = -1, ramp = -1, unionWeight = 0;
+    long unionGroup = 0;
     std::uint64_t seed = 0;
     bool resume = false, quiet = false;
   };
@@ -43,6 +44,15 @@ Runner addOptimize(CLI::App &app) {
   app.add_option("--ramp", o->ramp, "fraction of the epochs over which alpha rises");
   app.add_option("--instances", o->instances, "sets optimized together")
       ->check(CLI::PositiveNumber);
+  app.add_option("--union-weight", o->unionWeight,
+                 "bank term (l2asd, >= 2 instances): weight of the L2asd of the union of each "
+                 "group of instances, which keeps a bank's sets complementary on peaked targets "
+                 "(default 0: off)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--union-group", o->unionGroup,
+                 "instances per group of the bank term, regrouped every epoch (default: "
+                 "about 256 points, at least 2 instances)")
+      ->check(CLI::Range(2L, 1L << 20));
   app.add_option("--seed", o->seed, "seed of the Sobol start and of the boxes");
   app.add_option("--checkpoint-every", o->checkpointEvery,
                  "epochs between checkpoints (default: about every 5 %)");
@@ -82,6 +92,8 @@ Runner addOptimize(CLI::App &app) {
     if (o->alpha != -1) s.alphaStart = o->alpha;
     if (o->alphaEnd != -1) s.alphaEnd = o->alphaEnd;
     if (o->ramp != -1) s.rampFraction = o->ramp;
+    s.unionWeight = o->unionWeight;
+    s.unionGroup = std::size_t(o->unionGroup);
     const DirectOptimizer opt(*target, s);
 
     const std::string ckpt = o->output + ".ckpt";
@@ -102,8 +114,10 @@ Runner addOptimize(CLI::App &app) {
       const int next = int(std::min<long>(until, (state.epoch / every + 1) * every));
       opt.run(state, next, [&](const EpochReport &r) {
         last = r;
-        bar.update(r.epoch, "loss " + shortNumber(r.loss) + "  alpha " + shortNumber(r.alpha) +
-                                "  lr " + shortNumber(r.lr));
+        std::string status = "loss " + shortNumber(r.loss);
+        if (s.unionWeight > 0) status += "  union " + shortNumber(r.unionLoss);
+        if (s.objective == Objective::SoftBoxes) status += "  alpha " + shortNumber(r.alpha);
+        bar.update(r.epoch, status + "  lr " + shortNumber(r.lr));
       });
       if (state.epoch < s.epochs) saveCheckpoint(ckpt, opt, target->spec(), state);
     }

@@ -22,6 +22,7 @@ Runner addStudyIntegrate(CLI::App &app) {
     std::vector<std::string> neural;
     std::size_t instances = 128, optimizedInstances = 16, optimizedMaxN = 1024;
     int optEpochs = 0;
+    double optUnionWeight = 4;
     std::string optObjective;
     std::uint64_t seed = 0;
     bool noPlots = false, quiet = false;
@@ -50,6 +51,11 @@ Runner addStudyIntegrate(CLI::App &app) {
                  "objective of the direct optimization: soft (Algorithm 1, the preset's) or "
                  "l2asd (exact grid L2asd; 30-100x faster on the Disney lobe tables)")
       ->check(CLI::IsMember({"soft", "l2asd"}));
+  app.add_option("--opt-union-weight", o->optUnionWeight,
+                 "with --opt-objective l2asd: weight of the bank term (nuld optimize "
+                 "--union-weight; default 4, as the render study's lobe banks; 0: instances "
+                 "optimized apart)")
+      ->check(CLI::NonNegativeNumber);
   app.add_option("--opt-epochs", o->optEpochs,
                  "epochs of the direct optimization (default: the target's preset: 1000 in 2D, "
                  "5000 on the sphere)")
@@ -77,6 +83,7 @@ Runner addStudyIntegrate(CLI::App &app) {
     opts.optimizedInstances = o->optimizedInstances;
     opts.optimizedMaxN = o->optimizedMaxN;
     opts.optEpochs = o->optEpochs;
+    opts.optUnionWeight = o->optUnionWeight;
     if (!o->optObjective.empty()) opts.optObjective = parseObjective(o->optObjective);
     opts.neuralModels = o->neural;
     opts.assetRoot = resolveAssetRoot(o->assets);

@@ -136,6 +136,11 @@ Runner addStudyRender(CLI::App &app) {
   app.add_option("--opt-epochs", o->s.optimizedEpochs,
                  "epochs of their optimization (default: the preset's, e.g. 5000 on the sphere)")
       ->check(CLI::PositiveNumber);
+  app.add_option("--opt-union-weight", o->s.lobeUnionWeight,
+                 "weight of the lobe banks' bank term (nuld optimize --union-weight), which "
+                 "keeps a glossy lobe's instances from converging to one set (default 4; 0: "
+                 "instances optimized apart)")
+      ->check(CLI::NonNegativeNumber);
   app.add_option("--assets", o->s.assets,
                  "asset root (default: $NULD_ASSETS, else ../shared/assets)");
   app.add_option("-o,--output", o->out, "study directory (created; a rerun resumes it)")

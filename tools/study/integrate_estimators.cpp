@@ -37,6 +37,14 @@ EstimateStats summarize(std::span<const double> e, double reference) {
   s.bias = s.mean - reference;
   s.biasStderr = s.std / std::sqrt(K);
   s.rmse = std::sqrt(mse / K);
+  // The MSE is itself a mean over the instances: its standard error decides
+  // whether two samplers' MSEs differ (heavy-tailed on HDR integrands).
+  double sqVar = 0;
+  for (double v : e) {
+    const double d = (v - reference) * (v - reference) - mse / K;
+    sqVar += d * d;
+  }
+  s.mseStderr = std::sqrt(sqVar / (K - 1) / K);
   s.relRmse = reference != 0 ? s.rmse / std::abs(reference) : NAN;
   return s;
 }

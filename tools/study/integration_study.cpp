@@ -64,6 +64,7 @@ const std::vector<std::string> &integrateColumns() {
                                                 "std",
                                                 "rmse",
                                                 "rel_rmse",
+                                                "mse_stderr",
                                                 "gen_seconds_per_set",
                                                 "setup_seconds_per_set"};
   return columns;
@@ -208,6 +209,7 @@ class StudyRunner {
     request.epochs = o_.optEpochs;
     request.seed = o_.seed;
     request.objective = o_.optObjective;
+    request.unionWeight = o_.optUnionWeight;
     const fs::path file =
         cachedSetsPath(o_.outDir / "cache", target, optimizerSettings(target, request));
     const std::string what = "optimizing " + shortSpec(target.spec()) + " N=" + std::to_string(n) +
@@ -308,9 +310,9 @@ IntegrateSummary runIntegrateStudy(const IntegrateOptions &o, const IntegrateHoo
       default: m = runner.classic(*t.in, *t.s, t.n);
     }
     const EstimateStats st = summarize(m.estimates, t.in->reference);
-    const std::vector<double> values{t.in->reference, st.mean,      st.bias,
-                                     st.biasStderr,   st.std,       st.rmse,
-                                     st.relRmse,      m.genSeconds, m.setupSeconds};
+    const std::vector<double> values{t.in->reference, st.mean,       st.bias,    st.biasStderr,
+                                     st.std,          st.rmse,       st.relRmse, st.mseStderr,
+                                     m.genSeconds,    m.setupSeconds};
     for (double v : values)
       if (!std::isfinite(v))
         throw std::runtime_error("study integrate: " + row + " gave a value that is not finite");
@@ -322,7 +324,7 @@ IntegrateSummary runIntegrateStudy(const IntegrateOptions &o, const IntegrateHoo
     table.addRow({t.in->name, domain, t.s->name, n, std::to_string(K),
                   formatPrecise(t.in->reference), formatPrecise(st.mean), formatNumber(st.bias),
                   formatNumber(st.biasStderr), formatNumber(st.std), formatNumber(st.rmse),
-                  formatNumber(st.relRmse), formatNumber(m.genSeconds),
+                  formatNumber(st.relRmse), formatNumber(st.mseStderr), formatNumber(m.genSeconds),
                   formatNumber(m.setupSeconds)});
     ++summary.rowsAdded;
     runner.advance();

@@ -32,7 +32,7 @@
 namespace nuld::study {
 
 // integrand,domain,sampler,n,instances,reference,mean,bias,bias_stderr,std,
-// rmse,rel_rmse,gen_seconds_per_set,setup_seconds_per_set
+// rmse,rel_rmse,mse_stderr,gen_seconds_per_set,setup_seconds_per_set
 const std::vector<std::string> &integrateColumns();
 std::filesystem::path integrateCsvPath(const std::filesystem::path &outDir);
 
@@ -48,6 +48,7 @@ struct IntegrateOptions {
   std::size_t optimizedMaxN = 1024;
   int optEpochs = 0;                      // 0: the preset's
   std::optional<Objective> optObjective;  // nullopt: the preset's
+  double optUnionWeight = 4;              // the bank term, with the l2asd objective
   std::vector<std::string> neuralModels;
   std::string assetRoot;  // resolved; maps are looked up in ASSETROOT/envmaps
   std::vector<std::string> envmaps{"grace"};
@@ -82,10 +83,11 @@ double importanceEstimate(const Integrand &integrand, std::span<const Point2> po
                           std::size_t &zeroPdf);
 
 struct EstimateStats {
-  double mean = 0, bias = 0, biasStderr = 0, std = 0, rmse = 0, relRmse = 0;
+  double mean = 0, bias = 0, biasStderr = 0, std = 0, rmse = 0, relRmse = 0, mseStderr = 0;
 };
 // Over K >= 2 estimates: std with K - 1, bias_stderr = std / sqrt(K),
-// rmse = sqrt(mean((e - ref)^2)), so rmse^2 = bias^2 + (K - 1) / K std^2.
+// rmse = sqrt(mean((e - ref)^2)), so rmse^2 = bias^2 + (K - 1) / K std^2;
+// mse_stderr = the standard error of that mean of squared errors.
 EstimateStats summarize(std::span<const double> estimates, double reference);
 
 struct IntegrateHooks {

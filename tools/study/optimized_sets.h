@@ -23,6 +23,7 @@ struct OptimizedSetsRequest {
   int epochs = 0;  // 0: the preset's (by the target: uniform, nonuniform, sphere)
   std::uint64_t seed = 1;
   std::optional<Objective> objective;  // nullopt: the preset's
+  double unionWeight = 0;              // the bank term (optimizer.h); l2asd only
 };
 
 // The optimizer settings a request stands for: the target's preset, with

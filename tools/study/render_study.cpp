@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <sstream>
 #include <stdexcept>
 
 #include "renderer/image_metrics.h"
@@ -122,6 +124,7 @@ ResolvedBackend resolveBackend(const std::string &backend, const Scene &scene,
     if (tables.materials() == 0)
       return {"", 0, "the scene has no Disney material to optimize lobe sets for"};
     request.objective = Objective::ExactL2asd;
+    request.unionWeight = s.lobeUnionWeight;
     const auto targets = tables.targets();
     // The directory is the bank the renderer loads whole, so its name carries
     // the settings: sets made with other settings never join it.
@@ -189,11 +192,26 @@ void RenderStudySettings::validate() const {
     throw std::invalid_argument("--res-scale: expected a factor in (0, 16]");
   if (repeats == 0) throw std::invalid_argument("--repeats: must be at least 1");
   if (optimizedInstances == 0) throw std::invalid_argument("--opt-instances: must be at least 1");
+  if (!(lobeUnionWeight >= 0) || !std::isfinite(lobeUnionWeight))
+    throw std::invalid_argument("--opt-union-weight: expected a finite weight >= 0");
   if (out.empty()) throw std::invalid_argument("study render: -o OUTDIR is required");
   for (const auto &b : backends)  // fail now, not after an hour of reference
     if (!isStudyBackend(b) && b.rfind("optimized:", 0) != 0 && b.rfind("points:", 0) != 0 &&
         b.rfind("neural:", 0) != 0)
       makeBackend(b, 0);
+}
+
+std::string sceneIdentity(const std::string &scenePath) {
+  const std::string name = slug(scenePath);
+  if (scenePath == "default" || scenePath == "stress") return name;  // built in (scene_file.h)
+  std::ifstream in(scenePath, std::ios::binary);
+  if (!in) throw std::runtime_error(scenePath + ": cannot read the scene file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  char hash[17];
+  std::snprintf(hash, sizeof hash, "%016llx",
+                static_cast<unsigned long long>(hashString(text.str())));
+  return name + " scene_hash=" + hash;
 }
 
 std::string slug(const std::string &name) {
@@ -234,8 +252,8 @@ RenderStudyResult runRenderStudy(const RenderStudySettings &s, const StudyProgre
     const fs::path dir = s.out / sceneSlug;
 
     const ReferenceSettings refSettings = referenceFor(s, rs);
-    const ReferenceResult ref =
-        renderReference(loaded.scene, sceneSlug, refSettings, dir, [&](const ReferenceProgress &p) {
+    const ReferenceResult ref = renderReference(
+        loaded.scene, sceneIdentity(scenePath), refSettings, dir, [&](const ReferenceProgress &p) {
           if (progress)
             progress(sceneSlug + ": reference", p.fraction,
                      "pass " + std::to_string(p.passesDone) + "/" + std::to_string(p.passes));

@@ -50,6 +50,9 @@ struct RenderStudySettings {
   ReferenceSettings reference;  // its render settings are filled per scene
   std::size_t optimizedInstances = 16;
   int optimizedEpochs = 0;  // 0: the preset's
+  // The lobe banks' bank term (optimizer.h, unionWeight): without it the
+  // instances of a glossy lobe's bank converge to nearly one set.
+  double lobeUnionWeight = 4;
   std::filesystem::path out;
 
   // Throws std::invalid_argument naming the bad option.
@@ -78,5 +81,9 @@ RenderStudyResult runRenderStudy(const RenderStudySettings &settings,
 // A file-name-safe form of a scene or backend name: "neural:m/q.nuldnet" ->
 // "neural-q", "scenes/cup.json" -> "cup".
 std::string slug(const std::string &name);
+// What a reference remembers of its scene: the slug, and for a scene file a
+// hash of its text, so that a reference rendered before the file changed (a
+// map turned upright, a material edited) is refused rather than reused.
+std::string sceneIdentity(const std::string &scenePath);
 
 }  // namespace nuld::study
