@@ -201,6 +201,13 @@ std::optional<SurfaceHit> EmbreeScene::surfaceHit(const Ray &ray, float t, unsig
     if (nlen > 1e-12 && std::isfinite(nlen)) hit.shadingNormal = ns / nlen;
     // Vertex normals define the outside; keep the geometric normal on that side.
     if (dot(hit.shadingNormal, ng) < 0) hit.geometricNormal = -ng;
+    const double b[3] = {b0, b1, b2};
+    Vec3 shading{};
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 pk = mesh.positions[tri[k]], nk = mesh.normals[tri[k]];
+      shading += b[k] * (hit.position - dot(hit.position - pk, nk) * nk);
+    }
+    if (isFinite(shading)) hit.shadingOffset = shading - hit.position;
   }
   return hit;
 }

@@ -24,6 +24,14 @@ struct SurfaceHit {
   Vec3 position;
   Vec3 geometricNormal;  // unit, as Embree's winding gives it
   Vec3 shadingNormal;    // unit, interpolated vertex normals (or the geometric one)
+  // From `position` to the shading position: the barycentric blend of the
+  // position's projections on the three vertex tangent planes (Hanika 2021,
+  // "Hacking the shadow terminator"), which lies on the smooth surface the
+  // vertex normals describe. Zero on a flat-shaded mesh. Rays leave from
+  // there (path_integrator.cpp), so that a direction above the shading
+  // hemisphere but below the flat triangle escapes a convex patch as it
+  // would the smooth surface.
+  Vec3 shadingOffset;
   std::uint32_t mesh = 0, triangle = 0;
 };
 

@@ -55,12 +55,12 @@ EnvironmentLight::EnvironmentLight(Image latlong, double scale, double rotationD
   const Image image = toRgb(latlong, scale, source_);
   width_ = image.width;
   height_ = image.height;
-  // Map frame -> world at up = +Y: z up, phi = 0 towards -Z, phi = pi/2
-  // towards +X; turned about +Y by the rotation; then tilted to `up`.
   const double rot = rotationDegrees * std::numbers::pi / 180;
-  const double c = std::cos(rot), s = std::sin(rot);
-  const Vec3 turned[3] = {{-s, 0, -c}, {c, 0, -s}, {0, 1, 0}};
-  for (int k = 0; k < 3; ++k) localToWorld_[k] = tiltUp(turned[k], up);
+  cosRot_ = std::cos(rot);
+  sinRot_ = std::sin(rot);
+  tilted_ = up.x != 0 || up.z != 0 || !(up.y > 0);
+  for (int k = 0; k < 3; ++k)
+    tilt_[k] = tiltUp(Vec3{k == 0 ? 1.0 : 0, k == 1 ? 1.0 : 0, k == 2 ? 1.0 : 0}, up);
   bool black = true;
   for (float v : image.pixels) black = black && v == 0;
   // A black map emits nothing and has nothing to sample: no target.
@@ -84,13 +84,20 @@ EnvironmentLight::EnvironmentLight(Image latlong, double scale, double rotationD
     }
 }
 
-// The frame is orthonormal, so world -> map is its transpose.
+// Map frame -> world at up = +Y: z up, phi = 0 towards -Z, phi = pi/2
+// towards +X; turned about +Y by the rotation; then, only when `up` is not
+// +Y, tilted (the common case skips the matrix: these run for every light
+// sample and escaping ray).
 Vec3 EnvironmentLight::toWorld(Vec3 l) const {
-  return l.x * localToWorld_[0] + l.y * localToWorld_[1] + l.z * localToWorld_[2];
+  const Vec3 w{l.y, l.z, -l.x};
+  const Vec3 r{cosRot_ * w.x + sinRot_ * w.z, w.y, -sinRot_ * w.x + cosRot_ * w.z};
+  return tilted_ ? r.x * tilt_[0] + r.y * tilt_[1] + r.z * tilt_[2] : r;
 }
 
 Vec3 EnvironmentLight::toLocal(Vec3 w) const {
-  return {dot(w, localToWorld_[0]), dot(w, localToWorld_[1]), dot(w, localToWorld_[2])};
+  if (tilted_) w = {dot(w, tilt_[0]), dot(w, tilt_[1]), dot(w, tilt_[2])};
+  const Vec3 r{cosRot_ * w.x - sinRot_ * w.z, w.y, sinRot_ * w.x + cosRot_ * w.z};
+  return {-r.z, r.x, r.y};
 }
 
 // The map's pixels are the target's cells (columns uniform in u, rows at the

@@ -95,7 +95,9 @@ class EnvironmentLight {
   std::vector<Texel> texels_;   // row-major; empty for a black map
   double pdfPerLuminance_ = 0;  // solid-angle pdf of a cell / its luminance
   std::unique_ptr<GridTarget> target_;
-  Vec3 localToWorld_[3];  // the world images of the map frame's x, y and z axes
+  double cosRot_, sinRot_;  // the turn about the map's zenith
+  bool tilted_;             // up is not +Y: tilt_ applies
+  Vec3 tilt_[3];            // the world images of +X, +Y and +Z under the tilt to up
   std::string source_;
 };
 

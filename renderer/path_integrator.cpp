@@ -67,6 +67,22 @@ Shading shadingAt(const SurfaceHit &hit, Vec3 wo) {
   return {Frame::fromNormal(ns), ng};
 }
 
+// Where a ray leaves a surface towards wi (any direction in the shading
+// hemisphere: every material here reflects only). The terminator policy: the
+// shading normal decides which directions are sampled and the BSDF is
+// evaluated in its frame, and the ray starts at the shading position (the
+// smooth surface the vertex normals describe; embree_scene.h) where that lies
+// on wo's side of the flat triangle, offset to that side. So a direction
+// between the flat triangle's plane and the shading plane is traced, not
+// dropped: on a convex smooth-shaded patch it escapes as it would the smooth
+// surface, and a white furnace returns the albedo (render_test.cpp); where it
+// does hit the mesh, that hit shadows it or continues the path like any other.
+Vec3 leavingOrigin(const SurfaceHit &hit, const Shading &sh) {
+  const Vec3 base =
+      dot(hit.shadingOffset, sh.ng) > 0 ? hit.position + hit.shadingOffset : hit.position;
+  return offsetRayOrigin(base, sh.ng, sh.ng);
+}
+
 void record(PathCounters &c, const Ray &r) {
   ++c.rays;
   if (c.recorder)
@@ -207,11 +223,11 @@ void PathIntegrator::radiance(std::span<const Ray> rays,
       lightSamples(*light, packet, depth, ls);
       for (std::size_t k = 0; k < n; ++k) {
         PathState &p = path[k];
-        if (!p.alive || !ls[k] || !(dot(ls[k]->wi, p.sh.ng) > 0)) continue;
+        if (!p.alive || !ls[k]) continue;
         const Vec3 wi = p.sh.frame.toLocal(ls[k]->wi);
         if (!(wi.z > 0)) continue;  // below the shading hemisphere: f = 0
         // Visibility before the BSDF: an occluded sample then costs no eval.
-        const Ray shadow{offsetRayOrigin(hit[k]->position, p.sh.ng, ls[k]->wi), ls[k]->wi};
+        const Ray shadow{leavingOrigin(*hit[k], p.sh), ls[k]->wi};
         record(counters, shadow);
         if (scene_.geometry.occluded(shadow)) continue;
         const auto [f, classicPdf] = p.bsdf->evalWithPdf(p.wo, wi);
@@ -237,11 +253,11 @@ void PathIntegrator::radiance(std::span<const Ray> rays,
               ? sampleTable(*p.bsdf, p.wo, p.lobe, p.lobePoint)
               : p.bsdf->sample(p.wo, p.samples->primary(SamplePairs::bsdf(depth), p.index));
       if (!bs || !(bs->pdf > 0)) continue;
+      if (!(bs->wi.z > 0)) continue;  // below the shading hemisphere: f = 0
       const Vec3 wiWorld = p.sh.frame.toWorld(bs->wi);
-      if (dot(wiWorld, p.sh.ng) <= 0) continue;  // below the geometric surface: a light leak
       p.beta *= (bs->wi.z / bs->pdf) * bs->f;
       p.lastBsdfPdf = bs->pdf;
-      p.ray = {offsetRayOrigin(hit[k]->position, p.sh.ng, wiWorld), wiWorld};
+      p.ray = {leavingOrigin(*hit[k], p.sh), wiWorld};
       if (depth >= 1 && p.beta.maxComponent() < 1) {
         const double q = std::max(0.0, 1 - p.beta.maxComponent());
         if (p.samples->primary(SamplePairs::roulette(depth), p.index).x < q) continue;
