@@ -41,13 +41,15 @@ std::string toString(IntegratorKind k) {
 }
 
 PathIntegrator::PathIntegrator(const Scene &scene, IntegratorKind kind, int maxDepth,
-                               const LobeTables *lobes)
+                               const LobeTables *lobes, int rouletteDepth)
     : scene_(scene),
       lobes_(lobes),
       maxDepth_(kind == IntegratorKind::Path ? maxDepth : 1),
+      rouletteDepth_(rouletteDepth),
       lightOnly_(kind == IntegratorKind::Light),
       bsdfOnly_(kind == IntegratorKind::Bsdf) {
   if (maxDepth < 1) throw std::invalid_argument("max depth must be at least 1");
+  if (rouletteDepth < 1) throw std::invalid_argument("roulette depth must be at least 1");
 }
 
 namespace {
@@ -192,6 +194,21 @@ void PathIntegrator::radiance(std::span<const Ray> rays,
         p.alive = false;
         continue;
       }
+      // Russian roulette, on arriving at a hit (from the `rouletteDepth_`-th
+      // on, 0-based) and before its next-event estimation: cutting a path
+      // after its BSDF sample instead (pbrt-v4's place) also cuts the MIS
+      // half of the previous hit's direct light. Survival sqrt(max beta)
+      // (Cycles' rule), not max beta: on a Lambertian sphere and floor under
+      // beach, 64 spp, max depth 5, the pixel variance is 0.48x that of
+      // pbrt-v4's rule and place at 1.04x the time (README, "Path noise").
+      if (depth >= rouletteDepth_ && p.beta.maxComponent() < 1) {
+        const double q = std::max(0.0, 1 - std::sqrt(p.beta.maxComponent()));
+        if (p.samples->primary(SamplePairs::roulette(depth), p.index).x < q) {
+          p.alive = false;
+          continue;
+        }
+        p.beta = p.beta / (1 - q);
+      }
       p.bsdf = scene_.materials[hit[k]->mesh].get();
       p.sh = shadingAt(*hit[k], -p.ray.direction);
       p.wo = p.sh.frame.toLocal(-p.ray.direction);
@@ -239,8 +256,7 @@ void PathIntegrator::radiance(std::span<const Ray> rays,
     }
     if (lightOnly_) break;  // the light sample was the whole estimate
 
-    // The continuation directions by BSDF sampling, and Russian roulette
-    // (pbrt-v4's rule) once a path has bounced twice.
+    // The continuation directions by BSDF sampling.
     std::array<Ray, kMaxPaths> next;
     std::array<std::size_t, kMaxPaths> nextOf;
     std::size_t m = 0;
@@ -258,11 +274,6 @@ void PathIntegrator::radiance(std::span<const Ray> rays,
       p.beta *= (bs->wi.z / bs->pdf) * bs->f;
       p.lastBsdfPdf = bs->pdf;
       p.ray = {leavingOrigin(*hit[k], p.sh), wiWorld};
-      if (depth >= 1 && p.beta.maxComponent() < 1) {
-        const double q = std::max(0.0, 1 - p.beta.maxComponent());
-        if (p.samples->primary(SamplePairs::roulette(depth), p.index).x < q) continue;
-        p.beta = p.beta / (1 - q);
-      }
       if (p.beta.isBlack()) continue;
       p.alive = true;
       record(counters, p.ray);

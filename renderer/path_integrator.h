@@ -1,7 +1,7 @@
 #pragma once
 // A unidirectional path tracer with next-event estimation of the environment
 // light and BSDF sampling, combined by multiple importance sampling with the
-// power heuristic (Veach 1997), and Russian roulette after the second bounce.
+// power heuristic (Veach 1997), and Russian roulette from the third hit on.
 // The direct-lighting mode stops after the first bounce: it isolates the
 // estimator that the sampler backends differ in. The light mode estimates
 // that direct lighting by environment-map sampling alone (no BSDF sample, no
@@ -52,8 +52,10 @@ struct PathCounters {
 class PathIntegrator {
  public:
   // `lobes`: the tables BSDF pairs are asked for (null: never asked).
+  // `rouletteDepth`: the first hit (0-based) where Russian roulette may end a
+  // path; the default 2 never cuts the first two hits' direct light.
   PathIntegrator(const Scene &scene, IntegratorKind kind, int maxDepth,
-                 const LobeTables *lobes = nullptr);
+                 const LobeTables *lobes = nullptr, int rouletteDepth = 2);
 
   // The radiance of up to kMaxPaths paths: path k starts on camera ray
   // rays[k], whose closest hit hits[k] the caller traces (the renderer traces
@@ -74,7 +76,7 @@ class PathIntegrator {
  private:
   const Scene &scene_;
   const LobeTables *lobes_;
-  int maxDepth_;
+  int maxDepth_, rouletteDepth_;
   bool lightOnly_, bsdfOnly_;
 };
 

@@ -31,7 +31,8 @@ Image render(const Scene &scene, const RenderSettings &s, SamplerBackend &backen
 
   const auto start = std::chrono::steady_clock::now();
   const PerspectiveCamera camera(scene.camera, s.width, s.height);
-  const PathIntegrator integrator(scene, s.integrator, s.maxDepth, lobes ? &*lobes : nullptr);
+  const PathIntegrator integrator(scene, s.integrator, s.maxDepth, lobes ? &*lobes : nullptr,
+                                  s.rouletteDepth);
   Image image{s.width, s.height, 3, std::vector<float>(std::size_t(s.width) * s.height * 3)};
 
   constexpr int tile = 16;

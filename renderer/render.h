@@ -19,6 +19,7 @@ struct RenderSettings {
   std::size_t spp = 16;
   IntegratorKind integrator = IntegratorKind::Path;
   int maxDepth = 5;
+  int rouletteDepth = 2;  // the first hit (0-based) where Russian roulette may end a path
   // The lobe tables of a backend that samples lobes (built from the scene's
   // materials for each render, and only for such a backend).
   LobeTableSettings lobeTables{};
