@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# Cross-checks nuld against Blender's Cycles on the scenes in scenes/ (README.md
+# here): renders each with both renderers at SPP samples and two seeds, and
+# prints per-channel mean ratios (nuld / Cycles), the pixel RMS of their
+# difference against what the seed-to-seed noise alone gives, and nuld's noise
+# over Cycles'. Blender is an optional dependency: --install installs Debian's
+# package; nothing else in the project installs it.
+# Usage: tools/crosscheck/crosscheck.sh [--install] OUT [SPP] [SCENE.json...]
+set -euo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+root=$(cd "$here/../.." && pwd)
+if [[ "${1:-}" == "--install" ]]; then
+  shift
+  command -v blender >/dev/null || { apt-get update -q && apt-get install -y --no-install-recommends blender; }
+fi
+out=${1:?usage: crosscheck.sh [--install] OUT [SPP] [SCENE.json...]}
+spp=${2:-1024}
+shift $(( $# >= 2 ? 2 : 1 ))
+scenes=("$@")
+[[ ${#scenes[@]} -gt 0 ]] || scenes=("$here"/scenes/*.json)
+command -v blender >/dev/null || { echo "crosscheck: blender not found; run with --install (Debian's blender package)" >&2; exit 1; }
+nuld=${NULD:-"$root/build/nuld"}
+[[ -x "$nuld" ]] || { echo "crosscheck: build nuld first (tools/build.sh) or set NULD" >&2; exit 1; }
+assets=${NULD_ASSETS:-"$root/../shared/assets"}
+mkdir -p "$out"
+echo "scene,nuld_r,nuld_g,nuld_b,cycles_r,cycles_g,cycles_b,ratio_r,ratio_g,ratio_b,rms_difference,rms_noise,noise_ratio,nuld_seconds,cycles_seconds"
+for scene in "${scenes[@]}"; do
+  name=$(basename "$scene" .json)
+  nsec=0 csec=0
+  for seed in 1 2; do
+    t0=$(date +%s.%N)
+    "$nuld" render "$scene" --assets "$assets" --spp "$spp" --seed "$seed" --backend sobol -q \
+      -o "$out/${name}_nuld_$seed.exr" >/dev/null
+    t1=$(date +%s.%N)
+    blender -b --factory-startup -P "$here/cycles_render.py" -- "$scene" "$assets" \
+      "$out/${name}_cycles_$seed.exr" "$spp" "$seed" >"$out/${name}_cycles_$seed.log" 2>&1 ||
+      { echo "crosscheck: Cycles failed on $scene; see $out/${name}_cycles_$seed.log" >&2; exit 1; }
+    t2=$(date +%s.%N)
+    nsec=$(python3 -c "print($nsec + $t1 - $t0)") csec=$(python3 -c "print($csec + $t2 - $t1)")
+  done
+  row=$(blender -b --factory-startup -P "$here/compare.py" -- "$name" \
+    "$out/${name}_nuld_1.exr" "$out/${name}_nuld_2.exr" "$out/${name}_cycles_1.exr" \
+    "$out/${name}_cycles_2.exr" 2>&1 | sed -n 's/^ROW,//p')
+  [[ -n "$row" ]] || { echo "crosscheck: comparing $name failed" >&2; exit 1; }
+  echo "$row,$(python3 -c "print('%.2f,%.2f' % ($nsec / 2, $csec / 2))")"
+done
