@@ -14,6 +14,12 @@
 
 namespace nuld {
 
+// The estimator's revision, raised whenever a change alters what renders
+// converge to or how noisy they are (2: the terminator policy and roulette
+// from the third hit). Study references record it, so one made by another
+// revision is refused rather than compared against.
+inline constexpr int kRendererRevision = 2;
+
 struct RenderSettings {
   int width = 256, height = 256;
   std::size_t spp = 16;

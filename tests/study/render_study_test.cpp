@@ -226,6 +226,24 @@ TEST(ReferenceRender, OtherSettingsAreRefusedNamingTheStateFile) {
   }
 }
 
+// What a reference remembers of its scene: a built-in scene's name; a scene
+// file's slug and the hash of its text, so an edited file gets a new
+// identity (and its old references are refused); and the renderer's revision.
+TEST(ReferenceRender, RemembersTheSceneTextAndTheRendererRevision) {
+  EXPECT_EQ(sceneIdentity("default"), "default");
+  TempDir tmp;
+  const fs::path file = tmp / "box.json";
+  std::ofstream(file) << "{\"a\": 1}";
+  const std::string before = sceneIdentity(file.string());
+  EXPECT_EQ(before.rfind("box scene_hash=", 0), 0u) << before;
+  std::ofstream(file) << "{\"a\": 2}";
+  EXPECT_NE(sceneIdentity(file.string()), before);
+  EXPECT_THROW(sceneIdentity((tmp / "missing.json").string()), std::runtime_error);
+  EXPECT_NE(
+      ReferenceSettings{}.describe("x").find(" renderer=" + std::to_string(kRendererRevision)),
+      std::string::npos);
+}
+
 TEST(OptimizedSets, CachedFileOfOtherSettingsIsRefused) {
   TempDir tmp;
   const auto target = makeTarget("uniform");

@@ -20,7 +20,7 @@ std::string ReferenceSettings::describe(const std::string &sceneName) const {
   s << "scene=" << sceneName << " backend=" << backend << " spp=" << totalSpp()
     << " pass_spp=" << samplesPerPass() << " seed=" << seed << " res=" << render.width << "x"
     << render.height << " integrator=" << toString(render.integrator)
-    << " max_depth=" << render.maxDepth;
+    << " max_depth=" << render.maxDepth << " renderer=" << kRendererRevision;
   return s.str();
 }
 
