@@ -59,8 +59,8 @@ EnvironmentLight::EnvironmentLight(Image latlong, double scale, double rotationD
   cosRot_ = std::cos(rot);
   sinRot_ = std::sin(rot);
   tilted_ = up.x != 0 || up.z != 0 || !(up.y > 0);
-  for (int k = 0; k < 3; ++k)
-    tilt_[k] = tiltUp(Vec3{k == 0 ? 1.0 : 0, k == 1 ? 1.0 : 0, k == 2 ? 1.0 : 0}, up);
+  const Vec3 axes[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  for (int k = 0; k < 3; ++k) tilt_[k] = tiltUp(axes[k], up);
   bool black = true;
   for (float v : image.pixels) black = black && v == 0;
   // A black map emits nothing and has nothing to sample: no target.

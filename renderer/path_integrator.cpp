@@ -60,29 +60,26 @@ namespace {
 struct Shading {
   Frame frame;
   Vec3 ng;
+  Vec3 origin;  // where rays leave the surface (shadingAt)
 };
 
+// Where rays leave the surface (every material here reflects only, so every
+// ray leaves on wo's side). The terminator policy: the shading normal decides
+// which directions are sampled and the BSDF is evaluated in its frame, and
+// rays start at the shading position (the smooth surface the vertex normals
+// describe; embree_scene.h) where that lies on wo's side of the flat
+// triangle, offset to that side. So a direction between the flat triangle's
+// plane and the shading plane is traced, not dropped: on a convex
+// smooth-shaded patch it escapes as it would the smooth surface, and a white
+// furnace returns the albedo (render_test.cpp); where it does hit the mesh,
+// that hit shadows it or continues the path like any other.
 Shading shadingAt(const SurfaceHit &hit, Vec3 wo) {
   Vec3 ng = hit.geometricNormal, ns = hit.shadingNormal;
   if (dot(wo, ng) < 0) ng = -ng, ns = -ns;
   if (dot(wo, ns) <= 0) ns = ng;
-  return {Frame::fromNormal(ns), ng};
-}
-
-// Where a ray leaves a surface towards wi (any direction in the shading
-// hemisphere: every material here reflects only). The terminator policy: the
-// shading normal decides which directions are sampled and the BSDF is
-// evaluated in its frame, and the ray starts at the shading position (the
-// smooth surface the vertex normals describe; embree_scene.h) where that lies
-// on wo's side of the flat triangle, offset to that side. So a direction
-// between the flat triangle's plane and the shading plane is traced, not
-// dropped: on a convex smooth-shaded patch it escapes as it would the smooth
-// surface, and a white furnace returns the albedo (render_test.cpp); where it
-// does hit the mesh, that hit shadows it or continues the path like any other.
-Vec3 leavingOrigin(const SurfaceHit &hit, const Shading &sh) {
   const Vec3 base =
-      dot(hit.shadingOffset, sh.ng) > 0 ? hit.position + hit.shadingOffset : hit.position;
-  return offsetRayOrigin(base, sh.ng, sh.ng);
+      dot(hit.shadingOffset, ng) > 0 ? hit.position + hit.shadingOffset : hit.position;
+  return {Frame::fromNormal(ns), ng, offsetRayOrigin(base, ng, ng)};
 }
 
 void record(PathCounters &c, const Ray &r) {
@@ -244,7 +241,7 @@ void PathIntegrator::radiance(std::span<const Ray> rays,
         const Vec3 wi = p.sh.frame.toLocal(ls[k]->wi);
         if (!(wi.z > 0)) continue;  // below the shading hemisphere: f = 0
         // Visibility before the BSDF: an occluded sample then costs no eval.
-        const Ray shadow{leavingOrigin(*hit[k], p.sh), ls[k]->wi};
+        const Ray shadow{p.sh.origin, ls[k]->wi};
         record(counters, shadow);
         if (scene_.geometry.occluded(shadow)) continue;
         const auto [f, classicPdf] = p.bsdf->evalWithPdf(p.wo, wi);
@@ -273,7 +270,7 @@ void PathIntegrator::radiance(std::span<const Ray> rays,
       const Vec3 wiWorld = p.sh.frame.toWorld(bs->wi);
       p.beta *= (bs->wi.z / bs->pdf) * bs->f;
       p.lastBsdfPdf = bs->pdf;
-      p.ray = {leavingOrigin(*hit[k], p.sh), wiWorld};
+      p.ray = {p.sh.origin, wiWorld};
       if (p.beta.isBlack()) continue;
       p.alive = true;
       record(counters, p.ray);

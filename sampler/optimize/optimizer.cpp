@@ -180,21 +180,27 @@ void DirectOptimizer::run(OptimizerState &state, int untilEpoch,
     throw std::invalid_argument("optimizer: state does not match the settings");
   state.lastLoss.resize(K, 0.0);
   untilEpoch = std::min(untilEpoch, s.epochs);
-  std::vector<Point2> grad(n * K);
+  const bool mapped = s.mapping == Mapping::Mapped && !target_.isUniform();
+  std::vector<Point2> x(n * K), grad(n * K);
+  std::vector<Jacobian2> jac(mapped ? n * K : 0);
+  const auto slice = [n](auto &v, std::size_t k) {
+    return v.empty() ? std::span(v.data(), 0) : std::span(v).subspan(k * n, n);
+  };
   for (int epoch = state.epoch; epoch < untilEpoch; ++epoch) {
     const double lr = logLinear(s.lrStart, s.lrEnd, epoch, s.epochs);
     // Instances are independent but for the bank term: run them side by
     // side (the loss kernel is parallel inside too; TBB balances the two).
     tbb::parallel_for(std::size_t(0), K, [&](std::size_t k) {
-      state.lastLoss[k] = instanceEpoch(k, epoch, std::span(state.params).subspan(k * n, n),
-                                        std::span(grad).subspan(k * n, n));
+      mapToTarget(slice(state.params, k), slice(x, k), slice(jac, k));
+      state.lastLoss[k] = instanceLoss(k, epoch, slice(x, k), slice(grad, k));
     });
-    double unionLoss = 0;
-    if (s.unionWeight > 0) unionLoss = unionEpoch(epoch, state.params, grad);
+    const double bankLoss = s.unionWeight > 0 ? unionLoss(epoch, x, grad) : 0.0;
     tbb::parallel_for(std::size_t(0), K, [&](std::size_t k) {
-      const auto params = std::span(state.params).subspan(k * n, n);
-      adamStep(params, std::span(grad).subspan(k * n, n), std::span(state.m).subspan(k * n, n),
-               std::span(state.v).subspan(k * n, n), epoch + 1, lr);
+      const auto g = slice(grad, k);
+      if (mapped)
+        for (std::size_t i = 0; i < n; ++i) g[i] = jac[k * n + i].transposeTimes(g[i]);
+      const auto params = slice(state.params, k);
+      adamStep(params, g, slice(state.m, k), slice(state.v, k), epoch + 1, lr);
       constrain(params);
     });
     state.epoch = epoch + 1;
@@ -203,7 +209,7 @@ void DirectOptimizer::run(OptimizerState &state, int untilEpoch,
       r.epoch = epoch + 1;
       r.epochs = s.epochs;
       for (double l : state.lastLoss) r.loss += l / double(K);
-      r.unionLoss = unionLoss;
+      r.unionLoss = bankLoss;
       r.alpha = s.objective == Objective::SoftBoxes
                     ? linearRamp(s.alphaStart, s.alphaEnd, s.rampFraction, epoch, s.epochs)
                     : 0.0;
@@ -213,8 +219,38 @@ void DirectOptimizer::run(OptimizerState &state, int untilEpoch,
   }
 }
 
-double DirectOptimizer::unionEpoch(int epoch, std::span<const Point2> params,
-                                   std::span<Point2> grad) const {
+void DirectOptimizer::mapToTarget(std::span<const Point2> params, std::span<Point2> x,
+                                  std::span<Jacobian2> jac) const {
+  if (jac.empty()) {
+    std::copy(params.begin(), params.end(), x.begin());
+    return;
+  }
+  for (std::size_t i = 0; i < params.size(); ++i) {
+    const Inversion inv = target_.invert(params[i]);
+    x[i] = inv.x;
+    jac[i] = inv.jacobian;
+  }
+}
+
+double DirectOptimizer::instanceLoss(std::size_t k, int epoch, std::span<const Point2> x,
+                                     std::span<Point2> grad) const {
+  const OptimizerSettings &s = settings_;
+  if (s.objective == Objective::ExactL2asd) return exactObjective_->squared(x, grad);
+  if (s.objective == Objective::PeriodicL2) return periodicL2Squared(x, grad);
+  Rng rng(hashCombine(s.seed, k), std::uint64_t(epoch));
+  std::vector<Box2> boxes(s.boxes);
+  std::vector<double> masses(s.boxes);
+  sampleBoxes(s.boxKind, rng, boxes);
+  if (s.mcSamples)
+    MonteCarloBoxMass(target_, s.mcSamples).estimate(boxes, masses, rng);
+  else
+    exactBoxMasses(target_, boxes, masses);
+  const double alpha = linearRamp(s.alphaStart, s.alphaEnd, s.rampFraction, epoch, s.epochs);
+  return softBoxLoss(x, boxes, masses, {alpha, s.cutoff}, grad);
+}
+
+double DirectOptimizer::unionLoss(int epoch, std::span<const Point2> x,
+                                  std::span<Point2> grad) const {
   const OptimizerSettings &s = settings_;
   const std::size_t n = s.n, K = s.instances, group = s.unionGroupSize();
   // A fresh partition every epoch (keyed by seed and epoch, so resumes stay
@@ -229,73 +265,25 @@ double DirectOptimizer::unionEpoch(int epoch, std::span<const Point2> params,
   tbb::parallel_for(std::size_t(0), groups, [&](std::size_t g) {
     const std::size_t first = g * group, size = std::min(group, K - first);
     if (size < 2) return;  // a lone instance has no union to keep apart
-    std::vector<Point2> u;
+    std::vector<Point2> u, gu(size * n);
     u.reserve(size * n);
     for (std::size_t j = 0; j < size; ++j) {
-      const auto inst = params.subspan(order[first + j] * n, n);
+      const auto inst = x.subspan(order[first + j] * n, n);
       u.insert(u.end(), inst.begin(), inst.end());
     }
-    std::vector<Point2> x, gx(u.size());
-    std::vector<Jacobian2> jac;
-    toDomain(u, x, jac);
     const double w = s.unionWeight * double(size);
-    losses[g] = w * exactObjective_->squared(x, gx);
+    losses[g] = w * exactObjective_->squared(u, gu);
     // Each group owns its instances' gradients: no two groups write one.
     for (std::size_t j = 0; j < size; ++j)
       for (std::size_t i = 0; i < n; ++i) {
-        const std::size_t at = j * n + i;
-        const Point2 gi = jac.empty() ? gx[at] : jac[at].transposeTimes(gx[at]);
         Point2 &out = grad[order[first + j] * n + i];
-        out.x += w * gi.x;
-        out.y += w * gi.y;
+        out.x += w * gu[j * n + i].x;
+        out.y += w * gu[j * n + i].y;
       }
   });
   double total = 0;
   for (double l : losses) total += l;
   return total / double(K);
-}
-
-void DirectOptimizer::toDomain(std::span<const Point2> params, std::vector<Point2> &x,
-                               std::vector<Jacobian2> &jac) const {
-  const bool mapped = settings_.mapping == Mapping::Mapped && !target_.isUniform();
-  x.assign(params.begin(), params.end());
-  jac.clear();
-  if (!mapped) return;
-  jac.resize(params.size());
-  for (std::size_t i = 0; i < params.size(); ++i) {
-    const Inversion inv = target_.invert(params[i]);
-    x[i] = inv.x;
-    jac[i] = inv.jacobian;
-  }
-}
-
-double DirectOptimizer::instanceEpoch(std::size_t k, int epoch, std::span<Point2> params,
-                                      std::span<Point2> grad) const {
-  const OptimizerSettings &s = settings_;
-  const std::size_t n = s.n;
-  std::vector<Point2> x;
-  std::vector<Jacobian2> jac;
-  toDomain(params, x, jac);
-  double loss;
-  if (s.objective == Objective::ExactL2asd) {
-    loss = exactObjective_->squared(x, grad);
-  } else if (s.objective == Objective::PeriodicL2) {
-    loss = periodicL2Squared(x, grad);
-  } else {
-    Rng rng(hashCombine(s.seed, k), std::uint64_t(epoch));
-    std::vector<Box2> boxes(s.boxes);
-    std::vector<double> masses(s.boxes);
-    sampleBoxes(s.boxKind, rng, boxes);
-    if (s.mcSamples)
-      MonteCarloBoxMass(target_, s.mcSamples).estimate(boxes, masses, rng);
-    else
-      exactBoxMasses(target_, boxes, masses);
-    const double alpha = linearRamp(s.alphaStart, s.alphaEnd, s.rampFraction, epoch, s.epochs);
-    loss = softBoxLoss(x, boxes, masses, {alpha, s.cutoff}, grad);
-  }
-  if (!jac.empty())
-    for (std::size_t i = 0; i < n; ++i) grad[i] = jac[i].transposeTimes(grad[i]);
-  return loss;
 }
 
 void DirectOptimizer::constrain(std::span<Point2> params) const {

@@ -120,15 +120,17 @@ class DirectOptimizer {
   PointSet points(const OptimizerState &state) const;
 
  private:
-  double instanceEpoch(std::size_t k, int epoch, std::span<Point2> params,
-                       std::span<Point2> grad) const;
-  // Adds the bank term's gradient to `grad` for every instance; returns the
-  // term's value.
-  double unionEpoch(int epoch, std::span<const Point2> params, std::span<Point2> grad) const;
-  // The target-domain points of `params` and, when mapped, the Jacobians of
-  // the inverse CDF there.
-  void toDomain(std::span<const Point2> params, std::vector<Point2> &x,
-                std::vector<Jacobian2> &jac) const;
+  // Each epoch maps the parameters to the target's domain once (x, and the
+  // inverse CDF's Jacobians when mapped), adds the losses' gradients there,
+  // and pulls their sum back once.
+  void mapToTarget(std::span<const Point2> params, std::span<Point2> x,
+                   std::span<Jacobian2> jac) const;
+  // Instance k's own loss at its points x; writes its gradient in `grad`.
+  double instanceLoss(std::size_t k, int epoch, std::span<const Point2> x,
+                      std::span<Point2> grad) const;
+  // The bank term at all instances' points x; adds its gradient to `grad`
+  // and returns its value per instance.
+  double unionLoss(int epoch, std::span<const Point2> x, std::span<Point2> grad) const;
   void constrain(std::span<Point2> params) const;
 
   const Target &target_;

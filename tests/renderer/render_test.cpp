@@ -59,7 +59,7 @@ TEST(Render, WhiteFurnaceLambertianSphere) {
   }
 }
 
-// The terminator policy (path_integrator.cpp, leavingOrigin): on a coarse
+// The terminator policy (path_integrator.cpp, shadingAt): on a coarse
 // smooth-shaded sphere every direction of the shading hemisphere must escape,
 // including those below the flat triangle. With BSDF sampling alone each
 // escaping sample of a Lambertian surface returns exactly the albedo, so any

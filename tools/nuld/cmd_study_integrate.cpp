@@ -22,7 +22,7 @@ Runner addStudyIntegrate(CLI::App &app) {
     std::vector<std::string> neural;
     std::size_t instances = 128, optimizedInstances = 16, optimizedMaxN = 1024;
     int optEpochs = 0;
-    double optUnionWeight = 4;
+    double optUnionWeight = study::kBankUnionWeight;
     std::string optObjective;
     std::uint64_t seed = 0;
     bool noPlots = false, quiet = false;

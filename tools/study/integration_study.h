@@ -28,6 +28,7 @@
 #include "sampler/point.h"
 #include "tools/study/csv_table.h"
 #include "tools/study/integrands.h"
+#include "tools/study/optimized_sets.h"
 
 namespace nuld::study {
 
@@ -46,9 +47,9 @@ struct IntegrateOptions {
   // Larger N are left out for `optimized`: Algorithm 1's cost grows with N
   // times the boxes (and the preset doubles the boxes at N >= 2048).
   std::size_t optimizedMaxN = 1024;
-  int optEpochs = 0;                      // 0: the preset's
-  std::optional<Objective> optObjective;  // nullopt: the preset's
-  double optUnionWeight = 4;              // the bank term, with the l2asd objective
+  int optEpochs = 0;                         // 0: the preset's
+  std::optional<Objective> optObjective;     // nullopt: the preset's
+  double optUnionWeight = kBankUnionWeight;  // the bank term, with the l2asd objective
   std::vector<std::string> neuralModels;
   std::string assetRoot;  // resolved; maps are looked up in ASSETROOT/envmaps
   std::vector<std::string> envmaps{"grace"};

@@ -32,6 +32,7 @@
 #include <string>
 #include <vector>
 
+#include "tools/study/optimized_sets.h"
 #include "tools/study/reference_render.h"
 
 namespace nuld::study {
@@ -52,7 +53,7 @@ struct RenderStudySettings {
   int optimizedEpochs = 0;  // 0: the preset's
   // The lobe banks' bank term (optimizer.h, unionWeight): without it the
   // instances of a glossy lobe's bank converge to nearly one set.
-  double lobeUnionWeight = 4;
+  double lobeUnionWeight = kBankUnionWeight;
   std::filesystem::path out;
 
   // Throws std::invalid_argument naming the bad option.
