@@ -31,13 +31,20 @@ torch::Tensor GraphNetImpl::forward(const torch::Tensor &nodes, const torch::Ten
                                     const torch::Tensor &neighbours) {
   const std::int64_t K = nodes.size(0), n = nodes.size(1), k = edges.size(2);
   torch::Tensor h = torch::relu(embed(nodes));
+  // Per-set graphs [K, N k]: one index into the K N points of the batch.
+  const bool perSet = neighbours.dim() == 2;
+  const torch::Tensor flat =
+      perSet ? (neighbours + torch::arange(K, torch::kInt64).mul(n).unsqueeze(1)).reshape(-1)
+             : neighbours;
   for (Round &r : rounds) {
     torch::Tensor m;
     if (k > 0) {
       // The first layer of the message MLP is linear in (h_i, h_j, e_ij), so
       // it is applied per point and per edge, then gathered: no [K, N, k, 2H]
       // concatenation.
-      const torch::Tensor other = r.other(h).index_select(1, neighbours).view({K, n, k, -1});
+      const torch::Tensor other =
+          perSet ? r.other(h).reshape({K * n, -1}).index_select(0, flat).view({K, n, k, -1})
+                 : r.other(h).index_select(1, flat).view({K, n, k, -1});
       m = torch::relu(r.self(h).unsqueeze(2) + other + r.edge(edges)).mean(2);
     } else {
       m = torch::zeros_like(h);  // N = 1: no neighbours, no messages

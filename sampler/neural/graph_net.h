@@ -27,7 +27,8 @@ struct GraphNetImpl : torch::nn::Module {
                int hidden, int rounds);
 
   // nodes [K, N, F], edges [K, N, k, E], neighbours [N k] (int64: the
-  // neighbours of point i at [i k, (i + 1) k)) -> residuals [K, N, 2], in
+  // neighbours of point i at [i k, (i + 1) k), shared by the K sets) or
+  // [K, N k] (each set's own) -> residuals [K, N, 2], in
   // units the caller scales (the generator divides by sqrt(N)).
   //   h = relu(embed(nodes))
   //   per round: m_i = mean_j relu(self(h_i) + other(h_j) + edge(e_ij))

@@ -15,13 +15,17 @@ namespace nuld {
 struct NeuralGenerator::Net {
   FourierMlp mlp{nullptr};  // NetworkArch::Supplement
   GraphNet graph{nullptr};  // NetworkArch::Graph
-  // Graph only: the base set's neighbour graph (the same for every z) and
-  // its index tensor [N k].
+  // Graph only: the rotated base set's neighbour graph (the same for every
+  // z) and its index tensor [N k]. An Owen base's sets have graphs of their
+  // own (built in forward()) with the same k.
   TorusGraph torus;
   torch::Tensor neighbours;
   // Graph with discrepancyGradient and a family without gamma (one target):
   // the objective whose gradient the points see, built with the generator.
   std::shared_ptr<const NonuniformL2asd> objective;
+  // Graph with momentFeatures and a family without gamma: the target's
+  // moments, computed once.
+  std::vector<double> fixedMoments;
 
   // The one module that holds the weights (parameters, buffers, dtype).
   torch::nn::Module &module();
@@ -40,10 +44,12 @@ struct NeuralGenerator::Net {
                        std::size_t gammaDim) const;
   // Graph only: the per-point and per-edge inputs ([K, N, F], [K, N, k, E],
   // module dtype) of K sets whose current raw points are `points` ([K, N,
-  // 2] double: the base set plus the residuals of earlier stages).
+  // 2] double: the base set plus the residuals of earlier stages). `graphs`:
+  // each set's neighbour graph, or empty for the shared `torus`.
   std::pair<torch::Tensor, torch::Tensor> graphInputs(const NeuralGenerator &gen,
                                                       std::span<const double> gamma,
-                                                      const torch::Tensor &points) const;
+                                                      const torch::Tensor &points,
+                                                      const std::vector<TorusGraph> &graphs) const;
 };
 
 // The base sets for the given offsets as a [K, N, 2] double tensor.

@@ -36,6 +36,34 @@ enum class NetworkArch {
 NetworkArch parseNetworkArch(const std::string &name);  // "supplement" | "graph"
 std::string toString(NetworkArch arch);
 
+// How offset z randomizes the base set the residuals are added to.
+enum class BaseRandomization {
+  // The supplement's: the first N Sobol points rotated by z (Cranley-
+  // Patterson). Each point is uniform, but the rotation moves the whole set
+  // rigidly: on smooth integrands the rotated set's error variance is about
+  // 40x Owen scrambling's at N = 64 (README), and a network must undo that.
+  Rotated,
+  // Ours, graph only: the first N Sobol points Owen-scrambled with a seed
+  // hashed from z (and the model's seed). The sets start as good as the
+  // baseline's; the network only refines them. A point's neighbourhood then
+  // changes with z, so the neighbour graph is built per set.
+  Owen,
+};
+BaseRandomization parseBaseRandomization(const std::string &name);  // "rotated" | "owen"
+std::string toString(BaseRandomization base);
+
+// What the graph generator's residuals may do to a set as a whole, to first
+// order in where its points land: nothing is forbidden (none), the landed
+// points' mean may not move (mean), or neither their mean nor any affine
+// moment (affine: drift, stretch and shear). Smooth integrands see such
+// coherent motion in full while the box discrepancy barely charges it;
+// measured, an unconstrained net lowers the discrepancy below Owen-Sobol's
+// and still triples its integration error
+// (tools/experiments/graph_generator_log.md).
+enum class ResidualConstraint { None, Mean, Affine };
+ResidualConstraint parseResidualConstraint(const std::string &name);  // none | mean | affine
+std::string toString(ResidualConstraint c);
+
 struct NeuralSettings {
   NetworkArch arch = NetworkArch::Supplement;
   std::size_t n = 256;  // points per set
@@ -55,6 +83,13 @@ struct NeuralSettings {
   // descent step rather than guess the direction from the neighbourhood).
   int stages = 1;
   bool discrepancyGradient = false;
+  BaseRandomization base = BaseRandomization::Rotated;
+  // Graph only (ours): each point also sees its set's low-order moment
+  // errors against the target (set_moments.h), scaled by N: the one global
+  // quantity message passing over a few neighbours cannot gather, and the
+  // one smooth integrands see most.
+  bool momentFeatures = false;
+  ResidualConstraint constraint = ResidualConstraint::None;
   double sigma = 0.1;     // standard deviation of the Fourier frequencies B
   int encodingDims = 32;  // [cos 2 pi B v, sin 2 pi B v]: B has encodingDims / 2 rows
   // Ours, not the supplement's (0 = off): B also gets the rows (a, b, 0...)
@@ -123,7 +158,8 @@ class NeuralGenerator {
   const std::map<std::string, std::string> &fileMetadata() const { return fileMetadata_; }
 
   // The base set for offset z: the first N Sobol points rotated by
-  // offsetRange * z (wrapped on the square, not for directions).
+  // offsetRange * z (wrapped on the square, not for directions), or
+  // Owen-scrambled by a hash of z (BaseRandomization::Owen).
   void baseSet(Point2 z, std::span<Point2> out) const;
   // Empty for the supplement's full offset range; otherwise why the sets are
   // not randomized (naming --offset-range and its value), for the callers

@@ -75,6 +75,37 @@ TEST(GraphGenerator, UntrainedOutputIsTheBaseSetThroughTheTarget) {
   }
 }
 
+// The Owen base: each z gives its own scrambling of the first N Sobol
+// points (a (0, m, 2)-net: one point per 1/N-wide column and row), the same
+// z the same set, and the untrained net returns it through the target.
+TEST(GraphGenerator, OwenBaseIsAScrambledNetPerOffset) {
+  const std::size_t n = 64;
+  NeuralSettings s = tinyGraph("quarterdisc", n);
+  s.base = BaseRandomization::Owen;
+  const NeuralGenerator gen(s);
+  const std::vector<Point2> z = {{0.25, 0.5}, {0.25, 0.5000001}};
+  std::vector<Point2> a(n), b(n), again(n), out(2 * n);
+  gen.baseSet(z[0], a);
+  gen.baseSet(z[1], b);
+  gen.baseSet(z[0], again);
+  EXPECT_EQ(a, again);
+  for (const std::vector<Point2> *set : {&a, &b}) {
+    std::vector<int> columns(n), rows(n);
+    for (const Point2 &p : *set) ++columns[std::size_t(p.x * n)], ++rows[std::size_t(p.y * n)];
+    EXPECT_EQ(std::count(columns.begin(), columns.end(), 1), std::ptrdiff_t(n));
+    EXPECT_EQ(std::count(rows.begin(), rows.end(), 1), std::ptrdiff_t(n));
+  }
+  std::size_t same = 0;
+  for (std::size_t i = 0; i < n; ++i) same += a[i] == b[i];
+  EXPECT_EQ(same, 0u);  // nearby offsets, unrelated scramblings
+  gen.generate(z, {}, out);
+  const auto target = gen.family().target({});
+  for (std::size_t i = 0; i < n; ++i) {
+    EXPECT_EQ(out[i], target->invert(a[i]).x);
+    EXPECT_EQ(out[n + i], target->invert(b[i]).x);
+  }
+}
+
 // Equivariance: the same per-point inputs in another order, with the graph
 // rebuilt from the reordered points, give the same residuals reordered.
 TEST(GraphGenerator, PermutingThePointsPermutesTheOutput) {
@@ -141,6 +172,32 @@ TEST(GraphGenerator, TrainedWeightsSaveAndLoadBitExactly) {
   EXPECT_EQ(a.points, b.points);
   const PointSet base = NeuralGenerator(tinyGraph("quarterdisc", 24)).generateSets(3, 9, {});
   EXPECT_NE(a.points, base.points);
+}
+
+TEST(GraphGenerator, OwenBaseSavesAndLoadsAndOldFilesAreRotated) {
+  test::TempDir dir;
+  NeuralSettings s = tinyGraph("quarterdisc", 16);
+  s.base = BaseRandomization::Owen;
+  const NeuralGenerator gen(s);
+  gen.save((dir / "owen").string());
+  const NeuralGenerator back = NeuralGenerator::load((dir / "owen").string());
+  EXPECT_EQ(back.settings().base, BaseRandomization::Owen);
+  EXPECT_EQ(back.generateSets(2, 3, {}).points, gen.generateSets(2, 3, {}).points);
+  ModelFile file = gen.toModelFile();
+  file.metadata.erase("base");  // files from before the Owen base
+  writeModelFile((dir / "old").string(), file);
+  EXPECT_EQ(NeuralGenerator::load((dir / "old").string()).settings().base,
+            BaseRandomization::Rotated);
+  file.metadata["base"] = "halton";
+  writeModelFile((dir / "bad").string(), file);
+  test::expectLoadError((dir / "bad").string(), "metadata 'base' is 'halton', expected");
+
+  NeuralSettings supplement = test::tinyNeuralSettings("quarterdisc", 8, 8, true, 1);
+  supplement.base = BaseRandomization::Owen;  // its residuals are functions of z
+  EXPECT_THROW(NeuralGenerator{supplement}, std::invalid_argument);
+  s.offsetRange = 0.5;
+  EXPECT_THROW(NeuralGenerator{s}, std::invalid_argument);
+  EXPECT_THROW(parseBaseRandomization("sobol"), std::invalid_argument);
 }
 
 TEST(GraphGenerator, BadArchitectureMetadataAndSettingsAreClearErrors) {

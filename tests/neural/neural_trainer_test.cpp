@@ -44,9 +44,11 @@ TrainerSettings tinyTraining(int steps) {
 // sphere case moves 9 points per set across the poles; the mapped cases go
 // through the targets' inverse CDFs.
 void checkGradient(const std::string &family, std::size_t n, double lastLayerScale, bool mapped,
-                   NetworkArch arch = NetworkArch::Supplement) {
+                   NetworkArch arch = NetworkArch::Supplement,
+                   BaseRandomization base = BaseRandomization::Rotated) {
   NeuralSettings settings = tinyNet(family, n, 6, mapped);
   settings.arch = arch;
+  settings.base = base;
   settings.neighbours = 3;
   settings.rounds = 2;
   NeuralGenerator gen(settings);
@@ -122,6 +124,9 @@ TEST(NeuralTrainer, GradientThroughTheGraphNetMatchesFiniteDifferences) {
   checkGradient("quarterdisc", 11, 0.5, true, NetworkArch::Graph);
   test::registerTestSphereFamily();
   checkGradient("family:test-sphere", 9, 0.5, false, NetworkArch::Graph);
+  // An Owen base: every set of the batch has its own neighbour graph.
+  checkGradient("quarterdisc", 11, 0.5, true, NetworkArch::Graph, BaseRandomization::Owen);
+  checkGradient("family:test-sphere", 9, 0.5, false, NetworkArch::Graph, BaseRandomization::Owen);
 }
 
 // Balanced pull-back: each point's u-gradient component k is the exact one
