@@ -23,9 +23,6 @@ struct NeuralGenerator::Net {
   // Graph with discrepancyGradient and a family without gamma (one target):
   // the objective whose gradient the points see, built with the generator.
   std::shared_ptr<const NonuniformL2asd> objective;
-  // Graph with momentFeatures and a family without gamma: the target's
-  // moments, computed once.
-  std::vector<double> fixedMoments;
 
   // The one module that holds the weights (parameters, buffers, dtype).
   torch::nn::Module &module();

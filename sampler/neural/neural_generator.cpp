@@ -9,7 +9,6 @@
 #include "sampler/neural/dense_inference.h"
 #include "sampler/neural/model_file.h"
 #include "sampler/neural/network.h"
-#include "sampler/neural/set_moments.h"
 #include "sampler/sequences/rng.h"
 #include "sampler/sequences/sequence.h"
 #include "sampler/sequences/sobol.h"
@@ -74,28 +73,25 @@ torch::Tensor zHarmonicFrequencies(int k, int cols) {
 // The graph generator's input widths: per point the torus harmonics of u,
 // the placed point x, three Jacobian features, log N, and gamma raw and
 // Fourier-encoded; per edge the neighbour's offset in u and in x.
-std::int64_t graphNodeFeatures(const NeuralSettings &s, std::size_t gammaDim, Domain domain) {
+std::int64_t graphNodeFeatures(const NeuralSettings &s, std::size_t gammaDim) {
   const std::int64_t harmonics =
       ((2 * s.positionHarmonics + 1) * (2 * s.positionHarmonics + 1) - 1);
   return harmonics + 2 + 3 + 1 + std::int64_t(gammaDim) + (gammaDim > 0 ? s.encodingDims : 0) +
-         (s.discrepancyGradient ? 3 : 0) + (s.momentFeatures ? momentCount(domain) : 0);
+         (s.discrepancyGradient ? 3 : 0);
 }
-// The grid of a family member's target moments for the moment features
-// (a fixed target's use set_moments.h's default, once).
-constexpr int kFamilyMomentGrid = 64;
 constexpr std::int64_t kGraphEdgeFeatures = 4;
 // The grid of the L2 objective whose gradient --discrepancy-gradient feeds
 // (exact on grid targets' own cells; 64^2 cells for closed-form ones).
 constexpr int kGradientGrid = 64;
 
 std::unique_ptr<NeuralGenerator::Net> makeNet(const NeuralSettings &s, std::size_t gammaDim,
-                                              Domain domain, std::span<const Point2> base) {
+                                              std::span<const Point2> base) {
   auto net = std::make_unique<NeuralGenerator::Net>();
   torch::manual_seed(s.seed);  // LibTorch's default initialization of the hidden layers
   if (s.arch == NetworkArch::Graph) {
     const torch::Tensor B = drawFrequencies(s.encodingDims / 2, int(gammaDim), s.sigma, s.seed);
     net->graph =
-        GraphNet(B, graphNodeFeatures(s, gammaDim, domain), kGraphEdgeFeatures, s.hidden, s.rounds);
+        GraphNet(B, graphNodeFeatures(s, gammaDim), kGraphEdgeFeatures, s.hidden, s.rounds);
     net->torus = buildTorusGraph(base, std::size_t(s.neighbours));
     const std::int64_t n = std::int64_t(s.n), k = std::int64_t(net->torus.k);
     net->neighbours =
@@ -154,67 +150,6 @@ const torch::nn::Module &NeuralGenerator::Net::module() const {
   return graph ? static_cast<const torch::nn::Module &>(*graph) : *mlp;
 }
 
-namespace {
-
-// The residual constraint's modes for K sets (ResidualConstraint), as an
-// orthonormal basis Q [K, 2N, c] of the residuals it forbids; the net's
-// residuals r (flattened per set) become r - Q Q^T r. Where a set lands is
-// y_i: the point x_i itself on the square, its direction on the sphere (so
-// the poles and the seam are not special). To first order a residual r_i
-// moves y_i by L_i r_i, L_i = dy/dx J_i (J_i: d x / d u, the inverse CDF's
-// Jacobian when mapped). The constraint asks sum_i phi(y_i) L_i r_i = 0 for
-// phi = 1 (mean) or phi in {1, y_1, ..., y_d} (affine): the set's landed
-// points neither drift nor stretch as a whole, so the set's estimate of any
-// integrand whose gradient is affine does not move to first order. Each
-// such (phi, coordinate of y) is one column phi(y_i) L_i[row] of A^T.
-torch::Tensor constraintBasis(const NeuralGenerator &gen, std::span<const double> gamma,
-                              const torch::Tensor &base) {
-  const std::int64_t K = base.size(0), n = base.size(1);
-  const std::size_t g = gen.gammaDimension();
-  const bool sphere = gen.domain() != Domain::Square;
-  const std::int64_t d = sphere ? 3 : 2;
-  const std::int64_t modes = gen.settings().constraint == ResidualConstraint::Mean ? 1 : 1 + d;
-  torch::Tensor columns = torch::zeros({K, 2 * n, modes * d}, torch::kFloat64);
-  auto c = columns.accessor<double, 3>();
-  FamilyTargets targets(gen.family());
-  for (std::int64_t set = 0; set < K; ++set) {
-    const Target &target = targets.at(gamma.subspan(std::size_t(set) * g, g));
-    const auto *raw = reinterpret_cast<const Point2 *>(base[set].data_ptr<double>());
-    for (std::int64_t i = 0; i < n; ++i) {
-      Jacobian2 j;
-      const Point2 x = gen.place(raw[i], target, &j);
-      double y[3], dydx[3][2];
-      if (sphere) {
-        // The equal-area map: phi = 2 pi x, cos theta = 1 - 2 v. dy/dv grows
-        // as 1 / sin theta near a pole; a floor keeps it finite.
-        const double phi = 2 * std::numbers::pi * x.x, cosTheta = 1 - 2 * x.y;
-        const double sinTheta = std::max(std::sqrt(std::max(0.0, 1 - cosTheta * cosTheta)), 1e-3);
-        y[0] = sinTheta * std::cos(phi), y[1] = sinTheta * std::sin(phi), y[2] = cosTheta;
-        const double dSin = 2 * cosTheta / sinTheta;
-        dydx[0][0] = -2 * std::numbers::pi * y[1], dydx[0][1] = dSin * std::cos(phi);
-        dydx[1][0] = 2 * std::numbers::pi * y[0], dydx[1][1] = dSin * std::sin(phi);
-        dydx[2][0] = 0, dydx[2][1] = -2;
-      } else {
-        y[0] = x.x - 0.5, y[1] = x.y - 0.5;
-        dydx[0][0] = 1, dydx[0][1] = 0, dydx[1][0] = 0, dydx[1][1] = 1;
-      }
-      for (std::int64_t row = 0; row < d; ++row)
-        for (int e = 0; e < 2; ++e) {
-          // L = dy/dx J; a non-finite entry (a degenerate inverse CDF) moves nothing.
-          double l = dydx[row][0] * j.m[0][e] + dydx[row][1] * j.m[1][e];
-          if (!std::isfinite(l)) l = 0;
-          for (std::int64_t a = 0; a < modes; ++a)
-            c[set][2 * i + e][a * d + row] = (a == 0 ? 1.0 : y[a - 1]) * l;
-        }
-    }
-  }
-  // Householder QR spans at least A^T's columns even where they are
-  // dependent, so the projection never leaves a forbidden mode in.
-  return std::get<0>(torch::linalg_qr(columns, "reduced"));
-}
-
-}  // namespace
-
 torch::Tensor NeuralGenerator::Net::forward(const NeuralGenerator &gen, std::span<const Point2> z,
                                             std::span<const double> gamma,
                                             const torch::Tensor &base) {
@@ -235,19 +170,11 @@ torch::Tensor NeuralGenerator::Net::forward(const NeuralGenerator &gen, std::spa
                 index[set].data_ptr<std::int64_t>());
     }
   }
-  const torch::Tensor modes = gen.settings().constraint == ResidualConstraint::None
-                                  ? torch::Tensor()
-                                  : constraintBasis(gen, gamma, base)
-                                        .to(graph->embed->weight.scalar_type());
   torch::Tensor total;
   torch::Tensor current = base;
   for (int stage = 0; stage < gen.settings().stages; ++stage) {
     const auto [nodes, edges] = graphInputs(gen, gamma, current, graphs);
-    torch::Tensor r = graph->forward(nodes, edges, index) * (1 / std::sqrt(double(n)));
-    if (modes.defined()) {
-      const torch::Tensor flat = r.reshape({K, 2 * n, 1});
-      r = (flat - torch::matmul(modes, torch::matmul(modes.transpose(1, 2), flat))).view({K, n, 2});
-    }
+    const torch::Tensor r = graph->forward(nodes, edges, index) * (1 / std::sqrt(double(n)));
     total = stage == 0 ? r : total + r;
     if (stage + 1 < gen.settings().stages)
       current = (base + total.detach().to(torch::kFloat64)).contiguous();
@@ -260,7 +187,7 @@ std::pair<torch::Tensor, torch::Tensor> NeuralGenerator::Net::graphInputs(
     const std::vector<TorusGraph> &graphs) const {
   const NeuralSettings &s = gen.settings();
   const std::size_t K = std::size_t(points.size(0)), n = s.n, g = gen.gammaDimension(), k = torus.k;
-  const std::int64_t F = graphNodeFeatures(s, g, gen.domain());
+  const std::int64_t F = graphNodeFeatures(s, g);
   const torch::Tensor harmonics = zHarmonicFrequencies(s.positionHarmonics, 2).to(torch::kFloat64);
   const std::int64_t H = harmonics.size(0);
   const double rootN = std::sqrt(double(n)), logN = std::log2(double(n)) / 10;
@@ -277,7 +204,8 @@ std::pair<torch::Tensor, torch::Tensor> NeuralGenerator::Net::graphInputs(
   std::vector<Jacobian2> jacobian(n);
   FamilyTargets targets(gen.family());
   for (std::size_t set = 0; set < K; ++set) {
-    const std::vector<std::int64_t> &nb = graphs.empty() ? torus.neighbours : graphs[set].neighbours;
+    const std::vector<std::int64_t> &nb =
+        graphs.empty() ? torus.neighbours : graphs[set].neighbours;
     const std::span<const double> gs = gamma.subspan(set * g, g);
     const Target *target = &targets.at(gs);
     std::vector<double> gammaCode;
@@ -307,13 +235,6 @@ std::pair<torch::Tensor, torch::Tensor> NeuralGenerator::Net::graphInputs(
             (gradient[i].x * gradient[i].x + gradient[i].y * gradient[i].y) / double(n);
       }
       gradientScale = std::sqrt(gradientScale);
-    }
-    std::vector<double> momentError;
-    if (s.momentFeatures) {
-      momentError = momentErrors(x, gen.domain(),
-                                 g == 0 ? fixedMoments
-                                        : targetMoments(*target, gen.domain(), kFamilyMomentGrid));
-      for (double &e : momentError) e = std::clamp(e * double(n), -8.0, 8.0);
     }
     for (std::size_t i = 0; i < n; ++i) {
       const Jacobian2 &j = jacobian[i];
@@ -346,7 +267,6 @@ std::pair<torch::Tensor, torch::Tensor> NeuralGenerator::Net::graphInputs(
                    ? std::clamp(std::log(gradientScale * double(n) * double(n)), -20.0, 20.0) / 10
                    : -2.0;
       }
-      for (const double e : momentError) *f++ = e;
     }
     // Edges: the neighbour's offset on the torus of u (for the base set the
     // same for every z) and in x, both in units of the spacing; x's is
@@ -432,8 +352,6 @@ void NeuralSettings::validate() const {
       bad("the offset range applies to the rotated base only");
   } else if (base != BaseRandomization::Rotated) {
     bad("the supplement's network needs the rotated base (its residuals are functions of z)");
-  } else if (constraint != ResidualConstraint::None) {
-    bad("residual constraints apply to the graph generator only");
   }
 }
 
@@ -456,22 +374,11 @@ std::string toString(NetworkArch arch) {
   return arch == NetworkArch::Graph ? "graph" : "supplement";
 }
 
-ResidualConstraint parseResidualConstraint(const std::string &name) {
-  if (name == "none") return ResidualConstraint::None;
-  if (name == "mean") return ResidualConstraint::Mean;
-  if (name == "affine") return ResidualConstraint::Affine;
-  throw std::invalid_argument("unknown residual constraint '" + name +
-                              "': expected none, mean or affine");
-}
-
-std::string toString(ResidualConstraint c) {
-  return c == ResidualConstraint::Affine ? "affine" : c == ResidualConstraint::Mean ? "mean" : "none";
-}
-
 BaseRandomization parseBaseRandomization(const std::string &name) {
   if (name == "rotated") return BaseRandomization::Rotated;
   if (name == "owen") return BaseRandomization::Owen;
-  throw std::invalid_argument("unknown base randomization '" + name + "': expected rotated or owen");
+  throw std::invalid_argument("unknown base randomization '" + name +
+                              "': expected rotated or owen");
 }
 
 std::string toString(BaseRandomization base) {
@@ -500,9 +407,7 @@ NeuralGenerator::NeuralGenerator(const NeuralSettings &settings) : settings_(set
                                 "' has no inverse CDF; train it unmapped");
   sobol_.resize(settings_.n);
   for (std::size_t i = 0; i < settings_.n; ++i) sobol_[i] = {sobolSample(i, 0), sobolSample(i, 1)};
-  net_ = makeNet(settings_, family_->gammaDimension(), domain(), sobol_);
-  if (settings_.arch == NetworkArch::Graph && settings_.momentFeatures && gammaDimension() == 0)
-    net_->fixedMoments = targetMoments(*family_->target({}), domain());
+  net_ = makeNet(settings_, family_->gammaDimension(), sobol_);
   if (settings_.arch == NetworkArch::Graph && settings_.discrepancyGradient &&
       gammaDimension() == 0)
     net_->objective = std::make_shared<const NonuniformL2asd>(*family_->target({}), kGradientGrid);
@@ -522,8 +427,8 @@ void NeuralGenerator::baseSet(Point2 z, std::span<Point2> out) const {
   if (out.size() != settings_.n) throw std::invalid_argument("neural: base set size mismatch");
   if (settings_.base == BaseRandomization::Owen) {
     // Distinct offsets give unrelated scramblings; the model's seed keys them.
-    const std::uint64_t seed = hash3(settings_.seed, std::bit_cast<std::uint64_t>(z.x),
-                                     std::bit_cast<std::uint64_t>(z.y));
+    const std::uint64_t seed =
+        hash3(settings_.seed, std::bit_cast<std::uint64_t>(z.x), std::bit_cast<std::uint64_t>(z.y));
     generateSet({SequenceKind::Sobol, Scramble::Owen, seed}, 0, out);
     return;
   }
@@ -587,32 +492,29 @@ PointSet NeuralGenerator::generateSets(std::size_t instances, std::uint64_t seed
 }
 
 std::map<std::string, std::string> NeuralGenerator::metadata() const {
-  std::map<std::string, std::string> m = {{"format", kFormat},
-                                          {"arch", toString(settings_.arch)},
-                                          {"version", std::to_string(kVersion)},
-                                          {"n", std::to_string(settings_.n)},
-                                          {"dimension", "2"},
-                                          {"domain", toString(domain())},
-                                          {"family", settings_.family},
-                                          {"gamma_dimension", std::to_string(gammaDimension())},
-                                          {"hidden", std::to_string(settings_.hidden)},
-                                          {"sigma", formatDouble(settings_.sigma)},
-                                          {"encoding_dims", std::to_string(settings_.encodingDims)},
-                                          {"z_harmonics", std::to_string(settings_.zHarmonics)},
-                                          {"offset_range", formatDouble(settings_.offsetRange)},
-                                          {"seed", std::to_string(settings_.seed)},
-                                          {"base", settings_.base == BaseRandomization::Owen
-                                                       ? kOwenBase
-                                                       : kRotatedBase},
-                                          {"mapping", settings_.mapped ? "mapped" : "unmapped"}};
+  std::map<std::string, std::string> m = {
+      {"format", kFormat},
+      {"arch", toString(settings_.arch)},
+      {"version", std::to_string(kVersion)},
+      {"n", std::to_string(settings_.n)},
+      {"dimension", "2"},
+      {"domain", toString(domain())},
+      {"family", settings_.family},
+      {"gamma_dimension", std::to_string(gammaDimension())},
+      {"hidden", std::to_string(settings_.hidden)},
+      {"sigma", formatDouble(settings_.sigma)},
+      {"encoding_dims", std::to_string(settings_.encodingDims)},
+      {"z_harmonics", std::to_string(settings_.zHarmonics)},
+      {"offset_range", formatDouble(settings_.offsetRange)},
+      {"seed", std::to_string(settings_.seed)},
+      {"base", settings_.base == BaseRandomization::Owen ? kOwenBase : kRotatedBase},
+      {"mapping", settings_.mapped ? "mapped" : "unmapped"}};
   if (settings_.arch == NetworkArch::Graph) {
     m["neighbours"] = std::to_string(settings_.neighbours);
     m["rounds"] = std::to_string(settings_.rounds);
     m["position_harmonics"] = std::to_string(settings_.positionHarmonics);
     m["stages"] = std::to_string(settings_.stages);
     m["discrepancy_gradient"] = settings_.discrepancyGradient ? "1" : "0";
-    m["residual_constraint"] = toString(settings_.constraint);
-    m["moment_features"] = settings_.momentFeatures ? "1" : "0";
   }
   return m;
 }
@@ -685,16 +587,6 @@ NeuralGenerator NeuralGenerator::load(const std::string &path) {
     s.positionHarmonics = int(number("position_harmonics"));
     s.stages = int(number("stages"));
     s.discrepancyGradient = number("discrepancy_gradient") != 0;
-    // Files from before these options have neither.
-    if (file.metadata.count("moment_features"))
-      s.momentFeatures = number("moment_features") != 0;
-    if (file.metadata.count("residual_constraint")) {
-      try {
-        s.constraint = parseResidualConstraint(file.metadata.at("residual_constraint"));
-      } catch (const std::invalid_argument &e) {
-        throw std::runtime_error(path + ": model metadata 'residual_constraint': " + e.what());
-      }
-    }
   }
   if (file.metadata.count("base")) {
     const std::string &base = file.metadata.at("base");

@@ -52,18 +52,6 @@ enum class BaseRandomization {
 BaseRandomization parseBaseRandomization(const std::string &name);  // "rotated" | "owen"
 std::string toString(BaseRandomization base);
 
-// What the graph generator's residuals may do to a set as a whole, to first
-// order in where its points land: nothing is forbidden (none), the landed
-// points' mean may not move (mean), or neither their mean nor any affine
-// moment (affine: drift, stretch and shear). Smooth integrands see such
-// coherent motion in full while the box discrepancy barely charges it;
-// measured, an unconstrained net lowers the discrepancy below Owen-Sobol's
-// and still triples its integration error
-// (tools/experiments/graph_generator_log.md).
-enum class ResidualConstraint { None, Mean, Affine };
-ResidualConstraint parseResidualConstraint(const std::string &name);  // none | mean | affine
-std::string toString(ResidualConstraint c);
-
 struct NeuralSettings {
   NetworkArch arch = NetworkArch::Supplement;
   std::size_t n = 256;  // points per set
@@ -84,12 +72,6 @@ struct NeuralSettings {
   int stages = 1;
   bool discrepancyGradient = false;
   BaseRandomization base = BaseRandomization::Rotated;
-  // Graph only (ours): each point also sees its set's low-order moment
-  // errors against the target (set_moments.h), scaled by N: the one global
-  // quantity message passing over a few neighbours cannot gather, and the
-  // one smooth integrands see most.
-  bool momentFeatures = false;
-  ResidualConstraint constraint = ResidualConstraint::None;
   double sigma = 0.1;     // standard deviation of the Fourier frequencies B
   int encodingDims = 32;  // [cos 2 pi B v, sin 2 pi B v]: B has encodingDims / 2 rows
   // Ours, not the supplement's (0 = off): B also gets the rows (a, b, 0...)

@@ -11,7 +11,6 @@
 #include "sampler/loss/soft_box_loss.h"
 #include "sampler/metrics/discrepancy.h"
 #include "sampler/neural/network.h"
-#include "sampler/neural/set_moments.h"
 #include "sampler/optimize/schedule.h"
 #include "sampler/sequences/rng.h"
 
@@ -32,9 +31,6 @@ struct Batch {
   std::vector<std::vector<Box2>> boxes;
   std::vector<std::vector<double>> masses;
   std::vector<std::shared_ptr<const Target>> targets;
-  // With the moment term: its weight and each set's target moments.
-  double momentWeight = 0;
-  std::vector<std::vector<double>> moments;
   const NeuralGenerator *generator = nullptr;
   SoftBoxLossOptions options;
   double *kernelSeconds = nullptr;
@@ -62,17 +58,6 @@ struct SoftBoxLossFunction : torch::autograd::Function<SoftBoxLossFunction> {
       for (std::int64_t i = 0; i < n; ++i)
         placed[i] = batch->generator->place(px[b * n + i], *batch->targets[b], &jac[i]);
       loss += softBoxLoss(placed, batch->boxes[b], batch->masses[b], batch->options, g);
-      if (batch->momentWeight > 0) {
-        const Domain domain = batch->generator->domain();
-        const std::vector<double> error =
-            momentErrors(placed, domain, batch->moments[std::size_t(b)]);
-        for (const double e : error) loss += batch->momentWeight * e * e;
-        for (std::int64_t i = 0; i < n; ++i) {
-          const MomentValues m = momentsAt(placed[i], domain);
-          for (std::size_t a = 0; a < error.size(); ++a)
-            g[i] = g[i] + (2 * batch->momentWeight * error[a] / double(n)) * m.gradient[a];
-        }
-      }
       for (std::int64_t i = 0; i < n; ++i) {
         Point2 gi = jac[i].transposeTimes(g[i]);
         if (batch->pullback == GradientPullback::Balanced) gi = balancedPullback(gi, jac[i]);
@@ -115,7 +100,6 @@ std::string TrainerSettings::describe() const {
     << " alpha=" << alphaStart << " alpha_end=" << alphaEnd << " ramp=" << rampFraction
     << " cutoff=" << cutoff << " pullback=" << toString(pullback) << " seed=" << seed
     << " validation=" << validationSets << " validation_grid=" << validationGrid;
-  if (momentWeight > 0) s << " moments=" << momentWeight;  // older checkpoints keep their text
   return s.str();
 }
 
@@ -128,8 +112,6 @@ void TrainerSettings::validate() const {
   if (!(alphaStart > 0 && alphaEnd > 0)) bad("alpha must be positive");
   if (!(rampFraction >= 0 && rampFraction <= 1)) bad("ramp must be in [0, 1]");
   if (validationGrid < 8) bad("validation grid must be at least 8");
-  if (!(momentWeight >= 0 && std::isfinite(momentWeight)))
-    bad("the moment weight must be finite and non-negative");
 }
 
 NeuralTrainer::NeuralTrainer(NeuralGenerator &generator, TrainerSettings settings)
@@ -162,16 +144,6 @@ double NeuralTrainer::stepLoss(int step, Mode mode) {
     sampleBoxes(s.boxKind, boxRng, batch.boxes[b]);
     batch.targets[b] = gen_.family().target(std::span(batch.gamma).subspan(b * g, g));
     exactBoxMasses(*batch.targets[b], batch.boxes[b], batch.masses[b]);
-  }
-  if (s.momentWeight > 0) {
-    batch.momentWeight = s.momentWeight;
-    batch.moments.resize(B);
-    for (std::size_t b = 0; b < B; ++b) {
-      // One target: its moments once per run; a family: per member.
-      if (g == 0 && fixedMoments_.empty())
-        fixedMoments_ = targetMoments(*batch.targets[b], gen_.domain());
-      batch.moments[b] = g == 0 ? fixedMoments_ : targetMoments(*batch.targets[b], gen_.domain());
-    }
   }
   lossSeconds_ += secondsSince(massStart);
 

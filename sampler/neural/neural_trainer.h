@@ -52,12 +52,6 @@ struct TrainerSettings {
   // scored by the grid L2 discrepancy at this resolution; 0 sets: none.
   std::size_t validationSets = 8;
   int validationGrid = 128;
-  // Ours (0 = off): weight of the moment term, w times the sum over the
-  // low-order moments m of each set's (mean of m over its points - the
-  // target's mean of m)^2. Moments: x, y and their products on the square;
-  // the direction's components and their products on the sphere. Smooth
-  // integrands see a set's moment errors in full; the box loss barely does.
-  double momentWeight = 0;
 
   std::string describe() const;  // "key=value ..."; checkpoints must match it
   void validate() const;         // throws std::invalid_argument naming the setting
@@ -128,7 +122,6 @@ class NeuralTrainer {
   double lossSum_ = 0;  // training losses since the last validation
   int lossCount_ = 0;
   std::vector<Validation> history_;
-  std::vector<double> fixedMoments_;  // the moment term's target means (no gamma)
 };
 
 }  // namespace nuld

@@ -41,7 +41,7 @@ void writeValidationCurve(const std::string &path, const std::vector<Validation>
 Runner addTrain(CLI::App &app) {
   struct Options {
     std::string target, output, mapping = "mapped", pullback = "balanced", arch = "supplement",
-                base = "rotated", constraint = "none";
+                                base = "rotated";
     NeuralSettings net;
     TrainerSettings train;
     long checkpointEvery = 0, stopAfter = -1;
@@ -78,14 +78,6 @@ Runner addTrain(CLI::App &app) {
                  "see README)")
       ->check(CLI::IsMember({"rotated", "owen"}))
       ->capture_default_str();
-  app.add_option("--residual-constraint", o->constraint,
-                 "graph: remove from each set's residual field its mean (mean) or its affine part "
-                 "in the base positions (affine): the coherent drift smooth integrands see")
-      ->check(CLI::IsMember({"none", "mean", "affine"}))
-      ->capture_default_str();
-  app.add_flag("--moment-features", o->net.momentFeatures,
-               "graph: each point also sees its set's low-order moment errors against the "
-               "target (the global drift its neighbours cannot tell it)");
   app.add_flag("--discrepancy-gradient", o->net.discrepancyGradient,
                "graph: each point also sees the gradient of its set's grid L2 discrepancy at "
                "its current position (a learned descent step)");
@@ -115,10 +107,6 @@ Runner addTrain(CLI::App &app) {
       ->check(CLI::IsMember({"exact", "balanced"}))
       ->capture_default_str();
   app.add_option("--steps", o->train.steps, "training steps")->capture_default_str();
-  app.add_option("--moment-weight", o->train.momentWeight,
-                 "weight of the moment term: each set's low-order moments against the target's "
-                 "(ours; 0: off; see README)")
-      ->capture_default_str();
   app.add_option("--batch", o->train.batch, "(z, gamma) pairs per step")->capture_default_str();
   app.add_option("--boxes", o->train.boxes, "boxes per set and step")->capture_default_str();
   app.add_option("--lr", o->train.lrStart, "initial learning rate")->capture_default_str();
@@ -146,12 +134,10 @@ Runner addTrain(CLI::App &app) {
     NeuralSettings ns = o->net;
     ns.arch = parseNetworkArch(o->arch);
     ns.base = parseBaseRandomization(o->base);
-    ns.constraint = parseResidualConstraint(o->constraint);
     if (ns.arch == NetworkArch::Graph && app.count("--hidden") == 0) ns.hidden = 64;
     if (ns.arch == NetworkArch::Supplement)
       for (const char *graphOnly : {"--neighbours", "--rounds", "--position-harmonics", "--stages",
-                                    "--discrepancy-gradient", "--base", "--moment-features",
-                                    "--residual-constraint"})
+                                    "--discrepancy-gradient", "--base"})
         if (app.count(graphOnly))
           throw std::invalid_argument(std::string(graphOnly) + " applies to --arch graph only");
     ns.family = o->target;
