@@ -1,5 +1,6 @@
 #include <iostream>
 
+#include "sampler/bluenoise/sliced_ot.h"
 #include "sampler/io/pointset_io.h"
 #include "sampler/neural/neural_generator.h"
 #include "sampler/sequences/rng.h"
@@ -7,6 +8,7 @@
 #include "sampler/targets/target_spec.h"
 #include "tools/nuld/cli_util.h"
 #include "tools/nuld/commands.h"
+#include "tools/nuld/progress.h"
 
 namespace nuld::cli {
 namespace {
@@ -42,6 +44,43 @@ int generateFromModel(const Options &o) {
   return 0;
 }
 
+// Sliced optimal transport (sampler/bluenoise/sliced_ot.h): K sets from
+// independent uniform starts, transported to the target (sot) or to the
+// uniform square and then mapped by the target's inverse CDF (sot-mapped).
+template <class Options>
+int generateSlicedOt(const Options &o) {
+  const bool mapped = o.sequence == "sot-mapped";
+  const std::unique_ptr<Target> target = makeTarget(o.target.empty() ? "uniform" : o.target);
+  const std::unique_ptr<Target> uniform = makeTarget("uniform");
+  const Target &transportTo = mapped ? *uniform : *target;
+  const SliceDestinations destinations(transportTo, o.sot, o.n);
+  PointSet set;
+  set.n = o.n;
+  set.points.resize(o.n * o.instances);
+  ProgressBar bar("iteration", long(o.instances) * o.sot.iterations, 0, o.quiet);
+  for (std::size_t k = 0; k < o.instances; ++k) {
+    const std::span<Point2> points = set.instance(k);
+    Rng start(o.seed, hash3(0x57A27, k, o.n));
+    for (Point2 &p : points) p = {start.uniform(), start.uniform()};
+    slicedOtTransport(destinations, o.sot, std::uint32_t(k), points, [&](int it) {
+      if (it % 16 == 0 || it == o.sot.iterations)
+        bar.update(long(k) * o.sot.iterations + it,
+                   "set " + std::to_string(k + 1) + "/" + std::to_string(o.instances));
+    });
+  }
+  bar.finish("");
+  set.metadata["generator"] = o.sequence;
+  set.metadata["sot"] = o.sot.describe();
+  if (!transportTo.isUniform())
+    set.metadata["sot_target_samples"] = std::to_string(o.sot.samplesFor(o.n));
+  set.metadata["target"] = transportTo.spec();
+  set.metadata["domain"] = toString(transportTo.domain());
+  if (mapped && !o.target.empty()) mapByInverseCdf(set, *target);
+  writePointSet(o.output, set);
+  std::cerr << "wrote " << set.instances() << " x " << set.n << " points to " << o.output << "\n";
+  return 0;
+}
+
 }  // namespace
 
 Runner addGenerate(CLI::App &app) {
@@ -49,11 +88,24 @@ Runner addGenerate(CLI::App &app) {
     std::string sequence = "sobol", scramble = "owen", target, output, model, gamma;
     std::size_t n = 0, instances = 1;
     std::uint64_t seed = 0;
+    SlicedOtSettings sot;
+    bool quiet = false;
   };
   auto o = std::make_shared<Options>();
-  app.add_option("--sequence", o->sequence, "sobol, halton or random")
-      ->check(CLI::IsMember({"sobol", "halton", "random"}))
+  app.add_option("--sequence", o->sequence,
+                 "sobol, halton, random, sot (sliced optimal transport to --target) or "
+                 "sot-mapped (sliced optimal transport to the uniform square, then --target's "
+                 "inverse CDF)")
+      ->check(CLI::IsMember({"sobol", "halton", "random", "sot", "sot-mapped"}))
       ->capture_default_str();
+  app.add_option("--iterations", o->sot.iterations, "sot: iterations")->capture_default_str();
+  app.add_option("--slices", o->sot.slices, "sot: directions per iteration")->capture_default_str();
+  app.add_option("--step", o->sot.step, "sot: fraction of the averaged displacement applied")
+      ->capture_default_str();
+  app.add_option("--target-samples", o->sot.targetSamples,
+                 "sot: size of the target's stratified sample (default max(64 N, 16384); the "
+                 "uniform target's projections are exact)");
+  app.add_flag("-q,--quiet", o->quiet, "no progress bar");
   app.add_option("--scramble", o->scramble, "owen, shift (digital), cp (Cranley-Patterson) or none")
       ->check(CLI::IsMember({"owen", "shift", "cp", "none"}))
       ->capture_default_str();
@@ -70,9 +122,22 @@ Runner addGenerate(CLI::App &app) {
   app.add_option("--target", o->target, "map the points to this target by inverse CDF (SPEC)");
   app.add_option("-o,--output", o->output, "output file (.ptsb: binary; otherwise text)")
       ->required();
-  return [o] {
+  return [o, &app] {
+    const bool sot = o->sequence.rfind("sot", 0) == 0;
+    if (!sot)
+      for (const char *sotOnly : {"--iterations", "--slices", "--step", "--target-samples"})
+        if (app.count(sotOnly))
+          throw std::invalid_argument(std::string("generate: ") + sotOnly +
+                                      " applies to --sequence sot or sot-mapped only");
     if (!o->model.empty()) return generateFromModel(*o);
     if (o->n == 0) throw std::invalid_argument("generate: --n is required (or --model)");
+    if (sot) {
+      if (app.count("--scramble"))
+        throw std::invalid_argument("generate: --scramble does not apply to --sequence " +
+                                    o->sequence + " (its sets start from independent points)");
+      o->sot.seed = o->seed;
+      return generateSlicedOt(*o);
+    }
     SequenceOptions so{parseSequenceKind(o->sequence), parseScramble(o->scramble), o->seed};
     if (so.kind != SequenceKind::Random && so.scramble == Scramble::None && o->instances > 1)
       std::cerr << "nuld: warning: unscrambled " << o->sequence << " gives identical instances\n";
