@@ -26,6 +26,15 @@ fails_with() { # fails_with DESCRIPTION PATTERN COMMAND...
 ok "help" "$nuld" help
 ok "generate sobol" "$nuld" generate --sequence sobol --n 100 --instances 3 -o "$dir/s.txt"
 ok "generate mapped halton" "$nuld" generate --sequence halton --n 64 --target quarterdisc -o "$dir/q.ptsb"
+# The blue-noise baselines, each way, and their options refused elsewhere.
+ok "generate sot" "$nuld" generate --sequence sot --n 37 --iterations 20 --target quarterdisc -q -o "$dir/sot.txt"
+ok "generate gbn-mapped" "$nuld" generate --sequence gbn-mapped --n 37 --iterations 20 --target quarterdisc -q -o "$dir/gbn.txt"
+ok "generate gbn toroidal" "$nuld" generate --sequence gbn --boundary toroidal --n 16 --iterations 5 --instances 2 -q -o "$dir/gbnt.txt"
+ok "eval sot" "$nuld" eval "$dir/sot.txt" --target quarterdisc
+fails_with "sigma without gbn" "applies to --sequence gbn" "$nuld" generate --sequence sot --sigma 2 --n 4 -o "$dir/x.txt"
+fails_with "iterations without blue noise" "applies to the blue-noise" "$nuld" generate --iterations 3 --n 4 -o "$dir/x.txt"
+fails_with "toroidal gbn for a target" "toroidal variant is for the uniform" "$nuld" generate --sequence gbn --boundary toroidal --target quarterdisc --n 4 -o "$dir/x.txt"
+fails_with "gbn bad sigma" "sigma must be" "$nuld" generate --sequence gbn --sigma 0 --n 4 -o "$dir/x.txt"
 ok "eval" "$nuld" eval "$dir/s.txt"
 grep -q '^l2star [0-9.e-]*$' "$dir/out" || { echo "FAIL: eval output lines"; cat "$dir/out"; failures=$((failures + 1)); }
 [[ $(wc -l <"$dir/out") -eq 5 ]] && grep -q "^l2per " "$dir/out" || { echo "FAIL: eval all prints 5 metrics on a uniform set (l2per included)"; failures=$((failures + 1)); }
@@ -127,6 +136,9 @@ fails_with "generate foreign model" "not a nuld model file" "$nuld" generate --m
 # The graph generator: train, generate; its options refused for the supplement's net.
 ok "train graph" "$nuld" train --arch graph --discrepancy-gradient --stages 2 --target quarterdisc --n 12 --hidden 8 --steps 3 --batch 2 --boxes 64 -q -o "$dir/gr.nuldnet"
 ok "generate graph" "$nuld" generate --model "$dir/gr.nuldnet" --instances 3 -o "$dir/gr.txt"
+ok "train graph, Owen base" "$nuld" train --arch graph --base owen --target quarterdisc --n 12 --hidden 8 --steps 3 --batch 2 --boxes 64 -q -o "$dir/gro.nuldnet"
+ok "generate graph, Owen base" "$nuld" generate --model "$dir/gro.nuldnet" --instances 3 -o "$dir/gro.txt"
+fails_with "Owen base for the supplement's net" "applies to --arch graph only" "$nuld" train --base owen --target quarterdisc --n 8 --steps 2 -q -o "$dir/x.nuldnet"
 fails_with "graph option without --arch graph" "applies to --arch graph only" "$nuld" train --target quarterdisc --n 8 --steps 2 --stages 2 -q -o "$dir/x.nuldnet"
 # The periodic objective and shifted mapping.
 ok "optimize l2per" "$nuld" optimize --target uniform --n 16 --objective l2per --epochs 20 -q -o "$dir/per.txt"

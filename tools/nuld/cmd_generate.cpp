@@ -1,6 +1,6 @@
 #include <iostream>
 
-#include "sampler/bluenoise/sliced_ot.h"
+#include "sampler/bluenoise/blue_noise_sets.h"
 #include "sampler/io/pointset_io.h"
 #include "sampler/neural/neural_generator.h"
 #include "sampler/sequences/rng.h"
@@ -44,38 +44,36 @@ int generateFromModel(const Options &o) {
   return 0;
 }
 
-// Sliced optimal transport (sampler/bluenoise/sliced_ot.h): K sets from
-// independent uniform starts, transported to the target (sot) or to the
-// uniform square and then mapped by the target's inverse CDF (sot-mapped).
+// The blue-noise baselines (sampler/bluenoise/blue_noise_sets.h): K sets
+// from independent uniform starts, optimized for --target or uniformly and
+// then mapped (the -mapped names).
 template <class Options>
-int generateSlicedOt(const Options &o) {
-  const bool mapped = o.sequence == "sot-mapped";
+int generateBlueNoise(const Options &o, const CLI::App &app) {
+  BlueNoiseRequest request = parseBlueNoiseName(o.sequence);
+  request.seed = o.seed;
+  const bool sliced = request.method == BlueNoiseMethod::SlicedOt;
+  for (const char *gbnOnly : {"--sigma", "--boundary"})
+    if (sliced && app.count(gbnOnly))
+      throw std::invalid_argument(std::string("generate: ") + gbnOnly +
+                                  " applies to --sequence gbn or gbn-mapped only");
+  if (!sliced && app.count("--slices"))
+    throw std::invalid_argument("generate: --slices applies to --sequence sot or sot-mapped only");
+  // Given values replace each method's own defaults.
+  if (app.count("--iterations")) request.sot.iterations = request.gbn.iterations = o.iterations;
+  if (app.count("--step")) request.sot.step = request.gbn.step = o.step;
+  request.sot.targetSamples = request.gbn.targetSamples = o.targetSamples;
+  request.sot.slices = o.slices;
+  request.gbn.sigma = o.sigma;
+  request.gbn.boundary =
+      o.boundary == "toroidal" ? BlueNoiseBoundary::Toroidal : BlueNoiseBoundary::Bounded;
   const std::unique_ptr<Target> target = makeTarget(o.target.empty() ? "uniform" : o.target);
-  const std::unique_ptr<Target> uniform = makeTarget("uniform");
-  const Target &transportTo = mapped ? *uniform : *target;
-  const SliceDestinations destinations(transportTo, o.sot, o.n);
-  PointSet set;
-  set.n = o.n;
-  set.points.resize(o.n * o.instances);
-  ProgressBar bar("iteration", long(o.instances) * o.sot.iterations, 0, o.quiet);
-  for (std::size_t k = 0; k < o.instances; ++k) {
-    const std::span<Point2> points = set.instance(k);
-    Rng start(o.seed, hash3(0x57A27, k, o.n));
-    for (Point2 &p : points) p = {start.uniform(), start.uniform()};
-    slicedOtTransport(destinations, o.sot, std::uint32_t(k), points, [&](int it) {
-      if (it % 16 == 0 || it == o.sot.iterations)
-        bar.update(long(k) * o.sot.iterations + it,
-                   "set " + std::to_string(k + 1) + "/" + std::to_string(o.instances));
-    });
-  }
-  bar.finish("");
-  set.metadata["generator"] = o.sequence;
-  set.metadata["sot"] = o.sot.describe();
-  if (!transportTo.isUniform())
-    set.metadata["sot_target_samples"] = std::to_string(o.sot.samplesFor(o.n));
-  set.metadata["target"] = transportTo.spec();
-  set.metadata["domain"] = toString(transportTo.domain());
-  if (mapped && !o.target.empty()) mapByInverseCdf(set, *target);
+  std::unique_ptr<ProgressBar> bar;
+  const PointSet set =
+      blueNoiseSets(request, *target, o.n, o.instances, [&](long done, long total) {
+        if (!bar) bar = std::make_unique<ProgressBar>("iteration", total, 0, o.quiet);
+        if (done % 16 == 0 || done == total) bar->update(done, request.name());
+      });
+  if (bar) bar->finish("");
   writePointSet(o.output, set);
   std::cerr << "wrote " << set.instances() << " x " << set.n << " points to " << o.output << "\n";
   return 0;
@@ -88,23 +86,35 @@ Runner addGenerate(CLI::App &app) {
     std::string sequence = "sobol", scramble = "owen", target, output, model, gamma;
     std::size_t n = 0, instances = 1;
     std::uint64_t seed = 0;
-    SlicedOtSettings sot;
+    int iterations = 0, slices = SlicedOtSettings{}.slices;
+    double step = 0, sigma = GaussianBlueNoiseSettings{}.sigma;
+    std::size_t targetSamples = 0;
+    std::string boundary = "bounded";
     bool quiet = false;
   };
   auto o = std::make_shared<Options>();
   app.add_option("--sequence", o->sequence,
-                 "sobol, halton, random, sot (sliced optimal transport to --target) or "
-                 "sot-mapped (sliced optimal transport to the uniform square, then --target's "
-                 "inverse CDF)")
-      ->check(CLI::IsMember({"sobol", "halton", "random", "sot", "sot-mapped"}))
+                 "sobol, halton, random, the blue-noise baselines sot (sliced optimal "
+                 "transport) and gbn (Gaussian blue noise), optimized for --target, or "
+                 "sot-mapped and gbn-mapped (optimized uniformly, then --target's inverse CDF)")
+      ->check(
+          CLI::IsMember({"sobol", "halton", "random", "sot", "sot-mapped", "gbn", "gbn-mapped"}))
       ->capture_default_str();
-  app.add_option("--iterations", o->sot.iterations, "sot: iterations")->capture_default_str();
-  app.add_option("--slices", o->sot.slices, "sot: directions per iteration")->capture_default_str();
-  app.add_option("--step", o->sot.step, "sot: fraction of the averaged displacement applied")
+  app.add_option("--iterations", o->iterations, "sot, gbn: iterations (default 1024, 1000)");
+  app.add_option("--step", o->step,
+                 "sot: fraction of the averaged displacement applied (default 1); gbn: time step "
+                 "(default 0.25, divided by sigma^2 above 1)");
+  app.add_option("--slices", o->slices, "sot: directions per iteration")->capture_default_str();
+  app.add_option("--sigma", o->sigma, "gbn: kernel width in units of the mean spacing")
       ->capture_default_str();
-  app.add_option("--target-samples", o->sot.targetSamples,
-                 "sot: size of the target's stratified sample (default max(64 N, 16384); the "
-                 "uniform target's projections are exact)");
+  app.add_option("--boundary", o->boundary,
+                 "gbn, uniform target: bounded (the square's edges attract as the missing "
+                 "neighbours beyond them would) or toroidal")
+      ->check(CLI::IsMember({"bounded", "toroidal"}))
+      ->capture_default_str();
+  app.add_option("--target-samples", o->targetSamples,
+                 "sot, gbn: size of the target's stratified sample (default max(64 N, 16384) "
+                 "for sot, max(4 N, 4096) for gbn; the uniform target needs none)");
   app.add_flag("-q,--quiet", o->quiet, "no progress bar");
   app.add_option("--scramble", o->scramble, "owen, shift (digital), cp (Cranley-Patterson) or none")
       ->check(CLI::IsMember({"owen", "shift", "cp", "none"}))
@@ -123,20 +133,20 @@ Runner addGenerate(CLI::App &app) {
   app.add_option("-o,--output", o->output, "output file (.ptsb: binary; otherwise text)")
       ->required();
   return [o, &app] {
-    const bool sot = o->sequence.rfind("sot", 0) == 0;
-    if (!sot)
-      for (const char *sotOnly : {"--iterations", "--slices", "--step", "--target-samples"})
-        if (app.count(sotOnly))
-          throw std::invalid_argument(std::string("generate: ") + sotOnly +
-                                      " applies to --sequence sot or sot-mapped only");
+    const bool blueNoise = o->sequence.rfind("sot", 0) == 0 || o->sequence.rfind("gbn", 0) == 0;
+    if (!blueNoise)
+      for (const char *only :
+           {"--iterations", "--slices", "--step", "--target-samples", "--sigma", "--boundary"})
+        if (app.count(only))
+          throw std::invalid_argument(std::string("generate: ") + only +
+                                      " applies to the blue-noise sequences (sot, gbn) only");
     if (!o->model.empty()) return generateFromModel(*o);
     if (o->n == 0) throw std::invalid_argument("generate: --n is required (or --model)");
-    if (sot) {
+    if (blueNoise) {
       if (app.count("--scramble"))
         throw std::invalid_argument("generate: --scramble does not apply to --sequence " +
                                     o->sequence + " (its sets start from independent points)");
-      o->sot.seed = o->seed;
-      return generateSlicedOt(*o);
+      return generateBlueNoise(*o, app);
     }
     SequenceOptions so{parseSequenceKind(o->sequence), parseScramble(o->scramble), o->seed};
     if (so.kind != SequenceKind::Random && so.scramble == Scramble::None && o->instances > 1)

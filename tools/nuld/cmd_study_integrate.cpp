@@ -37,10 +37,12 @@ Runner addStudyIntegrate(CLI::App &app) {
                  "full name such as envmap:grace*cos (default: all)");
   app.add_option("--samplers", o->samplers,
                  "comma-separated: independent, sobol, halton (each with its -lobes variant "
-                 "on the BRDF integrand; or name e.g. sobol-lobes alone), optimized, sot "
-                 "(sliced optimal transport to the target), sot-mapped (to the uniform square, "
-                 "then the inverse CDF; both up to --optimized-max-n, --optimized-instances "
-                 "sets), neural:MODEL (default: independent,sobol,halton,optimized)");
+                 "on the BRDF integrand; or name e.g. sobol-lobes alone), optimized, the "
+                 "blue-noise baselines sot and gbn (sliced optimal transport, Gaussian blue "
+                 "noise: optimized for the target) and sot-mapped, gbn-mapped (optimized "
+                 "uniformly, then the inverse CDF; all four up to --optimized-max-n, "
+                 "--optimized-instances sets), neural:MODEL (default: "
+                 "independent,sobol,halton,optimized)");
   app.add_option("--n", o->ns, "comma-separated N (default 16,32,...,4096; any N >= 1)");
   app.add_option("--instances", o->instances,
                  "randomized instances per conventional sampler (default 128)");

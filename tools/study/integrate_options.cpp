@@ -113,17 +113,15 @@ std::vector<SamplerChoice> parseSamplers(const std::vector<std::string> &tokens,
       classic("halton", K::Halton, which);
     else if (t == "optimized")
       add({"optimized", K::Optimized, false, {}});
-    else if (t == "sot")
-      add({"sot", K::SlicedOt, false, {}});
-    else if (t == "sot-mapped")
-      add({"sot-mapped", K::SlicedOtMapped, false, {}});
+    else if (t == "sot" || t == "sot-mapped" || t == "gbn" || t == "gbn-mapped")
+      add({t, K::BlueNoise, false, {}});
     else if (t.rfind("neural:", 0) == 0 && t.size() > 7)
       modelList.push_back(t.substr(7));
     else
       throw std::invalid_argument(
           "--samplers: unknown sampler '" + t +
           "' (expected independent, sobol, halton, their -lobes variants such as sobol-lobes, "
-          "optimized, sot, sot-mapped, or neural:MODEL)");
+          "optimized, sot, sot-mapped, gbn, gbn-mapped, or neural:MODEL)");
   }
   modelList.insert(modelList.end(), models.begin(), models.end());
   for (const auto &m : modelList) {

@@ -13,13 +13,12 @@
 #include <stdexcept>
 
 #include "renderer/bank_backend.h"
-#include "sampler/bluenoise/sliced_ot.h"
+#include "sampler/bluenoise/blue_noise_sets.h"
 #include "sampler/io/pointset_io.h"
 #include "sampler/neural/neural_generator.h"
 #include "sampler/optimize/optimizer.h"
 #include "sampler/sequences/rng.h"
 #include "sampler/sequences/sequence.h"
-#include "sampler/targets/basic_targets.h"
 #include "tools/study/integrate_internal.h"
 #include "tools/study/optimized_sets.h"
 #include "tools/study/stopwatch.h"
@@ -185,31 +184,18 @@ class StudyRunner {
     return m;
   }
 
-  // Sliced optimal transport (sampler/bluenoise/sliced_ot.h), K sets from
-  // independent starts: to the target in its parameterization, or to the
-  // uniform square and then through the target's inverse CDF (mapped).
-  Measurement slicedOt(const Integrand &in, const SamplerChoice &s, std::size_t n) const {
+  // The blue-noise baselines (sampler/bluenoise/blue_noise_sets.h), K sets
+  // from independent starts, each method at its own defaults.
+  Measurement blueNoise(const Integrand &in, const SamplerChoice &s, std::size_t n) const {
     const std::size_t K = o_.optimizedInstances;
-    const bool mapped = s.kind == SamplerChoice::Kind::SlicedOtMapped;
-    SlicedOtSettings settings;
-    settings.seed = seedFor(in, s, n);
-    const UniformTarget uniform;
-    auto start = Clock::now();
-    const SliceDestinations destinations(mapped ? static_cast<const Target &>(uniform) : *in.target,
-                                         settings, n);
+    BlueNoiseRequest request = parseBlueNoiseName(s.name);
+    request.seed = seedFor(in, s, n);
+    const auto start = Clock::now();
+    const PointSet sets = blueNoiseSets(request, *in.target, n, K);
     Measurement m;
-    m.setupSeconds = secondsSince(start) / double(K);
-    std::vector<Point2> x(n);
-    for (std::size_t k = 0; k < K; ++k) {
-      start = Clock::now();
-      Rng rng(settings.seed, hash3(0x57A27, k, n));
-      for (Point2 &p : x) p = {rng.uniform(), rng.uniform()};
-      slicedOtTransport(destinations, settings, std::uint32_t(k), x);
-      if (mapped)
-        for (Point2 &p : x) p = in.target->invert(p).x;
-      m.genSeconds += secondsSince(start) / double(K);
-      m.estimates.push_back(importanceEstimate(in, x, m.zeroPdf));
-    }
+    m.genSeconds = secondsSince(start) / double(K);
+    for (std::size_t k = 0; k < K; ++k)
+      m.estimates.push_back(importanceEstimate(in, sets.instance(k), m.zeroPdf));
     return m;
   }
 
@@ -309,8 +295,8 @@ IntegrateSummary runIntegrateStudy(const IntegrateOptions &o, const IntegrateHoo
         continue;
       }
       for (std::size_t n : o.ns)
-        if ((s.kind != SamplerChoice::Kind::Optimized && s.kind != SamplerChoice::Kind::SlicedOt &&
-             s.kind != SamplerChoice::Kind::SlicedOtMapped) ||
+        if ((s.kind != SamplerChoice::Kind::Optimized &&
+             s.kind != SamplerChoice::Kind::BlueNoise) ||
             n <= o.optimizedMaxN)
           tasks.push_back({&in, &s, n});
     }
@@ -339,9 +325,8 @@ IntegrateSummary runIntegrateStudy(const IntegrateOptions &o, const IntegrateHoo
         m = runner.neural(*t.in, *t.s, models.at(t.s->name));
         K = o.optimizedInstances;
         break;
-      case SamplerChoice::Kind::SlicedOt:
-      case SamplerChoice::Kind::SlicedOtMapped:
-        m = runner.slicedOt(*t.in, *t.s, t.n);
+      case SamplerChoice::Kind::BlueNoise:
+        m = runner.blueNoise(*t.in, *t.s, t.n);
         K = o.optimizedInstances;
         break;
       default: m = runner.classic(*t.in, *t.s, t.n);

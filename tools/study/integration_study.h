@@ -63,7 +63,7 @@ std::vector<std::size_t> parseNList(const std::string &text);
 std::vector<std::string> splitList(const std::string &text);
 
 struct SamplerChoice {
-  enum class Kind { Independent, Sobol, Halton, Optimized, Neural, SlicedOt, SlicedOtMapped };
+  enum class Kind { Independent, Sobol, Halton, Optimized, Neural, BlueNoise };
   std::string name;  // the CSV value
   Kind kind = Kind::Sobol;
   bool lobes = false;  // through the BRDF's sample() instead of the target
