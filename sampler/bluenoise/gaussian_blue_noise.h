@@ -23,6 +23,8 @@
 //    attraction is the kernel's pull toward a fixed stratified sample of the
 //    target (Owen-scrambled Sobol through its inverse CDF, M points of mass
 //    N / M each), the same sample-based target as sliced_ot.h.
+// No point moves more than s_i / 2 per iteration (a trust region; without it
+// the authors' step blew up sets on a peaked Gaussian target).
 // Pairs farther apart than 8 s_ij (where the kernel is below 1.2e-7 of its
 // peak) are skipped through a bucket grid; the forces then agree with the
 // all-pairs sum to 1e-5 of their size (tested). A point's search radius is
