@@ -20,18 +20,18 @@ assets=${4:-${NULD_ASSETS:-$root/../shared/assets}}
 grace="$assets/envmaps/grace_latlong.exr"
 mkdir -p "$out"
 flags=(--arch graph --base owen --discrepancy-gradient --stages 4 --lr 1e-3 --lr-end 1e-5
-  --steps "$steps" --seed 1 -q)
+  --seed 1 -q)
 times="$out/train_seconds.csv"
 [[ -f "$times" ]] || echo "model,n,train_seconds" >"$times"
 
-train() {  # NAME TARGET [extra flags...]
-  local name=$1 target=$2
-  shift 2
+train() {  # NAME TARGET STEPS [extra flags...]
+  local name=$1 target=$2 count=$3
+  shift 3
   local model="$out/${name}_$n.nuldnet"
   [[ -f "$model" ]] && return
   local start
   start=$(date +%s%N)
-  "$nuld" train --target "$target" --n "$n" "${flags[@]}" "$@" -o "$model" >/dev/null
+  "$nuld" train --target "$target" --n "$n" --steps "$count" "${flags[@]}" "$@" -o "$model" >/dev/null
   echo "$name,$n,$(seconds_since "$start")" >>"$times"
 }
 
@@ -39,17 +39,20 @@ study() {  # DIR INTEGRANDS OBJECTIVE MODELS...
   local dir=$1 integrands=$2 objective=$3
   shift 3
   local samplers=sobol,optimized
+  [[ $integrands == disney* ]] && samplers+=",sobol-lobes"
   for m in "$@"; do samplers+=",neural:$m"; done
   "$nuld" study integrate -o "$dir" --integrands "$integrands" --n "$n" --samplers "$samplers" \
     --optimized-instances 64 --opt-objective "$objective" --envmaps "$grace" --assets "$assets" \
     --no-plots -q
 }
 
-train quarterdisc quarterdisc
+train quarterdisc quarterdisc "$steps"
 study "$out/quarterdisc_$n" 'quarterdisc*bilinear' soft "$out/quarterdisc_$n.nuldnet"
-train grace "envmap:$grace"
-train grace_unmapped "envmap:$grace" --mapping unmapped
+train grace "envmap:$grace" "$steps"
+train grace_unmapped "envmap:$grace" "$steps" --mapping unmapped
 study "$out/grace_$n" 'envmap*cos' l2asd "$out/grace_$n.nuldnet" "$out/grace_unmapped_$n.nuldnet"
-train disney family:disney
+# The lobe family tabulates a table per gamma: a third of the steps (each
+# about 5x dearer).
+train disney family:disney $((steps / 3))
 study "$out/disney_$n" 'disney*cosines' l2asd "$out/disney_$n.nuldnet"
 column -s, -t "$times"
