@@ -2,7 +2,8 @@
 // The neural generator of the supplement §1 (DESIGN.md §3): an MLP that maps a
 // Cranley-Patterson offset z and a distribution parameter gamma to the
 // residuals of N points, added to a base set (the first N Sobol points rotated
-// by z: wrapped on the square, unwrapped for directions). The last layer
+// by z: wrapped on the square, unwrapped for directions; or, for the graph
+// generator, Owen-scrambled by a hash of z: BaseRandomization). The last layer
 // starts at zero, so an untrained generator returns its base set.
 //
 // Two architectures share the base set, the mappings, the loss, the model
