@@ -128,6 +128,7 @@ ok "train no validation" "$nuld" train --target quarterdisc --n 8 --hidden 8 --s
 [[ -f "$dir/v.nuldnet" && ! -e "$dir/v.nuldnet.validation.csv" ]] && ! grep -q '^kept' "$dir/out" || { echo "FAIL: train --validation 0"; failures=$((failures + 1)); }
 ok "generate --model" "$nuld" generate --model "$dir/g.nuldnet" --gamma 0.5,0.5,0.2 --instances 3 -o "$dir/ng.txt"
 ok "eval neural set" "$nuld" eval "$dir/ng.txt" --metric l2
+fails_with "generate --model with a sequence" "does not apply to --model" "$nuld" generate --model "$dir/g.nuldnet" --sequence halton --gamma 0.5,0.5,0.2 -o "$dir/x.txt"
 fails_with "generate --model without gamma" "needs 3 --gamma values" "$nuld" generate --model "$dir/g.nuldnet" -o "$dir/x.txt"
 fails_with "generate --model gamma range" "must lie in \[0, 1\]" "$nuld" generate --model "$dir/g.nuldnet" --gamma 0.5,0.5,2 -o "$dir/x.txt"
 head -c 100 "$dir/g.nuldnet" >"$dir/cut.nuldnet"

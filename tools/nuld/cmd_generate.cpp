@@ -140,7 +140,14 @@ Runner addGenerate(CLI::App &app) {
         if (app.count(only))
           throw std::invalid_argument(std::string("generate: ") + only +
                                       " applies to the blue-noise sequences (sot, gbn) only");
-    if (!o->model.empty()) return generateFromModel(*o);
+    if (!o->model.empty()) {
+      // A model makes its own sets: a sequence or scrambling would be ignored.
+      for (const char *notWithModel : {"--sequence", "--scramble"})
+        if (app.count(notWithModel))
+          throw std::invalid_argument(std::string("generate: ") + notWithModel +
+                                      " does not apply to --model (the model makes its own sets)");
+      return generateFromModel(*o);
+    }
     if (o->n == 0) throw std::invalid_argument("generate: --n is required (or --model)");
     if (blueNoise) {
       if (app.count("--scramble"))
