@@ -8,8 +8,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "sampler/bluenoise/target_sample.h"
 #include "sampler/sequences/rng.h"
-#include "sampler/sequences/sequence.h"
 
 namespace nuld {
 namespace {
@@ -80,6 +80,12 @@ Point2 difference(Point2 a, Point2 b, bool wrap) {
 
 }  // namespace
 
+// The adaptive target's fixed sample, bucketed once.
+struct GaussianBlueNoise::SampleIndex {
+  BucketGrid grid;
+  double widest;
+};
+
 std::size_t GaussianBlueNoiseSettings::samplesFor(std::size_t n) const {
   return targetSamples > 0 ? targetSamples : std::max<std::size_t>(4 * n, 4096);
 }
@@ -111,11 +117,13 @@ GaussianBlueNoise::GaussianBlueNoise(const Target &target,
   if (adaptive_ && settings_.boundary == BlueNoiseBoundary::Toroidal)
     throw std::invalid_argument("gbn: the toroidal variant is for the uniform target only");
   if (!adaptive_) return;
-  sample_.resize(settings_.samplesFor(n));
-  generateSet({SequenceKind::Sobol, Scramble::Owen, hash3(settings_.seed, 0x6B7, n)}, 0, sample_);
-  for (Point2 &p : sample_) p = target.invert(p).x;
+  sample_ =
+      stratifiedTargetSample(target, settings_.samplesFor(n), hash3(settings_.seed, 0x6B7, n));
   sampleWidth_.resize(sample_.size());
   for (std::size_t m = 0; m < sample_.size(); ++m) sampleWidth_[m] = widthAt(sample_[m]);
+  const double widest = *std::max_element(sampleWidth_.begin(), sampleWidth_.end());
+  sampleIndex_ = std::make_shared<const SampleIndex>(
+      SampleIndex{BucketGrid(sample_, kCutoff * widest), widest});
 }
 
 double GaussianBlueNoise::widthAt(Point2 p) const {
@@ -130,15 +138,18 @@ double GaussianBlueNoise::widthAt(Point2 p) const {
 
 void GaussianBlueNoise::forces(std::span<const Point2> points, std::span<Point2> out,
                                bool allPairs) const {
+  std::vector<double> width(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) width[i] = widthAt(points[i]);
+  forces(points, width, out, allPairs);
+}
+
+void GaussianBlueNoise::forces(std::span<const Point2> points, std::span<const double> width,
+                               std::span<Point2> out, bool allPairs) const {
   const std::size_t n = points.size();
   const bool wrap = settings_.boundary == BlueNoiseBoundary::Toroidal;
-  std::vector<double> width(n);
-  double widest = 0;
-  for (std::size_t i = 0; i < n; ++i) widest = std::max(widest, width[i] = widthAt(points[i]));
-  const double sampleWidest =
-      sampleWidth_.empty() ? 0 : *std::max_element(sampleWidth_.begin(), sampleWidth_.end());
+  const double widest = n == 0 ? 0 : *std::max_element(width.begin(), width.end());
+  const double sampleWidest = sampleIndex_ ? sampleIndex_->widest : 0;
   const BucketGrid grid(points, kCutoff * widest);
-  const BucketGrid sampleGrid(sample_, kCutoff * std::max(sampleWidest, 1e-9));
   const double sampleMass = sample_.empty() ? 0 : double(n) / double(sample_.size());
   tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
     const Point2 p = points[i];
@@ -167,7 +178,7 @@ void GaussianBlueNoise::forces(std::span<const Point2> points, std::span<Point2>
       if (allPairs)
         for (std::size_t m = 0; m < sample_.size(); ++m) sample(int(m));
       else
-        sampleGrid.near(p, sampleReach, false, sample);
+        sampleIndex_->grid.near(p, sampleReach, false, sample);
     } else if (!wrap) {
       // The square's pull: 2 N s^2 grad of int k_s(p - x) dx over it.
       const double h = 1 / (2 * s_);
@@ -209,16 +220,18 @@ void GaussianBlueNoise::optimize(std::span<Point2> points,
   // The authors' step, reduced for sigma > 1 as theirs is.
   const double step = settings_.step / std::max(1.0, settings_.sigma * settings_.sigma);
   std::vector<Point2> f(points.size());
+  std::vector<double> width(points.size());
   const double top = std::nextafter(1.0, 0.0);
   for (int it = 0; it < settings_.iterations; ++it) {
-    forces(points, f);
+    for (std::size_t i = 0; i < points.size(); ++i) width[i] = widthAt(points[i]);
+    forces(points, width, f);
     for (std::size_t i = 0; i < points.size(); ++i) {
       // A trust region: no point moves more than half its kernel width per
       // iteration. Where widths vary (a peaked target) the authors' step
       // otherwise overshoots and sets blow up; converged sets, whose moves
       // are far smaller, are unchanged by it.
       Point2 move = step * f[i];
-      const double length = std::hypot(move.x, move.y), limit = 0.5 * widthAt(points[i]);
+      const double length = std::hypot(move.x, move.y), limit = 0.5 * width[i];
       if (length > limit) move = (limit / length) * move;
       const Point2 p = points[i] + move;
       points[i] = wrap ? Point2{wrapUnit(p.x), wrapUnit(p.y)}

@@ -33,6 +33,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -74,6 +75,9 @@ class GaussianBlueNoise {
 
  private:
   double widthAt(Point2 p) const;  // s_i
+  // forces() with each point's width s_i given (optimize() reuses them).
+  void forces(std::span<const Point2> points, std::span<const double> width, std::span<Point2> out,
+              bool allPairs = false) const;
 
   const Target &target_;
   GaussianBlueNoiseSettings settings_;
@@ -82,6 +86,8 @@ class GaussianBlueNoise {
   bool adaptive_;
   std::vector<Point2> sample_;  // adaptive: the target's stratified sample
   std::vector<double> sampleWidth_;
+  struct SampleIndex;  // the sample bucketed once (adaptive only)
+  std::shared_ptr<const SampleIndex> sampleIndex_;
 };
 
 }  // namespace nuld

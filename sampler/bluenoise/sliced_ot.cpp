@@ -10,8 +10,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "sampler/bluenoise/target_sample.h"
 #include "sampler/sequences/rng.h"
-#include "sampler/sequences/sequence.h"
 
 namespace nuld {
 namespace {
@@ -78,9 +78,8 @@ SliceDestinations::SliceDestinations(const Target &target, const SlicedOtSetting
   settings.validate();
   if (n == 0) throw std::invalid_argument("sot: a set needs at least one point");
   if (uniform_) return;
-  std::vector<Point2> sample(settings.samplesFor(n));
-  generateSet({SequenceKind::Sobol, Scramble::Owen, hash3(settings.seed, 0x50715A, n)}, 0, sample);
-  for (Point2 &p : sample) p = target.invert(p).x;
+  const std::vector<Point2> sample =
+      stratifiedTargetSample(target, settings.samplesFor(n), hash3(settings.seed, 0x50715A, n));
   constexpr int D = kSliceTableDirections;
   table_.resize(std::size_t(D) * n);
   // Block k of the sorted projections, samples [k M / N, (k + 1) M / N),
