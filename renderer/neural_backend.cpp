@@ -37,11 +37,13 @@ std::size_t NeuralBackend::bankSets() const {
 }
 
 void NeuralBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
-  const std::size_t n = generator_.settings().n;
-  if (spp != n)
-    throw std::invalid_argument(source_ + ": the model makes sets of " + std::to_string(n) +
-                                " points, but the render asks for " + std::to_string(spp) +
-                                " samples per pixel (use --spp " + std::to_string(n) + ")");
+  // A graph model makes sets of any size; the supplement's network its own.
+  const std::size_t n = spp;
+  if (!generator_.anySize() && spp != generator_.settings().n)
+    throw std::invalid_argument(
+        source_ + ": the model makes sets of " + std::to_string(generator_.settings().n) +
+        " points, but the render asks for " + std::to_string(spp) +
+        " samples per pixel (use --spp " + std::to_string(generator_.settings().n) + ")");
   // The banks to make: one per gamma the scene asks for.
   std::vector<std::string> specs;
   std::vector<std::vector<double>> gammas;
@@ -60,18 +62,19 @@ void NeuralBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
           "' makes none of the scene's " + std::to_string(targets.lobes.size()) +
           " lobe tables (it serves a scene material with the family's parameters)");
   }
-  if (specs != bankSpecs_) {
+  if (specs != bankSpecs_ || n != bankN_) {
     const auto start = std::chrono::steady_clock::now();
     const std::size_t total = std::clamp<std::size_t>((std::size_t(1) << 22) / n, 1, kMaxBankSets);
     const std::size_t each = std::max(total / specs.size(), std::min(total, kMinSetsPerGamma));
     std::vector<SetBank> banks;
     for (std::size_t k = 0; k < specs.size(); ++k) {
-      SetBank bank{generator_.generateSets(each, seed_ + k, gammas[k]), source_};
+      SetBank bank{generator_.generateSets(each, seed_ + k, gammas[k], n), source_};
       bank.sets.metadata["target"] = specs[k];
       banks.push_back(std::move(bank));
     }
     setBanks(std::move(banks));
     bankSpecs_ = specs;
+    bankN_ = n;
     generationSeconds_ =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }

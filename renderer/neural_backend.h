@@ -14,6 +14,9 @@
 //    that the family contains (the same material), at that table's gamma, and
 //    serves the first bounce's BSDF pair there. Other families have no
 //    sampling context in a render and are refused.
+//
+// The supplement's network makes sets of its trained N only, so it serves
+// that spp alone; a graph model serves any spp (banks remade per spp).
 
 #include <string>
 
@@ -44,6 +47,7 @@ class NeuralBackend final : public BankBackend {
   std::uint64_t seed_;
   bool lobeFamily_ = false;
   std::vector<std::string> bankSpecs_;  // the targets of the banks made so far
+  std::size_t bankN_ = 0;               // and their set size
   double generationSeconds_ = 0;
 };
 

@@ -15,8 +15,8 @@ namespace nuld {
 struct NeuralGenerator::Net {
   FourierMlp mlp{nullptr};  // NetworkArch::Supplement
   GraphNet graph{nullptr};  // NetworkArch::Graph
-  // Graph only: the rotated base set's neighbour graph (the same for every
-  // z) and its index tensor [N k]. An Owen base's sets have graphs of their
+  // Graph only: the rotated base set's neighbour graph at the model's n (the
+  // same for every z) and its index tensor [N k]. An Owen base's sets have graphs of their
   // own (built in forward()) with the same k.
   TorusGraph torus;
   torch::Tensor neighbours;
@@ -49,7 +49,8 @@ struct NeuralGenerator::Net {
                                                       const std::vector<TorusGraph> &graphs) const;
 };
 
-// The base sets for the given offsets as a [K, N, 2] double tensor.
-torch::Tensor baseSets(const NeuralGenerator &gen, std::span<const Point2> z);
+// The base sets of n points (0: the model's n) for the given offsets as a
+// [K, n, 2] double tensor.
+torch::Tensor baseSets(const NeuralGenerator &gen, std::span<const Point2> z, std::size_t n = 0);
 
 }  // namespace nuld

@@ -12,6 +12,7 @@
 #include "sampler/sequences/rng.h"
 #include "sampler/sequences/sequence.h"
 #include "sampler/sequences/sobol.h"
+#include "sampler/targets/target_spec.h"
 
 namespace nuld {
 namespace {
@@ -104,6 +105,12 @@ std::unique_ptr<NeuralGenerator::Net> makeNet(const NeuralSettings &s, std::size
   return net;
 }
 
+std::string joinSizes(const std::vector<std::size_t> &sizes) {
+  std::string s;
+  for (const std::size_t n : sizes) s += (s.empty() ? "" : ",") + std::to_string(n);
+  return s;
+}
+
 std::string formatDouble(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.17g", v);
@@ -153,16 +160,25 @@ const torch::nn::Module &NeuralGenerator::Net::module() const {
 torch::Tensor NeuralGenerator::Net::forward(const NeuralGenerator &gen, std::span<const Point2> z,
                                             std::span<const double> gamma,
                                             const torch::Tensor &base) {
-  const std::int64_t K = std::int64_t(z.size()), n = std::int64_t(gen.settings().n);
+  const std::int64_t K = std::int64_t(z.size()), n = base.size(1);
   if (!graph) return mlp->forward(inputs(z, gamma, gen.gammaDimension())).reshape({K, n, 2});
   // Residuals in units of the point spacing, 1 / sqrt(N). Each stage sees
   // where the earlier ones put the points (as an input: no gradient flows
   // through the features), and its residual adds to theirs. An Owen base
-  // brings each set's own neighbour graph; a rotated one shares `torus`.
+  // brings each set's own neighbour graph; a rotated one shares `torus`, or
+  // at another N the graph of that N's rotated base (the same for every z).
   std::vector<TorusGraph> graphs;
   torch::Tensor index = neighbours;
-  if (gen.settings().base == BaseRandomization::Owen) {
-    index = torch::empty({K, n * std::int64_t(torus.k)}, torch::kInt64);
+  if (gen.settings().base == BaseRandomization::Rotated && std::size_t(n) != torus.n) {
+    const auto *p = reinterpret_cast<const Point2 *>(base[0].data_ptr<double>());
+    graphs.push_back(buildTorusGraph(std::span(p, std::size_t(n)), torus.k));
+    index = torch::from_blob(graphs[0].neighbours.data(),
+                             {std::int64_t(graphs[0].neighbours.size())}, torch::kInt64)
+                .clone();
+  } else if (gen.settings().base == BaseRandomization::Owen) {
+    // k is clamped to N - 1, so below the model's N it may be smaller.
+    const std::int64_t k = std::int64_t(std::min<std::size_t>(torus.k, std::size_t(n) - 1));
+    index = torch::empty({K, n * k}, torch::kInt64);
     for (std::int64_t set = 0; set < K; ++set) {
       const auto *p = reinterpret_cast<const Point2 *>(base[set].data_ptr<double>());
       graphs.push_back(buildTorusGraph(std::span(p, std::size_t(n)), torus.k));
@@ -186,7 +202,13 @@ std::pair<torch::Tensor, torch::Tensor> NeuralGenerator::Net::graphInputs(
     const NeuralGenerator &gen, std::span<const double> gamma, const torch::Tensor &points,
     const std::vector<TorusGraph> &graphs) const {
   const NeuralSettings &s = gen.settings();
-  const std::size_t K = std::size_t(points.size(0)), n = s.n, g = gen.gammaDimension(), k = torus.k;
+  const std::size_t K = std::size_t(points.size(0)), n = std::size_t(points.size(1)),
+                    g = gen.gammaDimension();
+  // One graph per set, one shared by all (a rotated base at another N), or `torus`.
+  auto graphOf = [&](std::size_t set) -> const TorusGraph & {
+    return graphs.empty() ? torus : graphs[graphs.size() == K ? set : 0];
+  };
+  const std::size_t k = graphOf(0).k;
   const std::int64_t F = graphNodeFeatures(s, g);
   const torch::Tensor harmonics = zHarmonicFrequencies(s.positionHarmonics, 2).to(torch::kFloat64);
   const std::int64_t H = harmonics.size(0);
@@ -204,8 +226,7 @@ std::pair<torch::Tensor, torch::Tensor> NeuralGenerator::Net::graphInputs(
   std::vector<Jacobian2> jacobian(n);
   FamilyTargets targets(gen.family());
   for (std::size_t set = 0; set < K; ++set) {
-    const std::vector<std::int64_t> &nb =
-        graphs.empty() ? torus.neighbours : graphs[set].neighbours;
+    const std::vector<std::int64_t> &nb = graphOf(set).neighbours;
     const std::span<const double> gs = gamma.subspan(set * g, g);
     const Target *target = &targets.at(gs);
     std::vector<double> gammaCode;
@@ -324,8 +345,9 @@ torch::Tensor NeuralGenerator::Net::inputs(std::span<const Point2> z, std::span<
   return v.to(mlp->B.scalar_type());
 }
 
-torch::Tensor baseSets(const NeuralGenerator &gen, std::span<const Point2> z) {
-  const std::int64_t K = std::int64_t(z.size()), n = std::int64_t(gen.settings().n);
+torch::Tensor baseSets(const NeuralGenerator &gen, std::span<const Point2> z, std::size_t size) {
+  const std::int64_t K = std::int64_t(z.size()),
+                     n = std::int64_t(size == 0 ? gen.settings().n : size);
   torch::Tensor base = torch::empty({K, n, 2}, torch::kFloat64);
   for (std::int64_t k = 0; k < K; ++k)
     gen.baseSet(z[k], std::span<Point2>(reinterpret_cast<Point2 *>(base[k].data_ptr<double>()),
@@ -341,6 +363,15 @@ void NeuralSettings::validate() const {
   if (encodingDims < 2 || encodingDims % 2 != 0) bad("the encoding size must be even and >= 2");
   if (zHarmonics < 0 || zHarmonics > 32) bad("z harmonics must be in [0, 32]");
   if (!(offsetRange > 0 && offsetRange <= 1)) bad("the offset range must be in (0, 1]");
+  if (!trainingNs.empty()) {
+    if (arch != NetworkArch::Graph)
+      bad("several training sizes need the graph generator (the supplement's network emits a "
+          "fixed N)");
+    if (trainingNs.size() > 64) bad("at most 64 training sizes");
+    for (const std::size_t m : trainingNs)
+      if (m < 1 || m > (std::size_t(1) << 20)) bad("training sizes must be in [1, 2^20]");
+    if (trainingNs.front() != n) bad("n must be the first training size");
+  }
   if (arch == NetworkArch::Graph) {
     if (zHarmonics != 0) bad("z harmonics belong to the supplement's network, not the graph one");
     if (neighbours < 1 || neighbours > 64) bad("neighbours must be in [1, 64]");
@@ -353,6 +384,10 @@ void NeuralSettings::validate() const {
   } else if (base != BaseRandomization::Rotated) {
     bad("the supplement's network needs the rotated base (its residuals are functions of z)");
   }
+}
+
+std::vector<std::size_t> NeuralSettings::sizesTrained() const {
+  return trainingNs.empty() ? std::vector<std::size_t>{n} : trainingNs;
 }
 
 Point2 balancedPullback(Point2 pulled, const Jacobian2 &j) {
@@ -423,8 +458,18 @@ std::size_t NeuralGenerator::parameterCount() const {
   return count;
 }
 
+void NeuralGenerator::checkSize(std::size_t n) const {
+  if (n < 1 || n > (std::size_t(1) << 20))
+    throw std::invalid_argument("neural: sets of " + std::to_string(n) +
+                                " points: expected N in [1, 2^20]");
+  if (!anySize() && n != settings_.n)
+    throw std::invalid_argument("neural: the supplement's network makes sets of " +
+                                std::to_string(settings_.n) + " points only, not " +
+                                std::to_string(n));
+}
+
 void NeuralGenerator::baseSet(Point2 z, std::span<Point2> out) const {
-  if (out.size() != settings_.n) throw std::invalid_argument("neural: base set size mismatch");
+  checkSize(out.size());
   if (settings_.base == BaseRandomization::Owen) {
     // Distinct offsets give unrelated scramblings; the model's seed keys them.
     const std::uint64_t seed =
@@ -434,8 +479,9 @@ void NeuralGenerator::baseSet(Point2 z, std::span<Point2> out) const {
   }
   const bool square = domain() == Domain::Square;
   const Point2 offset{settings_.offsetRange * z.x, settings_.offsetRange * z.y};
-  for (std::size_t i = 0; i < sobol_.size(); ++i) {
-    const Point2 p = sobol_[i] + offset;
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const Point2 s = i < sobol_.size() ? sobol_[i] : Point2{sobolSample(i, 0), sobolSample(i, 1)};
+    const Point2 p = s + offset;
     // The rotation wraps around the square (Cranley-Patterson).
     out[i] = square ? Point2{wrapUnit(p.x), wrapUnit(p.y)} : p;
   }
@@ -451,13 +497,19 @@ std::string NeuralGenerator::notRandomizedReason() const {
 
 void NeuralGenerator::generate(std::span<const Point2> z, std::span<const double> gamma,
                                std::span<Point2> out) const {
-  const std::size_t K = z.size(), n = settings_.n, g = gammaDimension();
+  generate(z, gamma, settings_.n, out);
+}
+
+void NeuralGenerator::generate(std::span<const Point2> z, std::span<const double> gamma,
+                               std::size_t n, std::span<Point2> out) const {
+  const std::size_t K = z.size(), g = gammaDimension();
+  checkSize(n);
   if (gamma.size() != K * g || out.size() != K * n)
     throw std::invalid_argument("neural: generate() sizes do not match K sets");
   for (std::size_t k = 0; k < K; ++k) checkGamma(*family_, gamma.subspan(k * g, g));
   if (K == 0) return;
   torch::NoGradGuard noGrad;
-  const torch::Tensor base = baseSets(*this, z);
+  const torch::Tensor base = baseSets(*this, z, n);
   const torch::Tensor r = settings_.arch == NetworkArch::Supplement
                               ? net_->residuals(net_->inputs(z, gamma, g))
                               : net_->forward(*this, z, gamma, base);
@@ -477,7 +529,8 @@ void NeuralGenerator::generate(std::span<const Point2> z, std::span<const double
 }
 
 PointSet NeuralGenerator::generateSets(std::size_t instances, std::uint64_t seed,
-                                       std::span<const double> gamma) const {
+                                       std::span<const double> gamma, std::size_t n) const {
+  if (n == 0) n = settings_.n;
   std::vector<Point2> z(instances);
   Rng rng(seed, 0x2);
   for (Point2 &zk : z) zk = {rng.uniform(), rng.uniform()};
@@ -485,9 +538,9 @@ PointSet NeuralGenerator::generateSets(std::size_t instances, std::uint64_t seed
   for (std::size_t k = 0; k < instances; ++k)
     gammas.insert(gammas.end(), gamma.begin(), gamma.end());
   PointSet set;
-  set.n = settings_.n;
-  set.points.resize(instances * settings_.n);
-  generate(z, gammas, set.points);
+  set.n = n;
+  set.points.resize(instances * n);
+  generate(z, gammas, n, set.points);
   return set;
 }
 
@@ -516,6 +569,8 @@ std::map<std::string, std::string> NeuralGenerator::metadata() const {
     m["stages"] = std::to_string(settings_.stages);
     m["discrepancy_gradient"] = settings_.discrepancyGradient ? "1" : "0";
   }
+  // Only for several sizes, so single-size files keep their metadata.
+  if (!settings_.trainingNs.empty()) m["training_n"] = joinSizes(settings_.trainingNs);
   return m;
 }
 
@@ -587,6 +642,13 @@ NeuralGenerator NeuralGenerator::load(const std::string &path) {
     s.positionHarmonics = int(number("position_harmonics"));
     s.stages = int(number("stages"));
     s.discrepancyGradient = number("discrepancy_gradient") != 0;
+    if (file.metadata.count("training_n")) {
+      try {
+        s.trainingNs = parseSizeList("model metadata 'training_n'", file.metadata.at("training_n"));
+      } catch (const std::invalid_argument &e) {
+        throw std::runtime_error(path + ": " + e.what());
+      }
+    }
   }
   if (file.metadata.count("base")) {
     const std::string &base = file.metadata.at("base");

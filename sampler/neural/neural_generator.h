@@ -55,7 +55,14 @@ std::string toString(BaseRandomization base);
 
 struct NeuralSettings {
   NetworkArch arch = NetworkArch::Supplement;
-  std::size_t n = 256;  // points per set
+  // Points per set: the supplement's network emits exactly n; the graph
+  // generator (weights shared by all points) makes sets of any size, n being
+  // the size generate() makes by default.
+  std::size_t n = 256;
+  // Graph only: the set sizes training cycles through, one per step (empty:
+  // n alone; otherwise n is the first of them). Recorded in the model file,
+  // so users can tell the sizes it learned from those it extrapolates to.
+  std::vector<std::size_t> trainingNs;
   // Supplement: the width of the four hidden layers (64/256/512/1024 in the
   // paper). Graph: the width of each point's state.
   int hidden = 256;
@@ -103,6 +110,8 @@ struct NeuralSettings {
 
   // Throws std::invalid_argument naming the bad setting.
   void validate() const;
+  // The sizes training uses: trainingNs, or {n}.
+  std::vector<std::size_t> sizesTrained() const;
 };
 
 // J^T g (`pulled`) with component k divided by |column k of J|: the
@@ -140,9 +149,16 @@ class NeuralGenerator {
   // Metadata read from the file by load() (empty for a new generator).
   const std::map<std::string, std::string> &fileMetadata() const { return fileMetadata_; }
 
-  // The base set for offset z: the first N Sobol points rotated by
-  // offsetRange * z (wrapped on the square, not for directions), or
-  // Owen-scrambled by a hash of z (BaseRandomization::Owen).
+  // Whether generate() makes sets of any size (the graph generator) or of
+  // settings().n only (the supplement's network).
+  bool anySize() const { return settings_.arch == NetworkArch::Graph; }
+  // Throws std::invalid_argument (naming the model's sizes) unless sets of n
+  // points can be made.
+  void checkSize(std::size_t n) const;
+
+  // The base set for offset z, of out.size() points (checkSize): the first N
+  // Sobol points rotated by offsetRange * z (wrapped on the square, not for
+  // directions), or Owen-scrambled by a hash of z (BaseRandomization::Owen).
   void baseSet(Point2 z, std::span<Point2> out) const;
   // Empty for the supplement's full offset range; otherwise why the sets are
   // not randomized (naming --offset-range and its value), for the callers
@@ -160,12 +176,16 @@ class NeuralGenerator {
   Point2 place(Point2 raw, const Target &target, Jacobian2 *jacobian = nullptr) const;
 
   // K = z.size() sets at once: set k uses z[k] and gamma[k g, (k + 1) g);
-  // out receives K N points in the domain.
+  // out receives K n points in the domain (n = settings().n unless given;
+  // checkSize).
   void generate(std::span<const Point2> z, std::span<const double> gamma,
                 std::span<Point2> out) const;
-  // K sets for K offsets drawn from `seed`, all with the same gamma.
-  PointSet generateSets(std::size_t instances, std::uint64_t seed,
-                        std::span<const double> gamma) const;
+  void generate(std::span<const Point2> z, std::span<const double> gamma, std::size_t n,
+                std::span<Point2> out) const;
+  // K sets of n points (0: settings().n) for K offsets drawn from `seed`,
+  // all with the same gamma.
+  PointSet generateSets(std::size_t instances, std::uint64_t seed, std::span<const double> gamma,
+                        std::size_t n = 0) const;
 
   struct Net;  // LibTorch internals
   Net &net() { return *net_; }
@@ -174,7 +194,7 @@ class NeuralGenerator {
  private:
   NeuralSettings settings_;
   std::unique_ptr<const TargetFamily> family_;
-  std::vector<Point2> sobol_;  // the first N Sobol points
+  std::vector<Point2> sobol_;  // the first n Sobol points (the rotated base)
   std::unique_ptr<Net> net_;
   std::map<std::string, std::string> fileMetadata_;
 };

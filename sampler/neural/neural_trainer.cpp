@@ -117,6 +117,11 @@ void TrainerSettings::validate() const {
 NeuralTrainer::NeuralTrainer(NeuralGenerator &generator, TrainerSettings settings)
     : gen_(generator), settings_(std::move(settings)), state_(std::make_unique<State>()) {
   settings_.validate();
+  const std::size_t sizes = gen_.settings().sizesTrained().size();
+  if (settings_.validationSets > 0 && settings_.validationSets < sizes)
+    throw std::invalid_argument("train: " + std::to_string(sizes) +
+                                " training sizes need at least as many validation sets, not " +
+                                std::to_string(settings_.validationSets));
   state_->adam = std::make_unique<torch::optim::Adam>(
       gen_.net().module().parameters(),
       torch::optim::AdamOptions(settings_.lrStart).betas({0.9, 0.999}).eps(1e-8).weight_decay(0));
@@ -149,7 +154,7 @@ double NeuralTrainer::stepLoss(int step, Mode mode) {
 
   const auto netStart = Clock::now();
   const double kernelBefore = lossSeconds_;
-  const torch::Tensor base = baseSets(gen_, batch.z);
+  const torch::Tensor base = baseSets(gen_, batch.z, sizeAt(step));
   const torch::Tensor residual = gen_.net().forward(gen_, batch.z, batch.gamma, base);
   const torch::Tensor points = base.to(residual.scalar_type()) + residual;
   torch::Tensor loss = SoftBoxLossFunction::apply(points, &batch);
@@ -190,23 +195,44 @@ void NeuralTrainer::run(int untilStep, const std::function<void(const TrainRepor
   }
 }
 
+std::size_t NeuralTrainer::sizeAt(int step) const {
+  const std::vector<std::size_t> sizes = gen_.settings().sizesTrained();
+  return sizes[std::size_t(step) % sizes.size()];
+}
+
 Validation NeuralTrainer::validate() {
   const TrainerSettings &s = settings_;
   if (s.validationSets == 0) throw std::logic_error("train: validation is turned off");
-  const std::size_t K = s.validationSets, g = gen_.gammaDimension(), n = gen_.settings().n;
+  const std::size_t K = s.validationSets, g = gen_.gammaDimension();
+  const std::vector<std::size_t> sizes = gen_.settings().sizesTrained();
   std::vector<Point2> z;
   std::vector<double> gamma;
   validationInputs(z, gamma);
-  std::vector<Point2> points(K * n);
-  gen_.generate(z, gamma, points);
-  double sum = 0;
-  for (std::size_t k = 0; k < K; ++k) {
-    const auto target = gen_.family().target(std::span(gamma).subspan(k * g, g));
-    sum += nonuniformL2asd(std::span(points).subspan(k * n, n), *target, s.validationGrid);
+  // Pair k is scored at size k mod |sizes|. L2 falls with N, so several
+  // sizes combine by the geometric mean of their means (one size: its mean).
+  double score = sizes.size() == 1 ? 0 : 1;
+  for (std::size_t size = 0; size < sizes.size(); ++size) {
+    const std::size_t n = sizes[size];
+    std::vector<Point2> zs;
+    std::vector<double> gs;
+    for (std::size_t k = size; k < K; k += sizes.size()) {
+      zs.push_back(z[k]);
+      gs.insert(gs.end(), gamma.begin() + std::ptrdiff_t(k * g),
+                gamma.begin() + std::ptrdiff_t((k + 1) * g));
+    }
+    std::vector<Point2> points(zs.size() * n);
+    gen_.generate(zs, gs, n, points);
+    double sum = 0;
+    for (std::size_t k = 0; k < zs.size(); ++k) {
+      const auto target = gen_.family().target(std::span(gs).subspan(k * g, g));
+      sum += nonuniformL2asd(std::span(points).subspan(k * n, n), *target, s.validationGrid);
+    }
+    const double mean = sum / double(zs.size());
+    score = sizes.size() == 1 ? mean : score * std::pow(mean, 1 / double(sizes.size()));
   }
   const Validation v{
       step_, lossCount_ > 0 ? lossSum_ / lossCount_ : std::numeric_limits<double>::quiet_NaN(),
-      sum / double(K)};
+      score};
   lossSum_ = 0;
   lossCount_ = 0;
   history_.push_back(v);
@@ -303,12 +329,14 @@ void NeuralTrainer::loadCheckpoint(const std::string &path) {
     throw std::runtime_error(path + ": checkpoint was made with other training settings (" +
                              described + "; now " + settings_.describe() + ")");
   const auto expected = gen_.metadata();
-  for (const char *key : {"arch", "n", "hidden", "family", "seed", "mapping"}) {
-    // Checkpoints from before the graph generator have no 'arch'.
-    const std::string found = std::string(key) == "arch" && !file.metadata.count(key)
-                                  ? "supplement"
-                                  : file.value(key, path);
-    if (found != expected.at(key))
+  for (const char *key : {"arch", "n", "hidden", "family", "seed", "mapping", "training_n"}) {
+    // Checkpoints from before the graph generator have no 'arch', single-size
+    // ones no 'training_n'.
+    const bool absent = !file.metadata.count(key);
+    const std::string found = std::string(key) == "arch" && absent         ? "supplement"
+                              : std::string(key) == "training_n" && absent ? ""
+                                                                           : file.value(key, path);
+    if (found != (expected.count(key) ? expected.at(key) : ""))
       throw std::runtime_error(path + ": checkpoint is for another network ('" + key + "' is " +
                                found + ")");
   }

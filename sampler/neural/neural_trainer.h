@@ -100,6 +100,8 @@ class NeuralTrainer {
   // The held-out pairs validate() scores: validationSets offsets and their
   // gammas (gammaDimension() each), a pure function of the settings.
   void validationInputs(std::vector<Point2> &z, std::vector<double> &gamma) const;
+  // The set size step `step` trains at: the model's training sizes in turn.
+  std::size_t sizeAt(int step) const;
   // The validation with the smallest L2 so far; nullopt before the first.
   std::optional<Validation> best() const;
 

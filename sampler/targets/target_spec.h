@@ -28,4 +28,9 @@ std::vector<double> parseNumberList(const std::string &spec, const std::string &
                                     std::size_t minCount, std::size_t maxCount,
                                     const std::string &expected);
 
+// Parses set sizes "16,32,64" (positive, at most 9 digits each, duplicates
+// dropped, order kept); throws std::invalid_argument starting with `what`
+// (an option or a file's field) and saying what was expected.
+std::vector<std::size_t> parseSizeList(const std::string &what, const std::string &text);
+
 }  // namespace nuld

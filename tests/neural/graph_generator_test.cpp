@@ -1,6 +1,7 @@
 // The graph generator (--arch graph): its neighbour graph against brute
 // force, the untrained net is its base set, permuting the points permutes
-// the output, and its model files round-trip and fail clearly.
+// the output, it makes and trains on sets of several sizes, and its model
+// files round-trip and fail clearly.
 
 #include <gtest/gtest.h>
 
@@ -8,9 +9,11 @@
 #include <numeric>
 #include <random>
 
+#include "sampler/metrics/discrepancy.h"
 #include "sampler/neural/network.h"
 #include "sampler/neural/neural_trainer.h"
 #include "sampler/sequences/rng.h"
+#include "sampler/sequences/sobol.h"
 #include "tests/common/temp_dir.h"
 #include "tests/neural/expect_load_error.h"
 #include "tests/neural/tiny_settings.h"
@@ -24,6 +27,17 @@ NeuralSettings tinyGraph(const std::string &family, std::size_t n, bool mapped =
   s.neighbours = 5;
   s.rounds = 2;
   return s;
+}
+
+// Four large steps on small batches: enough to make the last layer non-zero.
+TrainerSettings fourQuickSteps() {
+  TrainerSettings t;
+  t.steps = 4;
+  t.batch = 2;
+  t.boxes = 128;
+  t.lrStart = t.lrEnd = 1e-2;
+  t.validationSets = 0;
+  return t;
 }
 
 std::vector<Point2> randomPoints(std::size_t n, std::uint64_t seed) {
@@ -149,12 +163,7 @@ TEST(GraphGenerator, PermutingThePointsPermutesTheOutput) {
 TEST(GraphGenerator, TrainedWeightsSaveAndLoadBitExactly) {
   test::TempDir dir;
   NeuralGenerator gen(tinyGraph("quarterdisc", 24));
-  TrainerSettings t;
-  t.steps = 4;
-  t.batch = 2;
-  t.boxes = 128;
-  t.lrStart = t.lrEnd = 1e-2;
-  t.validationSets = 0;
+  TrainerSettings t = fourQuickSteps();
   NeuralTrainer trainer(gen, t);
   trainer.run(4);
   const std::string path = (dir / "g.nuldnet").string();
@@ -198,6 +207,114 @@ TEST(GraphGenerator, OwenBaseSavesAndLoadsAndOldFilesAreRotated) {
   s.offsetRange = 0.5;
   EXPECT_THROW(NeuralGenerator{s}, std::invalid_argument);
   EXPECT_THROW(parseBaseRandomization("sobol"), std::invalid_argument);
+}
+
+// Weights shared by all points: a graph model makes sets of any size. The
+// untrained model returns its base set at that size (for the rotated base
+// the first N Sobol points rotated by z, for the Owen base the scrambled
+// net), a trained one finite points in the domain; the supplement's network
+// makes its own N only and says so.
+TEST(GraphGenerator, MakesSetsOfAnySize) {
+  for (const BaseRandomization base : {BaseRandomization::Rotated, BaseRandomization::Owen}) {
+    NeuralSettings s = tinyGraph("quarterdisc", 16);
+    s.base = base;
+    const NeuralGenerator gen(s);
+    const auto target = gen.family().target({});
+    for (const std::size_t n : {1, 2, 37, 100}) {
+      const std::vector<Point2> z = {{0.3, 0.8}, {0.71, 0.02}};
+      std::vector<Point2> out(2 * n), base1(n);
+      gen.generate(z, {}, n, out);
+      for (std::size_t k = 0; k < 2; ++k) {
+        gen.baseSet(z[k], base1);
+        for (std::size_t i = 0; i < n; ++i)
+          ASSERT_EQ(out[k * n + i], target->invert(base1[i]).x) << n << " " << i;
+      }
+      if (base == BaseRandomization::Rotated) {
+        const Point2 last{sobolSample(n - 1, 0) + 0.71, sobolSample(n - 1, 1) + 0.02};
+        EXPECT_EQ(base1.back().x, last.x - std::floor(last.x)) << n;
+      }
+      EXPECT_EQ(gen.generateSets(3, 5, {}, n).points.size(), 3 * n);
+    }
+  }
+  NeuralGenerator trained(tinyGraph("quarterdisc", 24));
+  TrainerSettings t = fourQuickSteps();
+  NeuralTrainer(trained, t).run(4);
+  for (const std::size_t n : {1, 50, 300}) {
+    const PointSet set = trained.generateSets(2, 9, {}, n);
+    ASSERT_EQ(set.n, n);
+    for (const Point2 &p : set.points)
+      EXPECT_TRUE(isFinite(p) && p.x >= 0 && p.x <= 1 && p.y >= 0 && p.y <= 1);
+  }
+  EXPECT_NE(trained.generateSets(1, 9, {}, 50).points,
+            NeuralGenerator(tinyGraph("quarterdisc", 24)).generateSets(1, 9, {}, 50).points);
+
+  const NeuralGenerator supplement(test::tinyNeuralSettings("quarterdisc", 8, 8, true, 1));
+  EXPECT_FALSE(supplement.anySize());
+  EXPECT_NO_THROW(supplement.checkSize(8));
+  try {
+    supplement.checkSize(9);
+    FAIL();
+  } catch (const std::invalid_argument &e) {
+    EXPECT_NE(std::string(e.what()).find("makes sets of 8 points only, not 9"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(trained.checkSize(0), std::invalid_argument);
+}
+
+// Several training sizes: steps cycle through them, the held-out score is the
+// geometric mean of each size's mean L2, the file records them, and a
+// checkpoint of a single-size run is refused.
+TEST(GraphGenerator, TrainsOnSeveralSizes) {
+  test::TempDir dir;
+  NeuralSettings s = tinyGraph("quarterdisc", 16);
+  s.base = BaseRandomization::Owen;
+  s.trainingNs = {16, 40};
+  NeuralGenerator gen(s);
+  TrainerSettings t = fourQuickSteps();
+  t.validationSets = 4;
+  t.validationGrid = 64;
+  NeuralTrainer trainer(gen, t);
+  EXPECT_EQ(trainer.sizeAt(0), 16u);
+  EXPECT_EQ(trainer.sizeAt(1), 40u);
+  EXPECT_EQ(trainer.sizeAt(2), 16u);
+  trainer.run(4);
+  std::vector<Point2> z;
+  std::vector<double> gamma;
+  trainer.validationInputs(z, gamma);
+  const auto target = gen.family().target({});
+  double mean16 = 0, mean40 = 0;
+  for (std::size_t k = 0; k < 4; ++k) {
+    const std::size_t n = k % 2 == 0 ? 16 : 40;
+    std::vector<Point2> points(n);
+    gen.generate(std::span(z).subspan(k, 1), {}, n, points);
+    (n == 16 ? mean16 : mean40) += nonuniformL2asd(points, *target, 64) / 2;
+  }
+  // (Sets made one at a time here: float summation order differs slightly.)
+  EXPECT_NEAR(trainer.validate().l2, std::sqrt(mean16 * mean40), 1e-6 * mean16);
+
+  const std::string path = (dir / "multi.nuldnet").string();
+  gen.save(path);
+  EXPECT_EQ(gen.metadata().at("training_n"), "16,40");
+  EXPECT_EQ(NeuralGenerator::load(path).settings().trainingNs, (std::vector<std::size_t>{16, 40}));
+  EXPECT_EQ(NeuralGenerator(tinyGraph("quarterdisc", 16)).metadata().count("training_n"), 0u);
+  ModelFile file = gen.toModelFile();
+  file.metadata["training_n"] = "16,x";
+  writeModelFile((dir / "bad").string(), file);
+  test::expectLoadError((dir / "bad").string(), "training_n");
+
+  const std::string ckpt = (dir / "single.ckpt").string();
+  NeuralGenerator single(tinyGraph("quarterdisc", 16));
+  NeuralTrainer(single, t).saveCheckpoint(ckpt);
+  EXPECT_THROW(trainer.loadCheckpoint(ckpt), std::runtime_error);
+
+  t.validationSets = 1;
+  EXPECT_THROW(NeuralTrainer(gen, t), std::invalid_argument);  // a size never validated
+  NeuralSettings bad = s;
+  bad.trainingNs = {40, 16};  // n must come first
+  EXPECT_THROW(NeuralGenerator{bad}, std::invalid_argument);
+  bad = test::tinyNeuralSettings("quarterdisc", 16, 8, true, 1);
+  bad.trainingNs = {16, 40};  // the supplement's network emits a fixed N
+  EXPECT_THROW(NeuralGenerator{bad}, std::invalid_argument);
 }
 
 TEST(GraphGenerator, BadArchitectureMetadataAndSettingsAreClearErrors) {

@@ -139,6 +139,13 @@ ok "train graph" "$nuld" train --arch graph --discrepancy-gradient --stages 2 --
 ok "generate graph" "$nuld" generate --model "$dir/gr.nuldnet" --instances 3 -o "$dir/gr.txt"
 ok "train graph, Owen base" "$nuld" train --arch graph --base owen --target quarterdisc --n 12 --hidden 8 --steps 3 --batch 2 --boxes 64 -q -o "$dir/gro.nuldnet"
 ok "generate graph, Owen base" "$nuld" generate --model "$dir/gro.nuldnet" --instances 3 -o "$dir/gro.txt"
+ok "train graph, several sizes" "$nuld" train --arch graph --base owen --target quarterdisc --n 12,20 --hidden 8 --steps 4 --batch 2 --boxes 64 --validation 2 -q -o "$dir/grm.nuldnet"
+ok "generate graph at an untrained N" "$nuld" generate --model "$dir/grm.nuldnet" --n 30 --instances 2 -o "$dir/grm30.txt"
+grep -q "trained at N = 12,20; sets of 30 points extrapolate" "$dir/err" && [[ $(grep -vc '^#' "$dir/grm30.txt") -eq 60 ]] \
+  || { echo "FAIL: a graph model makes sets of an untrained N and says so"; cat "$dir/err"; failures=$((failures + 1)); }
+fails_with "the supplement's net at another N" "makes sets of 8 points only, not 9" "$nuld" generate --model "$dir/g.nuldnet" --n 9 --gamma 0.5,0.5,0.2 -o "$dir/x.txt"
+fails_with "several sizes for the supplement's net" "several sizes need --arch graph" "$nuld" train --target quarterdisc --n 8,16 --steps 2 -q -o "$dir/x.nuldnet"
+fails_with "bad size list" "expected positive integers separated by commas" "$nuld" train --arch graph --target quarterdisc --n 8,x --steps 2 -q -o "$dir/x.nuldnet"
 fails_with "Owen base for the supplement's net" "applies to --arch graph only" "$nuld" train --base owen --target quarterdisc --n 8 --steps 2 -q -o "$dir/x.nuldnet"
 fails_with "graph option without --arch graph" "applies to --arch graph only" "$nuld" train --target quarterdisc --n 8 --steps 2 --stages 2 -q -o "$dir/x.nuldnet"
 # The periodic objective and shifted mapping.

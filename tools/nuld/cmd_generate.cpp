@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <iostream>
 
 #include "sampler/bluenoise/blue_noise_sets.h"
@@ -20,9 +21,18 @@ int generateFromModel(const Options &o) {
         "generate: --model makes sets for the model's own target; "
         "drop --target");
   const NeuralGenerator gen = NeuralGenerator::load(o.model);
-  if (o.n != 0 && o.n != gen.settings().n)
-    throw std::invalid_argument("generate: --n " + std::to_string(o.n) + " but " + o.model +
-                                " makes sets of " + std::to_string(gen.settings().n));
+  const std::size_t n = o.n != 0 ? o.n : gen.settings().n;
+  try {
+    gen.checkSize(n);
+  } catch (const std::invalid_argument &e) {
+    throw std::invalid_argument("generate: --n " + std::to_string(n) + ": " + o.model + ": " +
+                                e.what());
+  }
+  const std::vector<std::size_t> trained = gen.settings().sizesTrained();
+  if (std::find(trained.begin(), trained.end(), n) == trained.end() && !o.quiet)
+    std::cerr << "note: " << o.model << " was trained at N = "
+              << gen.metadata().at(trained.size() > 1 ? "training_n" : "n") << "; sets of " << n
+              << " points extrapolate\n";
   std::vector<double> gamma;
   if (!o.gamma.empty())
     gamma = parseNumberList("--gamma " + o.gamma, o.gamma, 0, 64, "numbers in [0, 1]");
@@ -30,7 +40,7 @@ int generateFromModel(const Options &o) {
     throw std::invalid_argument("generate: " + o.model + " (" + gen.family().spec() + ") needs " +
                                 std::to_string(gen.gammaDimension()) + " --gamma values, got " +
                                 std::to_string(gamma.size()));
-  PointSet set = gen.generateSets(o.instances, o.seed, gamma);
+  PointSet set = gen.generateSets(o.instances, o.seed, gamma, n);
   set.metadata["generator"] = "neural:" + o.model;
   set.metadata["target"] = gen.family().target(gamma)->spec();
   set.metadata["domain"] = toString(gen.domain());
@@ -119,7 +129,9 @@ Runner addGenerate(CLI::App &app) {
   app.add_option("--scramble", o->scramble, "owen, shift (digital), cp (Cranley-Patterson) or none")
       ->check(CLI::IsMember({"owen", "shift", "cp", "none"}))
       ->capture_default_str();
-  app.add_option("--n", o->n, "points per set (any N >= 1; required unless --model)")
+  app.add_option("--n", o->n,
+                 "points per set (any N >= 1; required unless --model; a graph model makes "
+                 "any N, its training size by default)")
       ->check(CLI::PositiveNumber);
   app.add_option("--model", o->model,
                  "a trained neural generator: K sets for K random offsets z (from --seed)");

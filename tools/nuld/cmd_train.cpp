@@ -7,6 +7,7 @@
 
 #include "sampler/io/atomic_file.h"
 #include "sampler/neural/neural_trainer.h"
+#include "sampler/targets/target_spec.h"
 #include "tools/nuld/cli_util.h"
 #include "tools/nuld/commands.h"
 #include "tools/nuld/progress.h"
@@ -45,7 +46,7 @@ Runner addTrain(CLI::App &app) {
     NeuralSettings net;
     TrainerSettings train;
     long checkpointEvery = 0, stopAfter = -1;
-    std::string keep = "best";
+    std::string keep = "best", sizes;
     bool resume = false, quiet = false;
   };
   auto o = std::make_shared<Options>();
@@ -53,7 +54,10 @@ Runner addTrain(CLI::App &app) {
                  "target SPEC (z is the only input) or family:gaussian|bilinear|disney[:ARGS] "
                  "(gamma drawn per batch entry)")
       ->required();
-  app.add_option("--n", o->net.n, "points per set")->required()->check(CLI::PositiveNumber);
+  app.add_option("--n", o->sizes,
+                 "points per set; graph: several sizes as N1,N2,... (one per step in turn; the "
+                 "first is the model's default)")
+      ->required();
   app.add_option("--arch", o->arch,
                  "supplement (the paper's MLP of z and gamma) or graph (ours: per-point message "
                  "passing over the base set's nearest neighbours; see README)")
@@ -140,6 +144,14 @@ Runner addTrain(CLI::App &app) {
                                     "--discrepancy-gradient", "--base"})
         if (app.count(graphOnly))
           throw std::invalid_argument(std::string(graphOnly) + " applies to --arch graph only");
+    ns.trainingNs = parseSizeList("--n", o->sizes);
+    ns.n = ns.trainingNs.front();
+    if (ns.trainingNs.size() == 1)
+      ns.trainingNs.clear();  // one size: the file records n alone, as before
+    else if (ns.arch != NetworkArch::Graph)
+      throw std::invalid_argument("--n " + o->sizes +
+                                  ": several sizes need --arch graph (the supplement's network "
+                                  "emits a fixed N)");
     ns.family = o->target;
     ns.mapped = o->mapping == "mapped";
     TrainerSettings ts = o->train;
@@ -157,8 +169,10 @@ Runner addTrain(CLI::App &app) {
     }
     if (!o->quiet)
       std::cerr << "train " << gen.family().spec() << ": arch=" << toString(ns.arch)
-                << " n=" << ns.n << " hidden=" << ns.hidden
-                << " parameters=" << gen.parameterCount() << " " << ts.describe() << "\n";
+                << " n=" << gen.metadata().at("n")
+                << (ns.trainingNs.empty() ? "" : " training_n=" + gen.metadata().at("training_n"))
+                << " hidden=" << ns.hidden << " parameters=" << gen.parameterCount() << " "
+                << ts.describe() << "\n";
     const long every = o->checkpointEvery > 0 ? o->checkpointEvery : std::max(1, ts.steps / 20);
     const int until = o->stopAfter >= 0 ? int(std::min<long>(o->stopAfter, ts.steps)) : ts.steps;
     const bool validating = ts.validationSets > 0;

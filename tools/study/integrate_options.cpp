@@ -8,6 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "sampler/targets/target_spec.h"
 #include "scenes/default_scene.h"
 #include "tools/study/integrate_internal.h"
 #include "tools/study/integration_study.h"
@@ -53,29 +54,7 @@ std::vector<std::string> splitList(const std::string &text) {
   return out;
 }
 
-std::vector<std::size_t> parseNList(const std::string &text) {
-  const auto bad = [&](const std::string &why) {
-    return std::invalid_argument("--n '" + text + "': " + why +
-                                 " (expected positive integers separated by commas, e.g. "
-                                 "16,32,64)");
-  };
-  std::vector<std::size_t> out;
-  std::stringstream in(text);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    const auto b = item.find_first_not_of(" \t"), e = item.find_last_not_of(" \t");
-    if (b == std::string::npos) throw bad("empty item");
-    item = item.substr(b, e - b + 1);
-    if (item.find_first_not_of("0123456789") != std::string::npos)
-      throw bad("'" + item + "' is not a positive integer");
-    if (item.size() > 9) throw bad("'" + item + "' is too large");
-    const std::size_t n = std::stoul(item);
-    if (n == 0) throw bad("N must be at least 1");
-    if (std::find(out.begin(), out.end(), n) == out.end()) out.push_back(n);
-  }
-  if (out.empty() || (!text.empty() && text.back() == ',')) throw bad("empty item");
-  return out;
-}
+std::vector<std::size_t> parseNList(const std::string &text) { return parseSizeList("--n", text); }
 
 std::vector<SamplerChoice> parseSamplers(const std::vector<std::string> &tokens,
                                          const std::vector<std::string> &models) {

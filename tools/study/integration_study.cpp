@@ -199,11 +199,12 @@ class StudyRunner {
     return m;
   }
 
-  Measurement neural(const Integrand &in, const SamplerChoice &s, const NeuralModel &model) const {
+  Measurement neural(const Integrand &in, const SamplerChoice &s, const NeuralModel &model,
+                     std::size_t n) const {
     const std::size_t K = o_.optimizedInstances;
     const auto start = Clock::now();
-    const PointSet sets = model.generator->generateSets(
-        K, seedFor(in, s, model.generator->settings().n), model.gammaFor.at(in.name));
+    const PointSet sets =
+        model.generator->generateSets(K, seedFor(in, s, n), model.gammaFor.at(in.name), n);
     Measurement m;
     m.genSeconds = secondsSince(start) / double(K);
     for (std::size_t k = 0; k < K; ++k)
@@ -291,7 +292,13 @@ IntegrateSummary runIntegrateStudy(const IntegrateOptions &o, const IntegrateHoo
       if (s.lobes && !in.lobeContribution) continue;
       if (s.kind == SamplerChoice::Kind::Neural) {
         const NeuralModel &m = models.at(s.name);
-        if (m.gammaFor.count(in.name)) tasks.push_back({&in, &s, m.generator->settings().n});
+        // A graph model makes sets of every N asked for; the supplement's its own N.
+        if (m.gammaFor.count(in.name)) {
+          if (m.generator->anySize())
+            for (std::size_t n : o.ns) tasks.push_back({&in, &s, n});
+          else
+            tasks.push_back({&in, &s, m.generator->settings().n});
+        }
         continue;
       }
       for (std::size_t n : o.ns)
@@ -322,7 +329,7 @@ IntegrateSummary runIntegrateStudy(const IntegrateOptions &o, const IntegrateHoo
         K = o.optimizedInstances;
         break;
       case SamplerChoice::Kind::Neural:
-        m = runner.neural(*t.in, *t.s, models.at(t.s->name));
+        m = runner.neural(*t.in, *t.s, models.at(t.s->name), t.n);
         K = o.optimizedInstances;
         break;
       case SamplerChoice::Kind::BlueNoise:
