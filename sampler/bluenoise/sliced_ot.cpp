@@ -35,7 +35,83 @@ double trapezoidPartialMean(double a, double b, double u) {
   return atB + (antiderivative(u) - antiderivative(b)) / (a * b);
 }
 
+// The uniform disc of radius R centred at 0, projected on any direction:
+// its CDF and the first moment below t, int_-R^t s f(s) ds.
+constexpr double kDiscRadius = 0.5;
+double discProjectionCdf(double t) {
+  const double R = kDiscRadius;
+  t = std::clamp(t, -R, R);
+  return 0.5 +
+         (t * std::sqrt(R * R - t * t) + R * R * std::asin(t / R)) / (std::numbers::pi * R * R);
+}
+double discPartialMean(double t) {
+  const double R = kDiscRadius;
+  t = std::clamp(t, -R, R);
+  return -2 / (3 * std::numbers::pi * R * R) * std::pow(R * R - t * t, 1.5);
+}
+// The quantile by bisection: the CDF is increasing and cheap, and 64 halvings
+// of [-R, R] reach double precision.
+double discProjectionQuantile(double p) {
+  double lo = -kDiscRadius, hi = kDiscRadius;
+  for (int i = 0; i < 64; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (discProjectionCdf(mid) < p ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
 }  // namespace
+
+UniformSotDomain parseUniformSotDomain(const std::string &name) {
+  if (name == "disc") return UniformSotDomain::Disc;
+  if (name == "square") return UniformSotDomain::Square;
+  throw std::invalid_argument("unknown uniform domain '" + name + "': expected disc or square");
+}
+
+std::string toString(UniformSotDomain domain) {
+  return domain == UniformSotDomain::Disc ? "disc" : "square";
+}
+
+void uniformDiscSlabMeans(std::span<double> out) {
+  const std::size_t n = out.size();
+  double below = 0;  // the first moment below the slab's lower end
+  for (std::size_t k = 0; k < n; ++k) {
+    const double upper =
+        k + 1 == n ? kDiscRadius : discProjectionQuantile(double(k + 1) / double(n));
+    const double g = discPartialMean(upper);
+    out[k] = (g - below) * double(n);
+    below = g;
+  }
+}
+
+Point2 squareToDisc(Point2 u) {
+  const double a = 2 * u.x - 1, b = 2 * u.y - 1;
+  if (a == 0 && b == 0) return {0.5, 0.5};
+  constexpr double quarter = std::numbers::pi / 4;
+  const bool wide = std::abs(a) > std::abs(b);
+  const double r = wide ? a : b, phi = wide ? quarter * (b / a) : 2 * quarter - quarter * (a / b);
+  return {0.5 + kDiscRadius * r * std::cos(phi), 0.5 + kDiscRadius * r * std::sin(phi)};
+}
+
+Point2 discToSquare(Point2 p) {
+  const double x = (p.x - 0.5) / kDiscRadius, y = (p.y - 0.5) / kDiscRadius;
+  const double r = std::min(std::hypot(x, y), 1.0);
+  constexpr double quarter = std::numbers::pi / 4;
+  double phi = std::atan2(y, x);
+  if (phi < -quarter) phi += 8 * quarter;  // [-pi/4, 7 pi/4): the four wedges in turn
+  double a, b;
+  if (phi < quarter) {  // right: a = r
+    a = r, b = r * phi / quarter;
+  } else if (phi < 3 * quarter) {  // top: b = r
+    b = r, a = r * (2 * quarter - phi) / quarter;
+  } else if (phi < 5 * quarter) {  // left: a = -r
+    a = -r, b = -r * (phi - 4 * quarter) / quarter;
+  } else {  // bottom: b = -r
+    b = -r, a = -r * (6 * quarter - phi) / quarter;
+  }
+  const double below1 = std::nextafter(1.0, 0.0);
+  return {std::clamp((a + 1) / 2, 0.0, below1), std::clamp((b + 1) / 2, 0.0, below1)};
+}
 
 std::size_t SlicedOtSettings::samplesFor(std::size_t n) const {
   return targetSamples > 0 ? targetSamples : std::max<std::size_t>(64 * n, 16384);
@@ -45,7 +121,8 @@ std::string SlicedOtSettings::describe() const {
   std::ostringstream s;
   s.precision(17);
   s << "iterations=" << iterations << " slices=" << slices << " step=" << step
-    << " target_samples=" << targetSamples << " seed=" << seed;
+    << " target_samples=" << targetSamples << " seed=" << seed
+    << " uniform_domain=" << toString(uniformDomain);
   return s.str();
 }
 
@@ -74,9 +151,15 @@ void uniformProjectionSlabMeans(Point2 theta, std::span<double> out) {
 
 SliceDestinations::SliceDestinations(const Target &target, const SlicedOtSettings &settings,
                                      std::size_t n)
-    : uniform_(target.isUniform()), n_(n) {
+    : uniform_(target.isUniform()),
+      disc_(uniform_ && settings.uniformDomain == UniformSotDomain::Disc),
+      n_(n) {
   settings.validate();
   if (n == 0) throw std::invalid_argument("sot: a set needs at least one point");
+  if (disc_) {
+    table_.resize(n);
+    uniformDiscSlabMeans(table_);
+  }
   if (uniform_) return;
   const std::vector<Point2> sample =
       stratifiedTargetSample(target, settings.samplesFor(n), hash3(settings.seed, 0x50715A, n));
@@ -103,6 +186,12 @@ SliceDestinations::SliceDestinations(const Target &target, const SlicedOtSetting
 }
 
 void SliceDestinations::along(Point2 theta, std::span<double> out) const {
+  if (disc_) {
+    // The disc's centre (1/2, 1/2) projects to (theta.x + theta.y) / 2.
+    const double centre = 0.5 * (theta.x + theta.y);
+    for (std::size_t k = 0; k < n_; ++k) out[k] = centre + table_[k];
+    return;
+  }
   if (uniform_) return uniformProjectionSlabMeans(theta, out);
   // Directions a half-turn apart see the same projections negated, in
   // reverse order: row D is row 0 mirrored.
@@ -138,6 +227,9 @@ void slicedOtTransport(const SliceDestinations &destinations, const SlicedOtSett
   std::vector<double> projection(n), goal(n);
   std::vector<std::size_t> order(n);
   std::vector<Point2> displacement(n);
+  const bool disc = destinations.inDisc();
+  if (disc)
+    for (Point2 &p : points) p = squareToDisc(p);
   Rng rng(settings.seed, hash3(0x5107, instance, 0));
   for (int it = 0; it < settings.iterations; ++it) {
     std::fill(displacement.begin(), displacement.end(), Point2{0, 0});
@@ -158,12 +250,21 @@ void slicedOtTransport(const SliceDestinations &destinations, const SlicedOtSett
     const double scale = settings.step / settings.slices;
     for (std::size_t i = 0; i < n; ++i) {
       const Point2 p = points[i] + scale * displacement[i];
+      if (disc) {
+        // Back onto the disc's edge along the ray from its centre.
+        const Point2 d = p - Point2{0.5, 0.5};
+        const double r = std::hypot(d.x, d.y);
+        points[i] = r > kDiscRadius ? Point2{0.5, 0.5} + (kDiscRadius / r) * d : p;
+        continue;
+      }
       // Inside the square: the largest double below 1 bounds it above.
       points[i] = {std::clamp(p.x, 0.0, std::nextafter(1.0, 0.0)),
                    std::clamp(p.y, 0.0, std::nextafter(1.0, 0.0))};
     }
     if (progress) progress(it + 1);
   }
+  if (disc)
+    for (Point2 &p : points) p = discToSquare(p);
 }
 
 }  // namespace nuld

@@ -31,6 +31,9 @@ ok "generate sot" "$nuld" generate --sequence sot --n 37 --iterations 20 --targe
 ok "generate gbn-mapped" "$nuld" generate --sequence gbn-mapped --n 37 --iterations 20 --target quarterdisc -q -o "$dir/gbn.txt"
 ok "generate gbn toroidal" "$nuld" generate --sequence gbn --boundary toroidal --n 16 --iterations 5 --instances 2 -q -o "$dir/gbnt.txt"
 ok "eval sot" "$nuld" eval "$dir/sot.txt" --target quarterdisc
+ok "generate sot in the square" "$nuld" generate --sequence sot --uniform-domain square --n 20 --iterations 10 -q -o "$dir/sotsq.txt"
+grep -q "uniform_domain=square" "$dir/sotsq.txt" || { echo "FAIL: sot records its uniform domain"; failures=$((failures + 1)); }
+fails_with "uniform domain without sot" "applies to --sequence sot" "$nuld" generate --sequence gbn --uniform-domain disc --n 4 -o "$dir/x.txt"
 fails_with "sigma without gbn" "applies to --sequence gbn" "$nuld" generate --sequence sot --sigma 2 --n 4 -o "$dir/x.txt"
 fails_with "iterations without blue noise" "applies to the blue-noise" "$nuld" generate --iterations 3 --n 4 -o "$dir/x.txt"
 fails_with "toroidal gbn for a target" "toroidal variant is for the uniform" "$nuld" generate --sequence gbn --boundary toroidal --target quarterdisc --n 4 -o "$dir/x.txt"

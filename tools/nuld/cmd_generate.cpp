@@ -66,13 +66,16 @@ int generateBlueNoise(const Options &o, const CLI::App &app) {
     if (sliced && app.count(gbnOnly))
       throw std::invalid_argument(std::string("generate: ") + gbnOnly +
                                   " applies to --sequence gbn or gbn-mapped only");
-  if (!sliced && app.count("--slices"))
-    throw std::invalid_argument("generate: --slices applies to --sequence sot or sot-mapped only");
+  for (const char *sotOnly : {"--slices", "--uniform-domain"})
+    if (!sliced && app.count(sotOnly))
+      throw std::invalid_argument(std::string("generate: ") + sotOnly +
+                                  " applies to --sequence sot or sot-mapped only");
   // Given values replace each method's own defaults.
   if (app.count("--iterations")) request.sot.iterations = request.gbn.iterations = o.iterations;
   if (app.count("--step")) request.sot.step = request.gbn.step = o.step;
   request.sot.targetSamples = request.gbn.targetSamples = o.targetSamples;
   request.sot.slices = o.slices;
+  request.sot.uniformDomain = parseUniformSotDomain(o.uniformDomain);
   request.gbn.sigma = o.sigma;
   request.gbn.boundary =
       o.boundary == "toroidal" ? BlueNoiseBoundary::Toroidal : BlueNoiseBoundary::Bounded;
@@ -99,7 +102,7 @@ Runner addGenerate(CLI::App &app) {
     int iterations = 0, slices = SlicedOtSettings{}.slices;
     double step = 0, sigma = GaussianBlueNoiseSettings{}.sigma;
     std::size_t targetSamples = 0;
-    std::string boundary = "bounded";
+    std::string boundary = "bounded", uniformDomain = "disc";
     bool quiet = false;
   };
   auto o = std::make_shared<Options>();
@@ -121,6 +124,12 @@ Runner addGenerate(CLI::App &app) {
                  "gbn, uniform target: bounded (the square's edges attract as the missing "
                  "neighbours beyond them would) or toroidal")
       ->check(CLI::IsMember({"bounded", "toroidal"}))
+      ->capture_default_str();
+  app.add_option("--uniform-domain", o->uniformDomain,
+                 "sot, uniform sets (sot on the uniform target, sot-mapped): transported in the "
+                 "inscribed disc and mapped to the square area-preservingly, as the authors do, "
+                 "or in the square itself")
+      ->check(CLI::IsMember({"disc", "square"}))
       ->capture_default_str();
   app.add_option("--target-samples", o->targetSamples,
                  "sot, gbn: size of the target's stratified sample (default max(64 N, 16384) "
@@ -147,8 +156,8 @@ Runner addGenerate(CLI::App &app) {
   return [o, &app] {
     const bool blueNoise = o->sequence.rfind("sot", 0) == 0 || o->sequence.rfind("gbn", 0) == 0;
     if (!blueNoise)
-      for (const char *only :
-           {"--iterations", "--slices", "--step", "--target-samples", "--sigma", "--boundary"})
+      for (const char *only : {"--iterations", "--slices", "--step", "--target-samples", "--sigma",
+                               "--boundary", "--uniform-domain"})
         if (app.count(only))
           throw std::invalid_argument(std::string("generate: ") + only +
                                       " applies to the blue-noise sequences (sot, gbn) only");
