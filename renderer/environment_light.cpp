@@ -45,8 +45,8 @@ Vec3 tiltUp(Vec3 v, Vec3 up) {
 }  // namespace
 
 EnvironmentLight::EnvironmentLight(Image latlong, double scale, double rotationDegrees,
-                                   std::string source, Vec3 up)
-    : source_(std::move(source)) {
+                                   std::string source, Vec3 up, PixelWeight weight)
+    : weight_(weight), source_(std::move(source)) {
   if (!isFinite(up) || !(length(up) > 0))
     throw std::invalid_argument(source_ +
                                 ": the environment's up direction must be a finite, "
@@ -65,21 +65,21 @@ EnvironmentLight::EnvironmentLight(Image latlong, double scale, double rotationD
   for (float v : image.pixels) black = black && v == 0;
   // A black map emits nothing and has nothing to sample: no target.
   if (black) return;
-  target_ = makeEnvmapTarget(image, source_);
+  target_ = makeEnvmapTarget(image, source_, weight_);
   reserveLargeTable(texels_, std::size_t(width_) * height_);
   texels_.resize(std::size_t(width_) * height_);
-  // The target's density is the luminance (clamped at 0, which the radiance
-  // already is) normalized: its ratio to the luminance is the same in every
+  // The target's density is the weight (clamped at 0, which the radiance
+  // already is) normalized: its ratio to the weight is the same in every
   // cell, read here from the brightest one.
   double brightest = 0;
   for (int j = 0; j < height_; ++j)
     for (int i = 0; i < width_; ++i) {
       Texel &t = texels_[std::size_t(j) * width_ + i];
       t = {{image.at(i, j, 0), image.at(i, j, 1), image.at(i, j, 2)}};
-      const double lum = rgbOf(t).luminance();
-      if (lum > brightest) {
-        brightest = lum;
-        pdfPerLuminance_ = target_->cellDensity(i, j) * kInvFourPi / lum;
+      const double w = pixelWeight(t.rgb[0], t.rgb[1], t.rgb[2], weight_);
+      if (w > brightest) {
+        brightest = w;
+        pdfPerWeight_ = target_->cellDensity(i, j) * kInvFourPi / w;
       }
     }
 }

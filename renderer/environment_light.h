@@ -10,9 +10,11 @@
 // Sampling is the sampler module's `envmap:` target: the map's luminance as a
 // piecewise-constant density whose rows are re-gridded to the equal-area v,
 // which is exactly pbrt's luminance x sin(theta) distribution with sin(theta)
-// integrated over each row. Because the light samples *through the target*, a
-// backend may hand over points already distributed by that target (optimized
-// or neural sets) and the light uses them with the same pdf.
+// integrated over each row; or, with PixelWeight::ChannelMean, its
+// `envmap-mean:` target, the channels' mean in place of the luminance
+// (pbrt-v4's and Cycles' choice: lower variance under coloured light). Because the light samples
+// *through the target*, a backend may hand over points already distributed by that target
+// (optimized or neural sets) and the light uses them with the same pdf.
 
 #include <memory>
 #include <optional>
@@ -24,6 +26,7 @@
 #include "materials/vec3.h"
 #include "sampler/io/image_io.h"
 #include "sampler/targets/grid_target.h"
+#include "sampler/targets/image_targets.h"
 
 namespace nuld {
 
@@ -37,7 +40,7 @@ class EnvironmentLight {
  public:
   // `source` names the map in errors and in the target's spec (envmap:SOURCE).
   EnvironmentLight(Image latlong, double scale, double rotationDegrees, std::string source,
-                   Vec3 up = {0, 1, 0});
+                   Vec3 up = {0, 1, 0}, PixelWeight weight = PixelWeight::Luminance);
 
   Rgb radiance(Vec3 worldDirection) const;
   // Density per unit solid angle of sampleTarget() / sample(); 0 for a black map.
@@ -79,21 +82,24 @@ class EnvironmentLight {
   // 1024 x 512 map is 6 MiB. Random directions read all of it, and the
   // smaller it is the more of it stays in cache: escaping rays and light
   // samples spent much of their time waiting for these reads. The pdf is
-  // not stored: the target's density is the radiance's luminance over a
-  // constant, so pdfOf() recomputes it (to a few ulps of the target's
-  // cellDensity(), and identically for radiance() and sample()).
+  // not stored: the target's density is the radiance's weight (luminance or
+  // channel mean) over a constant, so pdfOf() recomputes it (to a few ulps of
+  // the target's cellDensity(), and identically for radiance() and sample()).
   struct Texel {
     float rgb[3];
   };
   static_assert(sizeof(Texel) == 12);
   const Texel &texel(GridTarget::Cell c) const { return texels_[std::size_t(c.j) * width_ + c.i]; }
   static Rgb rgbOf(const Texel &t) { return {t.rgb[0], t.rgb[1], t.rgb[2]}; }
-  double pdfOf(const Rgb &radiance) const { return radiance.luminance() * pdfPerLuminance_; }
+  double pdfOf(const Rgb &radiance) const {
+    return pixelWeight(radiance.r, radiance.g, radiance.b, weight_) * pdfPerWeight_;
+  }
   std::optional<LightSample> sampleCell(Point2 x, GridTarget::Cell c) const;
 
   int width_, height_;
-  std::vector<Texel> texels_;   // row-major; empty for a black map
-  double pdfPerLuminance_ = 0;  // solid-angle pdf of a cell / its luminance
+  std::vector<Texel> texels_;  // row-major; empty for a black map
+  PixelWeight weight_;
+  double pdfPerWeight_ = 0;  // solid-angle pdf of a cell / its weight
   std::unique_ptr<GridTarget> target_;
   double cosRot_, sinRot_;  // the turn about the map's zenith
   bool tilted_;             // up is not +Y: tilt_ applies

@@ -168,7 +168,7 @@ LoadedScene loadScene(const std::string &path, const std::string &assetRoot) {
 
   if (root.has("environment")) {
     const JsonReader env = root["environment"];
-    env.allowOnly({"file", "scale", "rotation", "up"});
+    env.allowOnly({"file", "scale", "rotation", "up", "importance"});
     const std::string file = assetPath(assetRoot, env["file"].string());
     if (!fs::exists(file))
       throw std::runtime_error(path + ": field 'environment.file': '" + file +
@@ -178,8 +178,16 @@ LoadedScene loadScene(const std::string &path, const std::string &assetRoot) {
       up = env["up"].vec3();
       if (!(length(up) > 0)) env["up"].fail("a non-zero direction (the map's zenith in the world)");
     }
+    PixelWeight weight = PixelWeight::Luminance;
+    if (env.has("importance")) {
+      const std::string w = env["importance"].string();
+      if (w == "mean")
+        weight = PixelWeight::ChannelMean;
+      else if (w != "luminance")
+        env["importance"].fail("luminance or mean (how a pixel's colour weighs its sampling)");
+    }
     out.scene.environment.emplace(readImage(file), env.number("scale", 1.0, 0, 1e12),
-                                  env.number("rotation", 0.0), file, up);
+                                  env.number("rotation", 0.0), file, up, weight);
   }
   return out;
 }

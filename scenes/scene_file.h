@@ -11,7 +11,7 @@
 //     "render":      {"spp": 64, "integrator": "path", "max_depth": 5,
 //                     "backend": "sobol", "seed": 0},
 //     "environment": {"file": "envmaps/grace_latlong.exr", "scale": 1, "rotation": 0,
-//                     "up": [0,1,0]},
+//                     "up": [0,1,0], "importance": "luminance"},
 //     "materials":   {"OuterMat": {"type": "disney", "base_color": [.9,.9,.9],
 //                                  "metallic": 1, "roughness": .2}, ...},
 //     "meshes":      [{"file": "lte_orb/lte_orb.glb", "skip": ["Material"]},
@@ -26,7 +26,9 @@
 // none of these the loader stops and names the mesh. The environment's
 // "rotation" turns the map about its zenith (degrees) and "up" is the world
 // direction of its zenith (row 0; renderer/environment_light.h): a map stored
-// upside down takes [0,-1,0]. A scene builds only what
+// upside down takes [0,-1,0]. "importance" weighs a texel's sampling
+// density by its luminance (the default, the supplement's target) or by the
+// mean of its channels ("mean"). A scene builds only what
 // it uses: unused materials are never instantiated, and without an
 // "environment" no map is read.
 

@@ -11,7 +11,22 @@ namespace {
 // probability; it is clamped to zero rather than rejected.
 double densityOf(const Image &img, int x, int y) { return std::max(0.0, img.luminance(x, y)); }
 
+double densityOf(const Image &img, int x, int y, PixelWeight weight) {
+  if (weight == PixelWeight::Luminance || img.channels < 3) return densityOf(img, x, y);
+  return pixelWeight(img.at(x, y, 0), img.at(x, y, 1), img.at(x, y, 2), weight);
+}
+
 }  // namespace
+
+double pixelWeight(double r, double g, double b, PixelWeight weight) {
+  const double w =
+      weight == PixelWeight::Luminance ? 0.2126 * r + 0.7152 * g + 0.0722 * b : (r + g + b) / 3;
+  return std::max(0.0, w);
+}
+
+const char *envmapFamily(PixelWeight weight) {
+  return weight == PixelWeight::Luminance ? "envmap" : "envmap-mean";
+}
 
 std::unique_ptr<GridTarget> makeImageTarget(const Image &image, const std::string &source) {
   const int W = image.width, H = image.height;
@@ -22,7 +37,8 @@ std::unique_ptr<GridTarget> makeImageTarget(const Image &image, const std::strin
                                       density, "image:" + source, Domain::Square, source);
 }
 
-std::unique_ptr<GridTarget> makeEnvmapTarget(const Image &latlong, const std::string &source) {
+std::unique_ptr<GridTarget> makeEnvmapTarget(const Image &latlong, const std::string &source,
+                                             PixelWeight weight) {
   const int W = latlong.width, H = latlong.height;
   std::vector<double> yEdges(H + 1);
   for (int j = 0; j <= H; ++j) yEdges[j] = 0.5 * (1 - std::cos(std::numbers::pi * j / H));
@@ -30,17 +46,18 @@ std::unique_ptr<GridTarget> makeEnvmapTarget(const Image &latlong, const std::st
   yEdges.back() = 1.0;
   std::vector<double> density(std::size_t(W) * H);
   for (int j = 0; j < H; ++j)
-    for (int i = 0; i < W; ++i) density[std::size_t(j) * W + i] = densityOf(latlong, i, j);
+    for (int i = 0; i < W; ++i) density[std::size_t(j) * W + i] = densityOf(latlong, i, j, weight);
   return std::make_unique<GridTarget>(GridTarget::uniformEdges(W), std::move(yEdges), density,
-                                      "envmap:" + source, Domain::Sphere, source);
+                                      std::string(envmapFamily(weight)) + ":" + source,
+                                      Domain::Sphere, source);
 }
 
 std::unique_ptr<GridTarget> loadImageTarget(const std::string &path) {
   return makeImageTarget(readImage(path), path);
 }
 
-std::unique_ptr<GridTarget> loadEnvmapTarget(const std::string &path) {
-  return makeEnvmapTarget(readImage(path), path);
+std::unique_ptr<GridTarget> loadEnvmapTarget(const std::string &path, PixelWeight weight) {
+  return makeEnvmapTarget(readImage(path), path, weight);
 }
 
 }  // namespace nuld

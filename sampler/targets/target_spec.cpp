@@ -87,12 +87,13 @@ std::unique_ptr<Target> makeTarget(const std::string &spec) {
     if (what.rfind("target '", 0) == 0) throw;
     throw std::invalid_argument("target '" + spec + "': " + what);
   }
-  if (family == "image" || family == "envmap") {
+  if (family == "image" || family == "envmap" || family == "envmap-mean") {
     if (args.empty())
       throw std::invalid_argument("target '" + spec + "': expected a file path after '" + family +
                                   ":'");
-    return family == "image" ? std::unique_ptr<Target>(loadImageTarget(args))
-                             : std::unique_ptr<Target>(loadEnvmapTarget(args));
+    if (family == "image") return loadImageTarget(args);
+    return loadEnvmapTarget(args,
+                            family == "envmap" ? PixelWeight::Luminance : PixelWeight::ChannelMean);
   }
   TargetFactory factory;
   {
@@ -101,7 +102,7 @@ std::unique_ptr<Target> makeTarget(const std::string &spec) {
     if (it != registry().end()) factory = it->second;
   }
   if (factory) return factory(args);
-  std::string known = "uniform, bilinear, gaussian, quarterdisc, step, image, envmap";
+  std::string known = "uniform, bilinear, gaussian, quarterdisc, step, image, envmap, envmap-mean";
   {
     std::lock_guard lock(registryMutex());
     for (const auto &[name, f] : registry()) known += ", " + name;

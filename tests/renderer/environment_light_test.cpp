@@ -127,6 +127,31 @@ TEST(EnvironmentLight, SamplingFollowsPdfChiSquare) {
   chiSquareLight(EnvironmentLight(readImage(probePath()), 1.0, 0.0, probePath()), "grace probe");
 }
 
+// Weighted by the channels' mean (pbrt-v4's and Cycles' choice), a red and a
+// blue pixel of one row are equally likely; by luminance, the red one is
+// 0.2126 / 0.0722 times more. The pdf still integrates to one, sampling
+// follows it, and the target says which weighting it is.
+TEST(EnvironmentLight, ChannelMeanWeightsPixelsByTheirChannelMean) {
+  Image map{4, 2, 3, std::vector<float>(4 * 2 * 3, 0.0f)};
+  map.at(0, 0, 0) = 1;  // red
+  map.at(2, 0, 2) = 1;  // blue, the same row
+  map.at(1, 1, 1) = 0.5;
+  const EnvironmentLight mean(map, 1.0, 0.0, "rgb", {0, 1, 0}, PixelWeight::ChannelMean);
+  const EnvironmentLight luminance(map, 1.0, 0.0, "rgb");
+  EXPECT_NEAR(pixelPdf(mean, 0, 0) / pixelPdf(mean, 2, 0), 1.0, 1e-12);
+  EXPECT_NEAR(pixelPdf(luminance, 0, 0) / pixelPdf(luminance, 2, 0), 0.2126 / 0.0722, 1e-9);
+  EXPECT_EQ(mean.target()->spec(), "envmap-mean:rgb");
+  EXPECT_EQ(luminance.target()->spec(), "envmap:rgb");
+  const EnvironmentLight random(randomMap(64, 32, 2), 1.0, 25.0, "random", {0, 1, 0},
+                                PixelWeight::ChannelMean);
+  double sum = 0;
+  for (int y = 0; y < random.height(); ++y)
+    for (int x = 0; x < random.width(); ++x)
+      sum += pixelPdf(random, x, y) * pixelSolidAngle(y, random.width(), random.height());
+  EXPECT_NEAR(sum, 1.0, 1e-9);
+  chiSquareLight(random, "random map, channel mean");
+}
+
 TEST(EnvironmentLight, SamplesNeverComeFromBlackRows) {
   const EnvironmentLight light(hardMap(), 1.0, 0.0, "hard");
   Rng rng(5);

@@ -111,6 +111,17 @@ TEST_F(SceneFileTest, BadInputGivesClearErrors) {
   expectError(valid("\"look_at\": [0, 0, 0]", "\"look_at\": [0, 2, 5]"), {"camera.look_at"});
   expectError(valid("\"shape\": \"sphere\"", "\"shape\": \"cube\""), {"meshes[1].shape"});
   expectError((dir_ / "nothing.json").string(), {"nothing.json", "cannot open"});
+  expectError(valid("\"scale\": 2", "\"scale\": 2, \"importance\": \"max\""),
+              {"environment.importance", "luminance or mean"});
+}
+
+// The map's importance weighting: luminance unless the file says mean.
+TEST_F(SceneFileTest, EnvironmentImportanceNamesItsTarget) {
+  const LoadedScene lum = loadScene(valid(), dir_.path().string());
+  EXPECT_EQ(lum.scene.environment->target()->spec().rfind("envmap:", 0), 0u);
+  const LoadedScene mean = loadScene(
+      valid("\"scale\": 2", "\"scale\": 2, \"importance\": \"mean\""), dir_.path().string());
+  EXPECT_EQ(mean.scene.environment->target()->spec().rfind("envmap-mean:", 0), 0u);
 }
 
 TEST(DefaultScene, BuildsWithoutFilesAndRendersFiniteValues) {
