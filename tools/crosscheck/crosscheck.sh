@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # Cross-checks nuld against Blender's Cycles on the scenes in scenes/ (README.md
-# here): renders each with both renderers at SPP samples and two seeds, and
-# prints per-channel mean ratios (nuld / Cycles), the pixel RMS of their
-# difference against what the seed-to-seed noise alone gives, and nuld's noise
-# over Cycles'. Blender is an optional dependency: --install installs Debian's
-# package; nothing else in the project installs it.
-# Usage: tools/crosscheck/crosscheck.sh [--install] OUT [SPP] [SCENE.json...]
+# here): renders each with both renderers at SPP samples and SEEDS seeds
+# (default 2), and prints per-channel mean ratios (nuld / Cycles), the pixel
+# RMS of their difference against what the seed-to-seed noise alone gives,
+# and nuld's noise over Cycles' (overall, per channel, and its bootstrap 5-95 %
+# range over the seeds). Blender is an optional dependency: --install
+# installs Debian's package; nothing else in the project installs it.
+# Usage: [SEEDS=K] tools/crosscheck/crosscheck.sh [--install] OUT [SPP] [SCENE.json...]
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
@@ -22,12 +23,14 @@ command -v blender >/dev/null || { echo "crosscheck: blender not found; run with
 nuld=${NULD:-"$root/build/nuld"}
 [[ -x "$nuld" ]] || { echo "crosscheck: build nuld first (tools/build.sh) or set NULD" >&2; exit 1; }
 assets=${NULD_ASSETS:-"$root/../shared/assets"}
+seeds=${SEEDS:-2}  # renders per renderer and scene; more pin the noise ratio down
+[[ $seeds =~ ^[0-9]+$ && $seeds -ge 2 ]] || { echo "crosscheck: SEEDS must be an integer >= 2" >&2; exit 1; }
 mkdir -p "$out"
-echo "scene,nuld_r,nuld_g,nuld_b,cycles_r,cycles_g,cycles_b,ratio_r,ratio_g,ratio_b,rms_difference,rms_noise,noise_ratio,nuld_seconds,cycles_seconds"
+echo "scene,nuld_r,nuld_g,nuld_b,cycles_r,cycles_g,cycles_b,ratio_r,ratio_g,ratio_b,rms_difference,rms_noise,noise_ratio,noise_ratio_r,noise_ratio_g,noise_ratio_b,noise_ratio_5pct,noise_ratio_95pct,nuld_seconds,cycles_seconds"
 for scene in "${scenes[@]}"; do
   name=$(basename "$scene" .json)
   nsec=0 csec=0
-  for seed in 1 2; do
+  for seed in $(seq 1 "$seeds"); do
     t0=$(date +%s.%N)
     "$nuld" render "$scene" --assets "$assets" --spp "$spp" --seed "$seed" --backend sobol -q \
       -o "$out/${name}_nuld_$seed.exr" >/dev/null
@@ -38,9 +41,12 @@ for scene in "${scenes[@]}"; do
     t2=$(date +%s.%N)
     nsec=$(python3 -c "print($nsec + $t1 - $t0)") csec=$(python3 -c "print($csec + $t2 - $t1)")
   done
-  row=$(blender -b --factory-startup -P "$here/compare.py" -- "$name" \
-    "$out/${name}_nuld_1.exr" "$out/${name}_nuld_2.exr" "$out/${name}_cycles_1.exr" \
-    "$out/${name}_cycles_2.exr" 2>&1 | sed -n 's/^ROW,//p')
+  files=()
+  for r in nuld cycles; do
+    for seed in $(seq 1 "$seeds"); do files+=("$out/${name}_${r}_$seed.exr"); done
+  done
+  row=$(blender -b --factory-startup -P "$here/compare.py" -- "$name" "$seeds" "${files[@]}" 2>&1 |
+    sed -n 's/^ROW,//p')
   [[ -n "$row" ]] || { echo "crosscheck: comparing $name failed" >&2; exit 1; }
-  echo "$row,$(python3 -c "print('%.2f,%.2f' % ($nsec / 2, $csec / 2))")"
+  echo "$row,$(python3 -c "print('%.2f,%.2f' % ($nsec / $seeds, $csec / $seeds))")"
 done
