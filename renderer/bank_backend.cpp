@@ -10,22 +10,11 @@
 #include "sampler/sequences/rng.h"
 #include "sampler/sequences/scrambling.h"
 #include "sampler/targets/grid_target.h"
+#include "sampler/targets/target_spec.h"
 
 namespace nuld {
 
 namespace fs = std::filesystem;
-
-bool sameTarget(const std::string &a, const std::string &b) {
-  if (a == b) return true;
-  const auto colonA = a.find(':'), colonB = b.find(':');
-  if (colonA == std::string::npos || colonB == std::string::npos) return false;
-  const std::string familyA = a.substr(0, colonA), familyB = b.substr(0, colonB);
-  if (familyA != familyB || (familyA != "envmap" && familyA != "envmap-mean" && familyA != "image"))
-    return false;
-  std::error_code ec;
-  const fs::path pa = a.substr(colonA + 1), pb = b.substr(colonB + 1);
-  return fs::equivalent(pa, pb, ec) && !ec;
-}
 
 std::string SetBank::targetSpec() const {
   const auto it = sets.metadata.find("target");

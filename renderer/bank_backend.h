@@ -91,8 +91,4 @@ class BankBackend : public SamplerBackend {
   std::size_t n_ = 0;
 };
 
-// Whether two target specs name the same target: equal strings, or for
-// image:/envmap: the same file reached through different paths.
-bool sameTarget(const std::string &specA, const std::string &specB);
-
 }  // namespace nuld

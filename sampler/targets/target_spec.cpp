@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <mutex>
 #include <sstream>
@@ -132,6 +133,18 @@ std::vector<std::size_t> parseSizeList(const std::string &what, const std::strin
   }
   if (out.empty() || (!text.empty() && text.back() == ',')) throw bad("empty item");
   return out;
+}
+
+bool sameTarget(const std::string &a, const std::string &b) {
+  if (a == b) return true;
+  const auto colonA = a.find(':'), colonB = b.find(':');
+  if (colonA == std::string::npos || colonB == std::string::npos) return false;
+  const std::string familyA = a.substr(0, colonA), familyB = b.substr(0, colonB);
+  if (familyA != familyB || (familyA != "envmap" && familyA != "envmap-mean" && familyA != "image"))
+    return false;
+  std::error_code ec;
+  const std::filesystem::path pa = a.substr(colonA + 1), pb = b.substr(colonB + 1);
+  return std::filesystem::equivalent(pa, pb, ec) && !ec;
 }
 
 }  // namespace nuld

@@ -28,6 +28,11 @@ std::vector<double> parseNumberList(const std::string &spec, const std::string &
                                     std::size_t minCount, std::size_t maxCount,
                                     const std::string &expected);
 
+// Whether two target specs name the same target: equal strings, or for
+// image:, envmap: and envmap-mean: the same file reached through different
+// paths.
+bool sameTarget(const std::string &specA, const std::string &specB);
+
 // Parses set sizes "16,32,64" (positive, at most 9 digits each, duplicates
 // dropped, order kept); throws std::invalid_argument starting with `what`
 // (an option or a file's field) and saying what was expected.

@@ -213,6 +213,23 @@ TEST(TargetInput, ImageFileErrorsNameTheFile) {
   EXPECT_TRUE(contains(msg, blackPath)) << msg;
 }
 
+// Two specs name the same target when equal, or when an image or a map is
+// the same file reached through another path; never across families (an
+// envmap: and an envmap-mean: target of one file differ in density).
+TEST(TargetInput, SameTargetComparesFilesNotSpellings) {
+  TempDir dir;
+  writeImage(dir.file("sky.exr"), constantImage(4, 2, 1.0f));
+  const std::string direct = dir.file("sky.exr");
+  const std::string roundabout = (dir.path / "." / "sky.exr").string();
+  EXPECT_TRUE(sameTarget("quarterdisc", "quarterdisc"));
+  EXPECT_FALSE(sameTarget("quarterdisc", "uniform"));
+  for (const std::string family : {"image:", "envmap:", "envmap-mean:"})
+    EXPECT_TRUE(sameTarget(family + direct, family + roundabout)) << family;
+  EXPECT_FALSE(sameTarget("envmap:" + direct, "envmap-mean:" + roundabout));
+  EXPECT_FALSE(sameTarget("envmap:" + direct, "envmap:" + dir.file("other.exr")));
+  EXPECT_EQ(makeTarget("envmap-mean:" + direct)->spec(), "envmap-mean:" + direct);
+}
+
 TEST(TargetInput, HighDynamicRangeImage) {
   // One pixel at 1e6, the other 15 at 1: the hot pixel holds 1e6 / (1e6 + 15).
   TempDir dir;

@@ -12,13 +12,13 @@
 #include <memory>
 #include <stdexcept>
 
-#include "renderer/bank_backend.h"
 #include "sampler/bluenoise/blue_noise_sets.h"
 #include "sampler/io/pointset_io.h"
 #include "sampler/neural/neural_generator.h"
 #include "sampler/optimize/optimizer.h"
 #include "sampler/sequences/rng.h"
 #include "sampler/sequences/sequence.h"
+#include "sampler/targets/target_spec.h"
 #include "tools/study/integrate_internal.h"
 #include "tools/study/optimized_sets.h"
 #include "tools/study/stopwatch.h"
