@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sampler/io/image_io.h"
+
 namespace nuld {
 
 struct Rgb {
@@ -36,7 +38,7 @@ struct Rgb {
   friend Rgb operator/(Rgb a, double s) { return {a.r / s, a.g / s, a.b / s}; }
   friend bool operator==(Rgb a, Rgb b) = default;
 
-  double luminance() const { return 0.2126 * r + 0.7152 * g + 0.0722 * b; }
+  double luminance() const { return rec709Luminance(r, g, b); }
   double maxComponent() const { return std::max({r, g, b}); }
   bool isBlack() const { return r == 0 && g == 0 && b == 0; }
   bool isFinite() const { return std::isfinite(r) && std::isfinite(g) && std::isfinite(b); }

@@ -12,7 +12,7 @@ namespace nuld {
 
 double Image::luminance(int x, int y) const {
   if (channels < 3) return at(x, y, 0);
-  return 0.2126 * at(x, y, 0) + 0.7152 * at(x, y, 1) + 0.0722 * at(x, y, 2);
+  return rec709Luminance(at(x, y, 0), at(x, y, 1), at(x, y, 2));
 }
 
 Image readImage(const std::string &path, bool requireFinite) {

@@ -8,6 +8,11 @@
 
 namespace nuld {
 
+// Rec. 709 luminance of linear RGB: the one place its weights live.
+inline double rec709Luminance(double r, double g, double b) {
+  return 0.2126 * r + 0.7152 * g + 0.0722 * b;
+}
+
 struct Image {
   int width = 0, height = 0, channels = 0;
   std::vector<float> pixels;  // row-major, row 0 at the top, interleaved channels

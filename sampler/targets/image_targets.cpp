@@ -7,20 +7,18 @@
 namespace nuld {
 namespace {
 
-// Negative luminance (from colour conversions of HDR data) carries no
-// probability; it is clamped to zero rather than rejected.
-double densityOf(const Image &img, int x, int y) { return std::max(0.0, img.luminance(x, y)); }
-
+// Negative values (from colour conversions of HDR data) carry no
+// probability; they are clamped to zero rather than rejected. A grey image's
+// one channel is its density under either weight.
 double densityOf(const Image &img, int x, int y, PixelWeight weight) {
-  if (weight == PixelWeight::Luminance || img.channels < 3) return densityOf(img, x, y);
+  if (img.channels < 3) return std::max(0.0, double(img.at(x, y, 0)));
   return pixelWeight(img.at(x, y, 0), img.at(x, y, 1), img.at(x, y, 2), weight);
 }
 
 }  // namespace
 
 double pixelWeight(double r, double g, double b, PixelWeight weight) {
-  const double w =
-      weight == PixelWeight::Luminance ? 0.2126 * r + 0.7152 * g + 0.0722 * b : (r + g + b) / 3;
+  const double w = weight == PixelWeight::Luminance ? rec709Luminance(r, g, b) : (r + g + b) / 3;
   return std::max(0.0, w);
 }
 
@@ -32,7 +30,8 @@ std::unique_ptr<GridTarget> makeImageTarget(const Image &image, const std::strin
   const int W = image.width, H = image.height;
   std::vector<double> density(std::size_t(W) * H);
   for (int j = 0; j < H; ++j)
-    for (int i = 0; i < W; ++i) density[std::size_t(j) * W + i] = densityOf(image, i, H - 1 - j);
+    for (int i = 0; i < W; ++i)
+      density[std::size_t(j) * W + i] = densityOf(image, i, H - 1 - j, PixelWeight::Luminance);
   return std::make_unique<GridTarget>(GridTarget::uniformEdges(W), GridTarget::uniformEdges(H),
                                       density, "image:" + source, Domain::Square, source);
 }
