@@ -3,10 +3,12 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
 
+#include "sampler/io/atomic_file.h"
 #include "sampler/loss/box_mass.h"
 #include "sampler/loss/soft_box_loss.h"
 #include "sampler/metrics/discrepancy.h"
@@ -359,6 +361,74 @@ std::string NeuralTrainer::formatLosses() const {
   out.precision(17);
   out << lossCount_ << ' ' << lossSum_;
   return out.str();
+}
+
+namespace {
+
+// step, mean training loss since the previous row, held-out L2.
+void writeValidationCurve(const std::string &path, const std::vector<Validation> &history) {
+  std::ostringstream csv;
+  csv.precision(9);
+  csv << "step,mean_train_loss,validation_l2\n";
+  for (const Validation &v : history) {
+    csv << v.step << ',';
+    if (std::isfinite(v.meanLoss)) csv << v.meanLoss;
+    csv << ',' << v.l2 << '\n';
+  }
+  writeFileAtomically(path, csv.str());
+}
+
+std::string roundTrip(double v) {
+  std::ostringstream s;
+  s.precision(17);
+  s << v;
+  return s.str();
+}
+
+}  // namespace
+
+std::map<std::string, std::string> NeuralTrainer::modelMetadata(int step,
+                                                                const Validation *scored) const {
+  std::map<std::string, std::string> extra = {{"train_settings", settings_.describe()},
+                                              {"train_steps", std::to_string(step)}};
+  if (scored) extra["validation_l2"] = roundTrip(scored->l2);
+  return extra;
+}
+
+Validation NeuralTrainer::validateAndRecord(const std::string &model) {
+  const Validation v = validate();
+  if (best()->step == v.step) gen_.save(bestModelPath(model), modelMetadata(v.step, &v));
+  writeValidationCurve(validationCurvePath(model), history_);
+  return v;
+}
+
+ResumableRun NeuralTrainer::resumableRun(const std::string &model,
+                                         std::function<void(const TrainReport &)> progress) {
+  const bool validating = settings_.validationSets > 0;
+  ResumableRun run;
+  run.unit = "step";
+  run.total = settings_.steps;
+  run.position = [this] { return step_; };
+  run.advance = [this, model, validating, progress = std::move(progress)](int until) {
+    if (validating && history_.empty()) validateAndRecord(model);  // the untrained net
+    this->run(until, progress);
+  };
+  if (validating) run.segmentDone = [this, model] { validateAndRecord(model); };
+  run.save = [this](const std::string &path) { saveCheckpoint(path); };
+  run.load = [this](const std::string &path) { loadCheckpoint(path); };
+  return run;
+}
+
+bool NeuralTrainer::writeModel(const std::string &model, bool keepBest) {
+  const bool validating = !history_.empty();
+  const std::string bestPath = bestModelPath(model);
+  if (keepBest && validating) {
+    std::filesystem::rename(bestPath, model);
+    return true;
+  }
+  gen_.save(model, modelMetadata(step_, validating ? &history_.back() : nullptr));
+  std::filesystem::remove(bestPath);
+  return false;
 }
 
 }  // namespace nuld

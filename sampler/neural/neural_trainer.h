@@ -11,6 +11,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -18,6 +19,7 @@
 
 #include "sampler/loss/boxes.h"
 #include "sampler/neural/neural_generator.h"
+#include "sampler/optimize/resumable_run.h"
 
 namespace nuld {
 
@@ -110,11 +112,33 @@ class NeuralTrainer {
   // Throws naming the file when it is unreadable or made with other settings.
   void loadCheckpoint(const std::string &path);
 
+  // Training toward the model file `model` as a run for driveRun (resumable
+  // by the checkpoints above). When validating, the untrained net is scored
+  // before the first step and the weights after every segment, each through
+  // validateAndRecord.
+  ResumableRun resumableRun(const std::string &model,
+                            std::function<void(const TrainReport &)> progress = {});
+  // validate(), then records it beside `model`: MODEL.validation.csv, the
+  // held-out curve (rewritten whole), and MODEL.best, the weights, when they
+  // are the best so far. MODEL.best is written before the checkpoint that
+  // records the validation, so a resumed run never lacks its file.
+  Validation validateAndRecord(const std::string &model);
+  // Writes `model`: the best held-out weights (MODEL.best) when keepBest and
+  // validating, else the current ones; removes MODEL.best. Returns whether
+  // the best was kept.
+  bool writeModel(const std::string &model, bool keepBest);
+  static std::string bestModelPath(const std::string &model) { return model + ".best"; }
+  static std::string validationCurvePath(const std::string &model) {
+    return model + ".validation.csv";
+  }
+
  private:
   struct State;
   enum class Mode { Evaluate, Gradient, Train };
   double stepLoss(int step, Mode mode);
   std::string formatLosses() const;  // "count sum" of losses since validation
+  // The metadata a written model carries: settings, steps, its held-out L2.
+  std::map<std::string, std::string> modelMetadata(int step, const Validation *scored) const;
 
   NeuralGenerator &gen_;
   TrainerSettings settings_;

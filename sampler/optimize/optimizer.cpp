@@ -380,4 +380,23 @@ OptimizerState loadCheckpoint(const std::string &path, const DirectOptimizer &op
   return state;
 }
 
+ResumableRun resumableRun(const DirectOptimizer &opt, const std::string &targetSpec,
+                          OptimizerState &state,
+                          std::function<void(const EpochReport &)> progress) {
+  ResumableRun run;
+  run.unit = "epoch";
+  run.total = opt.settings().epochs;
+  run.position = [&state] { return state.epoch; };
+  run.advance = [&opt, &state, progress = std::move(progress)](int until) {
+    opt.run(state, until, progress);
+  };
+  run.save = [&opt, &state, targetSpec](const std::string &path) {
+    saveCheckpoint(path, opt, targetSpec, state);
+  };
+  run.load = [&opt, &state, targetSpec](const std::string &path) {
+    state = loadCheckpoint(path, opt, targetSpec);
+  };
+  return run;
+}
+
 }  // namespace nuld

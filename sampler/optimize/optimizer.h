@@ -23,6 +23,7 @@
 
 #include "sampler/loss/boxes.h"
 #include "sampler/metrics/nonuniform_l2.h"
+#include "sampler/optimize/resumable_run.h"
 #include "sampler/point.h"
 #include "sampler/targets/target.h"
 
@@ -144,5 +145,11 @@ void saveCheckpoint(const std::string &path, const DirectOptimizer &opt,
 // Throws naming the file when it is unreadable or made with other settings.
 OptimizerState loadCheckpoint(const std::string &path, const DirectOptimizer &opt,
                               const std::string &targetSpec);
+
+// `state`'s epochs as a run for driveRun, checkpointed by the functions above;
+// `state` and `opt` must outlive the returned run.
+ResumableRun resumableRun(const DirectOptimizer &opt, const std::string &targetSpec,
+                          OptimizerState &state,
+                          std::function<void(const EpochReport &)> progress = {});
 
 }  // namespace nuld

@@ -1,5 +1,6 @@
 #include "tools/nuld/cli_util.h"
 
+#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <regex>
 #include <stdexcept>
@@ -37,6 +38,17 @@ Resolution parseResolution(const std::string &text) {
   if (r.width < 1 || r.height < 1 || r.width > 32768 || r.height > 32768)
     throw std::invalid_argument("--res '" + text + "': each side must be in [1, 32768]");
   return r;
+}
+
+void addRunFlags(CLI::App &app, RunFlags &flags, const std::string &unit,
+                 const std::string &alsoDoes) {
+  app.add_option("--checkpoint-every", flags.checkpointEvery,
+                 unit + "s between checkpoints" + alsoDoes + " (default: about every 5 %)")
+      ->check(CLI::PositiveNumber);
+  app.add_flag("--resume", flags.resume, "continue from OUTPUT.ckpt if it exists");
+  app.add_option("--stop-after", flags.stopAfter, "stop (with a checkpoint) after this " + unit)
+      ->check(CLI::NonNegativeNumber);
+  app.add_flag("-q,--quiet", flags.quiet, "no progress bar or messages (results still print)");
 }
 
 std::string shortNumber(double v) {

@@ -4,8 +4,13 @@
 #include <memory>
 #include <string>
 
+#include "sampler/optimize/resumable_run.h"
 #include "sampler/point.h"
 #include "sampler/targets/target.h"
+
+namespace CLI {
+class App;
+}
 
 namespace nuld::cli {
 
@@ -22,6 +27,12 @@ struct Resolution {
   int width = 0, height = 0;
 };
 Resolution parseResolution(const std::string &text);
+
+// The flags every resumable command shares, with the same names and wording:
+// --checkpoint-every (units of `unit`, e.g. "epochs"; `alsoDoes` adds what
+// else happens then), --resume, --stop-after and -q.
+void addRunFlags(CLI::App &app, RunFlags &flags, const std::string &unit,
+                 const std::string &alsoDoes = "");
 
 // Three significant digits, for progress-bar status lines (loss, lr, alpha).
 std::string shortNumber(double v);

@@ -1,6 +1,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include "sampler/io/pointset_io.h"
@@ -17,11 +18,11 @@ Runner addOptimize(CLI::App &app) {
   struct Options {
     std::string target, preset, mass, mapping, objective, boxKind, output;
     std::size_t n = 0, instances = 1;
-    long epochs = -1, boxes = -1, checkpointEvery = 0, stopAfter = -1;
+    long epochs = -1, boxes = -1;
     double lr = -1, lrEnd = -1, alpha = -1, alphaEnd = -1, ramp = -1, unionWeight = 0;
     long unionGroup = 0;
     std::uint64_t seed = 0;
-    bool resume = false, quiet = false;
+    RunFlags run;
   };
   auto o = std::make_shared<Options>();
   app.add_option("--target", o->target, "target SPEC")->required();
@@ -54,11 +55,7 @@ Runner addOptimize(CLI::App &app) {
                  "about 256 points, at least 2 instances)")
       ->check(CLI::Range(2L, 1L << 20));
   app.add_option("--seed", o->seed, "seed of the Sobol start and of the boxes");
-  app.add_option("--checkpoint-every", o->checkpointEvery,
-                 "epochs between checkpoints (default: about every 5 %)");
-  app.add_flag("--resume", o->resume, "continue from OUTPUT.ckpt if it exists");
-  app.add_option("--stop-after", o->stopAfter, "stop (with a checkpoint) after this epoch");
-  app.add_flag("-q,--quiet", o->quiet, "no progress bar or messages (results still print)");
+  addRunFlags(app, o->run, "epoch");
   app.add_option("-o,--output", o->output, "point-set file to write")->required();
   return [o] {
     const auto target = makeTarget(o->target);
@@ -97,36 +94,22 @@ Runner addOptimize(CLI::App &app) {
     const DirectOptimizer opt(*target, s);
 
     const std::string ckpt = o->output + ".ckpt";
-    OptimizerState state;
-    if (o->resume && std::filesystem::exists(ckpt)) {
-      state = loadCheckpoint(ckpt, opt, target->spec());
-      std::cerr << "resuming from " << ckpt << " at epoch " << state.epoch << "\n";
-    } else {
-      if (o->resume) std::cerr << "no checkpoint at " << ckpt << "; starting fresh\n";
-      state = opt.initialState();
-    }
-    if (!o->quiet) std::cerr << "optimize " << target->spec() << ": " << s.describe() << "\n";
-    const long every = o->checkpointEvery > 0 ? o->checkpointEvery : std::max(1, s.epochs / 20);
-    const int until = o->stopAfter >= 0 ? int(std::min<long>(o->stopAfter, s.epochs)) : s.epochs;
-    ProgressBar bar("epoch", s.epochs, state.epoch, o->quiet);
+    const bool quiet = o->run.quiet;
+    OptimizerState state = opt.initialState();
+    std::optional<ProgressBar> bar;
     EpochReport last;
-    while (state.epoch < until) {
-      const int next = int(std::min<long>(until, (state.epoch / every + 1) * every));
-      opt.run(state, next, [&](const EpochReport &r) {
-        last = r;
-        std::string status = "loss " + shortNumber(r.loss);
-        if (s.unionWeight > 0) status += "  union " + shortNumber(r.unionLoss);
-        if (s.objective == Objective::SoftBoxes) status += "  alpha " + shortNumber(r.alpha);
-        bar.update(r.epoch, status + "  lr " + shortNumber(r.lr));
-      });
-      if (state.epoch < s.epochs) saveCheckpoint(ckpt, opt, target->spec(), state);
-    }
-    if (state.epoch < s.epochs) {
-      std::cerr << "\nstopped after epoch " << state.epoch << "; checkpoint in " << ckpt
-                << " (continue with --resume)\n";
-      return 0;
-    }
-    bar.finish("loss " + shortNumber(last.loss));
+    const ResumableRun run = resumableRun(opt, target->spec(), state, [&](const EpochReport &r) {
+      last = r;
+      std::string status = "loss " + shortNumber(r.loss);
+      if (s.unionWeight > 0) status += "  union " + shortNumber(r.unionLoss);
+      if (s.objective == Objective::SoftBoxes) status += "  alpha " + shortNumber(r.alpha);
+      bar->update(r.epoch, status + "  lr " + shortNumber(r.lr));
+    });
+    resumeRun(run, ckpt, o->run, &std::cerr);
+    if (!quiet) std::cerr << "optimize " << target->spec() << ": " << s.describe() << "\n";
+    bar.emplace("epoch", s.epochs, state.epoch, quiet);
+    if (!driveRun(run, ckpt, o->run, &std::cerr)) return 0;
+    bar->finish("loss " + shortNumber(last.loss));
 
     PointSet set = opt.points(state);
     // Final metrics, averaged over instances, recorded with the points.
@@ -145,7 +128,7 @@ Runner addOptimize(CLI::App &app) {
     writePointSet(o->output, set);
     std::filesystem::remove(ckpt);
     std::printf("l2asd %.9g\ndstar %.9g\n", l2, dstar);
-    if (!o->quiet)
+    if (!quiet)
       std::cerr << "wrote " << set.instances() << " x " << set.n << " points to " << o->output
                 << "\n";
     return 0;

@@ -1,11 +1,8 @@
-#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
-#include <map>
-#include <sstream>
+#include <optional>
 
-#include "sampler/io/atomic_file.h"
 #include "sampler/neural/neural_trainer.h"
 #include "sampler/targets/target_spec.h"
 #include "tools/nuld/cli_util.h"
@@ -14,40 +11,14 @@
 
 namespace nuld::cli {
 
-namespace {
-
-std::string roundTrip(double v) {
-  std::ostringstream s;
-  s.precision(17);
-  s << v;
-  return s.str();
-}
-
-// step, mean training loss since the previous row, held-out L2; rewritten
-// whole (atomically) at every validation, so it always matches the run.
-void writeValidationCurve(const std::string &path, const std::vector<Validation> &history) {
-  std::ostringstream csv;
-  csv.precision(9);
-  csv << "step,mean_train_loss,validation_l2\n";
-  for (const Validation &v : history) {
-    csv << v.step << ',';
-    if (std::isfinite(v.meanLoss)) csv << v.meanLoss;
-    csv << ',' << v.l2 << '\n';
-  }
-  writeFileAtomically(path, csv.str());
-}
-
-}  // namespace
-
 Runner addTrain(CLI::App &app) {
   struct Options {
     std::string target, output, mapping = "mapped", pullback = "balanced", arch = "supplement",
                                 base = "rotated";
     NeuralSettings net;
     TrainerSettings train;
-    long checkpointEvery = 0, stopAfter = -1;
     std::string keep = "best", sizes;
-    bool resume = false, quiet = false;
+    RunFlags run;
   };
   auto o = std::make_shared<Options>();
   app.add_option("--target", o->target,
@@ -128,11 +99,7 @@ Runner addTrain(CLI::App &app) {
                  "net included) or last")
       ->check(CLI::IsMember({"best", "last"}))
       ->capture_default_str();
-  app.add_option("--checkpoint-every", o->checkpointEvery,
-                 "steps between checkpoints and validations (default: about every 5 %)");
-  app.add_flag("--resume", o->resume, "continue from OUTPUT.ckpt if it exists");
-  app.add_option("--stop-after", o->stopAfter, "stop (with a checkpoint) after this step");
-  app.add_flag("-q,--quiet", o->quiet, "no progress bar or messages (results still print)");
+  addRunFlags(app, o->run, "step", " and validations");
   app.add_option("-o,--output", o->output, "model file to write")->required();
   return [o, &app] {
     NeuralSettings ns = o->net;
@@ -161,65 +128,32 @@ Runner addTrain(CLI::App &app) {
     NeuralTrainer trainer(gen, ts);
 
     const std::string ckpt = o->output + ".ckpt";
-    if (o->resume && std::filesystem::exists(ckpt)) {
-      trainer.loadCheckpoint(ckpt);
-      std::cerr << "resuming from " << ckpt << " at step " << trainer.step() << "\n";
-    } else if (o->resume) {
-      std::cerr << "no checkpoint at " << ckpt << "; starting fresh\n";
-    }
-    if (!o->quiet)
+    const bool quiet = o->run.quiet, validating = ts.validationSets > 0;
+    // The progress bar's validation part: the latest held-out L2 and the best.
+    const auto heldOut = [&trainer] {
+      if (trainer.history().empty()) return std::string();
+      const Validation best = *trainer.best();
+      return "  held-out L2 " + shortNumber(trainer.history().back().l2) + " (best " +
+             shortNumber(best.l2) + " @" + std::to_string(best.step) + ")";
+    };
+    std::optional<ProgressBar> bar;
+    TrainReport last;
+    const ResumableRun run = trainer.resumableRun(o->output, [&](const TrainReport &r) {
+      last = r;
+      bar->update(r.step, "loss " + shortNumber(r.loss) + "  lr " + shortNumber(r.lr) + "  alpha " +
+                              shortNumber(r.alpha) + heldOut());
+    });
+    resumeRun(run, ckpt, o->run, &std::cerr);
+    if (!quiet)
       std::cerr << "train " << gen.family().spec() << ": arch=" << toString(ns.arch)
                 << " n=" << gen.metadata().at("n")
                 << (ns.trainingNs.empty() ? "" : " training_n=" + gen.metadata().at("training_n"))
                 << " hidden=" << ns.hidden << " parameters=" << gen.parameterCount() << " "
                 << ts.describe() << "\n";
-    const long every = o->checkpointEvery > 0 ? o->checkpointEvery : std::max(1, ts.steps / 20);
-    const int until = o->stopAfter >= 0 ? int(std::min<long>(o->stopAfter, ts.steps)) : ts.steps;
-    const bool validating = ts.validationSets > 0;
-    const std::string bestPath = o->output + ".best", curvePath = o->output + ".validation.csv";
-    std::string heldOut;  // the progress bar's validation part
-    // Scores the current weights; a new best is written to OUTPUT.best before
-    // the checkpoint that records it, so a resumed run never lacks its file.
-    const auto validate = [&] {
-      const Validation v = trainer.validate();
-      const Validation best = *trainer.best();
-      if (best.step == v.step)
-        gen.save(bestPath, {{"train_settings", ts.describe()},
-                            {"train_steps", std::to_string(v.step)},
-                            {"validation_l2", roundTrip(v.l2)}});
-      writeValidationCurve(curvePath, trainer.history());
-      heldOut = "  held-out L2 " + shortNumber(v.l2) + " (best " + shortNumber(best.l2) + " @" +
-                std::to_string(best.step) + ")";
-    };
-    if (validating && trainer.history().empty()) validate();  // the untrained net's score
-    ProgressBar bar("step", ts.steps, trainer.step(), o->quiet);
-    TrainReport last;
-    while (trainer.step() < until) {
-      const int next = int(std::min<long>(until, (trainer.step() / every + 1) * every));
-      trainer.run(next, [&](const TrainReport &r) {
-        last = r;
-        bar.update(r.step, "loss " + shortNumber(r.loss) + "  lr " + shortNumber(r.lr) +
-                               "  alpha " + shortNumber(r.alpha) + heldOut);
-      });
-      if (validating) validate();
-      if (trainer.step() < ts.steps) trainer.saveCheckpoint(ckpt);
-    }
-    if (trainer.step() < ts.steps) {
-      std::cerr << "\nstopped after step " << trainer.step() << "; checkpoint in " << ckpt
-                << " (continue with --resume)\n";
-      return 0;
-    }
-    bar.finish("loss " + shortNumber(last.loss) + heldOut);
-    const bool keepBest = validating && o->keep == "best";
-    if (keepBest) {
-      std::filesystem::rename(bestPath, o->output);
-    } else {
-      std::map<std::string, std::string> extra = {{"train_settings", ts.describe()},
-                                                  {"train_steps", std::to_string(trainer.step())}};
-      if (validating) extra["validation_l2"] = roundTrip(trainer.history().back().l2);
-      gen.save(o->output, extra);
-      std::filesystem::remove(bestPath);
-    }
+    bar.emplace("step", ts.steps, trainer.step(), quiet);
+    if (!driveRun(run, ckpt, o->run, &std::cerr)) return 0;
+    bar->finish("loss " + shortNumber(last.loss) + heldOut());
+    const bool keptBest = trainer.writeModel(o->output, o->keep == "best");
     std::filesystem::remove(ckpt);
     // The split the neural issue asks for (this session's steps only).
     std::printf("final_loss %.6g\nmlp_seconds %.3f\nloss_kernel_seconds %.3f\n", last.loss,
@@ -229,14 +163,17 @@ Runner addTrain(CLI::App &app) {
       std::printf("validation_l2_first %.6g\nvalidation_l2_last %.6g\n",
                   trainer.history().front().l2, trainer.history().back().l2);
       std::printf("validation_l2_best %.6g\nbest_step %d\nkept %s\n", best.l2, best.step,
-                  keepBest ? "best" : "last");
+                  keptBest ? "best" : "last");
     }
-    if (!o->quiet)
+    if (!quiet)
       std::cerr << "wrote model " << o->output
-                << (keepBest ? " (the best held-out weights, step " +
+                << (keptBest ? " (the best held-out weights, step " +
                                    std::to_string(trainer.best()->step) + ")"
                              : std::string())
-                << (validating ? "; held-out curve in " + curvePath : std::string()) << "\n";
+                << (validating
+                        ? "; held-out curve in " + NeuralTrainer::validationCurvePath(o->output)
+                        : std::string())
+                << "\n";
     return 0;
   };
 }

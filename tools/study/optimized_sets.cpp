@@ -89,18 +89,15 @@ OptimizedSets optimizedSets(const Target &target, const OptimizedSetsRequest &re
 
   fs::create_directories(path.parent_path());
   const std::string ckpt = path.string() + ".ckpt";
-  OptimizerState state =
-      fs::exists(ckpt) ? loadCheckpoint(ckpt, opt, target.spec()) : opt.initialState();
+  OptimizerState state = opt.initialState();
+  const ResumableRun run = resumableRun(opt, target.spec(), state, [&](const EpochReport &r) {
+    if (progress) progress(r.epoch, r.epochs, r.loss);
+  });
+  const RunFlags flags{.resume = true};
+  resumeRun(run, ckpt, flags, nullptr);
   // Time already spent before an interruption is not known; count this run's.
   const auto start = std::chrono::steady_clock::now();
-  const int every = std::max(1, settings.epochs / 20);
-  while (state.epoch < settings.epochs) {
-    opt.run(state, std::min(settings.epochs, (state.epoch / every + 1) * every),
-            [&](const EpochReport &r) {
-              if (progress) progress(r.epoch, r.epochs, r.loss);
-            });
-    if (state.epoch < settings.epochs) saveCheckpoint(ckpt, opt, target.spec(), state);
-  }
+  driveRun(run, ckpt, flags, nullptr);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   PointSet set = opt.points(state);
