@@ -1,5 +1,6 @@
 #pragma once
-// Burley's 2012 "principled" Disney BRDF, reflection only (DESIGN.md §4).
+// Burley's 2012 "principled" Disney BRDF, reflection only
+// (docs/architecture.md, "Materials").
 //
 // Lobes, each a term of f:
 //   diffuse     (1 - metallic) ((1 - subsurface) Fd base / pi + sheen)

@@ -1,5 +1,6 @@
 #pragma once
-// A Disney BRDF lobe as a sampler target (DESIGN.md §4): the hemisphere
+// A Disney BRDF lobe as a sampler target (docs/architecture.md,
+// "Materials"): the hemisphere
 // density proportional to luminance(f(wo, wi)) cos theta_i, tabulated on the
 // equal-area sphere map (materials/sphere_map.h) as a GridTarget, so box
 // masses are exact reads of its summed-area table.

@@ -1,6 +1,6 @@
 #pragma once
 // The cylindrical equal-area map between the unit square and the sphere of
-// directions (DESIGN.md §3): (u, v) -> phi = 2 pi u, cos theta = 1 - 2v, with
+// directions (docs/architecture.md, "Domains"): (u, v) -> phi = 2 pi u, cos theta = 1 - 2v, with
 // theta measured from +z. It is equal-area, so a density p(u, v) on the
 // square is the density p / (4 pi) per steradian. The hemisphere z >= 0 is
 // the half v in [0, 1/2].

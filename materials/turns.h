@@ -3,12 +3,12 @@
 // azimuth in (phi = 2 pi u) and the lat-long map indexes by.
 //  - sinCosTurns: the range reduction is exact (4t minus the nearest
 //    integer), so Taylor polynomials on |r| <= pi/4 give both values to
-//    about 1e-16 at a twentieth of the cost of the C library's sin and cos of
-//    an arbitrary argument (1 ns against 20 ns per pair in a loop), which
-//    showed up as 4 % of a render.
+//    about 1e-16, far cheaper than the C library's sin and cos, which must
+//    handle an arbitrary argument; sampling calls them for every direction
+//    (figures: tools/experiments/README.md, "Implementation notes").
 //  - atan2Turns: the octant reduction, then atan(a) = atan(c) + atan(t) with c
 //    the nearest sixteenth, |t| <= 1/32 and a 15th-degree Taylor polynomial:
-//    about 1e-16 turns, half the C library's atan2 time (14 against 29 ns).
+//    about 1e-16 turns, at about half the C library's atan2 time.
 
 #include <array>
 #include <cmath>

@@ -197,7 +197,8 @@ void PathIntegrator::radiance(std::span<const Ray> rays,
       // half of the previous hit's direct light. Survival sqrt(max beta)
       // (Cycles' rule), not max beta: on a Lambertian sphere and floor under
       // beach, 64 spp, max depth 5, the pixel variance is 0.48x that of
-      // pbrt-v4's rule and place at 1.04x the time (README, "Path noise").
+      // pbrt-v4's rule and place at 1.04x the time (tools/experiments/README.md,
+      // "Path noise").
       if (depth >= rouletteDepth_ && p.beta.maxComponent() < 1) {
         const double q = std::max(0.0, 1 - std::sqrt(p.beta.maxComponent()));
         if (p.samples->primary(SamplePairs::roulette(depth), p.index).x < q) {

@@ -1,5 +1,6 @@
 #pragma once
-// The swap point between the sampler module and the renderer (DESIGN.md §4).
+// The swap point between the sampler module and the renderer
+// (docs/architecture.md, "Sampler backends").
 //
 // For every pixel and every *dimension pair* (camera jitter, then per bounce a
 // light pair, a BSDF pair and a Russian-roulette pair; see SamplePairs) a

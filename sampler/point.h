@@ -45,7 +45,7 @@ struct Box2 {
 
 // Where the points of a set live. The sphere is parameterized by the
 // cylindrical equal-area map (u,v) -> (phi = 2 pi u, cos theta = 1 - 2v);
-// the hemisphere is its v in [0, 1/2] half (DESIGN.md §3).
+// the hemisphere is its v in [0, 1/2] half (docs/architecture.md, "Domains").
 enum class Domain { Square, Sphere, Hemisphere };
 
 std::string toString(Domain d);

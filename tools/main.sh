@@ -11,7 +11,7 @@
 # primary samples; their optimization is paid once (setup_s) and reused by
 # every render. The study directory (CSV, images, plots, index.html) is left
 # in BUILD/study-default; `nuld study render --help` lists the knobs of the
-# full studies (README: "Comparison studies").
+# full studies (docs/usage.md: "Comparison studies").
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-"$root/build"}

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs every Debian package the project needs (DESIGN.md §6).
+# Installs every Debian package the project needs
+# (docs/architecture.md, "Build and dependencies").
 # Idempotent and quiet: it only calls apt-get when something is missing.
 set -euo pipefail
 

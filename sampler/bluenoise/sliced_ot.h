@@ -19,9 +19,9 @@
 // square and carried to the square by an area-preserving map, as the
 // authors' code does (it optimizes in the ball, then maps to the cube): the
 // disc's projections are the same along every direction and it has no
-// corners. Measured at N = 256 (4 sets, L2* / D*): disc .00447 / .0254,
-// square .00636 / .0489, the authors' program .00455 / .0282
-// (tools/experiments/sot_reference_check.sh). Sorting that sample for every slice
+// corners, and sets transported there match the authors' program where
+// sets transported in the square do not (tools/experiments/README.md,
+// "Blue-noise baselines"). Sorting that sample for every slice
 // would dominate the run, so its block means are tabulated once per target
 // and N at kSliceTableDirections directions over a half-turn and
 // interpolated linearly in angle between them. A point moves by `step`

@@ -1,5 +1,5 @@
 #pragma once
-// Point-set files (DESIGN.md §7).
+// Point-set files (docs/architecture.md, "File formats").
 //
 // Text: one point per line, coordinates separated by spaces. Lines starting
 // with '#' either carry metadata ("# key: value"), or start a new set ("# set"

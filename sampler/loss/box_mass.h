@@ -1,5 +1,6 @@
 #pragma once
-// Target mass of sampled boxes: exact (the default, DESIGN.md §3) or the
+// Target mass of sampled boxes: exact (the default; docs/architecture.md,
+// "Targets and families") or the
 // supplement's Monte Carlo estimate from K space samples per epoch.
 
 #include <span>

@@ -1,5 +1,6 @@
 #pragma once
-// Random test boxes for the sampled box discrepancy (DESIGN.md §3).
+// Random test boxes for the sampled box discrepancy
+// (docs/architecture.md, "The soft box loss").
 //
 // A box side that lies on the boundary of the unit square is stored as
 // -inf / +inf: it is not a side at all, since every point of the domain is on

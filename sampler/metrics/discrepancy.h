@@ -15,7 +15,7 @@ double l2StarDiscrepancy(std::span<const Point2> points);
 
 // L2 "all-corners, sampled-diagonal" discrepancy: the root of the average,
 // over the 4 corners c and uniform y, of the squared local discrepancy of the
-// box spanned by c and y (closed form of DESIGN.md §3), O(N^2).
+// box spanned by c and y (closed form in docs/architecture.md, "Metrics"), O(N^2).
 double l2asd(std::span<const Point2> points);
 
 // Periodic L2 discrepancy: the root mean square, over all boxes of the unit

@@ -1,5 +1,6 @@
 #pragma once
-// The neural generator of the supplement §1 (DESIGN.md §3): an MLP that maps a
+// The neural generator of the supplement §1 (docs/architecture.md, "The
+// neural generator"): an MLP that maps a
 // Cranley-Patterson offset z and a distribution parameter gamma to the
 // residuals of N points, added to a base set (the first N Sobol points rotated
 // by z: wrapped on the square, unwrapped for directions; or, for the graph
@@ -41,8 +42,10 @@ std::string toString(NetworkArch arch);
 enum class BaseRandomization {
   // The supplement's: the first N Sobol points rotated by z (Cranley-
   // Patterson). Each point is uniform, but the rotation moves the whole set
-  // rigidly: on smooth integrands the rotated set's error variance is about
-  // 40x Owen scrambling's at N = 64 (README), and a network must undo that.
+  // rigidly, so its 1D projections stay a shifted lattice: on smooth
+  // integrands its error variance is far above Owen scrambling's
+  // (tools/experiments/README.md, "The graph generator"), and a network
+  // would have to undo that.
   Rotated,
   // Ours, graph only: the first N Sobol points Owen-scrambled with a seed
   // hashed from z (and the model's seed). The sets start as good as the
@@ -88,14 +91,14 @@ struct NeuralSettings {
   // rigidly with z, so a point's best correction is a function of where z
   // has carried it, periodic in z; these rows let the last layers combine
   // that directly. The supplement's Gaussian rows (sigma 0.1: nearly linear
-  // in z) barely tell nearby offsets apart (see README).
+  // in z) barely tell nearby offsets apart (tools/experiments/README.md,
+  // "Torus harmonics and offset ranges").
   int zHarmonics = 0;
   // Ours, a diagnostic (1 = the supplement's): the base set is Sobol rotated
   // by offsetRange * z, so offsets span [0, offsetRange)^2 while the net
   // still sees z in [0, 1)^2. It measures how the quality of one network's
-  // sets depends on how much of the offset torus it must cover (README:
-  // over small ranges the network cancels the offset and makes one set,
-  // better than direct optimization's; its distinct sets are not). Below 1
+  // sets depends on how much of the offset torus it must cover
+  // (tools/experiments/README.md, "Torus harmonics and offset ranges"). Below 1
   // the sets are not randomized over the torus: each point stays in a small
   // box, so estimates from them are biased. Not for rendering.
   double offsetRange = 1;
@@ -104,8 +107,8 @@ struct NeuralSettings {
   // Mapped: the net's points are u in the unit square (wrapped toroidally)
   // and the set is T(u), T the target's inverse CDF, so the untrained net
   // gives inverse-CDF Sobol and training learns corrections (the direct
-  // optimizer's density mapping, DESIGN.md §3). Unmapped: the points are the
-  // set itself (see wrapToDomain).
+  // optimizer's density mapping; docs/architecture.md, "The direct
+  // optimizer"). Unmapped: the points are the set itself (see wrapToDomain).
   bool mapped = true;
 
   // Throws std::invalid_argument naming the bad setting.
@@ -169,10 +172,10 @@ class NeuralGenerator {
   // member for the set's gamma. Unmapped on the square the point is clamped
   // and training passes the gradient straight through the clamp (as the
   // direct optimizer's `clamp` mapping does: the loss is measured at the
-  // clamped point). Measured on tiny models (N 64, 3000 steps), a toroidal
-  // wrap instead never learned the Gaussian family (held-out loss 0.077 ->
-  // 0.080; clamped 0.077 -> 0.0098) and failed on the quarter-disc, whose
-  // wrap joins its densest edge to its empty corner.
+  // clamped point). A toroidal wrap instead joins opposite edges of the
+  // square, which for most targets are unlike (the quarter-disc's densest
+  // edge meets its empty corner); in training it did not learn
+  // (tools/experiments/README.md, "Implementation notes").
   Point2 place(Point2 raw, const Target &target, Jacobian2 *jacobian = nullptr) const;
 
   // K = z.size() sets at once: set k uses z[k] and gamma[k g, (k + 1) g);

@@ -1,5 +1,6 @@
 #pragma once
-// Training of the neural generator (supplement §1, DESIGN.md §3): each step
+// Training of the neural generator (supplement §1; docs/architecture.md,
+// "The neural generator"): each step
 // draws a batch of (z, gamma) pairs, generates their sets, and moves the
 // network's weights by LibTorch's Adam on the mean soft box discrepancy of the
 // sets against their targets. The loss enters LibTorch's autograd as a custom
@@ -32,9 +33,10 @@ namespace nuld {
 // u-coordinate's component by the length of its Jacobian column: the
 // derivative along the unit direction that coordinate moves x in. It is a
 // positive per-coordinate rescaling, so still a descent direction; it leaves
-// unmapped training (J = +-identity) unchanged. The default: on grace_latlong
-// at N = 256, exact training made held-out sets worse than the untrained net
-// at either learning rate tried, balanced made them better (see README).
+// unmapped training (J = +-identity) unchanged. Balanced is the default
+// because exact training let the stretched points ruin the sets on an
+// environment map (tools/experiments/README.md, "Mapped training: exact or
+// balanced gradient").
 enum class GradientPullback { Exact, Balanced };
 GradientPullback parseGradientPullback(const std::string &name);  // "exact" | "balanced"
 std::string toString(GradientPullback p);

@@ -1,5 +1,6 @@
 #pragma once
-// The direct optimizer (Algorithm 1, DESIGN.md §3): the points of K instances
+// The direct optimizer (Algorithm 1; docs/architecture.md, "The direct
+// optimizer"): the points of K instances
 // are the parameters, moved by Adam on the soft box discrepancy against a
 // target, with fresh boxes every epoch.
 //

@@ -1,8 +1,10 @@
 #pragma once
 // Finds the cell of a sorted edge list containing t in O(1) on average: a
 // table of uniform buckets over [edges.front(), edges.back()] gives a start
-// cell, then a short forward walk. Binary search per box corner was a fifth
-// of an environment-map optimization's time.
+// cell, then a short forward walk. Every box corner of every epoch needs a
+// cell lookup, so a binary search each would be a large share of an
+// environment-map optimization (tools/experiments/README.md,
+// "Implementation notes").
 
 #include <algorithm>
 #include <cmath>

@@ -8,8 +8,8 @@
 // mean of its channels (`envmap-mean:FILE`, as pbrt-v4 and Cycles weight
 // environment maps): luminance all but ignores blue light (weight 0.07), so
 // a map lit by blue windows is undersampled where its blue channel is
-// bright, and a render's blue channel pays for it in variance (README,
-// "Path noise").
+// bright, and a render's blue channel pays for it in variance
+// (tools/experiments/README.md, "Cross-check against Cycles").
 
 #include <memory>
 #include <string>

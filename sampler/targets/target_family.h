@@ -1,6 +1,7 @@
 #pragma once
 // A family of targets indexed by a distribution parameter gamma (the neural
-// generator's second input, DESIGN.md §3). Gamma always lives in the unit cube
+// generator's second input; docs/architecture.md, "Targets and
+// families"). Gamma always lives in the unit cube
 // [0,1]^k, so the Fourier encoding sees inputs of comparable scale; each family
 // maps it to its natural parameters.
 //

@@ -1,5 +1,6 @@
 #pragma once
-// Builds a target from its SPEC string (DESIGN.md §7):
+// Builds a target from its SPEC string (docs/usage.md, "Point sets";
+// docs/architecture.md, "Targets and families"):
 //   uniform | bilinear:w00,w10,w01,w11 | gaussian:mx,my,sigma | quarterdisc |
 //   step:x0[,left,right] | image:PATH | envmap:PATH
 // Other modules add families (the materials module adds `disney:`) through

@@ -27,7 +27,7 @@ OptimizerSettings small(std::size_t n, int epochs) {
   return s;
 }
 
-// Oracle: the closed form of DESIGN.md §3 and its gradient, written out
+// Oracle: the closed form of docs/architecture.md, "Metrics", and its gradient, written out
 // independently of the library's CDF-field implementation.
 double closedFormL2asdSquared(std::span<const Point2> p, std::span<Point2> grad = {}) {
   const double N = double(p.size());

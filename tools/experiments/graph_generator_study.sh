@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# The graph generator against the baselines at unseen offsets (README, "The
-# graph generator"): Owen-Sobol + inverse CDF, the direct optimizer, sets
+# The graph generator against the baselines at unseen offsets (README.md in
+# this folder, "The graph generator"): Owen-Sobol + inverse CDF, the direct optimizer, sets
 # optimized for the periodic L2 discrepancy then Cranley-Patterson shifted
 # and mapped (`optimize --objective l2per`, `map --shifts`), and one trained
 # graph network per variant. Every row scores 16 sets (seed 7, never a

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Learned sets for BSDF sampling (README, "BSDF sampling with learned sets"):
+# Learned sets for BSDF sampling (README.md in this folder,
+# "BSDF sampling"):
 #  1. integration: the supplement's Disney lobe at theta_o = 20, 45, 70
 #     degrees against a smooth light (disney*cosines) and at 45 degrees
 #     against HDR maps (disney*envmap), N = 16 and 64: Owen-Sobol through the

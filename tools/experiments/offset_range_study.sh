@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Neural sets against the range of offsets one network must cover (README,
-# "The neural generator"): trains the supplement's network on the
+# Neural sets against the range of offsets one network must cover (README.md
+# in this folder, "Torus harmonics and offset ranges"): trains the supplement's network on the
 # quarter-disc with offsets restricted to [0, R)^2 (`nuld train
 # --offset-range R`) for each R, and scores 16 sets at unseen z against the
 # direct optimizer and Owen-Sobol + inverse CDF at the same N. The set

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Path noise (README, "Path noise"): the seed-to-seed pixel variance of path
+# Path noise (README.md in this folder, "Path noise"): the seed-to-seed pixel variance of path
 # traced renders at 64 spp (Owen-Sobol), with the time per render, for a
 # Lambertian and a Disney sphere on a floor under beach and for the dragon
 # and cup. The variance is half the mean squared difference of two renders,

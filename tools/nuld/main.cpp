@@ -1,5 +1,5 @@
 // nuld: non-uniform low-discrepancy point sets and the renderer that uses them.
-// The command-line contract is DESIGN.md §7.
+// The command line is documented in docs/usage.md; scripts and docs rely on it.
 
 #include <CLI/CLI.hpp>
 #include <iostream>

@@ -4,7 +4,8 @@
 // importance-samples it and an exact or converged reference value.
 //
 // Every integrand is written on the unit square: on the sphere and the
-// hemisphere f(x) = 4 pi g(omega(x)), omega the equal-area map (DESIGN.md §3),
+// hemisphere f(x) = 4 pi g(omega(x)), omega the equal-area map (docs/architecture.md,
+// "Domains"),
 // because d omega = 4 pi dx. Then the integral over the square is the
 // integral of g over directions, and every sampler's estimate is the same
 // (1/N) sum f(x_i) / p(x_i), p the target's density on the square.

@@ -18,9 +18,9 @@
 namespace nuld::study {
 
 // The studies' weight of the bank term (optimizer.h, unionWeight) for lobe
-// banks: the smallest of those tried that keeps a glossy lobe's 64 sets of 16
-// on their table (union chi-square p 0.27 and 0.72 on two seeds, where 2 gave
-// 3e-4 on one; tools/experiments/lobe_banks_log.md §5).
+// banks: the smallest weight tried that keeps a glossy lobe's 64 sets of 16
+// on their table by a chi-square test of their union
+// (tools/experiments/lobe_banks_log.md §5).
 inline constexpr double kBankUnionWeight = 4;
 
 struct OptimizedSetsRequest {
