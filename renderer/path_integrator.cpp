@@ -89,8 +89,10 @@ void record(PathCounters &c, const Ray &r) {
                            {float(r.direction.x), float(r.direction.y), float(r.direction.z)}});
 }
 
+}  // namespace
+
 // One path's state between bounces.
-struct PathState {
+struct PathIntegrator::PathState {
   Rgb L, beta{1, 1, 1};
   Ray ray;
   double lastBsdfPdf = 0;  // 0: the camera ray (no MIS on what it sees)
@@ -109,12 +111,14 @@ struct PathState {
   Point2 lobePoint;
 };
 
+namespace {
+
 // The light samples of the live paths at bounce `depth` into ls[k], drawn
 // together: their reads of the light's tables overlap (the batch forms of the
 // light give the same values as its one-point forms). At 4 spp a packet holds
 // four pixels, so this batches more than one pixel's samples could.
-void lightSamples(const EnvironmentLight &light, std::span<PathState> paths, int depth,
-                  std::span<std::optional<LightSample>> ls) {
+void lightSamples(const EnvironmentLight &light, std::span<PathIntegrator::PathState> paths,
+                  int depth, std::span<std::optional<LightSample>> ls) {
   const std::uint32_t pair = SamplePairs::light(depth);
   constexpr std::size_t kMax = PathIntegrator::kMaxPaths;
   Point2 target[kMax], primary[kMax];
@@ -146,6 +150,140 @@ std::optional<BsdfSample> sampleTable(const Bsdf &bsdf, Vec3 wo, const LobeFrame
 
 }  // namespace
 
+bool PathIntegrator::arrive(std::span<PathState> path,
+                            std::span<const std::optional<SurfaceHit>> hit, int depth) const {
+  const EnvironmentLight *light = scene_.environment ? &*scene_.environment : nullptr;
+  const std::size_t n = path.size();
+  // Rays that escaped, paths that end here, and the shading at each hit.
+  bool any = false;
+  for (std::size_t k = 0; k < n; ++k) {
+    PathState &p = path[k];
+    if (!p.alive) continue;
+    if (!hit[k]) {
+      if (light) {
+        double lightPdf;
+        const Rgb Le =
+            light->radiance(depth > 0 ? p.escape : light->find(p.ray.direction), lightPdf);
+        const double w =
+            p.lastBsdfPdf > 0 && !bsdfOnly_ ? powerHeuristic(p.lastBsdfPdf, lightPdf) : 1.0;
+        p.L += w * p.beta * Le;
+      }
+      p.alive = false;
+      continue;
+    }
+    if (depth >= maxDepth_) {
+      p.alive = false;
+      continue;
+    }
+    // Russian roulette, on arriving at a hit (from the `rouletteDepth_`-th
+    // on, 0-based) and before its next-event estimation: cutting a path
+    // after its BSDF sample instead (pbrt-v4's place) also cuts the MIS
+    // half of the previous hit's direct light. Survival sqrt(max beta)
+    // (Cycles' rule), not max beta: on a Lambertian sphere and floor under
+    // beach, 64 spp, max depth 5, the pixel variance is 0.48x that of
+    // pbrt-v4's rule and place at 1.04x the time (tools/experiments/README.md,
+    // "Path noise").
+    if (depth >= rouletteDepth_ && p.beta.maxComponent() < 1) {
+      const double q = std::max(0.0, 1 - std::sqrt(p.beta.maxComponent()));
+      if (p.samples->primary(SamplePairs::roulette(depth), p.index).x < q) {
+        p.alive = false;
+        continue;
+      }
+      p.beta = p.beta / (1 - q);
+    }
+    p.bsdf = scene_.materials[hit[k]->mesh].get();
+    p.sh = shadingAt(*hit[k], -p.ray.direction);
+    p.wo = p.sh.frame.toLocal(-p.ray.direction);
+    p.alive = p.wo.z > 0;
+    any = any || p.alive;
+  }
+  return any;
+}
+
+void PathIntegrator::chooseBsdfStrategies(std::span<PathState> path, int depth,
+                                          PathCounters &counters) const {
+  const std::size_t n = path.size();
+  // The BSDF strategy of each sample, decided before next-event estimation
+  // because the light sample's MIS weight needs its pdf.
+  for (std::size_t k = 0; k < n && !lightOnly_; ++k) {
+    PathState &p = path[k];
+    p.lobe = {};
+    if (!p.alive || !lobes_) continue;
+    const auto frame = lobes_->frame(p.bsdf, p.wo);
+    if (!frame) continue;
+    if (const Point2 *x =
+            p.samples->distributed(*frame->table, SamplePairs::bsdf(depth), p.index)) {
+      p.lobe = *frame;
+      p.lobePoint = *x;
+    } else if (depth == 0) {
+      ++counters.classicFallbacks;
+    }
+  }
+}
+
+void PathIntegrator::addLightSamples(std::span<PathState> path, int depth,
+                                     PathCounters &counters) const {
+  const EnvironmentLight *light = scene_.environment ? &*scene_.environment : nullptr;
+  const std::size_t n = path.size();
+  // Next-event estimation of the environment.
+  if (light && light->target() && !bsdfOnly_) {
+    std::array<std::optional<LightSample>, kMaxPaths> ls;
+    lightSamples(*light, path, depth, ls);
+    for (std::size_t k = 0; k < n; ++k) {
+      PathState &p = path[k];
+      if (!p.alive || !ls[k]) continue;
+      const Vec3 wi = p.sh.frame.toLocal(ls[k]->wi);
+      if (!(wi.z > 0)) continue;  // below the shading hemisphere: f = 0
+      // Visibility before the BSDF: an occluded sample then costs no eval.
+      const Ray shadow{p.sh.origin, ls[k]->wi};
+      record(counters, shadow);
+      if (scene_.geometry.occluded(shadow)) continue;
+      const auto [f, classicPdf] = p.bsdf->evalWithPdf(p.wo, wi);
+      if (f.isBlack()) continue;
+      const double bsdfPdf = p.lobe.table ? p.lobe.pdf(wi) : classicPdf;
+      const double w = lightOnly_ ? 1.0 : powerHeuristic(ls[k]->pdf, bsdfPdf);
+      p.L += (w * wi.z / ls[k]->pdf) * p.beta * f * ls[k]->radiance;
+    }
+  }
+}
+
+bool PathIntegrator::continuePaths(std::span<PathState> path, int depth,
+                                   std::span<std::optional<SurfaceHit>> hit,
+                                   PathCounters &counters) const {
+  const EnvironmentLight *light = scene_.environment ? &*scene_.environment : nullptr;
+  const std::size_t n = path.size();
+  // The continuation directions by BSDF sampling.
+  std::array<Ray, kMaxPaths> next;
+  std::array<std::size_t, kMaxPaths> nextOf;
+  std::size_t m = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    PathState &p = path[k];
+    if (!p.alive) continue;
+    p.alive = false;
+    const auto bs =
+        p.lobe.table ? sampleTable(*p.bsdf, p.wo, p.lobe, p.lobePoint)
+                     : p.bsdf->sample(p.wo, p.samples->primary(SamplePairs::bsdf(depth), p.index));
+    if (!bs || !(bs->pdf > 0)) continue;
+    if (!(bs->wi.z > 0)) continue;  // below the shading hemisphere: f = 0
+    const Vec3 wiWorld = p.sh.frame.toWorld(bs->wi);
+    p.beta *= (bs->wi.z / bs->pdf) * bs->f;
+    p.lastBsdfPdf = bs->pdf;
+    p.ray = {p.sh.origin, wiWorld};
+    if (p.beta.isBlack()) continue;
+    p.alive = true;
+    record(counters, p.ray);
+    // Rays after a bounce escape more often than not in an open scene:
+    // start loading the map's cell for each ray before tracing them.
+    if (light) p.escape = light->find(p.ray.direction);
+    next[m] = p.ray, nextOf[m++] = k;
+  }
+  if (m == 0) return false;
+  std::array<std::optional<SurfaceHit>, kMaxPaths> traced;
+  scene_.geometry.intersect(std::span(next.data(), m), std::span(traced.data(), m));
+  for (std::size_t q = 0; q < m; ++q) hit[nextOf[q]] = std::move(traced[q]);
+  return true;
+}
+
 void PathIntegrator::radiance(std::span<const Ray> rays,
                               std::span<const std::optional<SurfaceHit>> hits,
                               std::span<PixelSamples *const> samples,
@@ -157,7 +295,6 @@ void PathIntegrator::radiance(std::span<const Ray> rays,
     throw std::invalid_argument(
         "PathIntegrator::radiance: at most 16 paths, and one ray, hit, sample "
         "set, index and result for each");
-  const EnvironmentLight *light = scene_.environment ? &*scene_.environment : nullptr;
   std::array<PathState, kMaxPaths> path;
   std::array<std::optional<SurfaceHit>, kMaxPaths> hit;
   for (std::size_t k = 0; k < n; ++k) {
@@ -168,122 +305,13 @@ void PathIntegrator::radiance(std::span<const Ray> rays,
     record(counters, rays[k]);
   }
   const std::span<PathState> packet(path.data(), n);
-
+  const std::span<std::optional<SurfaceHit>> packetHits(hit.data(), n);
   for (int depth = 0;; ++depth) {
-    // Rays that escaped, paths that end here, and the shading at each hit.
-    bool any = false;
-    for (std::size_t k = 0; k < n; ++k) {
-      PathState &p = path[k];
-      if (!p.alive) continue;
-      if (!hit[k]) {
-        if (light) {
-          double lightPdf;
-          const Rgb Le =
-              light->radiance(depth > 0 ? p.escape : light->find(p.ray.direction), lightPdf);
-          const double w =
-              p.lastBsdfPdf > 0 && !bsdfOnly_ ? powerHeuristic(p.lastBsdfPdf, lightPdf) : 1.0;
-          p.L += w * p.beta * Le;
-        }
-        p.alive = false;
-        continue;
-      }
-      if (depth >= maxDepth_) {
-        p.alive = false;
-        continue;
-      }
-      // Russian roulette, on arriving at a hit (from the `rouletteDepth_`-th
-      // on, 0-based) and before its next-event estimation: cutting a path
-      // after its BSDF sample instead (pbrt-v4's place) also cuts the MIS
-      // half of the previous hit's direct light. Survival sqrt(max beta)
-      // (Cycles' rule), not max beta: on a Lambertian sphere and floor under
-      // beach, 64 spp, max depth 5, the pixel variance is 0.48x that of
-      // pbrt-v4's rule and place at 1.04x the time (tools/experiments/README.md,
-      // "Path noise").
-      if (depth >= rouletteDepth_ && p.beta.maxComponent() < 1) {
-        const double q = std::max(0.0, 1 - std::sqrt(p.beta.maxComponent()));
-        if (p.samples->primary(SamplePairs::roulette(depth), p.index).x < q) {
-          p.alive = false;
-          continue;
-        }
-        p.beta = p.beta / (1 - q);
-      }
-      p.bsdf = scene_.materials[hit[k]->mesh].get();
-      p.sh = shadingAt(*hit[k], -p.ray.direction);
-      p.wo = p.sh.frame.toLocal(-p.ray.direction);
-      p.alive = p.wo.z > 0;
-      any = any || p.alive;
-    }
-    if (!any) break;
-
-    // The BSDF strategy of each sample, decided before next-event estimation
-    // because the light sample's MIS weight needs its pdf.
-    for (std::size_t k = 0; k < n && !lightOnly_; ++k) {
-      PathState &p = path[k];
-      p.lobe = {};
-      if (!p.alive || !lobes_) continue;
-      const auto frame = lobes_->frame(p.bsdf, p.wo);
-      if (!frame) continue;
-      if (const Point2 *x =
-              p.samples->distributed(*frame->table, SamplePairs::bsdf(depth), p.index)) {
-        p.lobe = *frame;
-        p.lobePoint = *x;
-      } else if (depth == 0) {
-        ++counters.classicFallbacks;
-      }
-    }
-
-    // Next-event estimation of the environment.
-    if (light && light->target() && !bsdfOnly_) {
-      std::array<std::optional<LightSample>, kMaxPaths> ls;
-      lightSamples(*light, packet, depth, ls);
-      for (std::size_t k = 0; k < n; ++k) {
-        PathState &p = path[k];
-        if (!p.alive || !ls[k]) continue;
-        const Vec3 wi = p.sh.frame.toLocal(ls[k]->wi);
-        if (!(wi.z > 0)) continue;  // below the shading hemisphere: f = 0
-        // Visibility before the BSDF: an occluded sample then costs no eval.
-        const Ray shadow{p.sh.origin, ls[k]->wi};
-        record(counters, shadow);
-        if (scene_.geometry.occluded(shadow)) continue;
-        const auto [f, classicPdf] = p.bsdf->evalWithPdf(p.wo, wi);
-        if (f.isBlack()) continue;
-        const double bsdfPdf = p.lobe.table ? p.lobe.pdf(wi) : classicPdf;
-        const double w = lightOnly_ ? 1.0 : powerHeuristic(ls[k]->pdf, bsdfPdf);
-        p.L += (w * wi.z / ls[k]->pdf) * p.beta * f * ls[k]->radiance;
-      }
-    }
+    if (!arrive(packet, packetHits, depth)) break;
+    if (!lightOnly_) chooseBsdfStrategies(packet, depth, counters);
+    addLightSamples(packet, depth, counters);
     if (lightOnly_) break;  // the light sample was the whole estimate
-
-    // The continuation directions by BSDF sampling.
-    std::array<Ray, kMaxPaths> next;
-    std::array<std::size_t, kMaxPaths> nextOf;
-    std::size_t m = 0;
-    for (std::size_t k = 0; k < n; ++k) {
-      PathState &p = path[k];
-      if (!p.alive) continue;
-      p.alive = false;
-      const auto bs =
-          p.lobe.table
-              ? sampleTable(*p.bsdf, p.wo, p.lobe, p.lobePoint)
-              : p.bsdf->sample(p.wo, p.samples->primary(SamplePairs::bsdf(depth), p.index));
-      if (!bs || !(bs->pdf > 0)) continue;
-      if (!(bs->wi.z > 0)) continue;  // below the shading hemisphere: f = 0
-      const Vec3 wiWorld = p.sh.frame.toWorld(bs->wi);
-      p.beta *= (bs->wi.z / bs->pdf) * bs->f;
-      p.lastBsdfPdf = bs->pdf;
-      p.ray = {p.sh.origin, wiWorld};
-      if (p.beta.isBlack()) continue;
-      p.alive = true;
-      record(counters, p.ray);
-      // Rays after a bounce escape more often than not in an open scene:
-      // start loading the map's cell for each ray before tracing them.
-      if (light) p.escape = light->find(p.ray.direction);
-      next[m] = p.ray, nextOf[m++] = k;
-    }
-    if (m == 0) break;
-    std::array<std::optional<SurfaceHit>, kMaxPaths> traced;
-    scene_.geometry.intersect(std::span(next.data(), m), std::span(traced.data(), m));
-    for (std::size_t q = 0; q < m; ++q) hit[nextOf[q]] = std::move(traced[q]);
+    if (!continuePaths(packet, depth, packetHits, counters)) break;
   }
 
   for (std::size_t k = 0; k < n; ++k) {

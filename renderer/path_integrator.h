@@ -73,7 +73,28 @@ class PathIntegrator {
 
   int maxDepth() const { return maxDepth_; }
 
+ // One path between bounces; defined (and used only) in path_integrator.cpp.
+  struct PathState;
+
  private:
+  // The phases of one bounce over a packet of paths, in the order radiance()
+  // runs them; each skips the paths that have ended.
+  // What each path finds at `hit`: the environment when it escaped (ending
+  // it), the end of its depth or roulette, else its shading; returns whether
+  // any path goes on.
+  bool arrive(std::span<PathState> paths, std::span<const std::optional<SurfaceHit>> hits,
+              int depth) const;
+  // Each path's BSDF strategy: the backend's point through the lobe table when
+  // it serves the context, else the material's own sample().
+  void chooseBsdfStrategies(std::span<PathState> paths, int depth, PathCounters &counters) const;
+  // Next-event estimation of the environment, MIS-weighted against the BSDF
+  // strategy chosen above.
+  void addLightSamples(std::span<PathState> paths, int depth, PathCounters &counters) const;
+  // Samples each path's continuation and traces it into `hits`; returns
+  // whether any path goes on.
+  bool continuePaths(std::span<PathState> paths, int depth,
+                     std::span<std::optional<SurfaceHit>> hits, PathCounters &counters) const;
+
   const Scene &scene_;
   const LobeTables *lobes_;
   int maxDepth_, rouletteDepth_;

@@ -14,17 +14,108 @@
 
 namespace nuld::cli {
 
+namespace {
+
+struct OptimizeOptions {
+  std::string target, preset, mass, mapping, objective, boxKind, output;
+  std::size_t n = 0, instances = 1;
+  long epochs = -1, boxes = -1;
+  double lr = -1, lrEnd = -1, alpha = -1, alphaEnd = -1, ramp = -1, unionWeight = 0;
+  long unionGroup = 0;
+  std::uint64_t seed = 0;
+  RunFlags run;
+};
+
+// The preset for the target, with the options' overrides; throws naming an
+// option that does not parse.
+OptimizerSettings settingsFrom(const OptimizeOptions &o, const Target &target) {
+  OptimizerSettings s = presetSettings(o.preset.empty() ? defaultPreset(target) : o.preset, o.n);
+  s.instances = o.instances;
+  s.seed = o.seed;
+  if (o.epochs > 0) s.epochs = int(o.epochs);
+  if (o.boxes > 0) s.boxes = std::size_t(o.boxes);
+  if (!o.boxKind.empty()) s.boxKind = parseBoxKind(o.boxKind);
+  if (!o.mapping.empty()) s.mapping = parseMapping(o.mapping);
+  if (!o.objective.empty()) s.objective = parseObjective(o.objective);
+  // The periodic objective's points live on the torus.
+  if (s.objective == Objective::PeriodicL2 && o.mapping.empty()) s.mapping = Mapping::Toroidal;
+  if (o.mass == "exact")
+    s.mcSamples = 0;
+  else if (o.mass.rfind("mc:", 0) == 0) {
+    try {
+      s.mcSamples = std::stoul(o.mass.substr(3));
+    } catch (...) {
+      s.mcSamples = 0;
+    }
+    if (s.mcSamples == 0)
+      throw std::invalid_argument("--mass '" + o.mass +
+                                  "': expected mc:K with K a positive integer");
+  } else if (!o.mass.empty()) {
+    throw std::invalid_argument("--mass '" + o.mass + "': expected exact or mc:K");
+  }
+  if (o.lr != -1) s.lrStart = o.lr;
+  if (o.lrEnd != -1) s.lrEnd = o.lrEnd;
+  if (o.alpha != -1) s.alphaStart = o.alpha;
+  if (o.alphaEnd != -1) s.alphaEnd = o.alphaEnd;
+  if (o.ramp != -1) s.rampFraction = o.ramp;
+  s.unionWeight = o.unionWeight;
+  s.unionGroup = std::size_t(o.unionGroup);
+  return s;
+}
+
+// The mean L2asd and D* of the set's instances (against the target unless it
+// is uniform), recorded with the points and printed.
+std::pair<double, double> finalMetrics(const PointSet &set, const Target &target) {
+  const bool uniform = target.isUniform();
+  double l2 = 0, dstar = 0;
+  for (std::size_t k = 0; k < set.instances(); ++k) {
+    l2 += (uniform ? l2asd(set.instance(k)) : nonuniformL2asd(set.instance(k), target)) /
+          double(set.instances());
+    dstar +=
+        starDiscrepancy(set.instance(k), uniform ? nullptr : &target) / double(set.instances());
+  }
+  return {l2, dstar};
+}
+
+int runOptimize(const OptimizeOptions &o, const Target &target, const OptimizerSettings &s) {
+  const DirectOptimizer opt(target, s);
+
+  const std::string ckpt = o.output + ".ckpt";
+  const bool quiet = o.run.quiet;
+  OptimizerState state = opt.initialState();
+  std::optional<ProgressBar> bar;
+  EpochReport last;
+  const ResumableRun run = resumableRun(opt, target.spec(), state, [&](const EpochReport &r) {
+    last = r;
+    std::string status = "loss " + shortNumber(r.loss);
+    if (s.unionWeight > 0) status += "  union " + shortNumber(r.unionLoss);
+    if (s.objective == Objective::SoftBoxes) status += "  alpha " + shortNumber(r.alpha);
+    bar->update(r.epoch, status + "  lr " + shortNumber(r.lr));
+  });
+  resumeRun(run, ckpt, o.run, &std::cerr);
+  if (!quiet) std::cerr << "optimize " << target.spec() << ": " << s.describe() << "\n";
+  bar.emplace("epoch", s.epochs, state.epoch, quiet);
+  if (!driveRun(run, ckpt, o.run, &std::cerr)) return 0;
+  bar->finish("loss " + shortNumber(last.loss));
+
+  PointSet set = opt.points(state);
+  const auto [l2, dstar] = finalMetrics(set, target);
+  std::ostringstream m;
+  m.precision(9);
+  m << "l2asd=" << l2 << " dstar=" << dstar;
+  set.metadata["final_metrics"] = m.str();
+  writePointSet(o.output, set);
+  std::filesystem::remove(ckpt);
+  std::printf("l2asd %.9g\ndstar %.9g\n", l2, dstar);
+  if (!quiet)
+    std::cerr << "wrote " << set.instances() << " x " << set.n << " points to " << o.output << "\n";
+  return 0;
+}
+
+}  // namespace
+
 Runner addOptimize(CLI::App &app) {
-  struct Options {
-    std::string target, preset, mass, mapping, objective, boxKind, output;
-    std::size_t n = 0, instances = 1;
-    long epochs = -1, boxes = -1;
-    double lr = -1, lrEnd = -1, alpha = -1, alphaEnd = -1, ramp = -1, unionWeight = 0;
-    long unionGroup = 0;
-    std::uint64_t seed = 0;
-    RunFlags run;
-  };
-  auto o = std::make_shared<Options>();
+  auto o = std::make_shared<OptimizeOptions>();
   app.add_option("--target", o->target, "target SPEC")->required();
   app.add_option("--n", o->n, "points per set")->required()->check(CLI::PositiveNumber);
   app.add_option("--preset", o->preset,
@@ -59,79 +150,7 @@ Runner addOptimize(CLI::App &app) {
   app.add_option("-o,--output", o->output, "point-set file to write")->required();
   return [o] {
     const auto target = makeTarget(o->target);
-    OptimizerSettings s =
-        presetSettings(o->preset.empty() ? defaultPreset(*target) : o->preset, o->n);
-    s.instances = o->instances;
-    s.seed = o->seed;
-    if (o->epochs > 0) s.epochs = int(o->epochs);
-    if (o->boxes > 0) s.boxes = std::size_t(o->boxes);
-    if (!o->boxKind.empty()) s.boxKind = parseBoxKind(o->boxKind);
-    if (!o->mapping.empty()) s.mapping = parseMapping(o->mapping);
-    if (!o->objective.empty()) s.objective = parseObjective(o->objective);
-    // The periodic objective's points live on the torus.
-    if (s.objective == Objective::PeriodicL2 && o->mapping.empty()) s.mapping = Mapping::Toroidal;
-    if (o->mass == "exact")
-      s.mcSamples = 0;
-    else if (o->mass.rfind("mc:", 0) == 0) {
-      try {
-        s.mcSamples = std::stoul(o->mass.substr(3));
-      } catch (...) {
-        s.mcSamples = 0;
-      }
-      if (s.mcSamples == 0)
-        throw std::invalid_argument("--mass '" + o->mass +
-                                    "': expected mc:K with K a positive integer");
-    } else if (!o->mass.empty()) {
-      throw std::invalid_argument("--mass '" + o->mass + "': expected exact or mc:K");
-    }
-    if (o->lr != -1) s.lrStart = o->lr;
-    if (o->lrEnd != -1) s.lrEnd = o->lrEnd;
-    if (o->alpha != -1) s.alphaStart = o->alpha;
-    if (o->alphaEnd != -1) s.alphaEnd = o->alphaEnd;
-    if (o->ramp != -1) s.rampFraction = o->ramp;
-    s.unionWeight = o->unionWeight;
-    s.unionGroup = std::size_t(o->unionGroup);
-    const DirectOptimizer opt(*target, s);
-
-    const std::string ckpt = o->output + ".ckpt";
-    const bool quiet = o->run.quiet;
-    OptimizerState state = opt.initialState();
-    std::optional<ProgressBar> bar;
-    EpochReport last;
-    const ResumableRun run = resumableRun(opt, target->spec(), state, [&](const EpochReport &r) {
-      last = r;
-      std::string status = "loss " + shortNumber(r.loss);
-      if (s.unionWeight > 0) status += "  union " + shortNumber(r.unionLoss);
-      if (s.objective == Objective::SoftBoxes) status += "  alpha " + shortNumber(r.alpha);
-      bar->update(r.epoch, status + "  lr " + shortNumber(r.lr));
-    });
-    resumeRun(run, ckpt, o->run, &std::cerr);
-    if (!quiet) std::cerr << "optimize " << target->spec() << ": " << s.describe() << "\n";
-    bar.emplace("epoch", s.epochs, state.epoch, quiet);
-    if (!driveRun(run, ckpt, o->run, &std::cerr)) return 0;
-    bar->finish("loss " + shortNumber(last.loss));
-
-    PointSet set = opt.points(state);
-    // Final metrics, averaged over instances, recorded with the points.
-    const bool uniform = target->isUniform();
-    double l2 = 0, dstar = 0;
-    for (std::size_t k = 0; k < set.instances(); ++k) {
-      l2 += (uniform ? l2asd(set.instance(k)) : nonuniformL2asd(set.instance(k), *target)) /
-            double(set.instances());
-      dstar += starDiscrepancy(set.instance(k), uniform ? nullptr : target.get()) /
-               double(set.instances());
-    }
-    std::ostringstream m;
-    m.precision(9);
-    m << "l2asd=" << l2 << " dstar=" << dstar;
-    set.metadata["final_metrics"] = m.str();
-    writePointSet(o->output, set);
-    std::filesystem::remove(ckpt);
-    std::printf("l2asd %.9g\ndstar %.9g\n", l2, dstar);
-    if (!quiet)
-      std::cerr << "wrote " << set.instances() << " x " << set.n << " points to " << o->output
-                << "\n";
-    return 0;
+    return runOptimize(*o, *target, settingsFrom(*o, *target));
   };
 }
 
