@@ -98,9 +98,9 @@ void BankBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
     if (b.sets.n == spp) sized.push_back(&b);
   if (sized.empty()) {
     const std::string n = std::to_string(banks_.front().sets.n);
-    throw std::invalid_argument(banks_.front().source + ": the file holds sets of " + n +
-                                " points, but the render asks for " + std::to_string(spp) +
-                                " samples per pixel (use --spp " + n + ")");
+    throw BackendRefusal(banks_.front().source + ": the file holds sets of " + n +
+                         " points, but the render asks for " + std::to_string(spp) +
+                         " samples per pixel (use --spp " + n + ")");
   }
   const auto bankFor = [&](const Target *t) -> const SetBank * {
     if (!t) return nullptr;
@@ -117,8 +117,8 @@ void BankBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
     if (shifted_) {
       const auto *grid = dynamic_cast<const GridTarget *>(t);
       if (!grid)
-        throw std::invalid_argument(name_ + ": the target '" + t->spec() +
-                                    "' has no CDF map to shift its sets in");
+        throw BackendRefusal(name_ + ": the target '" + t->spec() +
+                             "' has no CDF map to shift its sets in");
       s.primaries.reserve(b->sets.points.size());
       for (const Point2 &p : b->sets.points) s.primaries.push_back(grid->primaryOf(p));
     }
@@ -140,7 +140,7 @@ void BankBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
            "render, or use uniform points)";
   else
     why += " (optimize for the scene's map, or use uniform points)";
-  throw std::invalid_argument(why);
+  throw BackendRefusal(why);
 }
 
 std::span<const Point2> BankBackend::pick(const SetBank &bank, std::uint64_t pixel,

@@ -40,7 +40,7 @@ void NeuralBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
   // A graph model makes sets of any size; the supplement's network its own.
   const std::size_t n = spp;
   if (!generator_.anySize() && spp != generator_.settings().n)
-    throw std::invalid_argument(
+    throw BackendRefusal(
         source_ + ": the model makes sets of " + std::to_string(generator_.settings().n) +
         " points, but the render asks for " + std::to_string(spp) +
         " samples per pixel (use --spp " + std::to_string(generator_.settings().n) + ")");
@@ -57,7 +57,7 @@ void NeuralBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
         gammas.push_back({(*g)[0], (*g)[1]});
       }
     if (specs.empty())
-      throw std::invalid_argument(
+      throw BackendRefusal(
           source_ + ": the model's family '" + generator_.family().spec() +
           "' makes none of the scene's " + std::to_string(targets.lobes.size()) +
           " lobe tables (it serves a scene material with the family's parameters)");

@@ -20,6 +20,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -45,6 +46,15 @@ struct SamplingTargets {
   std::vector<const Target *> lobes{};  // every lobe table (LobeTables::targets)
 };
 
+// What prepare() throws when the backend cannot serve a render (sets of
+// another N, points that follow none of the scene's targets, a model that
+// makes none of them): a statement about this backend and this scene, which
+// a study records as a skipped row. Any other exception is a failure.
+class BackendRefusal : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
+
 class SamplerBackend {
  public:
   virtual ~SamplerBackend() = default;
@@ -59,9 +69,9 @@ class SamplerBackend {
 
   // Checks that the backend can serve `spp` samples per pixel for a scene
   // with these targets, and remembers which ones it serves (by address: the
-  // same objects are passed to distributed()); throws std::invalid_argument
-  // saying why not (a point-set file of another N, or points that follow no
-  // target of the scene).
+  // same objects are passed to distributed()); throws BackendRefusal saying
+  // why not (a point-set file of another N, or points that follow no target
+  // of the scene).
   virtual void prepare(std::size_t spp, const SamplingTargets &targets) {}
 
   // N = out.size() uniform points in [0,1)^2 for (pixel, pair). A pure

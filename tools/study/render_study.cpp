@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <functional>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -161,6 +163,72 @@ void appendReferenceRow(CsvTable &refs, const std::string &scene, const Referenc
                toString(r.render.integrator), formatNumber(result.totalSeconds), image.string()});
 }
 
+// One cell of the table: `repeats` renders of one backend at one spp,
+// scored against the reference. The first render and its error map are
+// written beside the reference.
+struct Cell {
+  const Scene &scene;
+  RenderSettings settings;  // spp set
+  std::string sceneSlug, backend;
+  const ResolvedBackend &resolved;
+  const Image &reference;
+  fs::path dir;
+};
+
+// The cell's row, or nullopt with `refusal` set when the backend refused the
+// render (BackendRefusal); any other error propagates. `progress(d, n)`
+// follows repeat r's render.
+std::optional<std::vector<std::string>> renderCell(
+    const Cell &c, const RenderStudySettings &s, std::string &refusal,
+    const std::function<void(std::size_t r, std::size_t d, std::size_t n)> &progress) {
+  const std::string stem = slug(c.backend) + "_spp" + std::to_string(c.settings.spp);
+  const fs::path image = c.dir / (stem + ".exr"), errorPath = c.dir / (stem + "_error.png");
+  std::vector<double> mse, relmse, seconds, raysPerSecond;
+  std::size_t nonFinite = 0;
+  std::uint64_t rejected = 0;
+  for (std::size_t r = 0; r < s.repeats; ++r) {
+    const auto start = Clock::now();
+    const auto b = makeBackend(c.resolved.spec, s.seed + r);
+    RenderStats stats;
+    Image img;
+    try {
+      img = render(c.scene, c.settings, *b, &stats,
+                   [&](std::size_t d, std::size_t n) { progress(r, d, n); });
+    } catch (const BackendRefusal &e) {
+      refusal = e.what();
+      return std::nullopt;
+    }
+    seconds.push_back(secondsSince(start));
+    raysPerSecond.push_back(stats.raysPerSecond());
+    const ImageError e = compareImages(img, c.reference);
+    mse.push_back(e.mse);
+    relmse.push_back(e.relmse);
+    nonFinite += e.nonFinitePixels;
+    rejected += stats.rejectedSamples;
+    if (r == 0) {
+      writeRender(image.string(), img);
+      writeImage(errorPath.string(), errorMap(img, c.reference));
+    }
+  }
+  const Summary m = summarize(mse), rm = summarize(relmse), t = summarize(seconds),
+                rps = summarize(raysPerSecond);
+  return std::vector<std::string>{c.sceneSlug,
+                                  c.backend,
+                                  std::to_string(c.settings.spp),
+                                  std::to_string(s.repeats),
+                                  formatNumber(m.mean),
+                                  formatNumber(m.stderr_),
+                                  formatNumber(rm.mean),
+                                  formatNumber(rm.stderr_),
+                                  formatNumber(t.mean),
+                                  formatNumber(c.resolved.setupSeconds),
+                                  formatNumber(rps.mean),
+                                  std::to_string(nonFinite),
+                                  std::to_string(rejected),
+                                  fs::relative(image, s.out).string(),
+                                  fs::relative(errorPath, s.out).string()};
+}
+
 }  // namespace
 
 const std::vector<std::string> &renderStudyColumns() {
@@ -265,7 +333,6 @@ RenderStudyResult runRenderStudy(const RenderStudySettings &s, const StudyProgre
     double totalWork = 0, work = 0;
     for (std::size_t spp : s.spp) totalWork += double(spp) * s.backends.size() * s.repeats;
     for (const std::string &backend : s.backends) {
-      const std::string backendSlug = slug(backend);
       for (std::size_t spp : s.spp) {
         const double cellWork = double(spp) * s.repeats;
         if (table.hasRow({sceneSlug, backend, std::to_string(spp)})) {
@@ -282,54 +349,22 @@ RenderStudyResult runRenderStudy(const RenderStudySettings &s, const StudyProgre
         }
         RenderSettings settings = rs;
         settings.spp = spp;
-        std::vector<double> mse, relmse, seconds, raysPerSecond;
-        std::size_t nonFinite = 0;
-        std::uint64_t rejected = 0;
-        const fs::path image = dir / (backendSlug + "_spp" + std::to_string(spp) + ".exr");
-        const fs::path errorPath =
-            dir / (backendSlug + "_spp" + std::to_string(spp) + "_error.png");
-        std::string skippedWhy;
-        for (std::size_t r = 0; r < s.repeats && skippedWhy.empty(); ++r) {
-          const auto start = Clock::now();
-          try {
-            const auto b = makeBackend(resolved.spec, s.seed + r);
-            RenderStats stats;
-            const Image img =
-                render(loaded.scene, settings, *b, &stats, [&](std::size_t d, std::size_t n) {
-                  if (progress)
-                    progress(sceneSlug + ": renders",
-                             (work + cellWork / s.repeats * d / n) / totalWork,
-                             backend + " spp " + std::to_string(spp));
-                });
-            seconds.push_back(secondsSince(start));
-            raysPerSecond.push_back(stats.raysPerSecond());
-            const ImageError e = compareImages(img, ref.image);
-            mse.push_back(e.mse);
-            relmse.push_back(e.relmse);
-            nonFinite += e.nonFinitePixels;
-            rejected += stats.rejectedSamples;
-            if (r == 0) {
-              writeRender(image.string(), img);
-              writeImage(errorPath.string(), errorMap(img, ref.image));
-            }
-          } catch (const std::invalid_argument &e) {
-            skippedWhy = e.what();  // the backend refused this spp or scene
-          }
-          work += cellWork / s.repeats;
-        }
-        if (!skippedWhy.empty()) {
+        const Cell cell{loaded.scene, settings, sceneSlug, backend, resolved, ref.image, dir};
+        std::string refusal;
+        const auto row =
+            renderCell(cell, s, refusal, [&](std::size_t r, std::size_t d, std::size_t n) {
+              if (progress)
+                progress(sceneSlug + ": renders",
+                         (work + cellWork / s.repeats * (double(r) + double(d) / n)) / totalWork,
+                         backend + " spp " + std::to_string(spp));
+            });
+        work += cellWork;
+        if (!row) {
           result.skipped.push_back(sceneSlug + " " + backend + " " + std::to_string(spp) + ": " +
-                                   skippedWhy);
+                                   refusal);
           continue;
         }
-        const Summary m = summarize(mse), rm = summarize(relmse), t = summarize(seconds),
-                      rps = summarize(raysPerSecond);
-        table.addRow(
-            {sceneSlug, backend, std::to_string(spp), std::to_string(s.repeats),
-             formatNumber(m.mean), formatNumber(m.stderr_), formatNumber(rm.mean),
-             formatNumber(rm.stderr_), formatNumber(t.mean), formatNumber(resolved.setupSeconds),
-             formatNumber(rps.mean), std::to_string(nonFinite), std::to_string(rejected),
-             fs::relative(image, s.out).string(), fs::relative(errorPath, s.out).string()});
+        table.addRow(*row);
       }
     }
   }
