@@ -94,8 +94,8 @@ std::string GaussianBlueNoiseSettings::describe() const {
   std::ostringstream s;
   s.precision(17);
   s << "iterations=" << iterations << " sigma=" << sigma << " step=" << step
-    << " boundary=" << (boundary == BlueNoiseBoundary::Toroidal ? "toroidal" : "bounded")
-    << " target_samples=" << targetSamples << " seed=" << seed;
+    << " boundary=" << toString(boundary) << " target_samples=" << targetSamples
+    << " seed=" << seed;
   return s.str();
 }
 

@@ -62,16 +62,6 @@ double discProjectionQuantile(double p) {
 
 }  // namespace
 
-UniformSotDomain parseUniformSotDomain(const std::string &name) {
-  if (name == "disc") return UniformSotDomain::Disc;
-  if (name == "square") return UniformSotDomain::Square;
-  throw std::invalid_argument("unknown uniform domain '" + name + "': expected disc or square");
-}
-
-std::string toString(UniformSotDomain domain) {
-  return domain == UniformSotDomain::Disc ? "disc" : "square";
-}
-
 void uniformDiscSlabMeans(std::span<double> out) {
   const std::size_t n = out.size();
   double below = 0;  // the first moment below the slab's lower end

@@ -398,28 +398,6 @@ Point2 balancedPullback(Point2 pulled, const Jacobian2 &j) {
   return {scaled(pulled.x, j.m[0][0], j.m[1][0]), scaled(pulled.y, j.m[0][1], j.m[1][1])};
 }
 
-NetworkArch parseNetworkArch(const std::string &name) {
-  if (name == "supplement") return NetworkArch::Supplement;
-  if (name == "graph") return NetworkArch::Graph;
-  throw std::invalid_argument("unknown network architecture '" + name +
-                              "': expected supplement or graph");
-}
-
-std::string toString(NetworkArch arch) {
-  return arch == NetworkArch::Graph ? "graph" : "supplement";
-}
-
-BaseRandomization parseBaseRandomization(const std::string &name) {
-  if (name == "rotated") return BaseRandomization::Rotated;
-  if (name == "owen") return BaseRandomization::Owen;
-  throw std::invalid_argument("unknown base randomization '" + name +
-                              "': expected rotated or owen");
-}
-
-std::string toString(BaseRandomization base) {
-  return base == BaseRandomization::Owen ? "owen" : "rotated";
-}
-
 Point2 NeuralGenerator::place(Point2 raw, const Target &target, Jacobian2 *jacobian) const {
   if (settings_.mapped) {
     // u wraps around the square like the Cranley-Patterson base set itself.

@@ -77,17 +77,6 @@ struct SoftBoxLossFunction : torch::autograd::Function<SoftBoxLossFunction> {
 
 }  // namespace
 
-GradientPullback parseGradientPullback(const std::string &name) {
-  if (name == "exact") return GradientPullback::Exact;
-  if (name == "balanced") return GradientPullback::Balanced;
-  throw std::invalid_argument("unknown gradient pull-back '" + name +
-                              "': expected exact or balanced");
-}
-
-std::string toString(GradientPullback p) {
-  return p == GradientPullback::Balanced ? "balanced" : "exact";
-}
-
 struct NeuralTrainer::State {
   std::unique_ptr<torch::optim::Adam> adam;
 };

@@ -34,8 +34,13 @@ namespace nuld {
 // at N = 256, exact training made held-out sets worse than the untrained net
 // at either learning rate tried, balanced made them better (see README).
 enum class GradientPullback { Exact, Balanced };
-GradientPullback parseGradientPullback(const std::string &name);  // "exact" | "balanced"
-std::string toString(GradientPullback p);
+inline constexpr auto kGradientPullbackNames = enumTable<GradientPullback>(
+    "gradient pull-back",
+    {{"exact", GradientPullback::Exact}, {"balanced", GradientPullback::Balanced}});
+constexpr const auto &enumNames(GradientPullback) { return kGradientPullbackNames; }
+inline GradientPullback parseGradientPullback(const std::string &name) {
+  return kGradientPullbackNames.parse(name);
+}
 
 struct TrainerSettings {
   int steps = 2000;

@@ -21,38 +21,6 @@
 
 namespace nuld {
 
-Mapping parseMapping(const std::string &s) {
-  if (s == "mapped") return Mapping::Mapped;
-  if (s == "clamp") return Mapping::Clamp;
-  if (s == "toroidal") return Mapping::Toroidal;
-  throw std::invalid_argument("unknown mapping '" + s + "' (expected mapped, clamp or toroidal)");
-}
-
-std::string toString(Mapping m) {
-  switch (m) {
-    case Mapping::Mapped: return "mapped";
-    case Mapping::Clamp: return "clamp";
-    case Mapping::Toroidal: return "toroidal";
-  }
-  return "?";
-}
-
-Objective parseObjective(const std::string &s) {
-  if (s == "soft") return Objective::SoftBoxes;
-  if (s == "l2asd") return Objective::ExactL2asd;
-  if (s == "l2per") return Objective::PeriodicL2;
-  throw std::invalid_argument("unknown objective '" + s + "' (expected soft, l2asd or l2per)");
-}
-
-std::string toString(Objective o) {
-  switch (o) {
-    case Objective::SoftBoxes: return "soft";
-    case Objective::ExactL2asd: return "l2asd";
-    case Objective::PeriodicL2: return "l2per";
-  }
-  return "soft";
-}
-
 std::string OptimizerSettings::describe() const {
   std::ostringstream s;
   s.precision(17);
