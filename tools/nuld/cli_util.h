@@ -1,9 +1,12 @@
 #pragma once
 // Small helpers shared by the subcommands.
 
+#include <CLI/CLI.hpp>
 #include <memory>
+#include <stdexcept>
 #include <string>
 
+#include "sampler/enum_names.h"
 #include "sampler/point.h"
 #include "sampler/targets/target.h"
 
@@ -22,6 +25,23 @@ struct Resolution {
   int width = 0, height = 0;
 };
 Resolution parseResolution(const std::string &text);
+
+// The check of an option that names a value of `names` (aliases included):
+// the help lists the names as {a,b,c}; anything else is refused with the
+// table's message.
+template <class E, std::size_t N>
+CLI::Validator oneOf(const EnumTable<E, N> &names) {
+  return CLI::Validator(
+      [names](std::string &text) {
+        try {
+          names.parse(text);
+          return std::string();
+        } catch (const std::invalid_argument &e) {
+          return std::string(e.what());
+        }
+      },
+      CLI::detail::generate_set(names.names()));
+}
 
 // Three significant digits, for progress-bar status lines (loss, lr, alpha).
 std::string shortNumber(double v);

@@ -61,7 +61,7 @@ Runner addTrain(CLI::App &app) {
   app.add_option("--arch", o->arch,
                  "supplement (the paper's MLP of z and gamma) or graph (ours: per-point message "
                  "passing over the base set's nearest neighbours; see README)")
-      ->check(CLI::IsMember({"supplement", "graph"}))
+      ->check(oneOf(kNetworkArchNames))
       ->capture_default_str();
   app.add_option("--hidden", o->net.hidden,
                  "hidden width (supplement: 64, 256, 512, 1024; default 256) or each point's "
@@ -80,7 +80,7 @@ Runner addTrain(CLI::App &app) {
                  "graph: how z randomizes the base set: rotated (the supplement's Cranley-"
                  "Patterson rotation of Sobol) or owen (Sobol Owen-scrambled by a hash of z; "
                  "see README)")
-      ->check(CLI::IsMember({"rotated", "owen"}))
+      ->check(oneOf(kBaseRandomizationNames))
       ->capture_default_str();
   app.add_flag("--discrepancy-gradient", o->net.discrepancyGradient,
                "graph: each point also sees the gradient of its set's grid L2 discrepancy at "
@@ -108,7 +108,7 @@ Runner addTrain(CLI::App &app) {
   app.add_option("--gradient", o->pullback,
                  "mapped mode: exact (J^T g) or balanced (each coordinate's gradient divided by "
                  "how far x moves per unit of it, so stretched regions do not dominate)")
-      ->check(CLI::IsMember({"exact", "balanced"}))
+      ->check(oneOf(kGradientPullbackNames))
       ->capture_default_str();
   app.add_option("--steps", o->train.steps, "training steps")->capture_default_str();
   app.add_option("--batch", o->train.batch, "(z, gamma) pairs per step")->capture_default_str();
