@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "sampler/bluenoise/target_sample.h"
+#include "sampler/io/round_trip.h"
 #include "sampler/sequences/rng.h"
 
 namespace nuld {
@@ -109,8 +110,7 @@ std::size_t SlicedOtSettings::samplesFor(std::size_t n) const {
 
 std::string SlicedOtSettings::describe() const {
   std::ostringstream s;
-  s.precision(17);
-  s << "iterations=" << iterations << " slices=" << slices << " step=" << step
+  s << "iterations=" << iterations << " slices=" << slices << " step=" << formatRoundTrip(step)
     << " target_samples=" << targetSamples << " seed=" << seed
     << " uniform_domain=" << toString(uniformDomain);
   return s.str();

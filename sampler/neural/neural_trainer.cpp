@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "sampler/io/round_trip.h"
 #include "sampler/loss/box_mass.h"
 #include "sampler/loss/soft_box_loss.h"
 #include "sampler/metrics/discrepancy.h"
@@ -82,12 +83,12 @@ struct NeuralTrainer::State {
 };
 
 std::string TrainerSettings::describe() const {
+  const auto r = [](double v) { return formatRoundTrip(v); };
   std::ostringstream s;
-  s.precision(17);
   s << "steps=" << steps << " batch=" << batch << " boxes=" << boxes
-    << " box_kind=" << toString(boxKind) << " lr=" << lrStart << " lr_end=" << lrEnd
-    << " alpha=" << alphaStart << " alpha_end=" << alphaEnd << " ramp=" << rampFraction
-    << " cutoff=" << cutoff << " pullback=" << toString(pullback) << " seed=" << seed
+    << " box_kind=" << toString(boxKind) << " lr=" << r(lrStart) << " lr_end=" << r(lrEnd)
+    << " alpha=" << r(alphaStart) << " alpha_end=" << r(alphaEnd) << " ramp=" << r(rampFraction)
+    << " cutoff=" << r(cutoff) << " pullback=" << toString(pullback) << " seed=" << seed
     << " validation=" << validationSets << " validation_grid=" << validationGrid;
   return s.str();
 }
@@ -263,10 +264,11 @@ namespace {
 
 // The history as "step loss l2;..." with round-trip precision, and back.
 std::string formatHistory(const std::vector<Validation> &history) {
-  std::ostringstream out;
-  out.precision(17);
-  for (const Validation &v : history) out << v.step << ' ' << v.meanLoss << ' ' << v.l2 << ';';
-  return out.str();
+  std::string out;
+  for (const Validation &v : history)
+    out += std::to_string(v.step) + ' ' + formatRoundTrip(v.meanLoss) + ' ' +
+           formatRoundTrip(v.l2) + ';';
+  return out;
 }
 
 std::vector<Validation> parseHistory(const std::string &text, const std::string &path) {
@@ -344,10 +346,7 @@ void NeuralTrainer::loadCheckpoint(const std::string &path) {
 }
 
 std::string NeuralTrainer::formatLosses() const {
-  std::ostringstream out;
-  out.precision(17);
-  out << lossCount_ << ' ' << lossSum_;
-  return out.str();
+  return std::to_string(lossCount_) + ' ' + formatRoundTrip(lossSum_);
 }
 
 }  // namespace nuld

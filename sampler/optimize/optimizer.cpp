@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "sampler/io/atomic_file.h"
+#include "sampler/io/round_trip.h"
 #include "sampler/loss/box_mass.h"
 #include "sampler/loss/soft_box_loss.h"
 #include "sampler/metrics/discrepancy.h"
@@ -22,17 +23,17 @@
 namespace nuld {
 
 std::string OptimizerSettings::describe() const {
+  const auto r = [](double v) { return formatRoundTrip(v); };
   std::ostringstream s;
-  s.precision(17);
   s << "preset=" << preset << " n=" << n << " instances=" << instances << " epochs=" << epochs
     << " boxes=" << boxes << " box_kind=" << toString(boxKind)
     << " mass=" << (mcSamples ? "mc:" + std::to_string(mcSamples) : std::string("exact"))
-    << " mapping=" << toString(mapping) << " objective=" << toString(objective) << " lr=" << lrStart
-    << ".." << lrEnd << " alpha=" << alphaStart << ".." << alphaEnd << " ramp=" << rampFraction
-    << " cutoff=" << cutoff << " seed=" << seed;
+    << " mapping=" << toString(mapping) << " objective=" << toString(objective)
+    << " lr=" << r(lrStart) << ".." << r(lrEnd) << " alpha=" << r(alphaStart) << ".." << r(alphaEnd)
+    << " ramp=" << r(rampFraction) << " cutoff=" << r(cutoff) << " seed=" << seed;
   // Only when on, so that the sets and checkpoints made before the term
   // existed keep their fingerprints.
-  if (unionWeight > 0) s << " union=" << unionWeight << "/" << unionGroupSize();
+  if (unionWeight > 0) s << " union=" << r(unionWeight) << "/" << unionGroupSize();
   return s.str();
 }
 

@@ -1,7 +1,11 @@
-// The enum name tables: every name parses back to its value, every unknown
-// name gets the one message that names the field, the text and the names.
+// The enum name tables and the round-trip number format: every name parses
+// back to its value, every unknown name gets the one message that names the
+// field, the text and the names; numbers read back exactly.
 #include <gtest/gtest.h>
 
+#include <charconv>
+#include <cmath>
+#include <cstdlib>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -10,9 +14,11 @@
 #include "sampler/bluenoise/gaussian_blue_noise.h"
 #include "sampler/bluenoise/sliced_ot.h"
 #include "sampler/enum_names.h"
+#include "sampler/io/round_trip.h"
 #include "sampler/loss/boxes.h"
 #include "sampler/optimize/optimizer.h"
 #include "sampler/point.h"
+#include "sampler/sequences/rng.h"
 #include "sampler/sequences/sequence.h"
 
 namespace nuld {
@@ -84,6 +90,25 @@ TEST(EnumNames, BlueNoiseRequestsKeepTheirNames) {
     EXPECT_EQ(parseBlueNoiseName(name).name(), name);
   EXPECT_TRUE(parseBlueNoiseName("gbn-mapped").mapped);
   EXPECT_EQ(parseBlueNoiseName("gbn").method, BlueNoiseMethod::Gaussian);
+}
+
+// The shortest spelling (as point-set files have always written), and the
+// old 17-digit spellings of settings read back as the same double.
+TEST(RoundTrip, ShortestTextReadsBackExactly) {
+  EXPECT_EQ(formatRoundTrip(0.1), "0.1");
+  EXPECT_EQ(formatRoundTrip(5e-7), "5e-07");
+  EXPECT_EQ(formatRoundTrip(2000), "2000");
+  EXPECT_EQ(formatRoundTrip(-0.25), "-0.25");
+  EXPECT_EQ(std::strtod("0.10000000000000001", nullptr), 0.1);
+  EXPECT_EQ(std::strtod("4.9999999999999998e-07", nullptr), 5e-7);
+  Rng rng(7);
+  for (int k = 0; k < 1000; ++k) {
+    const double v = (rng.uniform() - 0.5) * std::pow(10.0, int(rng.uniform() * 40) - 20);
+    const std::string text = formatRoundTrip(v);
+    EXPECT_EQ(std::strtod(text.c_str(), nullptr), v) << text;
+    char buf[32];
+    EXPECT_EQ(std::string(buf, std::to_chars(buf, buf + sizeof buf, v).ptr), text);
+  }
 }
 
 }  // namespace

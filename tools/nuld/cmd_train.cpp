@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "sampler/io/atomic_file.h"
+#include "sampler/io/round_trip.h"
 #include "sampler/neural/neural_trainer.h"
 #include "sampler/targets/target_spec.h"
 #include "tools/nuld/cli_util.h"
@@ -15,13 +16,6 @@
 namespace nuld::cli {
 
 namespace {
-
-std::string roundTrip(double v) {
-  std::ostringstream s;
-  s.precision(17);
-  s << v;
-  return s.str();
-}
 
 // step, mean training loss since the previous row, held-out L2; rewritten
 // whole (atomically) at every validation, so it always matches the run.
@@ -186,7 +180,7 @@ Runner addTrain(CLI::App &app) {
       if (best.step == v.step)
         gen.save(bestPath, {{"train_settings", ts.describe()},
                             {"train_steps", std::to_string(v.step)},
-                            {"validation_l2", roundTrip(v.l2)}});
+                            {"validation_l2", formatRoundTrip(v.l2)}});
       writeValidationCurve(curvePath, trainer.history());
       heldOut = "  held-out L2 " + shortNumber(v.l2) + " (best " + shortNumber(best.l2) + " @" +
                 std::to_string(best.step) + ")";
@@ -216,7 +210,7 @@ Runner addTrain(CLI::App &app) {
     } else {
       std::map<std::string, std::string> extra = {{"train_settings", ts.describe()},
                                                   {"train_steps", std::to_string(trainer.step())}};
-      if (validating) extra["validation_l2"] = roundTrip(trainer.history().back().l2);
+      if (validating) extra["validation_l2"] = formatRoundTrip(trainer.history().back().l2);
       gen.save(o->output, extra);
       std::filesystem::remove(bestPath);
     }
