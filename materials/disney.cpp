@@ -47,16 +47,6 @@ void validate(const DisneyParams &p) {
   check("clearcoatGloss", p.clearcoatGloss);
 }
 
-std::string toString(DisneyLobe lobe) {
-  switch (lobe) {
-    case DisneyLobe::Diffuse: return "diffuse";
-    case DisneyLobe::Subsurface: return "subsurface";
-    case DisneyLobe::Specular: return "specular";
-    case DisneyLobe::Clearcoat: return "clearcoat";
-  }
-  return "unknown";
-}
-
 DisneyBrdf::DisneyBrdf(const DisneyParams &params)
     : params_(validated(params)),
       lobeCount_(params.clearcoat > 0 ? 4 : 3),

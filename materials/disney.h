@@ -20,6 +20,7 @@
 
 #include "materials/bsdf.h"
 #include "materials/microfacet.h"
+#include "sampler/enum_names.h"
 
 namespace nuld {
 
@@ -37,7 +38,12 @@ struct DisneyParams {
 void validate(const DisneyParams &params);
 
 enum class DisneyLobe { Diffuse, Subsurface, Specular, Clearcoat };
-std::string toString(DisneyLobe lobe);
+inline constexpr auto kDisneyLobeNames =
+    enumTable<DisneyLobe>("Disney lobe", {{"diffuse", DisneyLobe::Diffuse},
+                                          {"subsurface", DisneyLobe::Subsurface},
+                                          {"specular", DisneyLobe::Specular},
+                                          {"clearcoat", DisneyLobe::Clearcoat}});
+constexpr const auto &enumNames(DisneyLobe) { return kDisneyLobeNames; }
 
 class DisneyBrdf final : public Bsdf {
  public:

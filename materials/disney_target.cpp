@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <array>
-#include <charconv>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -12,6 +11,7 @@
 
 #include "materials/sampling.h"
 #include "materials/sphere_map.h"
+#include "sampler/io/round_trip.h"
 #include "sampler/targets/target_family.h"
 #include "sampler/targets/target_spec.h"
 
@@ -42,13 +42,6 @@ constexpr std::array<ParamKey, 10> kParamKeys{{
 constexpr const char *kKnownKeys =
     "basecolor, metallic, subsurface, specular, roughness, speculartint, anisotropic, sheen, "
     "sheentint, clearcoat, clearcoatgloss, theta, phi, res, rows";
-
-// Shortest text that parses back to the same double.
-std::string formatNumber(double v) {
-  std::array<char, 32> buf;
-  const auto [end, ec] = std::to_chars(buf.data(), buf.data() + buf.size(), v);
-  return std::string(buf.data(), end);
-}
 
 class ArgsParser {
  public:
@@ -168,13 +161,14 @@ std::string toSpec(const DisneyTargetSpec &s) {
   };
   const Rgb c = s.params.baseColor;
   if (!(c == d.params.baseColor))
-    add("basecolor", c.r == c.g && c.g == c.b
-                         ? formatNumber(c.r)
-                         : formatNumber(c.r) + "/" + formatNumber(c.g) + "/" + formatNumber(c.b));
+    add("basecolor", c.r == c.g && c.g == c.b ? formatRoundTrip(c.r)
+                                              : formatRoundTrip(c.r) + "/" + formatRoundTrip(c.g) +
+                                                    "/" + formatRoundTrip(c.b));
   for (const ParamKey &k : kParamKeys)
-    if (s.params.*(k.field) != d.params.*(k.field)) add(k.name, formatNumber(s.params.*(k.field)));
-  if (s.thetaDegrees != d.thetaDegrees) add("theta", formatNumber(s.thetaDegrees));
-  if (s.phiDegrees != d.phiDegrees) add("phi", formatNumber(s.phiDegrees));
+    if (s.params.*(k.field) != d.params.*(k.field))
+      add(k.name, formatRoundTrip(s.params.*(k.field)));
+  if (s.thetaDegrees != d.thetaDegrees) add("theta", formatRoundTrip(s.thetaDegrees));
+  if (s.phiDegrees != d.phiDegrees) add("phi", formatRoundTrip(s.phiDegrees));
   if (s.phiCells != d.phiCells) add("res", std::to_string(s.phiCells));
   if (s.thetaRows != std::max(1, s.phiCells / 2)) add("rows", std::to_string(s.thetaRows));
   return args.empty() ? "disney" : "disney:" + args;

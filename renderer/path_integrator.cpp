@@ -9,37 +9,6 @@
 
 namespace nuld {
 
-namespace {
-
-// Every integrator and its name, in the order integratorNames() lists them.
-constexpr std::array<std::pair<IntegratorKind, const char *>, 4> kIntegrators{{
-    {IntegratorKind::Path, "path"},
-    {IntegratorKind::Direct, "direct"},
-    {IntegratorKind::Light, "light"},
-    {IntegratorKind::Bsdf, "bsdf"},
-}};
-
-}  // namespace
-
-IntegratorKind parseIntegrator(const std::string &name) {
-  for (const auto &[kind, n] : kIntegrators)
-    if (name == n) return kind;
-  throw std::invalid_argument("unknown integrator '" + name +
-                              "': expected path, direct, light or bsdf");
-}
-
-std::vector<std::string> integratorNames() {
-  std::vector<std::string> names;
-  for (const auto &[kind, n] : kIntegrators) names.push_back(n);
-  return names;
-}
-
-std::string toString(IntegratorKind k) {
-  for (const auto &[kind, n] : kIntegrators)
-    if (kind == k) return n;
-  return "?";
-}
-
 PathIntegrator::PathIntegrator(const Scene &scene, IntegratorKind kind, int maxDepth,
                                const LobeTables *lobes, int rouletteDepth)
     : scene_(scene),

@@ -30,11 +30,15 @@
 namespace nuld {
 
 enum class IntegratorKind { Path, Direct, Light, Bsdf };
-// "path" | "direct" | "light" | "bsdf"
-IntegratorKind parseIntegrator(const std::string &name);
-// Every name parseIntegrator accepts, in that order.
-std::vector<std::string> integratorNames();
-std::string toString(IntegratorKind k);
+inline constexpr auto kIntegratorNames =
+    enumTable<IntegratorKind>("integrator", {{"path", IntegratorKind::Path},
+                                             {"direct", IntegratorKind::Direct},
+                                             {"light", IntegratorKind::Light},
+                                             {"bsdf", IntegratorKind::Bsdf}});
+constexpr const auto &enumNames(IntegratorKind) { return kIntegratorNames; }
+inline IntegratorKind parseIntegrator(const std::string &name) {
+  return kIntegratorNames.parse(name);
+}
 
 // A traced ray as Embree saw it, for the benchmark that replays the
 // renderer's rays through Embree alone.

@@ -1,18 +1,8 @@
 #include "sampler/point.h"
 
 #include <algorithm>
-#include <stdexcept>
 
 namespace nuld {
-
-std::string toString(Domain d) {
-  switch (d) {
-    case Domain::Square: return "square";
-    case Domain::Sphere: return "sphere";
-    case Domain::Hemisphere: return "hemisphere";
-  }
-  return "?";
-}
 
 Point2 wrapToDomain(Point2 p, Domain domain, double *vSign) {
   constexpr double kBelowOne = 0x1.fffffffffffffp-1;
@@ -35,13 +25,6 @@ Point2 wrapToDomain(Point2 p, Domain domain, double *vSign) {
   }
   if (vSign) *vSign = sign;
   return p;
-}
-
-Domain parseDomain(const std::string &s) {
-  if (s == "square") return Domain::Square;
-  if (s == "sphere") return Domain::Sphere;
-  if (s == "hemisphere") return Domain::Hemisphere;
-  throw std::invalid_argument("unknown domain '" + s + "' (expected square, sphere or hemisphere)");
 }
 
 }  // namespace nuld

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "sampler/enum_names.h"
+
 namespace nuld {
 
 struct Point2 {
@@ -48,8 +50,11 @@ struct Box2 {
 // the hemisphere is its v in [0, 1/2] half (docs/architecture.md, "Domains").
 enum class Domain { Square, Sphere, Hemisphere };
 
-std::string toString(Domain d);
-Domain parseDomain(const std::string &s);
+inline constexpr auto kDomainNames = enumTable<Domain>(
+    "domain",
+    {{"square", Domain::Square}, {"sphere", Domain::Sphere}, {"hemisphere", Domain::Hemisphere}});
+constexpr const auto &enumNames(Domain) { return kDomainNames; }
+inline Domain parseDomain(const std::string &s) { return kDomainNames.parse(s); }
 
 // Maps a point into its domain. On the sphere (and hemisphere) longitude is
 // periodic and a point past a pole comes back on the other side, (u + 1/2,

@@ -10,6 +10,7 @@
 
 #include "materials/rgb.h"
 #include "materials/vec3.h"
+#include "sampler/enum_names.h"
 
 namespace nuld {
 
@@ -33,6 +34,13 @@ class JsonReader {
   Vec3 vec3() const;
   Rgb rgb() const;                           // [r, g, b] or one grey number, each >= 0
   std::vector<std::string> strings() const;  // a string or an array of strings
+  // A string that names a value of `names`; fails listing the names and,
+  // after them, `note`.
+  template <class E, std::size_t N>
+  E oneOf(const EnumTable<E, N> &names, const std::string &note = "") const {
+    if (const auto v = names.find(string())) return *v;
+    fail(names.expected() + note);
+  }
 
   double number(const std::string &key, double fallback, double lo = -1e300,
                 double hi = 1e300) const;

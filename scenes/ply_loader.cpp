@@ -15,6 +15,8 @@
 #include <string_view>
 #include <vector>
 
+#include "sampler/enum_names.h"
+
 namespace nuld {
 namespace {
 
@@ -26,23 +28,15 @@ namespace {
 
 enum class Scalar { kInt8, kUInt8, kInt16, kUInt16, kInt32, kUInt32, kFloat32, kFloat64 };
 
-std::optional<Scalar> parseScalar(std::string_view name) {
-  struct Entry {
-    std::string_view name;
-    Scalar type;
-  };
-  // Both the original PLY names and the sized ones that newer writers use.
-  static constexpr Entry kNames[] = {
-      {"char", Scalar::kInt8},      {"int8", Scalar::kInt8},       {"uchar", Scalar::kUInt8},
-      {"uint8", Scalar::kUInt8},    {"short", Scalar::kInt16},     {"int16", Scalar::kInt16},
-      {"ushort", Scalar::kUInt16},  {"uint16", Scalar::kUInt16},   {"int", Scalar::kInt32},
-      {"int32", Scalar::kInt32},    {"uint", Scalar::kUInt32},     {"uint32", Scalar::kUInt32},
-      {"float", Scalar::kFloat32},  {"float32", Scalar::kFloat32}, {"double", Scalar::kFloat64},
-      {"float64", Scalar::kFloat64}};
-  for (const Entry &e : kNames)
-    if (e.name == name) return e.type;
-  return std::nullopt;
-}
+// Both the original PLY names and the sized ones that newer writers use.
+constexpr EnumEntry<Scalar> kScalarEntries[] = {
+    {"char", Scalar::kInt8},      {"int8", Scalar::kInt8},       {"uchar", Scalar::kUInt8},
+    {"uint8", Scalar::kUInt8},    {"short", Scalar::kInt16},     {"int16", Scalar::kInt16},
+    {"ushort", Scalar::kUInt16},  {"uint16", Scalar::kUInt16},   {"int", Scalar::kInt32},
+    {"int32", Scalar::kInt32},    {"uint", Scalar::kUInt32},     {"uint32", Scalar::kUInt32},
+    {"float", Scalar::kFloat32},  {"float32", Scalar::kFloat32}, {"double", Scalar::kFloat64},
+    {"float64", Scalar::kFloat64}};
+constexpr auto kScalarNames = enumTable("type", kScalarEntries);
 
 bool isInteger(Scalar t) { return t != Scalar::kFloat32 && t != Scalar::kFloat64; }
 
@@ -59,6 +53,10 @@ struct Element {
 };
 
 enum class Format { kAscii, kBinaryLittleEndian, kBinaryBigEndian };
+constexpr auto kFormatNames =
+    enumTable<Format>("format", {{"ascii", Format::kAscii},
+                                 {"binary_little_endian", Format::kBinaryLittleEndian},
+                                 {"binary_big_endian", Format::kBinaryBigEndian}});
 
 struct Header {
   Format format = Format::kAscii;
@@ -108,15 +106,9 @@ Header parseHeader(const std::string &path, std::string_view file) {
     if (words[0] == "format") {
       if (words.size() != 3 || words[2] != "1.0")
         bad("'format ascii|binary_little_endian|binary_big_endian 1.0'");
-      if (words[1] == "ascii") {
-        header.format = Format::kAscii;
-      } else if (words[1] == "binary_little_endian") {
-        header.format = Format::kBinaryLittleEndian;
-      } else if (words[1] == "binary_big_endian") {
-        header.format = Format::kBinaryBigEndian;
-      } else {
-        bad("format ascii, binary_little_endian or binary_big_endian");
-      }
+      const auto format = kFormatNames.find(words[1]);
+      if (!format) bad("format " + kFormatNames.expected());
+      header.format = *format;
       sawFormat = true;
     } else if (words[0] == "element") {
       Element e;
@@ -134,14 +126,14 @@ Header parseHeader(const std::string &path, std::string_view file) {
       if (header.elements.empty()) bad("an 'element' line before the first 'property'");
       Property p;
       if (words.size() == 5 && words[1] == "list") {
-        const auto countType = parseScalar(words[2]);
-        const auto itemType = parseScalar(words[3]);
+        const auto countType = kScalarNames.find(words[2]);
+        const auto itemType = kScalarNames.find(words[3]);
         if (!countType || !isInteger(*countType) || !itemType)
           bad("'property list COUNT_TYPE ITEM_TYPE NAME' with an integer COUNT_TYPE");
         p = {std::string(words[4]), *itemType, countType};
       } else if (words.size() == 3 && words[1] != "list") {
-        const auto type = parseScalar(words[1]);
-        if (!type) bad("a type char, uchar, short, ushort, int, uint, float or double");
+        const auto type = kScalarNames.find(words[1]);
+        if (!type) bad("a type " + kScalarNames.expected());
         p = {std::string(words[2]), *type, std::nullopt};
       } else {
         bad("'property TYPE NAME' or 'property list COUNT_TYPE ITEM_TYPE NAME'");

@@ -86,11 +86,7 @@ void readRender(const JsonReader &r, LoadedScene &out) {
   r.allowOnly({"spp", "integrator", "max_depth", "backend", "seed"});
   if (r.has("spp")) out.settings.spp = std::size_t(r["spp"].integer(1, 1 << 24));
   if (r.has("integrator")) {
-    const std::string name = r["integrator"].string();
-    const auto names = integratorNames();
-    if (std::find(names.begin(), names.end(), name) == names.end())
-      r["integrator"].fail("\"path\", \"direct\", \"light\" or \"bsdf\"");
-    out.settings.integrator = parseIntegrator(name);
+    out.settings.integrator = r["integrator"].oneOf(kIntegratorNames);
   }
   if (r.has("max_depth")) out.settings.maxDepth = r["max_depth"].integer(1, 1000);
   out.backend = r.string("backend", out.backend);
@@ -178,14 +174,12 @@ LoadedScene loadScene(const std::string &path, const std::string &assetRoot) {
       up = env["up"].vec3();
       if (!(length(up) > 0)) env["up"].fail("a non-zero direction (the map's zenith in the world)");
     }
-    PixelWeight weight = PixelWeight::Luminance;
-    if (env.has("importance")) {
-      const std::string w = env["importance"].string();
-      if (w == "mean")
-        weight = PixelWeight::ChannelMean;
-      else if (w != "luminance")
-        env["importance"].fail("luminance or mean (how a pixel's colour weighs its sampling)");
-    }
+    constexpr auto kImportance = enumTable<PixelWeight>(
+        "importance", {{"luminance", PixelWeight::Luminance}, {"mean", PixelWeight::ChannelMean}});
+    const PixelWeight weight =
+        env.has("importance")
+            ? env["importance"].oneOf(kImportance, " (how a pixel's colour weighs its sampling)")
+            : PixelWeight::Luminance;
     out.scene.environment.emplace(readImage(file), env.number("scale", 1.0, 0, 1e12),
                                   env.number("rotation", 0.0), file, up, weight);
   }

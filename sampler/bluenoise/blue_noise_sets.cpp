@@ -8,21 +8,14 @@
 namespace nuld {
 
 std::string BlueNoiseRequest::name() const {
-  return std::string(method == BlueNoiseMethod::SlicedOt ? "sot" : "gbn") +
-         (mapped ? "-mapped" : "");
+  return std::string(kBlueNoiseNames.name({method, mapped}));
 }
 
 BlueNoiseRequest parseBlueNoiseName(const std::string &name) {
   BlueNoiseRequest r;
-  std::string base = name;
-  if (base.ends_with("-mapped")) r.mapped = true, base.resize(base.size() - 7);
-  if (base == "sot")
-    r.method = BlueNoiseMethod::SlicedOt;
-  else if (base == "gbn")
-    r.method = BlueNoiseMethod::Gaussian;
-  else
-    throw std::invalid_argument("unknown blue-noise method '" + name +
-                                "': expected sot, sot-mapped, gbn or gbn-mapped");
+  const BlueNoiseKind kind = kBlueNoiseNames.parse(name);
+  r.method = kind.method;
+  r.mapped = kind.mapped;
   return r;
 }
 

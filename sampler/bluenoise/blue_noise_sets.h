@@ -19,6 +19,18 @@ namespace nuld {
 
 enum class BlueNoiseMethod { SlicedOt, Gaussian };
 
+// A method and whether its sets are mapped, as one name ("sot-mapped").
+struct BlueNoiseKind {
+  BlueNoiseMethod method;
+  bool mapped;
+  friend bool operator==(BlueNoiseKind, BlueNoiseKind) = default;
+};
+inline constexpr auto kBlueNoiseNames = enumTable<BlueNoiseKind>(
+    "blue-noise method", {{"sot", {BlueNoiseMethod::SlicedOt, false}},
+                          {"sot-mapped", {BlueNoiseMethod::SlicedOt, true}},
+                          {"gbn", {BlueNoiseMethod::Gaussian, false}},
+                          {"gbn-mapped", {BlueNoiseMethod::Gaussian, true}}});
+
 struct BlueNoiseRequest {
   BlueNoiseMethod method = BlueNoiseMethod::SlicedOt;
   bool mapped = false;  // optimize for the uniform square, then map
@@ -30,7 +42,7 @@ struct BlueNoiseRequest {
   std::string name() const;
 };
 
-// Parses those four names; throws std::invalid_argument otherwise.
+// Parses the names of kBlueNoiseNames; throws std::invalid_argument otherwise.
 BlueNoiseRequest parseBlueNoiseName(const std::string &name);
 
 // The sets, with metadata (generator, settings, target). `progress(done,

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "sampler/bluenoise/target_sample.h"
+#include "sampler/io/round_trip.h"
 #include "sampler/sequences/rng.h"
 
 namespace nuld {
@@ -92,9 +93,8 @@ std::size_t GaussianBlueNoiseSettings::samplesFor(std::size_t n) const {
 
 std::string GaussianBlueNoiseSettings::describe() const {
   std::ostringstream s;
-  s.precision(17);
-  s << "iterations=" << iterations << " sigma=" << sigma << " step=" << step
-    << " boundary=" << (boundary == BlueNoiseBoundary::Toroidal ? "toroidal" : "bounded")
+  s << "iterations=" << iterations << " sigma=" << formatRoundTrip(sigma)
+    << " step=" << formatRoundTrip(step) << " boundary=" << toString(boundary)
     << " target_samples=" << targetSamples << " seed=" << seed;
   return s.str();
 }

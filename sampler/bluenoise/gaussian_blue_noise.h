@@ -44,6 +44,10 @@
 namespace nuld {
 
 enum class BlueNoiseBoundary { Bounded, Toroidal };
+inline constexpr auto kBlueNoiseBoundaryNames = enumTable<BlueNoiseBoundary>(
+    "boundary",
+    {{"bounded", BlueNoiseBoundary::Bounded}, {"toroidal", BlueNoiseBoundary::Toroidal}});
+constexpr const auto &enumNames(BlueNoiseBoundary) { return kBlueNoiseBoundaryNames; }
 
 struct GaussianBlueNoiseSettings {
   int iterations = 1000;

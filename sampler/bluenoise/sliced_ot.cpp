@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "sampler/bluenoise/target_sample.h"
+#include "sampler/io/round_trip.h"
 #include "sampler/sequences/rng.h"
 
 namespace nuld {
@@ -62,16 +63,6 @@ double discProjectionQuantile(double p) {
 
 }  // namespace
 
-UniformSotDomain parseUniformSotDomain(const std::string &name) {
-  if (name == "disc") return UniformSotDomain::Disc;
-  if (name == "square") return UniformSotDomain::Square;
-  throw std::invalid_argument("unknown uniform domain '" + name + "': expected disc or square");
-}
-
-std::string toString(UniformSotDomain domain) {
-  return domain == UniformSotDomain::Disc ? "disc" : "square";
-}
-
 void uniformDiscSlabMeans(std::span<double> out) {
   const std::size_t n = out.size();
   double below = 0;  // the first moment below the slab's lower end
@@ -119,8 +110,7 @@ std::size_t SlicedOtSettings::samplesFor(std::size_t n) const {
 
 std::string SlicedOtSettings::describe() const {
   std::ostringstream s;
-  s.precision(17);
-  s << "iterations=" << iterations << " slices=" << slices << " step=" << step
+  s << "iterations=" << iterations << " slices=" << slices << " step=" << formatRoundTrip(step)
     << " target_samples=" << targetSamples << " seed=" << seed
     << " uniform_domain=" << toString(uniformDomain);
   return s.str();

@@ -46,8 +46,12 @@ namespace nuld {
 
 // Where uniform sets are transported (UniformSotDomain::Disc: see above).
 enum class UniformSotDomain { Disc, Square };
-UniformSotDomain parseUniformSotDomain(const std::string &name);  // "disc" | "square"
-std::string toString(UniformSotDomain domain);
+inline constexpr auto kUniformSotDomainNames = enumTable<UniformSotDomain>(
+    "uniform domain", {{"disc", UniformSotDomain::Disc}, {"square", UniformSotDomain::Square}});
+constexpr const auto &enumNames(UniformSotDomain) { return kUniformSotDomainNames; }
+inline UniformSotDomain parseUniformSotDomain(const std::string &name) {
+  return kUniformSotDomainNames.parse(name);
+}
 
 struct SlicedOtSettings {
   int iterations = 1024;

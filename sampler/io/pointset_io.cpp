@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "sampler/io/atomic_file.h"
+#include "sampler/io/round_trip.h"
 
 namespace nuld {
 namespace {
@@ -160,11 +161,11 @@ void writePointSetText(std::ostream &out, const PointSet &set) {
   for (std::size_t k = 0; k < set.instances(); ++k) {
     out << "# set " << k << "\n";
     for (const Point2 &p : set.instance(k)) {
-      auto r = std::to_chars(buf, buf + sizeof(buf), p.x);
-      *r.ptr++ = ' ';
-      r = std::to_chars(r.ptr, buf + sizeof(buf), p.y);
-      *r.ptr++ = '\n';
-      out.write(buf, r.ptr - buf);
+      char *end = formatRoundTrip(buf, buf + sizeof(buf), p.x);
+      *end++ = ' ';
+      end = formatRoundTrip(end, buf + sizeof(buf), p.y);
+      *end++ = '\n';
+      out.write(buf, end - buf);
     }
   }
 }

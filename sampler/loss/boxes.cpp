@@ -2,26 +2,8 @@
 
 #include <algorithm>
 #include <limits>
-#include <stdexcept>
 
 namespace nuld {
-
-BoxKind parseBoxKind(const std::string &s) {
-  if (s == "multicorner" || s == "multiple-corner") return BoxKind::MultipleCorner;
-  if (s == "anchored") return BoxKind::Anchored;
-  if (s == "twopoint" || s == "two-point") return BoxKind::TwoPoint;
-  throw std::invalid_argument("unknown box kind '" + s +
-                              "' (expected multicorner, anchored or twopoint)");
-}
-
-std::string toString(BoxKind k) {
-  switch (k) {
-    case BoxKind::MultipleCorner: return "multicorner";
-    case BoxKind::Anchored: return "anchored";
-    case BoxKind::TwoPoint: return "twopoint";
-  }
-  return "?";
-}
 
 Box2 sampleBox(BoxKind kind, Rng &rng) {
   constexpr double inf = std::numeric_limits<double>::infinity();

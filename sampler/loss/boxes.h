@@ -21,8 +21,14 @@ enum class BoxKind {
   TwoPoint,        // the bounding box of two uniform points
 };
 
-BoxKind parseBoxKind(const std::string &s);
-std::string toString(BoxKind k);
+inline constexpr auto kBoxKindNames =
+    enumTable<BoxKind>("box kind", {{"multicorner", BoxKind::MultipleCorner},
+                                    {"anchored", BoxKind::Anchored},
+                                    {"twopoint", BoxKind::TwoPoint},
+                                    {"multiple-corner", BoxKind::MultipleCorner},
+                                    {"two-point", BoxKind::TwoPoint}});
+constexpr const auto &enumNames(BoxKind) { return kBoxKindNames; }
+inline BoxKind parseBoxKind(const std::string &s) { return kBoxKindNames.parse(s); }
 
 Box2 sampleBox(BoxKind kind, Rng &rng);
 void sampleBoxes(BoxKind kind, Rng &rng, std::span<Box2> out);

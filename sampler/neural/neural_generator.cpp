@@ -6,6 +6,7 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "sampler/io/round_trip.h"
 #include "sampler/neural/dense_inference.h"
 #include "sampler/neural/model_file.h"
 #include "sampler/neural/network.h"
@@ -109,12 +110,6 @@ std::string joinSizes(const std::vector<std::size_t> &sizes) {
   std::string s;
   for (const std::size_t n : sizes) s += (s.empty() ? "" : ",") + std::to_string(n);
   return s;
-}
-
-std::string formatDouble(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
 }
 
 }  // namespace
@@ -398,28 +393,6 @@ Point2 balancedPullback(Point2 pulled, const Jacobian2 &j) {
   return {scaled(pulled.x, j.m[0][0], j.m[1][0]), scaled(pulled.y, j.m[0][1], j.m[1][1])};
 }
 
-NetworkArch parseNetworkArch(const std::string &name) {
-  if (name == "supplement") return NetworkArch::Supplement;
-  if (name == "graph") return NetworkArch::Graph;
-  throw std::invalid_argument("unknown network architecture '" + name +
-                              "': expected supplement or graph");
-}
-
-std::string toString(NetworkArch arch) {
-  return arch == NetworkArch::Graph ? "graph" : "supplement";
-}
-
-BaseRandomization parseBaseRandomization(const std::string &name) {
-  if (name == "rotated") return BaseRandomization::Rotated;
-  if (name == "owen") return BaseRandomization::Owen;
-  throw std::invalid_argument("unknown base randomization '" + name +
-                              "': expected rotated or owen");
-}
-
-std::string toString(BaseRandomization base) {
-  return base == BaseRandomization::Owen ? "owen" : "rotated";
-}
-
 Point2 NeuralGenerator::place(Point2 raw, const Target &target, Jacobian2 *jacobian) const {
   if (settings_.mapped) {
     // u wraps around the square like the Cranley-Patterson base set itself.
@@ -489,7 +462,7 @@ void NeuralGenerator::baseSet(Point2 z, std::span<Point2> out) const {
 
 std::string NeuralGenerator::notRandomizedReason() const {
   if (settings_.offsetRange >= 1) return "";
-  const std::string r = formatDouble(settings_.offsetRange);
+  const std::string r = formatRoundTrip(settings_.offsetRange);
   return "trained with --offset-range " + r +
          " (a diagnostic): its base set moves by offsets in [0, " + r +
          ")^2 only, so its sets are not randomized over the torus";
@@ -555,10 +528,10 @@ std::map<std::string, std::string> NeuralGenerator::metadata() const {
       {"family", settings_.family},
       {"gamma_dimension", std::to_string(gammaDimension())},
       {"hidden", std::to_string(settings_.hidden)},
-      {"sigma", formatDouble(settings_.sigma)},
+      {"sigma", formatRoundTrip(settings_.sigma)},
       {"encoding_dims", std::to_string(settings_.encodingDims)},
       {"z_harmonics", std::to_string(settings_.zHarmonics)},
-      {"offset_range", formatDouble(settings_.offsetRange)},
+      {"offset_range", formatRoundTrip(settings_.offsetRange)},
       {"seed", std::to_string(settings_.seed)},
       {"base", settings_.base == BaseRandomization::Owen ? kOwenBase : kRotatedBase},
       {"mapping", settings_.mapped ? "mapped" : "unmapped"}};

@@ -35,8 +35,13 @@ enum class NetworkArch {
   Supplement,  // the supplement's five-layer MLP of (z, gamma)
   Graph,       // ours: per-point message passing over the base set's k-NN graph
 };
-NetworkArch parseNetworkArch(const std::string &name);  // "supplement" | "graph"
-std::string toString(NetworkArch arch);
+inline constexpr auto kNetworkArchNames = enumTable<NetworkArch>(
+    "network architecture",
+    {{"supplement", NetworkArch::Supplement}, {"graph", NetworkArch::Graph}});
+constexpr const auto &enumNames(NetworkArch) { return kNetworkArchNames; }
+inline NetworkArch parseNetworkArch(const std::string &name) {
+  return kNetworkArchNames.parse(name);
+}
 
 // How offset z randomizes the base set the residuals are added to.
 enum class BaseRandomization {
@@ -53,8 +58,13 @@ enum class BaseRandomization {
   // changes with z, so the neighbour graph is built per set.
   Owen,
 };
-BaseRandomization parseBaseRandomization(const std::string &name);  // "rotated" | "owen"
-std::string toString(BaseRandomization base);
+inline constexpr auto kBaseRandomizationNames = enumTable<BaseRandomization>(
+    "base randomization",
+    {{"rotated", BaseRandomization::Rotated}, {"owen", BaseRandomization::Owen}});
+constexpr const auto &enumNames(BaseRandomization) { return kBaseRandomizationNames; }
+inline BaseRandomization parseBaseRandomization(const std::string &name) {
+  return kBaseRandomizationNames.parse(name);
+}
 
 struct NeuralSettings {
   NetworkArch arch = NetworkArch::Supplement;

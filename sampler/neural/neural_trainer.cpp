@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "sampler/io/atomic_file.h"
+#include "sampler/io/round_trip.h"
 #include "sampler/loss/box_mass.h"
 #include "sampler/loss/soft_box_loss.h"
 #include "sampler/metrics/discrepancy.h"
@@ -79,28 +80,17 @@ struct SoftBoxLossFunction : torch::autograd::Function<SoftBoxLossFunction> {
 
 }  // namespace
 
-GradientPullback parseGradientPullback(const std::string &name) {
-  if (name == "exact") return GradientPullback::Exact;
-  if (name == "balanced") return GradientPullback::Balanced;
-  throw std::invalid_argument("unknown gradient pull-back '" + name +
-                              "': expected exact or balanced");
-}
-
-std::string toString(GradientPullback p) {
-  return p == GradientPullback::Balanced ? "balanced" : "exact";
-}
-
 struct NeuralTrainer::State {
   std::unique_ptr<torch::optim::Adam> adam;
 };
 
 std::string TrainerSettings::describe() const {
+  const auto r = [](double v) { return formatRoundTrip(v); };
   std::ostringstream s;
-  s.precision(17);
   s << "steps=" << steps << " batch=" << batch << " boxes=" << boxes
-    << " box_kind=" << toString(boxKind) << " lr=" << lrStart << " lr_end=" << lrEnd
-    << " alpha=" << alphaStart << " alpha_end=" << alphaEnd << " ramp=" << rampFraction
-    << " cutoff=" << cutoff << " pullback=" << toString(pullback) << " seed=" << seed
+    << " box_kind=" << toString(boxKind) << " lr=" << r(lrStart) << " lr_end=" << r(lrEnd)
+    << " alpha=" << r(alphaStart) << " alpha_end=" << r(alphaEnd) << " ramp=" << r(rampFraction)
+    << " cutoff=" << r(cutoff) << " pullback=" << toString(pullback) << " seed=" << seed
     << " validation=" << validationSets << " validation_grid=" << validationGrid;
   return s.str();
 }
@@ -276,10 +266,11 @@ namespace {
 
 // The history as "step loss l2;..." with round-trip precision, and back.
 std::string formatHistory(const std::vector<Validation> &history) {
-  std::ostringstream out;
-  out.precision(17);
-  for (const Validation &v : history) out << v.step << ' ' << v.meanLoss << ' ' << v.l2 << ';';
-  return out.str();
+  std::string out;
+  for (const Validation &v : history)
+    out += std::to_string(v.step) + ' ' + formatRoundTrip(v.meanLoss) + ' ' +
+           formatRoundTrip(v.l2) + ';';
+  return out;
 }
 
 std::vector<Validation> parseHistory(const std::string &text, const std::string &path) {
@@ -357,10 +348,7 @@ void NeuralTrainer::loadCheckpoint(const std::string &path) {
 }
 
 std::string NeuralTrainer::formatLosses() const {
-  std::ostringstream out;
-  out.precision(17);
-  out << lossCount_ << ' ' << lossSum_;
-  return out.str();
+  return std::to_string(lossCount_) + ' ' + formatRoundTrip(lossSum_);
 }
 
 namespace {
@@ -378,20 +366,13 @@ void writeValidationCurve(const std::string &path, const std::vector<Validation>
   writeFileAtomically(path, csv.str());
 }
 
-std::string roundTrip(double v) {
-  std::ostringstream s;
-  s.precision(17);
-  s << v;
-  return s.str();
-}
-
 }  // namespace
 
 std::map<std::string, std::string> NeuralTrainer::modelMetadata(int step,
                                                                 const Validation *scored) const {
   std::map<std::string, std::string> extra = {{"train_settings", settings_.describe()},
                                               {"train_steps", std::to_string(step)}};
-  if (scored) extra["validation_l2"] = roundTrip(scored->l2);
+  if (scored) extra["validation_l2"] = formatRoundTrip(scored->l2);
   return extra;
 }
 

@@ -38,8 +38,13 @@ namespace nuld {
 // environment map (tools/experiments/README.md, "Mapped training: exact or
 // balanced gradient").
 enum class GradientPullback { Exact, Balanced };
-GradientPullback parseGradientPullback(const std::string &name);  // "exact" | "balanced"
-std::string toString(GradientPullback p);
+inline constexpr auto kGradientPullbackNames = enumTable<GradientPullback>(
+    "gradient pull-back",
+    {{"exact", GradientPullback::Exact}, {"balanced", GradientPullback::Balanced}});
+constexpr const auto &enumNames(GradientPullback) { return kGradientPullbackNames; }
+inline GradientPullback parseGradientPullback(const std::string &name) {
+  return kGradientPullbackNames.parse(name);
+}
 
 struct TrainerSettings {
   int steps = 2000;

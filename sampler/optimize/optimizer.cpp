@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "sampler/io/atomic_file.h"
+#include "sampler/io/round_trip.h"
 #include "sampler/loss/box_mass.h"
 #include "sampler/loss/soft_box_loss.h"
 #include "sampler/metrics/discrepancy.h"
@@ -21,50 +22,18 @@
 
 namespace nuld {
 
-Mapping parseMapping(const std::string &s) {
-  if (s == "mapped") return Mapping::Mapped;
-  if (s == "clamp") return Mapping::Clamp;
-  if (s == "toroidal") return Mapping::Toroidal;
-  throw std::invalid_argument("unknown mapping '" + s + "' (expected mapped, clamp or toroidal)");
-}
-
-std::string toString(Mapping m) {
-  switch (m) {
-    case Mapping::Mapped: return "mapped";
-    case Mapping::Clamp: return "clamp";
-    case Mapping::Toroidal: return "toroidal";
-  }
-  return "?";
-}
-
-Objective parseObjective(const std::string &s) {
-  if (s == "soft") return Objective::SoftBoxes;
-  if (s == "l2asd") return Objective::ExactL2asd;
-  if (s == "l2per") return Objective::PeriodicL2;
-  throw std::invalid_argument("unknown objective '" + s + "' (expected soft, l2asd or l2per)");
-}
-
-std::string toString(Objective o) {
-  switch (o) {
-    case Objective::SoftBoxes: return "soft";
-    case Objective::ExactL2asd: return "l2asd";
-    case Objective::PeriodicL2: return "l2per";
-  }
-  return "soft";
-}
-
 std::string OptimizerSettings::describe() const {
+  const auto r = [](double v) { return formatRoundTrip(v); };
   std::ostringstream s;
-  s.precision(17);
   s << "preset=" << preset << " n=" << n << " instances=" << instances << " epochs=" << epochs
     << " boxes=" << boxes << " box_kind=" << toString(boxKind)
     << " mass=" << (mcSamples ? "mc:" + std::to_string(mcSamples) : std::string("exact"))
-    << " mapping=" << toString(mapping) << " objective=" << toString(objective) << " lr=" << lrStart
-    << ".." << lrEnd << " alpha=" << alphaStart << ".." << alphaEnd << " ramp=" << rampFraction
-    << " cutoff=" << cutoff << " seed=" << seed;
+    << " mapping=" << toString(mapping) << " objective=" << toString(objective)
+    << " lr=" << r(lrStart) << ".." << r(lrEnd) << " alpha=" << r(alphaStart) << ".." << r(alphaEnd)
+    << " ramp=" << r(rampFraction) << " cutoff=" << r(cutoff) << " seed=" << seed;
   // Only when on, so that the sets and checkpoints made before the term
   // existed keep their fingerprints.
-  if (unionWeight > 0) s << " union=" << unionWeight << "/" << unionGroupSize();
+  if (unionWeight > 0) s << " union=" << r(unionWeight) << "/" << unionGroupSize();
   return s.str();
 }
 

@@ -38,10 +38,17 @@ enum class Mapping { Mapped, Clamp, Toroidal };
 // and then mapped to a target by its inverse CDF (`nuld map --shifts`).
 enum class Objective { SoftBoxes, ExactL2asd, PeriodicL2 };
 
-Mapping parseMapping(const std::string &s);
-std::string toString(Mapping m);
-Objective parseObjective(const std::string &s);
-std::string toString(Objective o);
+inline constexpr auto kMappingNames = enumTable<Mapping>(
+    "mapping",
+    {{"mapped", Mapping::Mapped}, {"clamp", Mapping::Clamp}, {"toroidal", Mapping::Toroidal}});
+inline constexpr auto kObjectiveNames =
+    enumTable<Objective>("objective", {{"soft", Objective::SoftBoxes},
+                                       {"l2asd", Objective::ExactL2asd},
+                                       {"l2per", Objective::PeriodicL2}});
+constexpr const auto &enumNames(Mapping) { return kMappingNames; }
+constexpr const auto &enumNames(Objective) { return kObjectiveNames; }
+inline Mapping parseMapping(const std::string &s) { return kMappingNames.parse(s); }
+inline Objective parseObjective(const std::string &s) { return kObjectiveNames.parse(s); }
 
 struct OptimizerSettings {
   std::string preset = "custom";

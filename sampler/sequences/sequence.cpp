@@ -10,40 +10,6 @@
 
 namespace nuld {
 
-SequenceKind parseSequenceKind(const std::string &s) {
-  if (s == "sobol") return SequenceKind::Sobol;
-  if (s == "halton") return SequenceKind::Halton;
-  if (s == "random" || s == "independent") return SequenceKind::Random;
-  throw std::invalid_argument("unknown sequence '" + s + "' (expected sobol, halton or random)");
-}
-
-Scramble parseScramble(const std::string &s) {
-  if (s == "none") return Scramble::None;
-  if (s == "owen") return Scramble::Owen;
-  if (s == "shift") return Scramble::Shift;
-  if (s == "cp") return Scramble::CranleyPatterson;
-  throw std::invalid_argument("unknown scrambling '" + s + "' (expected owen, shift, cp or none)");
-}
-
-std::string toString(SequenceKind k) {
-  switch (k) {
-    case SequenceKind::Sobol: return "sobol";
-    case SequenceKind::Halton: return "halton";
-    case SequenceKind::Random: return "random";
-  }
-  return "?";
-}
-
-std::string toString(Scramble s) {
-  switch (s) {
-    case Scramble::None: return "none";
-    case Scramble::Owen: return "owen";
-    case Scramble::Shift: return "shift";
-    case Scramble::CranleyPatterson: return "cp";
-  }
-  return "?";
-}
-
 std::uint32_t nthPrime(std::uint32_t p) {
   static const std::vector<std::uint32_t> primes = [] {
     std::vector<std::uint32_t> out;

@@ -19,10 +19,20 @@ namespace nuld {
 enum class SequenceKind { Sobol, Halton, Random };
 enum class Scramble { None, Owen, Shift, CranleyPatterson };
 
-SequenceKind parseSequenceKind(const std::string &s);
-Scramble parseScramble(const std::string &s);
-std::string toString(SequenceKind k);
-std::string toString(Scramble s);
+inline constexpr auto kSequenceKindNames =
+    enumTable<SequenceKind>("sequence", {{"sobol", SequenceKind::Sobol},
+                                         {"halton", SequenceKind::Halton},
+                                         {"random", SequenceKind::Random},
+                                         {"independent", SequenceKind::Random}});
+inline constexpr auto kScrambleNames =
+    enumTable<Scramble>("scrambling", {{"owen", Scramble::Owen},
+                                       {"shift", Scramble::Shift},
+                                       {"cp", Scramble::CranleyPatterson},
+                                       {"none", Scramble::None}});
+constexpr const auto &enumNames(SequenceKind) { return kSequenceKindNames; }
+constexpr const auto &enumNames(Scramble) { return kScrambleNames; }
+inline SequenceKind parseSequenceKind(const std::string &s) { return kSequenceKindNames.parse(s); }
+inline Scramble parseScramble(const std::string &s) { return kScrambleNames.parse(s); }
 
 struct SequenceOptions {
   SequenceKind kind = SequenceKind::Sobol;

@@ -4,9 +4,9 @@
 #include <array>
 #include <cmath>
 #include <numbers>
-#include <sstream>
 #include <stdexcept>
 
+#include "sampler/io/round_trip.h"
 #include "sampler/targets/invert_1d.h"
 
 namespace nuld {
@@ -18,16 +18,13 @@ double clamp01(double x) { return std::clamp(x, 0.0, 1.0); }
 constexpr double kTinyDensity = 1e-12;
 
 std::string formatSpec(const std::string &name, std::initializer_list<double> values) {
-  std::ostringstream s;
-  s.precision(17);
-  s << name << ':';
-  bool first = true;
+  std::string s = name;
+  char separator = ':';
   for (double v : values) {
-    if (!first) s << ',';
-    s << v;
-    first = false;
+    s += separator + formatRoundTrip(v);
+    separator = ',';
   }
-  return s.str();
+  return s;
 }
 
 // Samples the linear density c0 (1 - x) + c1 x on [0, 1] (c0, c1 >= 0).

@@ -5,6 +5,7 @@
 #include <mutex>
 #include <stdexcept>
 
+#include "sampler/io/round_trip.h"
 #include "sampler/targets/basic_targets.h"
 #include "sampler/targets/target_spec.h"
 
@@ -40,18 +41,13 @@ class GaussianFamily final : public TargetFamily {
  public:
   GaussianFamily(double sigmaMin, double sigmaMax) : min_(sigmaMin), max_(sigmaMax) {}
   std::string spec() const override {
-    return "family:gaussian:" + formatNumber(min_) + "," + formatNumber(max_);
+    return "family:gaussian:" + formatRoundTrip(min_) + "," + formatRoundTrip(max_);
   }
   std::size_t gammaDimension() const override { return 3; }
   Domain domain() const override { return Domain::Square; }
   std::shared_ptr<const Target> target(std::span<const double> g) const override {
     checkGamma(*this, g);
     return std::make_shared<GaussianTarget>(g[0], g[1], min_ * std::pow(max_ / min_, g[2]));
-  }
-  static std::string formatNumber(double v) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.17g", v);
-    return buf;
   }
 
  private:

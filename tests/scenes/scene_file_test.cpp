@@ -111,6 +111,8 @@ TEST_F(SceneFileTest, BadInputGivesClearErrors) {
   expectError(valid("\"look_at\": [0, 0, 0]", "\"look_at\": [0, 2, 5]"), {"camera.look_at"});
   expectError(valid("\"shape\": \"sphere\"", "\"shape\": \"cube\""), {"meshes[1].shape"});
   expectError((dir_ / "nothing.json").string(), {"nothing.json", "cannot open"});
+  expectError(valid("\"integrator\": \"direct\"", "\"integrator\": \"mis\""),
+              {"render.integrator", "expected path, direct, light or bsdf", "mis"});
   expectError(valid("\"scale\": 2", "\"scale\": 2, \"importance\": \"max\""),
               {"environment.importance", "luminance or mean"});
 }

@@ -74,6 +74,13 @@ fails_with "optimize bad mass" "expected mc:K" "$nuld" optimize --target uniform
 fails_with "optimize bad lr" "learning rates" "$nuld" optimize --target uniform --n 8 --lr -3 -o "$dir/x.txt"
 fails_with "optimize unreadable image" "nope.exr" "$nuld" optimize --target image:"$dir/nope.exr" --n 8 -o "$dir/x.txt"
 fails_with "optimize unknown preset" "unknown preset" "$nuld" optimize --target uniform --n 8 --preset turbo -o "$dir/x.txt"
+# Enum options are checked against their name tables, aliases included, with
+# the tables' one message.
+fails_with "optimize unknown box kind" "--box-kind: unknown box kind 'cube' (expected multicorner, anchored or twopoint)" "$nuld" optimize --target uniform --n 8 --box-kind cube -o "$dir/x.txt"
+ok "optimize box kind alias" "$nuld" optimize --target uniform --n 8 --epochs 2 --boxes 64 --box-kind two-point -q -o "$dir/alias.txt"
+grep -q '^# settings: .*box_kind=twopoint ' "$dir/alias.txt" || { echo "FAIL: an alias is recorded by its name"; failures=$((failures + 1)); }
+fails_with "generate unknown scrambling" "unknown scrambling 'xor' (expected owen, shift, cp or none)" "$nuld" generate --sequence sobol --scramble xor --n 4 -o "$dir/x.txt"
+fails_with "render unknown integrator" "unknown integrator 'mis' (expected path, direct, light or bsdf)" "$nuld" render default --integrator mis -q -o "$dir/x.exr"
 
 # Rendering: the built-in scene needs no files; compare prints mse and relmse.
 ok "render default" "$nuld" render default --spp 2 --res 16x12 -q -o "$dir/a.exr"

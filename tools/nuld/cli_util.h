@@ -1,16 +1,15 @@
 #pragma once
 // Small helpers shared by the subcommands.
 
+#include <CLI/CLI.hpp>
 #include <memory>
+#include <stdexcept>
 #include <string>
 
 #include "sampler/optimize/resumable_run.h"
+#include "sampler/enum_names.h"
 #include "sampler/point.h"
 #include "sampler/targets/target.h"
-
-namespace CLI {
-class App;
-}
 
 namespace nuld::cli {
 
@@ -33,6 +32,22 @@ Resolution parseResolution(const std::string &text);
 // else happens then), --resume, --stop-after and -q.
 void addRunFlags(CLI::App &app, RunFlags &flags, const std::string &unit,
                  const std::string &alsoDoes = "");
+// The check of an option that names a value of `names` (aliases included):
+// the help lists the names as {a,b,c}; anything else is refused with the
+// table's message.
+template <class E, std::size_t N>
+CLI::Validator oneOf(const EnumTable<E, N> &names) {
+  return CLI::Validator(
+      [names](std::string &text) {
+        try {
+          names.parse(text);
+          return std::string();
+        } catch (const std::invalid_argument &e) {
+          return std::string(e.what());
+        }
+      },
+      CLI::detail::generate_set(names.names()));
+}
 
 // Three significant digits, for progress-bar status lines (loss, lr, alpha).
 std::string shortNumber(double v);

@@ -77,8 +77,7 @@ int generateBlueNoise(const Options &o, const CLI::App &app) {
   request.sot.slices = o.slices;
   request.sot.uniformDomain = parseUniformSotDomain(o.uniformDomain);
   request.gbn.sigma = o.sigma;
-  request.gbn.boundary =
-      o.boundary == "toroidal" ? BlueNoiseBoundary::Toroidal : BlueNoiseBoundary::Bounded;
+  request.gbn.boundary = parseEnum<BlueNoiseBoundary>(o.boundary);
   const std::unique_ptr<Target> target = makeTarget(o.target.empty() ? "uniform" : o.target);
   std::unique_ptr<ProgressBar> bar;
   const PointSet set =
@@ -110,8 +109,11 @@ Runner addGenerate(CLI::App &app) {
                  "sobol, halton, random, the blue-noise baselines sot (sliced optimal "
                  "transport) and gbn (Gaussian blue noise), optimized for --target, or "
                  "sot-mapped and gbn-mapped (optimized uniformly, then --target's inverse CDF)")
-      ->check(
-          CLI::IsMember({"sobol", "halton", "random", "sot", "sot-mapped", "gbn", "gbn-mapped"}))
+      ->check(CLI::IsMember([] {
+        std::vector<std::string> names = kSequenceKindNames.names();
+        for (const std::string &b : kBlueNoiseNames.names()) names.push_back(b);
+        return names;
+      }()))
       ->capture_default_str();
   app.add_option("--iterations", o->iterations, "sot, gbn: iterations (default 1024, 1000)");
   app.add_option("--step", o->step,
@@ -123,20 +125,20 @@ Runner addGenerate(CLI::App &app) {
   app.add_option("--boundary", o->boundary,
                  "gbn, uniform target: bounded (the square's edges attract as the missing "
                  "neighbours beyond them would) or toroidal")
-      ->check(CLI::IsMember({"bounded", "toroidal"}))
+      ->check(oneOf(kBlueNoiseBoundaryNames))
       ->capture_default_str();
   app.add_option("--uniform-domain", o->uniformDomain,
                  "sot, uniform sets (sot on the uniform target, sot-mapped): transported in the "
                  "inscribed disc and mapped to the square area-preservingly, as the authors do, "
                  "or in the square itself")
-      ->check(CLI::IsMember({"disc", "square"}))
+      ->check(oneOf(kUniformSotDomainNames))
       ->capture_default_str();
   app.add_option("--target-samples", o->targetSamples,
                  "sot, gbn: size of the target's stratified sample (default max(64 N, 16384) "
                  "for sot, max(4 N, 4096) for gbn; the uniform target needs none)");
   app.add_flag("-q,--quiet", o->quiet, "no progress bar");
   app.add_option("--scramble", o->scramble, "owen, shift (digital), cp (Cranley-Patterson) or none")
-      ->check(CLI::IsMember({"owen", "shift", "cp", "none"}))
+      ->check(oneOf(kScrambleNames))
       ->capture_default_str();
   app.add_option("--n", o->n,
                  "points per set (any N >= 1; required unless --model; a graph model makes "
@@ -154,7 +156,7 @@ Runner addGenerate(CLI::App &app) {
   app.add_option("-o,--output", o->output, "output file (.ptsb: binary; otherwise text)")
       ->required();
   return [o, &app] {
-    const bool blueNoise = o->sequence.rfind("sot", 0) == 0 || o->sequence.rfind("gbn", 0) == 0;
+    const bool blueNoise = kBlueNoiseNames.find(o->sequence).has_value();
     if (!blueNoise)
       for (const char *only : {"--iterations", "--slices", "--step", "--target-samples", "--sigma",
                                "--boundary", "--uniform-domain"})

@@ -122,13 +122,14 @@ Runner addOptimize(CLI::App &app) {
                  "uniform, nonuniform, nonuniform-mc, sphere or sphere-mc (default: by target)");
   app.add_option("--epochs", o->epochs, "override the preset's epochs")->check(CLI::PositiveNumber);
   app.add_option("--boxes", o->boxes, "boxes per epoch")->check(CLI::PositiveNumber);
-  app.add_option("--box-kind", o->boxKind, "multicorner, anchored or twopoint");
+  app.add_option("--box-kind", o->boxKind, kBoxKindNames.expected())->check(oneOf(kBoxKindNames));
   app.add_option("--mass", o->mass, "exact or mc:K (Monte Carlo with K space samples)");
-  app.add_option("--mapping", o->mapping, "mapped, clamp or toroidal");
+  app.add_option("--mapping", o->mapping, kMappingNames.expected())->check(oneOf(kMappingNames));
   app.add_option("--objective", o->objective,
                  "soft (Algorithm 1), l2asd (exact closed form; uniform and grid targets) or "
                  "l2per (periodic L2, closed form; uniform target, toroidal: sets that keep "
-                 "their quality under any Cranley-Patterson shift)");
+                 "their quality under any Cranley-Patterson shift)")
+      ->check(oneOf(kObjectiveNames));
   app.add_option("--lr", o->lr, "initial learning rate");
   app.add_option("--lr-end", o->lrEnd, "final learning rate");
   app.add_option("--alpha", o->alpha, "initial sigmoid scale");

@@ -39,7 +39,7 @@ Runner addRender(CLI::App &app) {
   app.add_option("--integrator", o->integrator,
                  "path, direct (first bounce, MIS of light and BSDF sampling), light (first "
                  "bounce, light sampling only) or bsdf (first bounce, BSDF sampling only)")
-      ->check(CLI::IsMember(integratorNames()));
+      ->check(oneOf(kIntegratorNames));
   app.add_option("--max-depth", o->maxDepth, "maximum path length in bounces")
       ->check(CLI::Range(1, 1000));
   app.add_option("--seed", o->seed, "seed of the backend's randomization")

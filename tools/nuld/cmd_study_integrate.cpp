@@ -54,7 +54,7 @@ Runner addStudyIntegrate(CLI::App &app) {
   app.add_option("--opt-objective", o->optObjective,
                  "objective of the direct optimization: soft (Algorithm 1, the preset's) or "
                  "l2asd (exact grid L2asd; 30-100x faster on the Disney lobe tables)")
-      ->check(CLI::IsMember({"soft", "l2asd"}));
+      ->check(CLI::IsMember({toString(Objective::SoftBoxes), toString(Objective::ExactL2asd)}));
   app.add_option("--opt-union-weight", o->optUnionWeight,
                  "with --opt-objective l2asd: weight of the bank term (nuld optimize "
                  "--union-weight; default 4, as the render study's lobe banks; 0: instances "

@@ -124,7 +124,7 @@ Runner addStudyRender(CLI::App &app) {
                  "scale each scene's own resolution (e.g. 0.25; ignored with --res)");
   app.add_option("--integrator", o->integrator,
                  "path, direct (MIS), light or bsdf (default: the scene's)")
-      ->check(CLI::IsMember(integratorNames()));
+      ->check(oneOf(kIntegratorNames));
   app.add_option("--max-depth", o->s.maxDepth, "maximum path length")->check(CLI::Range(1, 1000));
   app.add_option("--repeats", o->s.repeats,
                  "renders per (backend, spp) with seeds seed, seed+1, ...; MSE is their mean")

@@ -41,7 +41,7 @@ void addNetworkOptions(CLI::App &app, TrainOptions &o) {
                  "graph: how z randomizes the base set: rotated (the supplement's Cranley-"
                  "Patterson rotation of Sobol) or owen (Sobol Owen-scrambled by a hash of z; "
                  "see README)")
-      ->check(CLI::IsMember({"rotated", "owen"}))
+      ->check(oneOf(kBaseRandomizationNames))
       ->capture_default_str();
   app.add_flag("--discrepancy-gradient", o.net.discrepancyGradient,
                "graph: each point also sees the gradient of its set's grid L2 discrepancy at "
@@ -69,7 +69,7 @@ void addNetworkOptions(CLI::App &app, TrainOptions &o) {
   app.add_option("--gradient", o.pullback,
                  "mapped mode: exact (J^T g) or balanced (each coordinate's gradient divided by "
                  "how far x moves per unit of it, so stretched regions do not dominate)")
-      ->check(CLI::IsMember({"exact", "balanced"}))
+      ->check(oneOf(kGradientPullbackNames))
       ->capture_default_str();
 }
 
@@ -194,7 +194,7 @@ Runner addTrain(CLI::App &app) {
   app.add_option("--arch", o->arch,
                  "supplement (the paper's MLP of z and gamma) or graph (ours: per-point message "
                  "passing over the base set's nearest neighbours; see README)")
-      ->check(CLI::IsMember({"supplement", "graph"}))
+      ->check(oneOf(kNetworkArchNames))
       ->capture_default_str();
   addNetworkOptions(app, *o);
   addTrainingOptions(app, *o);

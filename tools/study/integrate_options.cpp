@@ -8,6 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "sampler/bluenoise/blue_noise_sets.h"
 #include "sampler/targets/target_spec.h"
 #include "scenes/default_scene.h"
 #include "tools/study/integrate_internal.h"
@@ -92,7 +93,7 @@ std::vector<SamplerChoice> parseSamplers(const std::vector<std::string> &tokens,
       classic("halton", K::Halton, which);
     else if (t == "optimized")
       add({"optimized", K::Optimized, false, {}});
-    else if (t == "sot" || t == "sot-mapped" || t == "gbn" || t == "gbn-mapped")
+    else if (kBlueNoiseNames.find(t))
       add({t, K::BlueNoise, false, {}});
     else if (t.rfind("neural:", 0) == 0 && t.size() > 7)
       modelList.push_back(t.substr(7));

@@ -1,0 +1,19 @@
+#include "sampler/io/round_trip.h"
+
+#include <charconv>
+#include <stdexcept>
+
+namespace nuld {
+
+char *formatRoundTrip(char *first, char *last, double v) {
+  const auto [end, ec] = std::to_chars(first, last, v);
+  if (ec != std::errc()) throw std::length_error("formatRoundTrip: buffer too small");
+  return end;
+}
+
+std::string formatRoundTrip(double v) {
+  char buf[32];
+  return std::string(buf, formatRoundTrip(buf, buf + sizeof buf, v));
+}
+
+}  // namespace nuld

@@ -1,0 +1,17 @@
+#pragma once
+// The one round-trip number format: the shortest text that strtod,
+// std::from_chars and istream >> read back as the same double ("0.1",
+// "1e-07", "6000"). Point-set files, target specs, settings fingerprints and
+// model metadata all write their numbers through it.
+
+#include <string>
+
+namespace nuld {
+
+std::string formatRoundTrip(double v);
+
+// The same text written into [first, last), which has room for at least 32
+// characters; returns the end of what was written.
+char *formatRoundTrip(char *first, char *last, double v);
+
+}  // namespace nuld
