@@ -304,7 +304,7 @@ std::optional<std::array<double, 2>> disneyFamilyGamma(const std::string &family
 }
 
 void registerMaterialTargets() {
-  registerTargetFamily("disney", [](const std::string &args) -> std::unique_ptr<Target> {
+  registerTargetKind("disney", [](const std::string &args) -> std::unique_ptr<Target> {
     return makeDisneyTarget(parseDisneyTargetArgs(args));
   });
   registerTargetFamilyKind("disney", [](const std::string &args) -> std::unique_ptr<TargetFamily> {

@@ -49,7 +49,7 @@ const ImageKind *findImageKind(const std::string &name) {
 
 }  // namespace
 
-void registerTargetFamily(const std::string &name, TargetFactory factory) {
+void registerTargetKind(const std::string &name, TargetFactory factory) {
   std::lock_guard lock(registryMutex());
   registry()[name] = std::move(factory);
 }
