@@ -307,7 +307,7 @@ void registerMaterialTargets() {
   registerTargetKind("disney", [](const std::string &args) -> std::unique_ptr<Target> {
     return makeDisneyTarget(parseDisneyTargetArgs(args));
   });
-  registerTargetFamilyKind("disney", [](const std::string &args) -> std::unique_ptr<TargetFamily> {
+  registerTargetFamily("disney", [](const std::string &args) -> std::unique_ptr<TargetFamily> {
     return std::make_unique<DisneyFamily>(args);
   });
 }

@@ -90,7 +90,8 @@ std::optional<std::array<double, 2>> invertDisneyFamilyView(DisneyView view);
 std::optional<std::array<double, 2>> disneyFamilyGamma(const std::string &familySpec,
                                                        const std::string &targetSpec);
 
-// Registers the `disney` target family with makeTarget.
+// Registers the `disney` kind of target (makeTarget) and the `family:disney`
+// target family (makeTargetFamily).
 void registerMaterialTargets();
 
 }  // namespace nuld
