@@ -230,10 +230,22 @@ std::unique_ptr<GridTarget> makeDisneyTarget(const DisneyTargetSpec &spec) {
   return tabulate(spec.params, spec.wo(), spec.phiCells, spec.thetaRows, toSpec(spec));
 }
 
+DisneyView disneyFamilyView(std::array<double, 2> gamma) {
+  return {kDisneyFamilyMaxThetaDegrees * gamma[0], 360 * gamma[1]};
+}
+
+std::optional<std::array<double, 2>> invertDisneyFamilyView(DisneyView view) {
+  if (!(view.thetaDegrees >= 0 && view.thetaDegrees <= kDisneyFamilyMaxThetaDegrees))
+    return std::nullopt;
+  const double phi = view.phiDegrees / 360;
+  return std::array<double, 2>{view.thetaDegrees / kDisneyFamilyMaxThetaDegrees,
+                               phi - std::floor(phi)};
+}
+
 namespace {
 
-// gamma = (theta / 89 degrees, phi / 360 degrees) of wo; the other parameters
-// come from the family's ARGS (a `disney:` spec without theta and phi).
+// gamma = the view of wo (disneyFamilyView); the other parameters come from
+// the family's ARGS (a `disney:` spec without theta and phi).
 class DisneyFamily final : public TargetFamily {
  public:
   explicit DisneyFamily(const std::string &args) : base_(parseDisneyTargetArgs(args)) {
@@ -250,13 +262,11 @@ class DisneyFamily final : public TargetFamily {
   std::shared_ptr<const Target> target(std::span<const double> gamma) const override {
     checkGamma(*this, gamma);
     DisneyTargetSpec s = base_;
-    s.thetaDegrees = kMaxThetaDegrees * gamma[0];
-    s.phiDegrees = 360 * gamma[1];
+    const DisneyView view = disneyFamilyView({gamma[0], gamma[1]});
+    s.thetaDegrees = view.thetaDegrees;
+    s.phiDegrees = view.phiDegrees;
     return makeDisneyTarget(s);
   }
-
-  // Grazing views up to 89 degrees, as the materials tests cover.
-  static constexpr double kMaxThetaDegrees = 89;
 
  private:
   DisneyTargetSpec base_;
@@ -279,22 +289,19 @@ std::optional<std::array<double, 2>> disneyFamilyGamma(const std::string &family
   try {
     const DisneyTargetSpec base = parseDisneyTargetArgs(*familyArgs);
     const DisneyTargetSpec t = parseDisneyTargetArgs(*targetArgs);
-    if (!(t.params == base.params) || t.phiCells != base.phiCells ||
-        t.thetaRows != base.thetaRows || t.thetaDegrees > DisneyFamily::kMaxThetaDegrees)
+    if (!(t.params == base.params) || t.phiCells != base.phiCells || t.thetaRows != base.thetaRows)
       return std::nullopt;
-    const double phi = t.phiDegrees / 360;
-    return std::array<double, 2>{t.thetaDegrees / DisneyFamily::kMaxThetaDegrees,
-                                 phi - std::floor(phi)};
+    return invertDisneyFamilyView({t.thetaDegrees, t.phiDegrees});
   } catch (const std::invalid_argument &) {
     return std::nullopt;  // not a spec this family could have made
   }
 }
 
 void registerMaterialTargets() {
-  registerTargetFamily("disney", [](const std::string &args) -> std::unique_ptr<Target> {
+  registerTargetKind("disney", [](const std::string &args) -> std::unique_ptr<Target> {
     return makeDisneyTarget(parseDisneyTargetArgs(args));
   });
-  registerTargetFamilyKind("disney", [](const std::string &args) -> std::unique_ptr<TargetFamily> {
+  registerTargetFamily("disney", [](const std::string &args) -> std::unique_ptr<TargetFamily> {
     return std::make_unique<DisneyFamily>(args);
   });
 }

@@ -70,6 +70,20 @@ std::unique_ptr<GridTarget> makeDisneyTarget(const DisneyParams &params, Vec3 wo
 // The same from a parsed spec; the target reports toSpec(spec).
 std::unique_ptr<GridTarget> makeDisneyTarget(const DisneyTargetSpec &spec);
 
+// The `family:disney` gamma encoding of the view direction wo:
+// gamma = (theta / 89 degrees, phi / 360 degrees), so gamma 1 is the most
+// grazing view the family makes (as the materials tests cover).
+inline constexpr double kDisneyFamilyMaxThetaDegrees = 89;
+struct DisneyView {
+  double thetaDegrees = 0, phiDegrees = 0;
+};
+// Forward: the view at gamma (entries in [0, 1], not checked).
+DisneyView disneyFamilyView(std::array<double, 2> gamma);
+// Inverse: the gamma of a view, phi taken modulo 360 (so phi 360, gamma 1,
+// comes back as gamma 0: the same direction); nullopt unless theta is in
+// [0, 89].
+std::optional<std::array<double, 2>> invertDisneyFamilyView(DisneyView view);
+
 // The gamma at which the target family `familySpec` (`family:disney` or
 // `family:disney:ARGS`) makes the `disney` target `targetSpec`: the same
 // material and table size, theta within the family's range. nullopt when the
@@ -77,7 +91,8 @@ std::unique_ptr<GridTarget> makeDisneyTarget(const DisneyTargetSpec &spec);
 std::optional<std::array<double, 2>> disneyFamilyGamma(const std::string &familySpec,
                                                        const std::string &targetSpec);
 
-// Registers the `disney` target family with makeTarget.
+// Registers the `disney` kind of target (makeTarget) and the `family:disney`
+// target family (makeTargetFamily).
 void registerMaterialTargets();
 
 }  // namespace nuld

@@ -7,6 +7,7 @@
 #include "renderer/neural_backend.h"
 #include "renderer/padding.h"
 #include "sampler/io/pointset_io.h"
+#include "sampler/io/pointset_metadata.h"
 #include "sampler/sequences/rng.h"
 #include "sampler/sequences/scrambling.h"
 #include "sampler/targets/grid_target.h"
@@ -16,10 +17,7 @@ namespace nuld {
 
 namespace fs = std::filesystem;
 
-std::string SetBank::targetSpec() const {
-  const auto it = sets.metadata.find("target");
-  return it == sets.metadata.end() ? "uniform" : it->second;
-}
+std::string SetBank::targetSpec() const { return metaOr(sets, meta::kTarget, "uniform"); }
 
 namespace {
 

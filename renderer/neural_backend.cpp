@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "materials/disney_target.h"
+#include "sampler/io/pointset_metadata.h"
 
 namespace nuld {
 
@@ -69,7 +70,7 @@ void NeuralBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
     std::vector<SetBank> banks;
     for (std::size_t k = 0; k < specs.size(); ++k) {
       SetBank bank{generator_.generateSets(each, seed_ + k, gammas[k], n), source_};
-      bank.sets.metadata["target"] = specs[k];
+      setMeta(bank.sets, meta::kTarget, specs[k]);
       banks.push_back(std::move(bank));
     }
     setBanks(std::move(banks));

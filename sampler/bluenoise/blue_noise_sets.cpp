@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "sampler/io/pointset_metadata.h"
 #include "sampler/sequences/rng.h"
 #include "sampler/targets/basic_targets.h"
 
@@ -61,13 +62,15 @@ PointSet blueNoiseSets(const BlueNoiseRequest &request, const Target &target, st
     if (request.mapped)
       for (Point2 &p : points) p = target.invert(p).x;
   }
-  set.metadata["generator"] = request.name();
-  set.metadata[sliced ? "sot" : "gbn"] = sliced ? sot.describe() : gbn.describe();
+  setMeta(set, meta::kGenerator, request.name());
+  setMeta(set, sliced ? meta::kSlicedOt : meta::kGaussianBlueNoise,
+          sliced ? sot.describe() : gbn.describe());
   if (!optimizeFor.isUniform())
-    set.metadata["target_samples"] = std::to_string(sliced ? sot.samplesFor(n) : gbn.samplesFor(n));
-  set.metadata["target"] = target.spec();
-  set.metadata["domain"] = toString(target.domain());
-  if (request.mapped) set.metadata["mapping"] = "inverse-cdf";
+    setMeta(set, meta::kTargetSamples,
+            std::to_string(sliced ? sot.samplesFor(n) : gbn.samplesFor(n)));
+  setMeta(set, meta::kTarget, target.spec());
+  setMeta(set, meta::kDomain, toString(target.domain()));
+  if (request.mapped) setMeta(set, meta::kMapping, std::string(meta::kInverseCdf));
   return set;
 }
 

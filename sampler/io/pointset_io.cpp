@@ -9,6 +9,7 @@
 
 #include "sampler/io/atomic_file.h"
 #include "sampler/io/round_trip.h"
+#include "sampler/io/pointset_metadata.h"
 
 namespace nuld {
 namespace {
@@ -90,7 +91,8 @@ PointSet readText(const std::string &path, std::istream &in) {
   }
   finishSets(set, sets, path);
   // Written by writePointSetText as a header, derived from the data.
-  for (const char *key : {"nuld-pointset", "n", "instances"}) set.metadata.erase(key);
+  for (const std::string_view key : {meta::kFormat, meta::kN, meta::kInstances})
+    set.metadata.erase(std::string(key));
   return set;
 }
 
@@ -154,8 +156,9 @@ PointSet readPointSet(const std::string &path) {
 }
 
 void writePointSetText(std::ostream &out, const PointSet &set) {
-  out << "# nuld-pointset: 1\n";
-  out << "# n: " << set.n << "\n# instances: " << set.instances() << "\n";
+  out << "# " << meta::kFormat << ": 1\n";
+  out << "# " << meta::kN << ": " << set.n << "\n# " << meta::kInstances << ": " << set.instances()
+      << "\n";
   for (const auto &[k, v] : set.metadata) out << "# " << k << ": " << v << "\n";
   char buf[64];
   for (std::size_t k = 0; k < set.instances(); ++k) {

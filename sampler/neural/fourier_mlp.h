@@ -5,7 +5,17 @@
 
 #include <torch/torch.h>
 
+#include <cstdint>
+
 namespace nuld {
+
+// B ~ N(0, sigma^2) from our own counter-based generator (Box-Muller), so a
+// seed gives the same encoding on every machine and LibTorch version.
+torch::Tensor drawFrequencies(int rows, int cols, double sigma, std::uint64_t seed);
+
+// The integer frequencies (a, b) of z with max(|a|, |b|) <= k, one of each
+// +- pair (a > 0, or a = 0 and b > 0); gamma's columns are 0.
+torch::Tensor zHarmonicFrequencies(int k, int cols);
 
 // The Fourier features [cos 2 pi v B^T, sin 2 pi v B^T] of the rows of v:
 // the supplement's encoding of (z, gamma), and the graph generator's of gamma.

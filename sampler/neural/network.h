@@ -4,6 +4,13 @@
 
 #include <torch/torch.h>
 
+#include <algorithm>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
 #include "sampler/metrics/nonuniform_l2.h"
 #include "sampler/neural/fourier_mlp.h"
 #include "sampler/neural/graph_net.h"
@@ -48,6 +55,39 @@ struct NeuralGenerator::Net {
                                                       const torch::Tensor &points,
                                                       const std::vector<TorusGraph> &graphs) const;
 };
+
+// What the neural translation units share (neural_generator.cpp: the
+// network and generation; graph_inputs.cpp: the graph generator's inputs;
+// neural_generator_file.cpp: the model file).
+
+// The targets of consecutive sets: a family's target is rebuilt only when
+// gamma changes (tabulating a Disney lobe costs milliseconds, and a bank
+// generates hundreds of sets per gamma).
+class FamilyTargets {
+ public:
+  explicit FamilyTargets(const TargetFamily &family) : family_(family) {}
+  const Target &at(std::span<const double> gamma) {
+    if (!target_ || !std::equal(gamma.begin(), gamma.end(), gamma_.begin(), gamma_.end())) {
+      target_ = family_.target(gamma);
+      gamma_.assign(gamma.begin(), gamma.end());
+    }
+    return *target_;
+  }
+
+ private:
+  const TargetFamily &family_;
+  std::vector<double> gamma_;
+  std::shared_ptr<const Target> target_;
+};
+
+// The graph generator's input widths: per point the torus harmonics of u,
+// the placed point x, three Jacobian features, log N, and gamma raw and
+// Fourier-encoded; per edge the neighbour's offset in u and in x.
+std::int64_t graphNodeFeatures(const NeuralSettings &s, std::size_t gammaDim);
+inline constexpr std::int64_t kGraphEdgeFeatures = 4;
+// The grid of the L2 objective whose gradient --discrepancy-gradient feeds
+// (exact on grid targets' own cells; 64^2 cells for closed-form ones).
+inline constexpr int kGradientGrid = 64;
 
 // The base sets of n points (0: the model's n) for the given offsets as a
 // [K, n, 2] double tensor.

@@ -1,90 +1,23 @@
 #include "sampler/neural/neural_generator.h"
 
+// The generator: its settings, the network it builds, the base sets and the
+// residuals it adds to them. The graph generator's inputs are in
+// graph_inputs.cpp, the model files in neural_generator_file.cpp.
+
 #include <algorithm>
 #include <bit>
 #include <cmath>
-#include <numbers>
 #include <stdexcept>
 
 #include "sampler/io/round_trip.h"
 #include "sampler/neural/dense_inference.h"
-#include "sampler/neural/model_file.h"
 #include "sampler/neural/network.h"
 #include "sampler/sequences/rng.h"
 #include "sampler/sequences/sequence.h"
 #include "sampler/sequences/sobol.h"
-#include "sampler/targets/target_spec.h"
 
 namespace nuld {
 namespace {
-
-// The targets of consecutive sets: a family's target is rebuilt only when
-// gamma changes (tabulating a Disney lobe costs milliseconds, and a bank
-// generates hundreds of sets per gamma).
-class FamilyTargets {
- public:
-  explicit FamilyTargets(const TargetFamily &family) : family_(family) {}
-  const Target &at(std::span<const double> gamma) {
-    if (!target_ || !std::equal(gamma.begin(), gamma.end(), gamma_.begin(), gamma_.end())) {
-      target_ = family_.target(gamma);
-      gamma_.assign(gamma.begin(), gamma.end());
-    }
-    return *target_;
-  }
-
- private:
-  const TargetFamily &family_;
-  std::vector<double> gamma_;
-  std::shared_ptr<const Target> target_;
-};
-
-constexpr const char *kFormat = "nuld-neural-generator";
-constexpr int kVersion = 1;
-// The metadata 'base' of each randomization (files from before the Owen base
-// all say the rotated one's).
-constexpr const char *kRotatedBase = "sobol rotated by z";
-constexpr const char *kOwenBase = "sobol owen-scrambled by a hash of z";
-
-// B ~ N(0, sigma^2) from our own counter-based generator (Box-Muller), so a
-// seed gives the same encoding on every machine and LibTorch version.
-torch::Tensor drawFrequencies(int rows, int cols, double sigma, std::uint64_t seed) {
-  torch::Tensor b = torch::empty({rows, cols}, torch::kFloat32);
-  auto a = b.accessor<float, 2>();
-  Rng rng(seed, 0xB);
-  for (int r = 0; r < rows; ++r)
-    for (int c = 0; c < cols; ++c) {
-      const double u1 = 1 - rng.uniform(), u2 = rng.uniform();
-      a[r][c] = float(sigma * std::sqrt(-2 * std::log(u1)) * std::cos(2 * std::numbers::pi * u2));
-    }
-  return b;
-}
-
-// The integer frequencies (a, b) of z with max(|a|, |b|) <= k, one of each
-// +- pair (a > 0, or a = 0 and b > 0); gamma's columns are 0.
-torch::Tensor zHarmonicFrequencies(int k, int cols) {
-  const int rows = ((2 * k + 1) * (2 * k + 1) - 1) / 2;
-  torch::Tensor b = torch::zeros({rows, cols}, torch::kFloat32);
-  auto a = b.accessor<float, 2>();
-  int r = 0;
-  for (int fx = 0; fx <= k; ++fx)
-    for (int fy = -k; fy <= k; ++fy)
-      if (fx > 0 || fy > 0) a[r][0] = float(fx), a[r][1] = float(fy), ++r;
-  return b;
-}
-
-// The graph generator's input widths: per point the torus harmonics of u,
-// the placed point x, three Jacobian features, log N, and gamma raw and
-// Fourier-encoded; per edge the neighbour's offset in u and in x.
-std::int64_t graphNodeFeatures(const NeuralSettings &s, std::size_t gammaDim) {
-  const std::int64_t harmonics =
-      ((2 * s.positionHarmonics + 1) * (2 * s.positionHarmonics + 1) - 1);
-  return harmonics + 2 + 3 + 1 + std::int64_t(gammaDim) + (gammaDim > 0 ? s.encodingDims : 0) +
-         (s.discrepancyGradient ? 3 : 0);
-}
-constexpr std::int64_t kGraphEdgeFeatures = 4;
-// The grid of the L2 objective whose gradient --discrepancy-gradient feeds
-// (exact on grid targets' own cells; 64^2 cells for closed-form ones).
-constexpr int kGradientGrid = 64;
 
 std::unique_ptr<NeuralGenerator::Net> makeNet(const NeuralSettings &s, std::size_t gammaDim,
                                               std::span<const Point2> base) {
@@ -106,43 +39,7 @@ std::unique_ptr<NeuralGenerator::Net> makeNet(const NeuralSettings &s, std::size
   return net;
 }
 
-std::string joinSizes(const std::vector<std::size_t> &sizes) {
-  std::string s;
-  for (const std::size_t n : sizes) s += (s.empty() ? "" : ",") + std::to_string(n);
-  return s;
-}
-
 }  // namespace
-
-FourierMlpImpl::FourierMlpImpl(torch::Tensor frequencies, int hidden, std::int64_t outputs) {
-  B = register_buffer("B", std::move(frequencies));
-  const std::int64_t e = B.size(0) * 2;
-  l1 = register_module("l1", torch::nn::Linear(e, hidden));
-  l2 = register_module("l2", torch::nn::Linear(hidden + e, hidden));
-  l3 = register_module("l3", torch::nn::Linear(hidden + e, hidden));
-  l4 = register_module("l4", torch::nn::Linear(hidden + e, hidden));
-  l5 = register_module("l5", torch::nn::Linear(hidden + e, outputs));
-  // Zero residuals: the untrained generator is its base set (supplement §1).
-  torch::NoGradGuard noGrad;
-  l5->weight.zero_();
-  l5->bias.zero_();
-}
-
-torch::Tensor fourierFeatures(const torch::Tensor &v, const torch::Tensor &B) {
-  const torch::Tensor angle = (2 * std::numbers::pi) * torch::matmul(v, B.t());
-  return torch::cat({torch::cos(angle), torch::sin(angle)}, 1);
-}
-
-torch::Tensor FourierMlpImpl::encode(torch::Tensor v) const { return fourierFeatures(v, B); }
-
-torch::Tensor FourierMlpImpl::forward(torch::Tensor v) {
-  const torch::Tensor e = encode(v);
-  torch::Tensor h = torch::relu(l1(e));
-  h = torch::relu(l2(torch::cat({h, e}, 1)));
-  h = torch::relu(l3(torch::cat({h, e}, 1)));
-  h = torch::relu(l4(torch::cat({h, e}, 1)));
-  return l5(torch::cat({h, e}, 1));
-}
 
 torch::nn::Module &NeuralGenerator::Net::module() {
   return graph ? static_cast<torch::nn::Module &>(*graph) : *mlp;
@@ -191,117 +88,6 @@ torch::Tensor NeuralGenerator::Net::forward(const NeuralGenerator &gen, std::spa
       current = (base + total.detach().to(torch::kFloat64)).contiguous();
   }
   return total;
-}
-
-std::pair<torch::Tensor, torch::Tensor> NeuralGenerator::Net::graphInputs(
-    const NeuralGenerator &gen, std::span<const double> gamma, const torch::Tensor &points,
-    const std::vector<TorusGraph> &graphs) const {
-  const NeuralSettings &s = gen.settings();
-  const std::size_t K = std::size_t(points.size(0)), n = std::size_t(points.size(1)),
-                    g = gen.gammaDimension();
-  // One graph per set, one shared by all (a rotated base at another N), or `torus`.
-  auto graphOf = [&](std::size_t set) -> const TorusGraph & {
-    return graphs.empty() ? torus : graphs[graphs.size() == K ? set : 0];
-  };
-  const std::size_t k = graphOf(0).k;
-  const std::int64_t F = graphNodeFeatures(s, g);
-  const torch::Tensor harmonics = zHarmonicFrequencies(s.positionHarmonics, 2).to(torch::kFloat64);
-  const std::int64_t H = harmonics.size(0);
-  const double rootN = std::sqrt(double(n)), logN = std::log2(double(n)) / 10;
-  const bool sphere = gen.domain() != Domain::Square;
-
-  torch::Tensor nodes = torch::empty({std::int64_t(K), std::int64_t(n), F}, torch::kFloat64);
-  torch::Tensor edges =
-      torch::empty({std::int64_t(K), std::int64_t(n), std::int64_t(k), 4}, torch::kFloat64);
-  const auto *pb = reinterpret_cast<const Point2 *>(points.data_ptr<double>());
-  double *pn = nodes.data_ptr<double>();
-  auto *pe = reinterpret_cast<Point2 *>(edges.data_ptr<double>());
-  const auto hf = harmonics.accessor<double, 2>();
-  std::vector<Point2> x(n), u(n), gradient(s.discrepancyGradient ? n : 0);
-  std::vector<Jacobian2> jacobian(n);
-  FamilyTargets targets(gen.family());
-  for (std::size_t set = 0; set < K; ++set) {
-    const std::vector<std::int64_t> &nb = graphOf(set).neighbours;
-    const std::span<const double> gs = gamma.subspan(set * g, g);
-    const Target *target = &targets.at(gs);
-    std::vector<double> gammaCode;
-    if (g > 0) {
-      const torch::Tensor v =
-          torch::from_blob(const_cast<double *>(gs.data()), {1, std::int64_t(g)}, torch::kFloat64);
-      const torch::Tensor code = fourierFeatures(v, graph->B.to(torch::kFloat64)).contiguous();
-      gammaCode.assign(code.data_ptr<double>(), code.data_ptr<double>() + code.numel());
-    }
-    for (std::size_t i = 0; i < n; ++i) {
-      const Point2 raw = pb[set * n + i];
-      u[i] = {wrapUnit(raw.x), wrapUnit(raw.y)};
-      x[i] = gen.place(raw, *target, &jacobian[i]);
-    }
-    // The descent direction: dL2^2/du (pulled back through T and balanced
-    // per coordinate as the trainer does), over its root mean square.
-    double gradientScale = 0;
-    if (s.discrepancyGradient) {
-      // One target: the objective built with the generator; a family: this
-      // set's member.
-      const auto objectiveHere =
-          g == 0 ? objective : std::make_shared<const NonuniformL2asd>(*target, kGradientGrid);
-      objectiveHere->squared(x, gradient);
-      for (std::size_t i = 0; i < n; ++i) {
-        gradient[i] = balancedPullback(jacobian[i].transposeTimes(gradient[i]), jacobian[i]);
-        gradientScale +=
-            (gradient[i].x * gradient[i].x + gradient[i].y * gradient[i].y) / double(n);
-      }
-      gradientScale = std::sqrt(gradientScale);
-    }
-    for (std::size_t i = 0; i < n; ++i) {
-      const Jacobian2 &j = jacobian[i];
-      double *f = pn + (set * n + i) * std::size_t(F);
-      for (std::int64_t h = 0; h < H; ++h) {
-        const double angle = 2 * std::numbers::pi * (hf[h][0] * u[i].x + hf[h][1] * u[i].y);
-        *f++ = std::cos(angle);
-        *f++ = std::sin(angle);
-      }
-      *f++ = 2 * x[i].x - 1;
-      *f++ = 2 * x[i].y - 1;
-      // How T stretches around u: the log lengths of J's columns and the
-      // cosine between them (a zero or non-finite column reads as the floor).
-      const double c0 = std::hypot(j.m[0][0], j.m[1][0]), c1 = std::hypot(j.m[0][1], j.m[1][1]);
-      auto logLength = [](double c) {
-        return c > 0 && std::isfinite(c) ? std::clamp(std::log(c), -8.0, 8.0) / 4 : -2.0;
-      };
-      *f++ = logLength(c0);
-      *f++ = logLength(c1);
-      const double dot = j.m[0][0] * j.m[0][1] + j.m[1][0] * j.m[1][1];
-      *f++ = c0 > 0 && c1 > 0 && std::isfinite(dot / (c0 * c1)) ? dot / (c0 * c1) : 0.0;
-      *f++ = logN;
-      for (std::size_t q = 0; q < g; ++q) *f++ = 2 * gs[q] - 1;
-      for (const double c : gammaCode) *f++ = c;
-      if (s.discrepancyGradient) {
-        const bool usable = gradientScale > 0 && std::isfinite(gradientScale);
-        *f++ = usable ? gradient[i].x / gradientScale : 0.0;
-        *f++ = usable ? gradient[i].y / gradientScale : 0.0;
-        *f++ = usable
-                   ? std::clamp(std::log(gradientScale * double(n) * double(n)), -20.0, 20.0) / 10
-                   : -2.0;
-      }
-    }
-    // Edges: the neighbour's offset on the torus of u (for the base set the
-    // same for every z) and in x, both in units of the spacing; x's is
-    // clamped, as a neighbour across the square's seam or a stretched
-    // region is simply far.
-    for (std::size_t i = 0; i < n; ++i)
-      for (std::size_t e = 0; e < k; ++e) {
-        const std::size_t j = std::size_t(nb[i * k + e]);
-        const Point2 du = torusDifference(u[i], u[j]);
-        Point2 dx = x[j] - x[i];
-        if (sphere) dx.x -= std::floor(dx.x + 0.5);  // longitude is periodic
-        auto clampSpacing = [&](double d) { return std::clamp(d * rootN, -4.0, 4.0); };
-        Point2 *edge = pe + 2 * ((set * n + i) * k + e);
-        edge[0] = rootN * du;
-        edge[1] = {clampSpacing(dx.x), clampSpacing(dx.y)};
-      }
-  }
-  const auto dtype = graph->embed->weight.scalar_type();
-  return {nodes.to(dtype), edges.to(dtype)};
 }
 
 torch::Tensor NeuralGenerator::Net::residuals(const torch::Tensor &v) const {
@@ -515,148 +301,6 @@ PointSet NeuralGenerator::generateSets(std::size_t instances, std::uint64_t seed
   set.points.resize(instances * n);
   generate(z, gammas, n, set.points);
   return set;
-}
-
-std::map<std::string, std::string> NeuralGenerator::metadata() const {
-  std::map<std::string, std::string> m = {
-      {"format", kFormat},
-      {"arch", toString(settings_.arch)},
-      {"version", std::to_string(kVersion)},
-      {"n", std::to_string(settings_.n)},
-      {"dimension", "2"},
-      {"domain", toString(domain())},
-      {"family", settings_.family},
-      {"gamma_dimension", std::to_string(gammaDimension())},
-      {"hidden", std::to_string(settings_.hidden)},
-      {"sigma", formatRoundTrip(settings_.sigma)},
-      {"encoding_dims", std::to_string(settings_.encodingDims)},
-      {"z_harmonics", std::to_string(settings_.zHarmonics)},
-      {"offset_range", formatRoundTrip(settings_.offsetRange)},
-      {"seed", std::to_string(settings_.seed)},
-      {"base", settings_.base == BaseRandomization::Owen ? kOwenBase : kRotatedBase},
-      {"mapping", settings_.mapped ? "mapped" : "unmapped"}};
-  if (settings_.arch == NetworkArch::Graph) {
-    m["neighbours"] = std::to_string(settings_.neighbours);
-    m["rounds"] = std::to_string(settings_.rounds);
-    m["position_harmonics"] = std::to_string(settings_.positionHarmonics);
-    m["stages"] = std::to_string(settings_.stages);
-    m["discrepancy_gradient"] = settings_.discrepancyGradient ? "1" : "0";
-  }
-  // Only for several sizes, so single-size files keep their metadata.
-  if (!settings_.trainingNs.empty()) m["training_n"] = joinSizes(settings_.trainingNs);
-  return m;
-}
-
-ModelFile NeuralGenerator::toModelFile(const std::map<std::string, std::string> &extra) const {
-  ModelFile file;
-  file.metadata = extra;
-  for (const auto &[k, v] : metadata()) file.metadata[k] = v;
-  auto add = [&](const std::string &name, const torch::Tensor &t) {
-    const torch::Tensor f = t.detach().to(torch::kFloat32).contiguous();
-    file.tensors.push_back(
-        {name, std::vector<std::int64_t>(f.sizes().begin(), f.sizes().end()),
-         std::vector<float>(f.data_ptr<float>(), f.data_ptr<float>() + f.numel())});
-  };
-  for (const auto &item : net_->module().named_buffers()) add(item.key(), item.value());
-  for (const auto &item : net_->module().named_parameters()) add(item.key(), item.value());
-  return file;
-}
-
-void NeuralGenerator::save(const std::string &path,
-                           const std::map<std::string, std::string> &extra) const {
-  writeModelFile(path, toModelFile(extra));
-}
-
-void NeuralGenerator::loadWeights(const ModelFile &file, const std::string &path) {
-  torch::NoGradGuard noGrad;
-  auto fill = [&](const std::string &name, torch::Tensor &t) {
-    const ModelTensor &mt = file.tensor(name, path);
-    if (std::vector<std::int64_t>(t.sizes().begin(), t.sizes().end()) != mt.shape)
-      throw std::runtime_error(path + ": tensor '" + name +
-                               "' has the wrong shape for the network its metadata describes");
-    t.copy_(torch::from_blob(const_cast<float *>(mt.data.data()), t.sizes(), torch::kFloat32));
-  };
-  for (auto &item : net_->module().named_buffers()) fill(item.key(), item.value());
-  for (auto &item : net_->module().named_parameters()) fill(item.key(), item.value());
-}
-
-NeuralGenerator NeuralGenerator::load(const std::string &path) {
-  const ModelFile file = readModelFile(path);
-  if (file.metadata.count("format") == 0 || file.metadata.at("format") != kFormat)
-    throw std::runtime_error(path + ": not a neural generator model (metadata 'format' is not '" +
-                             kFormat + "')");
-  if (file.value("version", path) != std::to_string(kVersion))
-    throw std::runtime_error(path + ": model version " + file.value("version", path) +
-                             ", this program reads version " + std::to_string(kVersion));
-  auto number = [&](const std::string &key) {
-    const std::string &v = file.value(key, path);
-    try {
-      std::size_t used = 0;
-      const double x = std::stod(v, &used);
-      if (used != v.size()) throw std::invalid_argument(v);
-      return x;
-    } catch (const std::exception &) {
-      throw std::runtime_error(path + ": model metadata '" + key + "' is not a number: '" + v +
-                               "'");
-    }
-  };
-  NeuralSettings s;
-  // Files from before the graph generator have no 'arch': the supplement's.
-  if (file.metadata.count("arch")) {
-    try {
-      s.arch = parseNetworkArch(file.metadata.at("arch"));
-    } catch (const std::invalid_argument &e) {
-      throw std::runtime_error(path + ": model metadata 'arch': " + e.what());
-    }
-  }
-  if (s.arch == NetworkArch::Graph) {
-    s.neighbours = int(number("neighbours"));
-    s.rounds = int(number("rounds"));
-    s.positionHarmonics = int(number("position_harmonics"));
-    s.stages = int(number("stages"));
-    s.discrepancyGradient = number("discrepancy_gradient") != 0;
-    if (file.metadata.count("training_n")) {
-      try {
-        s.trainingNs = parseSizeList("model metadata 'training_n'", file.metadata.at("training_n"));
-      } catch (const std::invalid_argument &e) {
-        throw std::runtime_error(path + ": " + e.what());
-      }
-    }
-  }
-  if (file.metadata.count("base")) {
-    const std::string &base = file.metadata.at("base");
-    if (base == kOwenBase)
-      s.base = BaseRandomization::Owen;
-    else if (base != kRotatedBase)
-      throw std::runtime_error(path + ": model metadata 'base' is '" + base + "', expected '" +
-                               kRotatedBase + "' or '" + kOwenBase + "'");
-  }
-  s.n = std::size_t(number("n"));
-  s.hidden = int(number("hidden"));
-  s.sigma = number("sigma");
-  s.encodingDims = int(number("encoding_dims"));
-  // Files from before these options have no keys: no harmonics, full range.
-  if (file.metadata.count("z_harmonics")) s.zHarmonics = int(number("z_harmonics"));
-  if (file.metadata.count("offset_range")) s.offsetRange = number("offset_range");
-  try {
-    s.seed = std::stoull(file.value("seed", path));
-  } catch (const std::logic_error &) {
-    throw std::runtime_error(path + ": model metadata 'seed' is not an unsigned integer");
-  }
-  s.family = file.value("family", path);
-  const std::string &mapping = file.value("mapping", path);
-  if (mapping != "mapped" && mapping != "unmapped")
-    throw std::runtime_error(path + ": model metadata 'mapping' is '" + mapping +
-                             "', expected mapped or unmapped");
-  s.mapped = mapping == "mapped";
-  try {
-    NeuralGenerator gen(std::move(s));
-    gen.loadWeights(file, path);
-    gen.fileMetadata_ = file.metadata;
-    return gen;
-  } catch (const std::invalid_argument &e) {
-    throw std::runtime_error(path + ": " + e.what());
-  }
 }
 
 }  // namespace nuld

@@ -11,6 +11,7 @@
 
 #include "sampler/io/atomic_file.h"
 #include "sampler/io/round_trip.h"
+#include "sampler/io/pointset_metadata.h"
 #include "sampler/loss/box_mass.h"
 #include "sampler/loss/soft_box_loss.h"
 #include "sampler/metrics/discrepancy.h"
@@ -273,11 +274,11 @@ PointSet DirectOptimizer::points(const OptimizerState &state) const {
   set.points = state.params;
   if (settings_.mapping == Mapping::Mapped && !target_.isUniform())
     for (Point2 &p : set.points) p = target_.invert(p).x;
-  set.metadata["target"] = target_.spec();
-  set.metadata["domain"] = toString(target_.domain());
-  set.metadata["generator"] = "optimized";
-  set.metadata["settings"] = settings_.describe();
-  set.metadata["epochs_done"] = std::to_string(state.epoch);
+  setMeta(set, meta::kTarget, target_.spec());
+  setMeta(set, meta::kDomain, toString(target_.domain()));
+  setMeta(set, meta::kGenerator, "optimized");
+  setMeta(set, meta::kSettings, settings_.describe());
+  setMeta(set, meta::kEpochsDone, std::to_string(state.epoch));
   return set;
 }
 

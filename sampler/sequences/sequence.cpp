@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "sampler/io/pointset_metadata.h"
 #include "sampler/sequences/rng.h"
 #include "sampler/sequences/scrambling.h"
 #include "sampler/sequences/sobol.h"
@@ -167,9 +168,9 @@ PointSet generatePointSet(const SequenceOptions &o, std::size_t n, std::size_t i
   set.points.resize(n * instances);
   for (std::size_t k = 0; k < instances; ++k)
     generatePoints(o, static_cast<std::uint32_t>(k), set.instance(k));
-  set.metadata["generator"] = toString(o.kind);
-  set.metadata["scramble"] = o.kind == SequenceKind::Random ? "none" : toString(o.scramble);
-  set.metadata["seed"] = std::to_string(o.seed);
+  setMeta(set, meta::kGenerator, toString(o.kind));
+  setMeta(set, meta::kScramble, o.kind == SequenceKind::Random ? "none" : toString(o.scramble));
+  setMeta(set, meta::kSeed, std::to_string(o.seed));
   return set;
 }
 

@@ -70,7 +70,7 @@ class BilinearFamily final : public TargetFamily {
 
 }  // namespace
 
-void registerTargetFamilyKind(const std::string &name, TargetFamilyFactory factory) {
+void registerTargetFamily(const std::string &name, TargetFamilyFactory factory) {
   std::lock_guard lock(registryMutex());
   registry()[name] = std::move(factory);
 }

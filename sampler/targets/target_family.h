@@ -35,7 +35,7 @@ class TargetFamily {
 using TargetFamilyFactory = std::function<std::unique_ptr<TargetFamily>(const std::string &args)>;
 
 // Adds `family:NAME[:ARGS]` (the materials module adds `disney`).
-void registerTargetFamilyKind(const std::string &name, TargetFamilyFactory factory);
+void registerTargetFamily(const std::string &name, TargetFamilyFactory factory);
 
 // Throws std::invalid_argument naming the spec and what was expected.
 std::unique_ptr<TargetFamily> makeTargetFamily(const std::string &spec);

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -24,9 +25,31 @@ std::mutex &registryMutex() {
   return m;
 }
 
+// The targets read from an image file (`NAME:PATH`), one table for
+// makeTarget (which loads them) and sameTarget (which compares their files):
+// an image on the square, or an environment map with its pixel weight.
+struct ImageKind {
+  std::string name;
+  std::optional<PixelWeight> envmapWeight;
+};
+
+const std::vector<ImageKind> &imageKinds() {
+  static const std::vector<ImageKind> kinds{
+      {"image", std::nullopt},
+      {envmapFamily(PixelWeight::Luminance), PixelWeight::Luminance},
+      {envmapFamily(PixelWeight::ChannelMean), PixelWeight::ChannelMean}};
+  return kinds;
+}
+
+const ImageKind *findImageKind(const std::string &name) {
+  for (const ImageKind &kind : imageKinds())
+    if (kind.name == name) return &kind;
+  return nullptr;
+}
+
 }  // namespace
 
-void registerTargetFamily(const std::string &name, TargetFactory factory) {
+void registerTargetKind(const std::string &name, TargetFactory factory) {
   std::lock_guard lock(registryMutex());
   registry()[name] = std::move(factory);
 }
@@ -88,13 +111,12 @@ std::unique_ptr<Target> makeTarget(const std::string &spec) {
     if (what.rfind("target '", 0) == 0) throw;
     throw std::invalid_argument("target '" + spec + "': " + what);
   }
-  if (family == "image" || family == "envmap" || family == "envmap-mean") {
+  if (const ImageKind *image = findImageKind(family)) {
     if (args.empty())
       throw std::invalid_argument("target '" + spec + "': expected a file path after '" + family +
                                   ":'");
-    if (family == "image") return loadImageTarget(args);
-    return loadEnvmapTarget(args,
-                            family == "envmap" ? PixelWeight::Luminance : PixelWeight::ChannelMean);
+    if (!image->envmapWeight) return loadImageTarget(args);
+    return loadEnvmapTarget(args, *image->envmapWeight);
   }
   TargetFactory factory;
   {
@@ -103,7 +125,8 @@ std::unique_ptr<Target> makeTarget(const std::string &spec) {
     if (it != registry().end()) factory = it->second;
   }
   if (factory) return factory(args);
-  std::string known = "uniform, bilinear, gaussian, quarterdisc, step, image, envmap, envmap-mean";
+  std::string known = "uniform, bilinear, gaussian, quarterdisc, step";
+  for (const ImageKind &kind : imageKinds()) known += ", " + kind.name;
   {
     std::lock_guard lock(registryMutex());
     for (const auto &[name, f] : registry()) known += ", " + name;
@@ -140,8 +163,7 @@ bool sameTarget(const std::string &a, const std::string &b) {
   const auto colonA = a.find(':'), colonB = b.find(':');
   if (colonA == std::string::npos || colonB == std::string::npos) return false;
   const std::string familyA = a.substr(0, colonA), familyB = b.substr(0, colonB);
-  if (familyA != familyB || (familyA != "envmap" && familyA != "envmap-mean" && familyA != "image"))
-    return false;
+  if (familyA != familyB || !findImageKind(familyA)) return false;
   std::error_code ec;
   const std::filesystem::path pa = a.substr(colonA + 1), pb = b.substr(colonB + 1);
   return std::filesystem::equivalent(pa, pb, ec) && !ec;

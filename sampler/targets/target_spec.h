@@ -3,8 +3,8 @@
 // docs/architecture.md, "Targets and families"):
 //   uniform | bilinear:w00,w10,w01,w11 | gaussian:mx,my,sigma | quarterdisc |
 //   step:x0[,left,right] | image:PATH | envmap:PATH
-// Other modules add families (the materials module adds `disney:`) through
-// registerTargetFamily, so the sampler never depends on them.
+// Other modules add kinds of target (the materials module adds `disney:`) through
+// registerTargetKind, so the sampler never depends on them.
 
 #include <functional>
 #include <memory>
@@ -17,7 +17,8 @@ namespace nuld {
 
 using TargetFactory = std::function<std::unique_ptr<Target>(const std::string &args)>;
 
-void registerTargetFamily(const std::string &name, TargetFactory factory);
+// Adds the kind of target `NAME[:ARGS]` to makeTarget.
+void registerTargetKind(const std::string &name, TargetFactory factory);
 
 // Throws std::invalid_argument naming the spec and what was expected; for
 // image: and envmap: a file that cannot be read gives std::runtime_error

@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
+
 #include "materials/disney_target.h"
 #include "sampler/targets/target_family.h"
 #include "sampler/targets/target_spec.h"
@@ -15,7 +18,9 @@ TEST(DisneyFamily, GammaSelectsTheViewDirection) {
   EXPECT_EQ(family->gammaDimension(), 2u);
   EXPECT_EQ(family->domain(), Domain::Hemisphere);
   EXPECT_EQ(makeTargetFamily(family->spec())->spec(), family->spec());
-  const auto a = family->target(std::vector<double>{45.0 / 89, 0});
+  const auto gamma45 = invertDisneyFamilyView({45, 0});
+  ASSERT_TRUE(gamma45);
+  const auto a = family->target(std::vector<double>{(*gamma45)[0], (*gamma45)[1]});
   const auto b = makeTarget("disney:theta=45,res=32");
   // The same table as the plain spec with that view.
   for (double u = 0.05; u < 1; u += 0.1)
@@ -25,6 +30,65 @@ TEST(DisneyFamily, GammaSelectsTheViewDirection) {
   EXPECT_NEAR(grazing->mass({{0, 0}, {1, 1}}), 1, 1e-12);
   EXPECT_THROW(makeTargetFamily("family:disney:theta=30"), std::invalid_argument);
   EXPECT_THROW(family->target(std::vector<double>{0.5}), std::invalid_argument);
+}
+
+// Forward then inverse gives gamma back, up to rounding; phi's gamma 1 is
+// phi 360, the same direction as gamma 0, and comes back as 0.
+TEST(DisneyFamily, GammaOfTheViewInvertsTheView) {
+  const std::array<double, 2> gammas[] = {{0, 0},         {1, 0},     {0, 0.5},
+                                          {45.0 / 89, 0}, {1, 0.5},   {0.25, 0.75},
+                                          {1e-12, 0},     {1, 0.999}, {0.5, 1e-9}};
+  for (const auto &g : gammas) {
+    const DisneyView view = disneyFamilyView(g);
+    const auto back = invertDisneyFamilyView(view);
+    ASSERT_TRUE(back) << g[0] << " " << g[1];
+    EXPECT_DOUBLE_EQ((*back)[0], g[0]);
+    EXPECT_DOUBLE_EQ((*back)[1], g[1]);
+  }
+  const DisneyView grazing = disneyFamilyView({1, 1});
+  EXPECT_EQ(grazing.thetaDegrees, kDisneyFamilyMaxThetaDegrees);
+  EXPECT_EQ(grazing.phiDegrees, 360);
+  const auto wrapped = invertDisneyFamilyView(grazing);
+  ASSERT_TRUE(wrapped);
+  EXPECT_EQ((*wrapped)[0], 1);
+  EXPECT_EQ((*wrapped)[1], 0);
+}
+
+// Inverse then forward gives the view back with phi in [0, 360); views the
+// family does not make (theta outside [0, 89]) have no gamma.
+TEST(DisneyFamily, ViewOfTheGammaInvertsTheGamma) {
+  struct Case {
+    DisneyView view;
+    double phiBack;
+  };
+  const Case cases[] = {
+      {{0, 0}, 0},      {{89, 0}, 0},   {{45, 0}, 0},       {{30, 90}, 90},
+      {{30, -90}, 270}, {{10, 360}, 0}, {{10, 720.5}, 0.5}, {{88.999, 359.9}, 359.9}};
+  for (const Case &c : cases) {
+    const auto gamma = invertDisneyFamilyView(c.view);
+    ASSERT_TRUE(gamma) << c.view.thetaDegrees << " " << c.view.phiDegrees;
+    EXPECT_GE((*gamma)[0], 0);
+    EXPECT_LE((*gamma)[0], 1);
+    EXPECT_GE((*gamma)[1], 0);
+    EXPECT_LT((*gamma)[1], 1);
+    const DisneyView back = disneyFamilyView(*gamma);
+    EXPECT_NEAR(back.thetaDegrees, c.view.thetaDegrees, 1e-12);
+    EXPECT_NEAR(back.phiDegrees, c.phiBack, 1e-12);
+  }
+  EXPECT_EQ(disneyFamilyView(*invertDisneyFamilyView({89, 0})).thetaDegrees, 89);
+  for (const double theta : {89.0001, 90.0, -1e-9, std::numeric_limits<double>::quiet_NaN()})
+    EXPECT_FALSE(invertDisneyFamilyView({theta, 0})) << theta;
+}
+
+// A spec's gamma (disneyFamilyGamma, the backends' and studies' way in) is
+// the view's inverse.
+TEST(DisneyFamily, SpecGammaIsTheViewsInverse) {
+  registerMaterialTargets();
+  const auto family = makeTargetFamily("family:disney:res=32");
+  const auto g = disneyFamilyGamma(family->spec(), "disney:theta=60,phi=300,res=32");
+  ASSERT_TRUE(g);
+  EXPECT_EQ(*g, *invertDisneyFamilyView({60, 300}));
+  EXPECT_FALSE(disneyFamilyGamma(family->spec(), "disney:theta=89.5,res=32"));
 }
 
 }  // namespace

@@ -18,8 +18,8 @@ class UniformSphereFamily final : public TargetFamily {
 };
 
 inline void registerTestSphereFamily() {
-  registerTargetFamilyKind(
-      "test-sphere", [](const std::string &) { return std::make_unique<UniformSphereFamily>(); });
+  registerTargetFamily("test-sphere",
+                       [](const std::string &) { return std::make_unique<UniformSphereFamily>(); });
 }
 
 }  // namespace nuld::test

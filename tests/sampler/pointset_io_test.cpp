@@ -6,7 +6,9 @@
 
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
+#include "sampler/io/pointset_metadata.h"
 #include "sampler/sequences/sequence.h"
 #include "tests/common/temp_dir.h"
 
@@ -39,6 +41,56 @@ TEST(PointSetIo, TextAndBinaryRoundTripsAreExact) {
     EXPECT_EQ(back.points, set.points) << name;
     EXPECT_EQ(back.metadata, set.metadata) << name;
   }
+}
+
+// The keys are the files' format: their spellings must not change.
+TEST(PointSetIo, MetadataKeysKeepTheirSpellingsInFiles) {
+  PointSet set = generatePointSet({SequenceKind::Sobol, Scramble::Owen, 3}, 4, 2);
+  setMeta(set, meta::kTarget, "quarterdisc");
+  setMeta(set, meta::kOptimizeSeconds, "1.5");
+  std::ostringstream text;
+  writePointSetText(text, set);
+  for (const char *line :
+       {"# nuld-pointset: 1\n", "# n: 4\n", "# instances: 2\n", "# generator: sobol\n",
+        "# seed: 3\n", "# target: quarterdisc\n", "# optimize_seconds: 1.5\n"})
+    EXPECT_NE(text.str().find(line), std::string::npos) << line;
+  EXPECT_EQ(set.metadata.at("target"), "quarterdisc");
+  // The header is derived from the data: reading drops it.
+  const test::TempDir dir;
+  writeText(dir / "s.txt", text.str());
+  const PointSet back = readPointSet((dir / "s.txt").string());
+  EXPECT_EQ(back.metadata, set.metadata);
+  EXPECT_EQ(findMeta(back, meta::kN), nullptr);
+  EXPECT_EQ(findMeta(back, meta::kInstances), nullptr);
+}
+
+TEST(PointSetIo, MetadataGettersNameTheFileAndKey) {
+  PointSet set;
+  setMeta(set, meta::kTarget, "uniform");
+  setMeta(set, meta::kOptimizeSeconds, "2.25");
+  setMeta(set, meta::kEpochsDone, "40");
+  setMeta(set, meta::kSeed, "x7");
+  EXPECT_EQ(metaOr(set, meta::kTarget, "none"), "uniform");
+  EXPECT_EQ(metaOr(set, meta::kDomain, "square"), "square");
+  EXPECT_EQ(metaString(set, meta::kTarget, "f.ptsb"), "uniform");
+  EXPECT_EQ(metaNumber(set, meta::kOptimizeSeconds, "f.ptsb"), 2.25);
+  EXPECT_EQ(metaSize(set, meta::kEpochsDone, "f.ptsb"), 40u);
+  auto errorOfGetter = [](auto get) {
+    try {
+      get();
+    } catch (const std::runtime_error &e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(errorOfGetter([&] { metaString(set, meta::kDomain, "f.ptsb"); }),
+            "f.ptsb: point-set metadata 'domain' is missing");
+  EXPECT_EQ(errorOfGetter([&] { metaSize(set, meta::kSeed, "f.ptsb"); }),
+            "f.ptsb: point-set metadata 'seed' is not a count: 'x7'");
+  EXPECT_EQ(errorOfGetter([&] { metaSize(set, meta::kOptimizeSeconds, "f.ptsb"); }),
+            "f.ptsb: point-set metadata 'optimize_seconds' is not a count: '2.25'");
+  EXPECT_EQ(errorOfGetter([&] { metaNumber(set, meta::kTarget, "f.ptsb"); }),
+            "f.ptsb: point-set metadata 'target' is not a number: 'uniform'");
 }
 
 TEST(PointSetIo, ReadsUtkStyleFiles) {

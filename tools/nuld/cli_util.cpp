@@ -5,6 +5,7 @@
 #include <regex>
 #include <stdexcept>
 
+#include "sampler/io/pointset_metadata.h"
 #include "sampler/targets/basic_targets.h"
 #include "sampler/targets/target_spec.h"
 
@@ -12,8 +13,7 @@ namespace nuld::cli {
 
 std::unique_ptr<Target> targetFor(const std::string &spec, const PointSet &set) {
   if (!spec.empty()) return makeTarget(spec);
-  if (auto it = set.metadata.find("target"); it != set.metadata.end())
-    return makeTarget(it->second);
+  if (const std::string *target = findMeta(set, meta::kTarget)) return makeTarget(*target);
   return std::make_unique<UniformTarget>();
 }
 
@@ -22,9 +22,9 @@ void mapByInverseCdf(PointSet &set, const Target &target) {
     throw std::invalid_argument("target '" + target.spec() +
                                 "' has no inverse CDF to map points with");
   for (Point2 &p : set.points) p = target.invert(p).x;
-  set.metadata["target"] = target.spec();
-  set.metadata["domain"] = toString(target.domain());
-  set.metadata["mapping"] = "inverse-cdf";
+  setMeta(set, meta::kTarget, target.spec());
+  setMeta(set, meta::kDomain, toString(target.domain()));
+  setMeta(set, meta::kMapping, std::string(meta::kInverseCdf));
 }
 
 Resolution parseResolution(const std::string &text) {

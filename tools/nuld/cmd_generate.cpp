@@ -3,6 +3,7 @@
 
 #include "sampler/bluenoise/blue_noise_sets.h"
 #include "sampler/io/pointset_io.h"
+#include "sampler/io/pointset_metadata.h"
 #include "sampler/neural/neural_generator.h"
 #include "sampler/sequences/rng.h"
 #include "sampler/sequences/sequence.h"
@@ -41,12 +42,12 @@ int generateFromModel(const Options &o) {
                                 std::to_string(gen.gammaDimension()) + " --gamma values, got " +
                                 std::to_string(gamma.size()));
   PointSet set = gen.generateSets(o.instances, o.seed, gamma, n);
-  set.metadata["generator"] = "neural:" + o.model;
-  set.metadata["target"] = gen.family().target(gamma)->spec();
-  set.metadata["domain"] = toString(gen.domain());
-  if (!o.gamma.empty()) set.metadata["gamma"] = o.gamma;
+  setMeta(set, meta::kGenerator, "neural:" + o.model);
+  setMeta(set, meta::kTarget, gen.family().target(gamma)->spec());
+  setMeta(set, meta::kDomain, toString(gen.domain()));
+  if (!o.gamma.empty()) setMeta(set, meta::kGamma, o.gamma);
   if (const std::string why = gen.notRandomizedReason(); !why.empty()) {
-    set.metadata["offset_range"] = gen.metadata().at("offset_range");
+    setMeta(set, meta::kOffsetRange, gen.metadata().at("offset_range"));
     std::cerr << "note: " << o.model << ": " << why << "\n";
   }
   writePointSet(o.output, set);
@@ -210,8 +211,8 @@ Runner addMap(CLI::App &app) {
     if (app.count("--seed") && o->shifts == 0)
       throw std::invalid_argument("map: --seed draws the --shifts; give --shifts K");
     PointSet set = readPointSet(o->input);
-    if (auto it = set.metadata.find("target"); it != set.metadata.end() && it->second != "uniform")
-      throw std::invalid_argument(o->input + ": holds points for target '" + it->second +
+    if (const std::string *target = findMeta(set, meta::kTarget); target && *target != "uniform")
+      throw std::invalid_argument(o->input + ": holds points for target '" + *target +
                                   "'; expected uniform points to map");
     if (o->shifts > 0) {
       // Shift s of set k moves every point by the same offset modulo 1.
@@ -225,11 +226,13 @@ Runner addMap(CLI::App &app) {
           for (const Point2 &p : set.instance(k))
             shifted.points.push_back({wrapUnit(p.x + z.x), wrapUnit(p.y + z.y)});
         }
-      shifted.metadata["randomization"] =
-          "cranley-patterson x" + std::to_string(o->shifts) + " seed " + std::to_string(o->seed);
+      setMeta(
+          shifted, meta::kRandomization,
+          "cranley-patterson x" + std::to_string(o->shifts) + " seed " + std::to_string(o->seed));
       set = std::move(shifted);
     }
-    if (set.metadata.count("generator")) set.metadata["generator"] += "+inverse-cdf";
+    if (const std::string *generator = findMeta(set, meta::kGenerator))
+      setMeta(set, meta::kGenerator, *generator + "+" + std::string(meta::kInverseCdf));
     mapByInverseCdf(set, *makeTarget(o->target));
     writePointSet(o->output, set);
     std::cerr << "wrote " << set.instances() << " x " << set.n << " points to " << o->output

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "sampler/io/pointset_io.h"
+#include "sampler/io/pointset_metadata.h"
 #include "sampler/metrics/discrepancy.h"
 #include "sampler/optimize/optimizer.h"
 #include "sampler/targets/target_spec.h"
@@ -103,7 +104,7 @@ int runOptimize(const OptimizeOptions &o, const Target &target, const OptimizerS
   std::ostringstream m;
   m.precision(9);
   m << "l2asd=" << l2 << " dstar=" << dstar;
-  set.metadata["final_metrics"] = m.str();
+  setMeta(set, meta::kFinalMetrics, m.str());
   writePointSet(o.output, set);
   std::filesystem::remove(ckpt);
   std::printf("l2asd %.9g\ndstar %.9g\n", l2, dstar);

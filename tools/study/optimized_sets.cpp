@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "sampler/io/pointset_io.h"
+#include "sampler/io/pointset_metadata.h"
 #include "sampler/optimize/optimizer.h"
 
 namespace nuld::study {
@@ -58,9 +59,9 @@ fs::path cachedSetsPath(const fs::path &dir, const Target &target, const Optimiz
 namespace {
 
 double recordedSeconds(const PointSet &set) {
-  const auto it = set.metadata.find("optimize_seconds");
+  const std::string *seconds = findMeta(set, meta::kOptimizeSeconds);
   try {
-    return it == set.metadata.end() ? 0.0 : std::stod(it->second);
+    return seconds ? std::stod(*seconds) : 0.0;
   } catch (...) {
     return 0.0;
   }
@@ -75,13 +76,11 @@ OptimizedSets optimizedSets(const Target &target, const OptimizedSetsRequest &re
   const DirectOptimizer opt(target, settings);
   if (fs::exists(path)) {
     const PointSet cached = readPointSet(path.string());
-    const auto meta = [&](const char *key) {
-      const auto it = cached.metadata.find(key);
-      return it == cached.metadata.end() ? std::string() : it->second;
-    };
-    if (meta("settings") != settings.describe() || meta("target") != target.spec())
+    const std::string cachedSettings = metaOr(cached, meta::kSettings, ""),
+                      cachedTarget = metaOr(cached, meta::kTarget, "");
+    if (cachedSettings != settings.describe() || cachedTarget != target.spec())
       throw std::runtime_error(path.string() + ": cached sets were optimized with '" +
-                               meta("settings") + "' for '" + meta("target") +
+                               cachedSettings + "' for '" + cachedTarget +
                                "', but this study asks for '" + settings.describe() + "' for '" +
                                target.spec() + "' (use another output directory)");
     return {path, recordedSeconds(cached), true};
@@ -101,7 +100,7 @@ OptimizedSets optimizedSets(const Target &target, const OptimizedSetsRequest &re
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   PointSet set = opt.points(state);
-  set.metadata["optimize_seconds"] = std::to_string(seconds);
+  setMeta(set, meta::kOptimizeSeconds, std::to_string(seconds));
   writePointSet(path.string(), set);
   fs::remove(ckpt);
   return {path, seconds, false};
