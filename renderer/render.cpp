@@ -13,6 +13,65 @@
 
 namespace nuld {
 
+namespace {
+
+constexpr int kTile = 16;  // tiles of kTile x kTile pixels, one task each
+
+// Renders the tile whose top-left pixel is (x0, y0) into `image`.
+void renderTile(const Scene &scene, const RenderSettings &s, SamplerBackend &backend,
+                const PerspectiveCamera &camera, const PathIntegrator &integrator, int x0, int y0,
+                Image &image, PathCounters &c) {
+  constexpr std::size_t kPacket = PathIntegrator::kMaxPaths;
+  // Camera rays are traced 16 at a time as one coherent packet: a pixel's
+  // samples in chunks of 16, or for spp < 16 the samples of 16 / spp
+  // neighbouring pixels of a tile row together. Each pixel still sums its
+  // samples in index order, so the image does not depend on the grouping.
+  const int groupPixels = int(std::max<std::size_t>(1, kPacket / s.spp));
+  std::vector<PixelSamples> samples(groupPixels, PixelSamples(backend, s.spp));
+  std::array<Rgb, kPacket> sums;
+  std::array<Ray, kPacket> cameraRays;
+  std::array<std::optional<SurfaceHit>, kPacket> cameraHits;
+  std::array<PixelSamples *, kPacket> pathSamples;
+  std::array<std::size_t, kPacket> pathIndices;
+  std::array<Rgb, kPacket> radiance;
+  const int xEnd = std::min(x0 + kTile, s.width);
+  for (int y = y0; y < std::min(y0 + kTile, s.height); ++y)
+    for (int gx = x0; gx < xEnd; gx += groupPixels) {
+      const int pixels = std::min(groupPixels, xEnd - gx);
+      for (int p = 0; p < pixels; ++p) {
+        samples[p].startPixel(std::uint64_t(y) * s.width + gx + p);
+        sums[p] = {};
+      }
+      const std::size_t total = std::size_t(pixels) * s.spp;
+      for (std::size_t first = 0; first < total; first += kPacket) {
+        const std::size_t n = std::min(kPacket, total - first);
+        for (std::size_t k = 0; k < n; ++k) {
+          const std::size_t p = (first + k) / s.spp, i = (first + k) % s.spp;
+          const Point2 jitter = samples[p].primary(SamplePairs::camera, i);
+          cameraRays[k] = camera.generateRay({gx + int(p) + jitter.x, y + jitter.y});
+        }
+        scene.geometry.intersectCoherent(std::span(cameraRays.data(), n),
+                                         std::span(cameraHits.data(), n));
+        for (std::size_t k = 0; k < n; ++k) {
+          pathSamples[k] = &samples[(first + k) / s.spp];
+          pathIndices[k] = (first + k) % s.spp;
+        }
+        integrator.radiance(std::span(cameraRays.data(), n), std::span(cameraHits.data(), n),
+                            std::span(pathSamples.data(), n), std::span(pathIndices.data(), n),
+                            std::span(radiance.data(), n), c);
+        for (std::size_t k = 0; k < n; ++k) sums[(first + k) / s.spp] += radiance[k];
+      }
+      for (int p = 0; p < pixels; ++p) {
+        const Rgb mean = sums[p] / double(s.spp);
+        image.at(gx + p, y, 0) = float(mean.r);
+        image.at(gx + p, y, 1) = float(mean.g);
+        image.at(gx + p, y, 2) = float(mean.b);
+      }
+    }
+}
+
+}  // namespace
+
 Image render(const Scene &scene, const RenderSettings &s, SamplerBackend &backend,
              RenderStats *stats, const RenderProgress &progress, std::vector<RecordedRay> *rays) {
   if (s.width <= 0 || s.height <= 0) throw std::invalid_argument("render: resolution must be > 0");
@@ -35,9 +94,7 @@ Image render(const Scene &scene, const RenderSettings &s, SamplerBackend &backen
                                   s.rouletteDepth);
   Image image{s.width, s.height, 3, std::vector<float>(std::size_t(s.width) * s.height * 3)};
 
-  constexpr int tile = 16;
-  constexpr std::size_t kPacket = PathIntegrator::kMaxPaths;
-  const int tilesX = (s.width + tile - 1) / tile, tilesY = (s.height + tile - 1) / tile;
+  const int tilesX = (s.width + kTile - 1) / kTile, tilesY = (s.height + kTile - 1) / kTile;
   const std::size_t tileCount = std::size_t(tilesX) * tilesY;
   tbb::enumerable_thread_specific<PathCounters> counters;
   tbb::enumerable_thread_specific<std::vector<RecordedRay>> recorded;
@@ -47,53 +104,8 @@ Image render(const Scene &scene, const RenderSettings &s, SamplerBackend &backen
   tbb::parallel_for(std::size_t(0), tileCount, [&](std::size_t t) {
     PathCounters &c = counters.local();
     if (rays) c.recorder = &recorded.local();
-    // Camera rays are traced 16 at a time as one coherent packet: a pixel's
-    // samples in chunks of 16, or for spp < 16 the samples of 16 / spp
-    // neighbouring pixels of a tile row together. Each pixel still sums its
-    // samples in index order, so the image does not depend on the grouping.
-    const int groupPixels = int(std::max<std::size_t>(1, kPacket / s.spp));
-    std::vector<PixelSamples> samples(groupPixels, PixelSamples(backend, s.spp));
-    std::array<Rgb, kPacket> sums;
-    std::array<Ray, kPacket> cameraRays;
-    std::array<std::optional<SurfaceHit>, kPacket> cameraHits;
-    std::array<PixelSamples *, kPacket> pathSamples;
-    std::array<std::size_t, kPacket> pathIndices;
-    std::array<Rgb, kPacket> radiance;
-    const int x0 = int(t % tilesX) * tile, y0 = int(t / tilesX) * tile;
-    const int xEnd = std::min(x0 + tile, s.width);
-    for (int y = y0; y < std::min(y0 + tile, s.height); ++y)
-      for (int gx = x0; gx < xEnd; gx += groupPixels) {
-        const int pixels = std::min(groupPixels, xEnd - gx);
-        for (int p = 0; p < pixels; ++p) {
-          samples[p].startPixel(std::uint64_t(y) * s.width + gx + p);
-          sums[p] = {};
-        }
-        const std::size_t total = std::size_t(pixels) * s.spp;
-        for (std::size_t first = 0; first < total; first += kPacket) {
-          const std::size_t n = std::min(kPacket, total - first);
-          for (std::size_t k = 0; k < n; ++k) {
-            const std::size_t p = (first + k) / s.spp, i = (first + k) % s.spp;
-            const Point2 jitter = samples[p].primary(SamplePairs::camera, i);
-            cameraRays[k] = camera.generateRay({gx + int(p) + jitter.x, y + jitter.y});
-          }
-          scene.geometry.intersectCoherent(std::span(cameraRays.data(), n),
-                                           std::span(cameraHits.data(), n));
-          for (std::size_t k = 0; k < n; ++k) {
-            pathSamples[k] = &samples[(first + k) / s.spp];
-            pathIndices[k] = (first + k) % s.spp;
-          }
-          integrator.radiance(std::span(cameraRays.data(), n), std::span(cameraHits.data(), n),
-                              std::span(pathSamples.data(), n), std::span(pathIndices.data(), n),
-                              std::span(radiance.data(), n), c);
-          for (std::size_t k = 0; k < n; ++k) sums[(first + k) / s.spp] += radiance[k];
-        }
-        for (int p = 0; p < pixels; ++p) {
-          const Rgb mean = sums[p] / double(s.spp);
-          image.at(gx + p, y, 0) = float(mean.r);
-          image.at(gx + p, y, 1) = float(mean.g);
-          image.at(gx + p, y, 2) = float(mean.b);
-        }
-      }
+    renderTile(scene, s, backend, camera, integrator, int(t % tilesX) * kTile,
+               int(t / tilesX) * kTile, image, c);
     const std::size_t finished = ++done;
     if (progress) {
       std::lock_guard lock(progressMutex);

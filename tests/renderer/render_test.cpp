@@ -315,14 +315,7 @@ TEST(Render, QmcErrorKeepsFallingAtHighSpp) {
 
 // Against a high-spp reference, the error of every backend falls as spp grows.
 TEST(Render, ErrorFallsWithSppForEveryBackend) {
-  Image sky = constantMap(0.3f, 32, 16);
-  for (int y = 2; y < 5; ++y)
-    for (int c = 0; c < 3; ++c) sky.at(9, y, c) = 60.0f;
-  DisneyParams p;
-  p.roughness = 0.4;
-  p.metallic = 0.5;
-  const Scene scene =
-      sceneWith({unitSphere()}, {std::make_shared<DisneyBrdf>(p)}, sky, kLookAtSphere);
+  const Scene scene = glossySphereUnderHotSpot();
   auto refBackend = makeBackend("sobol", 1234);
   const Image reference = render(scene, {16, 16, 2048, IntegratorKind::Direct, 1}, *refBackend);
   for (const char *name : {"independent", "sobol", "halton"}) {

@@ -16,18 +16,83 @@
 
 namespace nuld::cli {
 
-Runner addStudyIntegrate(CLI::App &app) {
-  struct Options {
-    std::string output, integrands, samplers, ns, assets, envmaps = "grace";
-    std::vector<std::string> neural;
-    std::size_t instances = 128, optimizedInstances = 16, optimizedMaxN = 1024;
-    int optEpochs = 0;
-    double optUnionWeight = study::kBankUnionWeight;
-    std::string optObjective;
-    std::uint64_t seed = 0;
-    bool noPlots = false, quiet = false;
+namespace {
+
+struct IntegrateCliOptions {
+  std::string output, integrands, samplers, ns, assets, envmaps = "grace";
+  std::vector<std::string> neural;
+  std::size_t instances = 128, optimizedInstances = 16, optimizedMaxN = 1024;
+  int optEpochs = 0;
+  double optUnionWeight = study::kBankUnionWeight;
+  std::string optObjective;
+  std::uint64_t seed = 0;
+  bool noPlots = false, quiet = false;
+};
+
+// The study's options from the command line's.
+study::IntegrateOptions integrateOptions(const IntegrateCliOptions &o) {
+  study::IntegrateOptions opts;
+  opts.outDir = o.output;
+  opts.integrands = study::splitList(o.integrands);
+  opts.samplers = study::splitList(o.samplers);
+  if (!o.ns.empty()) opts.ns = study::parseNList(o.ns);
+  opts.instances = o.instances;
+  opts.optimizedInstances = o.optimizedInstances;
+  opts.optimizedMaxN = o.optimizedMaxN;
+  opts.optEpochs = o.optEpochs;
+  opts.optUnionWeight = o.optUnionWeight;
+  if (!o.optObjective.empty()) opts.optObjective = parseObjective(o.optObjective);
+  opts.neuralModels = o.neural;
+  opts.assetRoot = resolveAssetRoot(o.assets);
+  opts.envmaps = study::splitList(o.envmaps);
+  opts.seed = o.seed;
+  return opts;
+}
+
+// Runs the study with a progress bar, prints its RMSE table and notes, and
+// plots it.
+int runStudyIntegrate(const IntegrateCliOptions &o) {
+  const study::IntegrateOptions opts = integrateOptions(o);
+  const bool tty = ::isatty(STDERR_FILENO);
+  std::optional<ProgressBar> bar;
+  bool barDrawn = false;
+  study::IntegrateHooks hooks;
+  hooks.message = [&](const std::string &text) {
+    if (o.quiet) return;
+    std::cerr << (barDrawn && tty ? "\n" : "") << "nuld: " << text << "\n";
   };
-  auto o = std::make_shared<Options>();
+  hooks.progress = [&](long done, long total, const std::string &status) {
+    if (!bar) bar.emplace("integrate", total, 0, o.quiet);
+    bar->update(done, status);
+    barDrawn = true;
+  };
+  const auto start = study::Clock::now();
+  const study::IntegrateSummary summary = study::runIntegrateStudy(opts, hooks);
+  const double seconds = study::secondsSince(start);
+  if (bar)
+    bar->finish(std::to_string(summary.rowsAdded) + " rows added, " +
+                std::to_string(summary.rowsSkipped) + " already present");
+
+  study::CsvTable table(study::integrateCsvPath(opts.outDir), study::integrateColumns());
+  table.loadExisting();
+  std::cout << study::rmseTable(table);
+  for (const auto &note : summary.notes)
+    if (note.rfind("note:", 0) == 0 || note.rfind("warning:", 0) == 0) std::cout << note << "\n";
+  if (!o.quiet)
+    std::cerr << "wrote " << table.path().string() << " (" << summary.rowsAdded
+              << " new rows; optimized sets: " << summary.setsOptimized << " made, "
+              << summary.setsFromCache << " from the cache) in " << formatDuration(seconds) << "\n";
+  if (o.quiet) ::setenv("NULD_QUIET", "1", 1);  // plot_integrate.py stays silent too
+  if (!o.noPlots)
+    if (const auto warning = study::runIntegratePlots(opts.outDir))
+      std::cerr << "nuld: warning: " << *warning << "\n";
+  return 0;
+}
+
+}  // namespace
+
+Runner addStudyIntegrate(CLI::App &app) {
+  auto o = std::make_shared<IntegrateCliOptions>();
   app.add_option("-o,--output", o->output, "output directory (integrate.csv, plots, cache/)")
       ->required();
   app.add_option("--integrands", o->integrands,
@@ -77,59 +142,7 @@ Runner addStudyIntegrate(CLI::App &app) {
   app.add_option("--seed", o->seed, "seed of every randomization and of the optimization");
   app.add_flag("--no-plots", o->noPlots, "write only the CSV");
   app.add_flag("-q,--quiet", o->quiet, "no progress or notes on stderr (the table still prints)");
-  return [o] {
-    study::IntegrateOptions opts;
-    opts.outDir = o->output;
-    opts.integrands = study::splitList(o->integrands);
-    opts.samplers = study::splitList(o->samplers);
-    if (!o->ns.empty()) opts.ns = study::parseNList(o->ns);
-    opts.instances = o->instances;
-    opts.optimizedInstances = o->optimizedInstances;
-    opts.optimizedMaxN = o->optimizedMaxN;
-    opts.optEpochs = o->optEpochs;
-    opts.optUnionWeight = o->optUnionWeight;
-    if (!o->optObjective.empty()) opts.optObjective = parseObjective(o->optObjective);
-    opts.neuralModels = o->neural;
-    opts.assetRoot = resolveAssetRoot(o->assets);
-    opts.envmaps = study::splitList(o->envmaps);
-    opts.seed = o->seed;
-
-    const bool tty = ::isatty(STDERR_FILENO);
-    std::optional<ProgressBar> bar;
-    bool barDrawn = false;
-    study::IntegrateHooks hooks;
-    hooks.message = [&](const std::string &text) {
-      if (o->quiet) return;
-      std::cerr << (barDrawn && tty ? "\n" : "") << "nuld: " << text << "\n";
-    };
-    hooks.progress = [&](long done, long total, const std::string &status) {
-      if (!bar) bar.emplace("integrate", total, 0, o->quiet);
-      bar->update(done, status);
-      barDrawn = true;
-    };
-    const auto start = study::Clock::now();
-    const study::IntegrateSummary summary = study::runIntegrateStudy(opts, hooks);
-    const double seconds = study::secondsSince(start);
-    if (bar)
-      bar->finish(std::to_string(summary.rowsAdded) + " rows added, " +
-                  std::to_string(summary.rowsSkipped) + " already present");
-
-    study::CsvTable table(study::integrateCsvPath(opts.outDir), study::integrateColumns());
-    table.loadExisting();
-    std::cout << study::rmseTable(table);
-    for (const auto &note : summary.notes)
-      if (note.rfind("note:", 0) == 0 || note.rfind("warning:", 0) == 0) std::cout << note << "\n";
-    if (!o->quiet)
-      std::cerr << "wrote " << table.path().string() << " (" << summary.rowsAdded
-                << " new rows; optimized sets: " << summary.setsOptimized << " made, "
-                << summary.setsFromCache << " from the cache) in " << formatDuration(seconds)
-                << "\n";
-    if (o->quiet) ::setenv("NULD_QUIET", "1", 1);  // plot_integrate.py stays silent too
-    if (!o->noPlots)
-      if (const auto warning = study::runIntegratePlots(opts.outDir))
-        std::cerr << "nuld: warning: " << *warning << "\n";
-    return 0;
-  };
+  return [o] { return runStudyIntegrate(*o); };
 }
 
 }  // namespace nuld::cli

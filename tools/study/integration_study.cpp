@@ -255,9 +255,8 @@ class StudyRunner {
   long done_ = 0, total_ = 0;
 };
 
-}  // namespace
-
-IntegrateSummary runIntegrateStudy(const IntegrateOptions &o, const IntegrateHooks &hooks) {
+// Refuses options the study cannot run with, naming the option.
+void validateOptions(const IntegrateOptions &o) {
   if (o.instances < 2)
     throw std::invalid_argument("--instances " + std::to_string(o.instances) +
                                 ": expected at least 2 (the standard deviation needs two)");
@@ -269,23 +268,22 @@ IntegrateSummary runIntegrateStudy(const IntegrateOptions &o, const IntegrateHoo
     if (n == 0) throw std::invalid_argument("--n: N must be at least 1");
   if (o.optEpochs < 0) throw std::invalid_argument("--opt-epochs: expected a positive count");
   if (o.outDir.empty()) throw std::invalid_argument("-o: an output directory is required");
+}
 
-  IntegrateSummary summary;
-  StudyRunner runner(o, hooks, summary);
-  const auto samplers = parseSamplers(o.samplers, o.neuralModels);
-  std::vector<std::string> notes;
-  const auto integrands = selectIntegrands(o, notes);
-  for (const auto &n : notes) runner.note(n);
-  std::map<std::string, NeuralModel> models;
-  for (const auto &s : samplers)
-    if (s.kind == SamplerChoice::Kind::Neural) models.emplace(s.name, loadModel(s, integrands));
+// One row to make: an integrand, a sampler and N.
+struct Task {
+  const Integrand *in;
+  const SamplerChoice *s;
+  std::size_t n;
+};
 
-  // The rows to make, in order: integrand, sampler, N.
-  struct Task {
-    const Integrand *in;
-    const SamplerChoice *s;
-    std::size_t n;
-  };
+// The rows to make, in order: integrand, sampler, N. Lobe-selection samplers
+// only where the integrand has a lobe; optimized and blue-noise sets up to
+// optimizedMaxN; a neural model where it has a gamma for the integrand, at
+// every N (graph) or at its own (the supplement's network).
+std::vector<Task> planTasks(const IntegrateOptions &o, const std::vector<Integrand> &integrands,
+                            const std::vector<SamplerChoice> &samplers,
+                            const std::map<std::string, NeuralModel> &models) {
   std::vector<Task> tasks;
   for (const auto &in : integrands)
     for (const auto &s : samplers) {
@@ -307,7 +305,24 @@ IntegrateSummary runIntegrateStudy(const IntegrateOptions &o, const IntegrateHoo
             n <= o.optimizedMaxN)
           tasks.push_back({&in, &s, n});
     }
+  return tasks;
+}
 
+}  // namespace
+
+IntegrateSummary runIntegrateStudy(const IntegrateOptions &o, const IntegrateHooks &hooks) {
+  validateOptions(o);
+  IntegrateSummary summary;
+  StudyRunner runner(o, hooks, summary);
+  const auto samplers = parseSamplers(o.samplers, o.neuralModels);
+  std::vector<std::string> notes;
+  const auto integrands = selectIntegrands(o, notes);
+  for (const auto &n : notes) runner.note(n);
+  std::map<std::string, NeuralModel> models;
+  for (const auto &s : samplers)
+    if (s.kind == SamplerChoice::Kind::Neural) models.emplace(s.name, loadModel(s, integrands));
+
+  const std::vector<Task> tasks = planTasks(o, integrands, samplers, models);
   CsvTable table(integrateCsvPath(o.outDir), integrateColumns());
   table.loadExisting();
   runner.setTotal(long(tasks.size()));
