@@ -19,6 +19,7 @@
 #include "scenes/gltf_loader.h"
 #include "scenes/mesh_bounds.h"
 #include "scenes/ply_loader.h"
+#include "tests/common/expect_error.h"
 #include "tests/common/temp_dir.h"
 
 namespace nuld {
@@ -32,16 +33,9 @@ const fs::path kAssets = fs::path(NULD_SOURCE_DIR) / ".." / "shared" / "assets";
 
 using test::TempDir;
 
-// The message of the std::runtime_error that `load` throws; fails the test
-// when it throws nothing.
+// The message of the std::runtime_error that `load` throws.
 std::string errorOf(const std::function<void()> &load) {
-  try {
-    load();
-  } catch (const std::runtime_error &e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "expected a std::runtime_error";
-  return "";
+  return test::errorMessage<std::runtime_error>(load);
 }
 
 void expectError(const std::function<void()> &load, const std::string &path,
