@@ -8,7 +8,39 @@
 
 namespace nuld {
 
-AtomicFile::AtomicFile(std::filesystem::path destination) : destination_(std::move(destination)) {
+namespace {
+
+// Refuses a destination that exists and is not a regular file: a rename
+// would replace a device, a pipe or a socket by a plain file (and cannot
+// replace a directory). A link to a regular file is followed, so the file it
+// names is replaced and the link stays.
+std::filesystem::path regularDestination(std::filesystem::path destination) {
+  std::error_code ec;
+  const auto link = std::filesystem::symlink_status(destination, ec);
+  if (ec || !std::filesystem::exists(link)) return destination;
+  if (std::filesystem::is_symlink(link)) {
+    const auto target = std::filesystem::status(destination, ec);
+    if (!ec && std::filesystem::exists(target)) {
+      if (!std::filesystem::is_regular_file(target))
+        throw std::runtime_error(destination.string() +
+                                 ": names a link to something that is not a regular file; "
+                                 "refusing to write over it");
+      return std::filesystem::canonical(destination);
+    }
+    return destination;  // a dangling link: the rename replaces the link itself
+  }
+  if (!std::filesystem::is_regular_file(link))
+    throw std::runtime_error(
+        destination.string() + ": exists and is not a regular file (" +
+        (std::filesystem::is_directory(link) ? "a directory" : "a device, pipe or socket") +
+        "); refusing to write over it");
+  return destination;
+}
+
+}  // namespace
+
+AtomicFile::AtomicFile(std::filesystem::path destination)
+    : destination_(regularDestination(std::move(destination))) {
   const auto dir =
       destination_.has_parent_path() ? destination_.parent_path() : std::filesystem::path(".");
   if (!std::filesystem::is_directory(dir))
@@ -30,6 +62,7 @@ AtomicFile::~AtomicFile() {
 }
 
 void AtomicFile::commit() {
+  regularDestination(destination_);  // it may have appeared since
   std::error_code ec;
   std::filesystem::rename(temp_, destination_, ec);
   if (ec)

@@ -8,8 +8,8 @@
 #include <stdexcept>
 
 #include "sampler/io/atomic_file.h"
-#include "sampler/io/round_trip.h"
 #include "sampler/io/pointset_metadata.h"
+#include "sampler/io/round_trip.h"
 
 namespace nuld {
 namespace {
@@ -26,6 +26,15 @@ std::string trim(const std::string &s) {
   if (b == std::string::npos) return "";
   const auto e = s.find_last_not_of(" \t\r");
   return s.substr(b, e - b + 1);
+}
+
+// Point sets live in the unit square (their domain's parameterization);
+// a coordinate outside it is a foreign or corrupted file, not a point.
+bool inUnitSquare(Point2 p) { return p.x >= 0 && p.x <= 1 && p.y >= 0 && p.y <= 1; }
+
+std::string outsideMessage(Point2 p) {
+  return "point (" + formatRoundTrip(p.x) + ", " + formatRoundTrip(p.y) +
+         ") lies outside the unit square; expected coordinates in [0, 1]";
 }
 
 [[noreturn]] void fail(const std::string &path, std::size_t line, const std::string &what) {
@@ -87,10 +96,20 @@ PointSet readText(const std::string &path, std::istream &in) {
       fail(path, lineNo,
            "expected 2 coordinates per point, found " +
                std::string(count == 3 ? "more than 2" : std::to_string(count)));
+    if (!inUnitSquare({v[0], v[1]})) fail(path, lineNo, outsideMessage({v[0], v[1]}));
     sets.back().push_back({v[0], v[1]});
   }
   finishSets(set, sets, path);
-  // Written by writePointSetText as a header, derived from the data.
+  // Written by writePointSetText as a header, derived from the data: a header
+  // that disagrees with the data is refused, then dropped.
+  for (const auto &[key, actual] :
+       {std::pair{meta::kN, set.n}, {meta::kInstances, set.instances()}})
+    if (const auto it = set.metadata.find(std::string(key)); it != set.metadata.end())
+      if (it->second != std::to_string(actual))
+        fail(path, 0,
+             "the header says " + std::string(key) + ": " + it->second + " but the data hold " +
+                 std::to_string(actual) + (key == meta::kN ? " points per set" : " sets") +
+                 "; expected the header to match the data");
   for (const std::string_view key : {meta::kFormat, meta::kN, meta::kInstances})
     set.metadata.erase(std::string(key));
   return set;
@@ -132,7 +151,11 @@ PointSet readBinary(const std::string &path, std::istream &in, std::uintmax_t fi
           std::streamsize(n * instances * sizeof(Point2)));
   if (!in) fail(path, 0, "truncated binary file while reading points");
   for (std::size_t i = 0; i < set.points.size(); ++i)
-    if (!isFinite(set.points[i])) fail(path, 0, "point " + std::to_string(i) + " is not finite");
+    if (!isFinite(set.points[i])) {
+      fail(path, 0, "point " + std::to_string(i) + " is not finite");
+    } else if (!inUnitSquare(set.points[i])) {
+      fail(path, 0, "point " + std::to_string(i) + ": " + outsideMessage(set.points[i]));
+    }
   return set;
 }
 

@@ -177,7 +177,11 @@ void NeuralTrainer::run(int untilStep, const std::function<void(const TrainRepor
   untilStep = std::min(untilStep, s.steps);
   for (; step_ < untilStep; ++step_) {
     const double loss = stepLoss(step_, Mode::Train);
-    if (!std::isfinite(loss)) throw std::runtime_error("train: the loss became non-finite");
+    if (!std::isfinite(loss))
+      throw std::runtime_error("train: the loss became non-finite at step " +
+                               std::to_string(step_ + 1) + " (learning rate " +
+                               formatRoundTrip(logLinear(s.lrStart, s.lrEnd, step_, s.steps)) +
+                               "): the training diverged; lower --lr");
     lossSum_ += loss;
     ++lossCount_;
     if (progress)

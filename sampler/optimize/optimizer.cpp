@@ -10,8 +10,8 @@
 #include <stdexcept>
 
 #include "sampler/io/atomic_file.h"
-#include "sampler/io/round_trip.h"
 #include "sampler/io/pointset_metadata.h"
+#include "sampler/io/round_trip.h"
 #include "sampler/loss/box_mass.h"
 #include "sampler/loss/soft_box_loss.h"
 #include "sampler/metrics/discrepancy.h"
@@ -165,6 +165,13 @@ void DirectOptimizer::run(OptimizerState &state, int untilEpoch,
       state.lastLoss[k] = instanceLoss(k, epoch, slice(x, k), slice(grad, k));
     });
     const double bankLoss = s.unionWeight > 0 ? unionLoss(epoch, x, grad) : 0.0;
+    // A learning rate far too large shows first as a non-finite loss; stop
+    // there rather than carry NaN into the points.
+    for (double l : state.lastLoss)
+      if (!std::isfinite(l) || !std::isfinite(bankLoss))
+        throw std::runtime_error("optimizer: the loss became non-finite at epoch " +
+                                 std::to_string(epoch + 1) + " (learning rate " +
+                                 formatRoundTrip(lr) + "): the optimization diverged; lower --lr");
     tbb::parallel_for(std::size_t(0), K, [&](std::size_t k) {
       const auto g = slice(grad, k);
       if (mapped)

@@ -2,14 +2,17 @@
 #include "sampler/io/pointset_io.h"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include "sampler/io/atomic_file.h"
 #include "sampler/io/pointset_metadata.h"
 #include "sampler/sequences/sequence.h"
+#include "tests/common/expect_error.h"
 #include "tests/common/temp_dir.h"
 
 namespace nuld {
@@ -135,6 +138,35 @@ TEST(PointSetIo, WriteIsAtomicAndLeavesNoTemporaries) {
   for (const auto &e : fs::directory_iterator(d)) files += e.is_regular_file();
   EXPECT_EQ(files, 1);
   EXPECT_THROW(writePointSet((d / "no_such_dir" / "x.txt").string(), set), std::runtime_error);
+}
+
+// Outputs never replace what is not a regular file: a pipe (as /dev/null
+// or a terminal would be) and a directory are refused by name, nothing is
+// written and the pipe is still a pipe; a link to a regular file is written
+// through, and stays a link.
+TEST(AtomicFile, RefusesToReplaceWhatIsNotARegularFile) {
+  const test::TempDir dir;
+  const auto fifo = dir / "pipe.txt";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const PointSet set = generatePointSet({SequenceKind::Sobol, Scramble::Owen, 3}, 8, 1);
+  const std::string message =
+      test::errorMessage<std::runtime_error>([&] { writePointSet(fifo.string(), set); });
+  EXPECT_NE(message.find("pipe.txt"), std::string::npos) << message;
+  EXPECT_NE(message.find("not a regular file"), std::string::npos) << message;
+  EXPECT_TRUE(std::filesystem::is_fifo(fifo));
+  const auto sub = dir / "sub.txt";
+  std::filesystem::create_directory(sub);
+  EXPECT_THROW(writeFileAtomically(sub, "x"), std::runtime_error);
+  EXPECT_TRUE(std::filesystem::is_directory(sub));
+  const auto target = dir / "target.txt", link = dir / "link.txt";
+  writeFileAtomically(target, "old");
+  std::filesystem::create_symlink(target, link);
+  writeFileAtomically(link, "new");
+  EXPECT_TRUE(std::filesystem::is_symlink(link));
+  std::ifstream in(target);
+  std::string text;
+  in >> text;
+  EXPECT_EQ(text, "new");
 }
 
 }  // namespace

@@ -1,6 +1,9 @@
 #include "tools/nuld/cli_util.h"
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
+#include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <regex>
 #include <stdexcept>
@@ -44,11 +47,67 @@ void addRunFlags(CLI::App &app, RunFlags &flags, const std::string &unit,
                  const std::string &alsoDoes) {
   app.add_option("--checkpoint-every", flags.checkpointEvery,
                  unit + "s between checkpoints" + alsoDoes + " (default: about every 5 %)")
-      ->check(CLI::PositiveNumber);
+      ->check(positiveNumber());
   app.add_flag("--resume", flags.resume, "continue from OUTPUT.ckpt if it exists");
   app.add_option("--stop-after", flags.stopAfter, "stop (with a checkpoint) after this " + unit)
-      ->check(CLI::NonNegativeNumber);
+      ->check(nonNegativeNumber());
   app.add_flag("-q,--quiet", flags.quiet, "no progress bar or messages (results still print)");
+}
+
+CLI::Validator wholeNumber() {
+  return CLI::Validator(
+      [](std::string &text) {
+        std::uint64_t value = 0;
+        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+        if (!text.empty() && ec == std::errc() && end == text.data() + text.size())
+          return std::string();
+        return "expected a whole number from 0 to 2^64 - 1, got '" + text + "'";
+      },
+      "UINT");
+}
+
+namespace {
+
+CLI::Validator numberAbove(bool allowZero) {
+  return CLI::Validator(
+      [allowZero](std::string &text) {
+        double value = 0;
+        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+        if (ec == std::errc() && end == text.data() + text.size() && std::isfinite(value) &&
+            (value > 0 || (allowZero && value == 0)))
+          return std::string();
+        return std::string(allowZero ? "expected a number >= 0" : "expected a number > 0") +
+               ", got '" + text + "'";
+      },
+      allowZero ? "NUMBER >= 0" : "NUMBER > 0");
+}
+
+}  // namespace
+
+CLI::Validator positiveNumber() { return numberAbove(false); }
+CLI::Validator nonNegativeNumber() { return numberAbove(true); }
+
+std::string closestName(const std::string &word, const std::vector<std::string> &names) {
+  // Levenshtein distance, one row at a time.
+  const auto distance = [](const std::string &a, const std::string &b) {
+    std::vector<std::size_t> row(b.size() + 1);
+    for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+    for (std::size_t i = 1; i <= a.size(); ++i) {
+      std::size_t diagonal = row[0];
+      row[0] = i;
+      for (std::size_t j = 1; j <= b.size(); ++j) {
+        const std::size_t up = row[j];
+        row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1])});
+        diagonal = up;
+      }
+    }
+    return row[b.size()];
+  };
+  std::string best;
+  std::size_t bestDistance = word.size() / 3 + 1;
+  for (const std::string &n : names)
+    if (const std::size_t d = distance(word, n); d < bestDistance) best = n, bestDistance = d;
+  return best;
 }
 
 std::string shortNumber(double v) {

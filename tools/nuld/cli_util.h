@@ -5,9 +5,10 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
-#include "sampler/optimize/resumable_run.h"
 #include "sampler/enum_names.h"
+#include "sampler/optimize/resumable_run.h"
 #include "sampler/point.h"
 #include "sampler/targets/target.h"
 
@@ -48,6 +49,21 @@ CLI::Validator oneOf(const EnumTable<E, N> &names) {
       },
       CLI::detail::generate_set(names.names()));
 }
+
+// A whole number >= 0 that fits 64 bits (seeds): refuses "-1", "1.5" and
+// "1e30" by quoting the text, where CLI11's range check would print its
+// bound in 300 digits (and an unsigned option would wrap -1 to 2^64 - 1).
+CLI::Validator wholeNumber();
+
+// A finite number > 0, or >= 0: the refusal quotes the text (CLI11's own
+// PositiveNumber and NonNegativeNumber print their bound in 300 digits).
+CLI::Validator positiveNumber();
+CLI::Validator nonNegativeNumber();
+
+// The name in `names` closest to `word` by edit distance, when it is close
+// enough to be a likely typo (at most a third of the word's letters wrong);
+// else "".
+std::string closestName(const std::string &word, const std::vector<std::string> &names);
 
 // Three significant digits, for progress-bar status lines (loss, lr, alpha).
 std::string shortNumber(double v);

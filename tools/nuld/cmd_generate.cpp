@@ -144,14 +144,16 @@ Runner addGenerate(CLI::App &app) {
   app.add_option("--n", o->n,
                  "points per set (any N >= 1; required unless --model; a graph model makes "
                  "any N, its training size by default)")
-      ->check(CLI::PositiveNumber);
+      ->check(positiveNumber());
   app.add_option("--model", o->model,
                  "a trained neural generator: K sets for K random offsets z (from --seed)");
   app.add_option("--gamma", o->gamma,
                  "with --model: the family parameter as comma-separated numbers in [0, 1]");
-  app.add_option("--seed", o->seed, "randomization seed")->capture_default_str();
+  app.add_option("--seed", o->seed, "randomization seed")
+      ->capture_default_str()
+      ->check(wholeNumber());
   app.add_option("--instances", o->instances, "number of independently randomized sets")
-      ->check(CLI::PositiveNumber)
+      ->check(positiveNumber())
       ->capture_default_str();
   app.add_option("--target", o->target, "map the points to this target by inverse CDF (SPEC)");
   app.add_option("-o,--output", o->output, "output file (.ptsb: binary; otherwise text)")
@@ -205,7 +207,9 @@ Runner addMap(CLI::App &app) {
                  "so the output has K times its instances (for sets optimized with --objective "
                  "l2per, whose quality no shift changes)")
       ->check(CLI::Range(1, 1 << 20));
-  app.add_option("--seed", o->seed, "seed of the shifts")->capture_default_str();
+  app.add_option("--seed", o->seed, "seed of the shifts")
+      ->capture_default_str()
+      ->check(wholeNumber());
   app.add_option("-o,--output", o->output, "output file")->required();
   return [o, &app] {
     if (app.count("--seed") && o->shifts == 0)

@@ -6,6 +6,7 @@
 
 #include "sampler/io/pointset_io.h"
 #include "sampler/io/pointset_metadata.h"
+#include "sampler/io/round_trip.h"
 #include "sampler/metrics/discrepancy.h"
 #include "sampler/optimize/optimizer.h"
 #include "sampler/targets/target_spec.h"
@@ -21,7 +22,9 @@ struct OptimizeOptions {
   std::string target, preset, mass, mapping, objective, boxKind, output;
   std::size_t n = 0, instances = 1;
   long epochs = -1, boxes = -1;
-  double lr = -1, lrEnd = -1, alpha = -1, alphaEnd = -1, ramp = -1, unionWeight = 0;
+  // Unset: the preset's value (no sentinel a user could type by accident).
+  std::optional<double> lr, lrEnd, alpha, alphaEnd, ramp;
+  double unionWeight = 0;
   long unionGroup = 0;
   std::uint64_t seed = 0;
   RunFlags run;
@@ -54,11 +57,11 @@ OptimizerSettings settingsFrom(const OptimizeOptions &o, const Target &target) {
   } else if (!o.mass.empty()) {
     throw std::invalid_argument("--mass '" + o.mass + "': expected exact or mc:K");
   }
-  if (o.lr != -1) s.lrStart = o.lr;
-  if (o.lrEnd != -1) s.lrEnd = o.lrEnd;
-  if (o.alpha != -1) s.alphaStart = o.alpha;
-  if (o.alphaEnd != -1) s.alphaEnd = o.alphaEnd;
-  if (o.ramp != -1) s.rampFraction = o.ramp;
+  if (o.lr) s.lrStart = *o.lr;
+  if (o.lrEnd) s.lrEnd = *o.lrEnd;
+  if (o.alpha) s.alphaStart = *o.alpha;
+  if (o.alphaEnd) s.alphaEnd = *o.alphaEnd;
+  if (o.ramp) s.rampFraction = *o.ramp;
   s.unionWeight = o.unionWeight;
   s.unionGroup = std::size_t(o.unionGroup);
   return s;
@@ -76,6 +79,18 @@ std::pair<double, double> finalMetrics(const PointSet &set, const Target &target
         starDiscrepancy(set.instance(k), uniform ? nullptr : &target) / double(set.instances());
   }
   return {l2, dstar};
+}
+
+// The mean over the instances of the L2 discrepancy the objective lowers:
+// the periodic L2 for l2per, else the L2asd (against the target unless it is
+// uniform).
+double objectiveL2(const PointSet &set, const Target &target, Objective objective) {
+  double sum = 0;
+  for (std::size_t k = 0; k < set.instances(); ++k)
+    sum += objective == Objective::PeriodicL2 ? periodicL2(set.instance(k))
+           : target.isUniform()               ? l2asd(set.instance(k))
+                                              : nonuniformL2asd(set.instance(k), target);
+  return sum / double(set.instances());
 }
 
 int runOptimize(const OptimizeOptions &o, const Target &target, const OptimizerSettings &s) {
@@ -100,6 +115,20 @@ int runOptimize(const OptimizeOptions &o, const Target &target, const OptimizerS
   bar->finish("loss " + shortNumber(last.loss));
 
   PointSet set = opt.points(state);
+  // A learning rate far too large leaves the points scattered to the
+  // domain's edges with a finite loss: the sets then end far worse than the
+  // Owen-Sobol sets they started from. Refuse to write them.
+  const double startL2 = objectiveL2(opt.points(opt.initialState()), target, s.objective);
+  const double endL2 = objectiveL2(set, target, s.objective);
+  if (!(endL2 <= 2 * startL2)) {
+    std::filesystem::remove(ckpt);  // the state of a diverged run is no use to resume
+    throw std::runtime_error(
+        "optimize: the sets ended with L2 discrepancy " + formatRoundTrip(endL2) +
+        ", more than twice the " + formatRoundTrip(startL2) +
+        " of the Owen-Sobol sets they started from: the optimization diverged; lower --lr "
+        "(it ran from " +
+        formatRoundTrip(s.lrStart) + " to " + formatRoundTrip(s.lrEnd) + "); nothing was written");
+  }
   const auto [l2, dstar] = finalMetrics(set, target);
   std::ostringstream m;
   m.precision(9);
@@ -118,11 +147,11 @@ int runOptimize(const OptimizeOptions &o, const Target &target, const OptimizerS
 Runner addOptimize(CLI::App &app) {
   auto o = std::make_shared<OptimizeOptions>();
   app.add_option("--target", o->target, "target SPEC")->required();
-  app.add_option("--n", o->n, "points per set")->required()->check(CLI::PositiveNumber);
+  app.add_option("--n", o->n, "points per set")->required()->check(positiveNumber());
   app.add_option("--preset", o->preset,
                  "uniform, nonuniform, nonuniform-mc, sphere or sphere-mc (default: by target)");
-  app.add_option("--epochs", o->epochs, "override the preset's epochs")->check(CLI::PositiveNumber);
-  app.add_option("--boxes", o->boxes, "boxes per epoch")->check(CLI::PositiveNumber);
+  app.add_option("--epochs", o->epochs, "override the preset's epochs")->check(positiveNumber());
+  app.add_option("--boxes", o->boxes, "boxes per epoch")->check(positiveNumber());
   app.add_option("--box-kind", o->boxKind, kBoxKindNames.expected())->check(oneOf(kBoxKindNames));
   app.add_option("--mass", o->mass, "exact or mc:K (Monte Carlo with K space samples)");
   app.add_option("--mapping", o->mapping, kMappingNames.expected())->check(oneOf(kMappingNames));
@@ -136,18 +165,18 @@ Runner addOptimize(CLI::App &app) {
   app.add_option("--alpha", o->alpha, "initial sigmoid scale");
   app.add_option("--alpha-end", o->alphaEnd, "final sigmoid scale");
   app.add_option("--ramp", o->ramp, "fraction of the epochs over which alpha rises");
-  app.add_option("--instances", o->instances, "sets optimized together")
-      ->check(CLI::PositiveNumber);
+  app.add_option("--instances", o->instances, "sets optimized together")->check(positiveNumber());
   app.add_option("--union-weight", o->unionWeight,
                  "bank term (l2asd, >= 2 instances): weight of the L2asd of the union of each "
                  "group of instances, which keeps a bank's sets complementary on peaked targets "
                  "(default 0: off)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(nonNegativeNumber());
   app.add_option("--union-group", o->unionGroup,
                  "instances per group of the bank term, regrouped every epoch (default: "
                  "about 256 points, at least 2 instances)")
       ->check(CLI::Range(2L, 1L << 20));
-  app.add_option("--seed", o->seed, "seed of the Sobol start and of the boxes");
+  app.add_option("--seed", o->seed, "seed of the Sobol start and of the boxes")
+      ->check(wholeNumber());
   addRunFlags(app, o->run, "epoch");
   app.add_option("-o,--output", o->output, "point-set file to write")->required();
   return [o] {

@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "scenes/scene_file.h"
+#include "tools/nuld/cli_util.h"
 #include "tools/nuld/commands.h"
 #include "tools/nuld/progress.h"
 #include "tools/study/integration_study.h"
@@ -124,11 +125,11 @@ Runner addStudyIntegrate(CLI::App &app) {
                  "with --opt-objective l2asd: weight of the bank term (nuld optimize "
                  "--union-weight; default 4, as the render study's lobe banks; 0: instances "
                  "optimized apart)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(nonNegativeNumber());
   app.add_option("--opt-epochs", o->optEpochs,
                  "epochs of the direct optimization (default: the target's preset: 1000 in 2D, "
                  "5000 on the sphere)")
-      ->check(CLI::PositiveNumber);
+      ->check(positiveNumber());
   app.add_option("--neural", o->neural, "trained model(s) (.nuldnet), each used at its own N")
       ->expected(1, -1);
   app.add_option("--assets", o->assets,
@@ -139,7 +140,8 @@ Runner addStudyIntegrate(CLI::App &app) {
                  "or .hdr, or NAME.exr/.hdr) or a path (default: grace; the supplement used "
                  "three Debevec maps, e.g. grace,galileo,beach; 'sun' is built in: the default "
                  "scene's sky with a sun 1e6 times brighter, the stability case)");
-  app.add_option("--seed", o->seed, "seed of every randomization and of the optimization");
+  app.add_option("--seed", o->seed, "seed of every randomization and of the optimization")
+      ->check(wholeNumber());
   app.add_flag("--no-plots", o->noPlots, "write only the CSV");
   app.add_flag("-q,--quiet", o->quiet, "no progress or notes on stderr (the table still prints)");
   return [o] { return runStudyIntegrate(*o); };

@@ -113,10 +113,10 @@ Runner addStudyRender(CLI::App &app) {
   app.add_option("--reference-spp", o->s.reference.spp,
                  "reference samples per pixel (default 4096; the paper: 2^17 lte-orb, 2^13 "
                  "dragon, 2^16 cup)")
-      ->check(CLI::PositiveNumber);
+      ->check(positiveNumber());
   app.add_option("--reference-pass-spp", o->s.reference.passSpp,
                  "reference spp per resumable pass (default 256)")
-      ->check(CLI::PositiveNumber);
+      ->check(positiveNumber());
   app.add_option("--reference-backend", o->s.reference.backend,
                  "backend of the reference (default halton, as the paper)");
   app.add_option("--res", o->res, "resolution W or WxH (default: the scene's)");
@@ -128,19 +128,19 @@ Runner addStudyRender(CLI::App &app) {
   app.add_option("--max-depth", o->s.maxDepth, "maximum path length")->check(CLI::Range(1, 1000));
   app.add_option("--repeats", o->s.repeats,
                  "renders per (backend, spp) with seeds seed, seed+1, ...; MSE is their mean")
-      ->check(CLI::PositiveNumber);
-  app.add_option("--seed", o->s.seed, "seed of the backends (default 1)");
+      ->check(positiveNumber());
+  app.add_option("--seed", o->s.seed, "seed of the backends (default 1)")->check(wholeNumber());
   app.add_option("--opt-instances", o->s.optimizedInstances,
                  "instances of the optimized backends' sets (default 16, as the paper)")
-      ->check(CLI::PositiveNumber);
+      ->check(positiveNumber());
   app.add_option("--opt-epochs", o->s.optimizedEpochs,
                  "epochs of their optimization (default: the preset's, e.g. 5000 on the sphere)")
-      ->check(CLI::PositiveNumber);
+      ->check(positiveNumber());
   app.add_option("--opt-union-weight", o->s.lobeUnionWeight,
                  "weight of the lobe banks' bank term (nuld optimize --union-weight), which "
                  "keeps a glossy lobe's instances from converging to one set (default 4; 0: "
                  "instances optimized apart)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(nonNegativeNumber());
   app.add_option("--assets", o->s.assets,
                  "asset root (default: $NULD_ASSETS, else ../shared/assets)");
   app.add_option("-o,--output", o->out, "study directory (created; a rerun resumes it)")

@@ -2,10 +2,14 @@
 // The command line is documented in docs/usage.md; scripts and docs rely on it.
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <iostream>
 #include <map>
+#include <string>
+#include <vector>
 
 #include "materials/disney_target.h"
+#include "tools/nuld/cli_util.h"
 #include "tools/nuld/commands.h"
 
 int main(int argc, char **argv) {
@@ -38,6 +42,22 @@ int main(int argc, char **argv) {
       nuld::cli::addStudy);
   CLI::App *help = app.add_subcommand("help", "Show this help");
 
+  // A first word that names no subcommand (a typo) gets its own message
+  // rather than CLI11's "a subcommand is required".
+  if (argc > 1 && argv[1][0] != '-') {
+    const std::string word = argv[1];
+    std::vector<std::string> names;
+    for (const CLI::App *sub : app.get_subcommands({})) names.push_back(sub->get_name());
+    if (std::find(names.begin(), names.end(), word) == names.end()) {
+      std::cerr << "nuld: unknown subcommand '" << word << "'";
+      if (const std::string near = nuld::cli::closestName(word, names); !near.empty())
+        std::cerr << " (did you mean '" << near << "'?)";
+      std::cerr << "; expected one of:";
+      for (const std::string &n : names) std::cerr << " " << n;
+      std::cerr << "\n";
+      return 2;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError &e) {
