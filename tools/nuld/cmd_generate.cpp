@@ -174,6 +174,10 @@ Runner addGenerate(CLI::App &app) {
                                       " does not apply to --model (the model makes its own sets)");
       return generateFromModel(*o);
     }
+    if (app.count("--gamma"))
+      throw std::invalid_argument(
+          "generate: --gamma applies to --model only (the family "
+          "parameter of a trained generator)");
     if (o->n == 0) throw std::invalid_argument("generate: --n is required (or --model)");
     if (blueNoise) {
       if (app.count("--scramble"))
