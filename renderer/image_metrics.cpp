@@ -90,6 +90,12 @@ Image toneMap(const Image &linear, double exposure) {
 }
 
 void writeRender(const std::string &exrPath, const Image &image) {
+  // Any other name would lose the linear image (a PNG holds 8 bits) and then
+  // be overwritten by the tone-mapped one.
+  if (std::filesystem::path(exrPath).extension() != ".exr")
+    throw std::invalid_argument(exrPath +
+                                ": a render is written as a linear .exr with a tone-mapped .png "
+                                "beside it; name an .exr file");
   writeImage(exrPath, image);
   writeImage(std::filesystem::path(exrPath).replace_extension(".png").string(), toneMap(image));
 }

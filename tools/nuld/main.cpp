@@ -3,6 +3,7 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <filesystem>
 #include <iostream>
 #include <map>
 #include <string>
@@ -70,6 +71,14 @@ int main(int argc, char **argv) {
   try {
     for (auto &[sub, run] : runners)
       if (sub->parsed()) return run();
+  } catch (const std::filesystem::filesystem_error &e) {
+    // The library's text ("filesystem error: cannot create directories: ...
+    // [path]") in the form of every other refusal: the path first.
+    std::cerr << "nuld: error: " << e.path1().string() << ": " << e.code().message();
+    if (const std::string what = e.what(); what.find("create director") != std::string::npos)
+      std::cerr << " (cannot create the directory)";
+    std::cerr << "\n";
+    return 1;
   } catch (const std::exception &e) {
     std::cerr << "nuld: error: " << e.what() << "\n";
     return 1;
