@@ -116,7 +116,9 @@ TEST_P(BackendContract, AnSppItCannotServeIsRefusedAsARefusal) {
     }
   }
   const bool fixedSize = spec().find(':') != std::string::npos;
-  if (fixedSize) EXPECT_THROW(backend->prepare(3, targets), BackendRefusal) << spec();
+  if (fixedSize) {
+    EXPECT_THROW(backend->prepare(3, targets), BackendRefusal) << spec();
+  }
   EXPECT_NO_THROW(backend->prepare(kSpp, targets)) << spec();
 }
 
