@@ -148,9 +148,10 @@ ModelFile readModelFile(const std::string &path) {
       t.shape.push_back(dim);
     }
     t.data.resize(std::size_t(elements));
-    std::memcpy(t.data.data(),
-                r.take(t.data.size() * sizeof(float), "the data of '" + t.name + "'"),
-                t.data.size() * sizeof(float));
+    const auto *data = r.take(t.data.size() * sizeof(float), "the data of '" + t.name + "'");
+    // An empty tensor has no storage: memcpy to its null data() is undefined
+    // even for 0 bytes (UBSan, tools/sanitize.sh).
+    if (!t.data.empty()) std::memcpy(t.data.data(), data, t.data.size() * sizeof(float));
     model.tensors.push_back(std::move(t));
   }
   if (r.position() != bytes.size() - 8) r.fail("unexpected bytes after the last tensor");
