@@ -72,7 +72,7 @@ void BankBackend::setBanks(std::vector<SetBank> banks) {
     if (b.sets.n == 0 || b.sets.instances() == 0)
       throw std::invalid_argument(b.source + ": the bank holds no points");
     for (const Point2 &p : b.sets.points)
-      if (!isFinite(p) || p.x < 0 || p.x > 1 || p.y < 0 || p.y > 1)
+      if (!inUnitSquare(p))
         throw std::invalid_argument(b.source + ": a point lies outside the unit square");
   }
   banks_ = std::move(banks);

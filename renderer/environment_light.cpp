@@ -177,7 +177,7 @@ void EnvironmentLight::sampleTarget(std::span<const Point2> x,
     GridTarget::Cell cell[kGroup];
     for (std::size_t k = 0; k < n; ++k) {
       const Point2 p = x[first + k];
-      inside[k] = target_ && p.x >= 0 && p.x <= 1 && p.y >= 0 && p.y <= 1;
+      inside[k] = target_ && inUnitSquare(p);
       if (inside[k]) __builtin_prefetch(&texel(cell[k] = target_->locate(p)));
     }
     for (std::size_t k = 0; k < n; ++k)

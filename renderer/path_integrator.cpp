@@ -174,7 +174,7 @@ void PathIntegrator::chooseBsdfStrategies(std::span<PathState> path, int depth,
   const std::size_t n = path.size();
   // The BSDF strategy of each sample, decided before next-event estimation
   // because the light sample's MIS weight needs its pdf.
-  for (std::size_t k = 0; k < n && !lightOnly_; ++k) {
+  for (std::size_t k = 0; k < n; ++k) {
     PathState &p = path[k];
     p.lobe = {};
     if (!p.alive || !lobes_) continue;

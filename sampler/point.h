@@ -25,6 +25,9 @@ struct Point2 {
 };
 
 inline bool isFinite(Point2 p) { return std::isfinite(p.x) && std::isfinite(p.y); }
+// In the closed unit square, where every point set and target lives; false
+// for NaN and infinite coordinates.
+inline bool inUnitSquare(Point2 p) { return p.x >= 0 && p.x <= 1 && p.y >= 0 && p.y <= 1; }
 
 // t modulo 1 in [0, 1): a toroidal wrap. A tiny negative t would round to
 // exactly 1, which is folded to 0.

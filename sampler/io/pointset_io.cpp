@@ -29,9 +29,7 @@ std::string trim(const std::string &s) {
 }
 
 // Point sets live in the unit square (their domain's parameterization);
-// a coordinate outside it is a foreign or corrupted file, not a point.
-bool inUnitSquare(Point2 p) { return p.x >= 0 && p.x <= 1 && p.y >= 0 && p.y <= 1; }
-
+// a coordinate outside it (inUnitSquare) is a foreign or corrupted file.
 std::string outsideMessage(Point2 p) {
   return "point (" + formatRoundTrip(p.x) + ", " + formatRoundTrip(p.y) +
          ") lies outside the unit square; expected coordinates in [0, 1]";

@@ -3,7 +3,6 @@
 // typed access to their values. The spellings are the files' format: a key
 // renamed here would leave older files unread.
 
-#include <cstddef>
 #include <string>
 #include <string_view>
 
@@ -56,12 +55,5 @@ void setMeta(PointSet &set, std::string_view key, std::string value);
 const std::string *findMeta(const PointSet &set, std::string_view key);
 // The value of `key`, or `fallback` when the set has none.
 std::string metaOr(const PointSet &set, std::string_view key, std::string_view fallback);
-
-// The value of `key` as text, a number or a count. `file` names the set's
-// source in the std::runtime_error thrown when the key is missing or its
-// value malformed ("FILE: point-set metadata 'KEY' ...").
-const std::string &metaString(const PointSet &set, std::string_view key, const std::string &file);
-double metaNumber(const PointSet &set, std::string_view key, const std::string &file);
-std::size_t metaSize(const PointSet &set, std::string_view key, const std::string &file);
 
 }  // namespace nuld

@@ -12,7 +12,6 @@
 namespace nuld {
 namespace {
 
-bool inUnitSquare(Point2 p) { return p.x >= 0 && p.x <= 1 && p.y >= 0 && p.y <= 1; }
 double clamp01(double x) { return std::clamp(x, 0.0, 1.0); }
 // Avoids infinite Jacobians where the density vanishes on the boundary.
 constexpr double kTinyDensity = 1e-12;

@@ -148,7 +148,7 @@ GridTarget::GridTarget(std::vector<double> xEdges, std::vector<double> yEdges,
 }
 
 double GridTarget::pdf(Point2 p) const {
-  if (!(p.x >= 0 && p.x <= 1 && p.y >= 0 && p.y <= 1)) return 0;
+  if (!inUnitSquare(p)) return 0;
   return cellDensity(xCells_.cell(xEdges_, p.x), yCells_.cell(yEdges_, p.y));
 }
 

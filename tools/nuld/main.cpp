@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "materials/disney_target.h"
+#include "sampler/enum_names.h"
 #include "tools/nuld/cli_util.h"
 #include "tools/nuld/commands.h"
 
@@ -53,9 +54,7 @@ int main(int argc, char **argv) {
       std::cerr << "nuld: unknown subcommand '" << word << "'";
       if (const std::string near = nuld::cli::closestName(word, names); !near.empty())
         std::cerr << " (did you mean '" << near << "'?)";
-      std::cerr << "; expected one of:";
-      for (const std::string &n : names) std::cerr << " " << n;
-      std::cerr << "\n";
+      std::cerr << "; expected " << nuld::joinAlternatives(names) << "\n";
       return 2;
     }
   }
