@@ -2,8 +2,9 @@
 // Angles in turns (2 pi t radians), the unit every sampling routine draws its
 // azimuth in (phi = 2 pi u) and the lat-long map indexes by.
 //  - sinCosTurns: the range reduction is exact (4t minus the nearest
-//    integer), so Taylor polynomials on |r| <= pi/4 give both values to
-//    about 1e-16, far cheaper than the C library's sin and cos, which must
+//    integer) and r carries its rounding in a second double, so Taylor
+//    polynomials on |r| <= pi/4 give both values within an ulp (with or
+//    without fused multiply-adds), far cheaper than the C library's sin and cos, which must
 //    handle an arbitrary argument; sampling calls them for every direction
 //    (figures: tools/experiments/README.md, "Implementation notes").
 //  - atan2Turns: the octant reduction, then atan(a) = atan(c) + atan(t) with c
@@ -20,9 +21,28 @@ struct SinCos {
   double sin, cos;
 };
 
+// The rounding error of a * b: a * b - round(a * b), exactly. One fused
+// multiply-add where the target has it, else Dekker's split product.
+inline double productError(double a, double b, double product) {
+#ifdef __FMA__
+  return std::fma(a, b, -product);
+#else
+  constexpr double kSplit = 134217729.0;  // 2^27 + 1
+  const double ca = kSplit * a, ah = ca - (ca - a), al = a - ah;
+  const double cb = kSplit * b, bh = cb - (cb - b), bl = b - bh;
+  return ((ah * bh - product) + ah * bl + al * bh) + al * bl;
+#endif
+}
+
 inline SinCos sinCosTurns(double t) {
   const double q = std::nearbyint(4 * t);  // quarter turns
-  const double r = (4 * t - q) * (std::numbers::pi / 2), r2 = r * r;
+  // r = (4t - q) pi/2 as an unevaluated sum r + rLow: the subtraction is
+  // exact, and carrying the product's rounding and pi/2's own keeps sin r
+  // within an ulp with or without fused multiply-adds.
+  constexpr double kHalfPi = std::numbers::pi / 2;
+  constexpr double kHalfPiLow = 6.123233995736766e-17;  // pi/2 - kHalfPi
+  const double d = 4 * t - q, r = d * kHalfPi;
+  const double rLow = productError(d, kHalfPi, r) + d * kHalfPiLow, r2 = r * r;
   // sin r = r (1 - r^2/3! + ... + r^16/17!), cos r = 1 - r^2/2! + ... - r^18/18!:
   // the first omitted terms are below 1e-19 for |r| <= pi/4.
   double ps = 1.0 / 355687428096000.0;
@@ -33,7 +53,7 @@ inline SinCos sinCosTurns(double t) {
   ps = ps * r2 - 1.0 / 5040.0;
   ps = ps * r2 + 1.0 / 120.0;
   ps = ps * r2 - 1.0 / 6.0;
-  const double sinR = r + r * r2 * ps;
+  const double sinR = r + (rLow + r * r2 * ps);
   double pc = -1.0 / 6402373705728000.0;
   pc = pc * r2 + 1.0 / 20922789888000.0;
   pc = pc * r2 - 1.0 / 87178291200.0;
@@ -42,8 +62,12 @@ inline SinCos sinCosTurns(double t) {
   pc = pc * r2 + 1.0 / 40320.0;
   pc = pc * r2 - 1.0 / 720.0;
   pc = pc * r2 + 1.0 / 24.0;
-  pc = pc * r2 - 0.5;
-  const double cosR = 1 + r2 * pc;
+  // cos r = 1 - r^2/2 + r^4 pc with 1 - r^2/2 in two parts (fdlibm's
+  // kernel): w = 1 - h rounded, and what that rounding, r^2's and rLow's
+  // share of r^2 left out.
+  const double h = 0.5 * r2, w = 1 - h;
+  const double hLow = 0.5 * productError(r, r, r2) + r * rLow;
+  const double cosR = w + ((((1 - w) - h) - hLow) + r2 * r2 * pc);
   // Turn by q quarter turns: (sin, cos) -> (cos, -sin) per quarter.
   const long k = static_cast<long>(q) & 3;
   const double a = (k & 1) ? cosR : sinR, b = (k & 1) ? sinR : cosR;

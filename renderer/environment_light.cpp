@@ -6,19 +6,24 @@
 #include <stdexcept>
 
 #include "materials/sphere_map.h"
+#include "sampler/diagnostics.h"
+#include "sampler/io/round_trip.h"
 #include "sampler/targets/image_targets.h"
 
 namespace nuld {
 namespace {
 
 // Keeps three channels (grey maps are replicated), clamps negative values
-// (colour conversions of HDR data produce them) and applies the scale.
+// (colour conversions of HDR data produce them; the user is told how many)
+// and applies the scale.
 Image toRgb(const Image &in, double scale, const std::string &source) {
   if (in.width <= 0 || in.height <= 0 || in.channels <= 0)
     throw std::invalid_argument(source + ": empty environment map");
   if (!(scale >= 0) || !std::isfinite(scale))
     throw std::invalid_argument(source + ": environment scale must be finite and >= 0");
   Image out{in.width, in.height, 3, std::vector<float>(std::size_t(in.width) * in.height * 3)};
+  std::size_t negative = 0;
+  float lowest = 0;
   for (int y = 0; y < in.height; ++y)
     for (int x = 0; x < in.width; ++x)
       for (int c = 0; c < 3; ++c) {
@@ -26,8 +31,14 @@ Image toRgb(const Image &in, double scale, const std::string &source) {
         if (!std::isfinite(v))
           throw std::invalid_argument(source + ": pixel (" + std::to_string(x) + ", " +
                                       std::to_string(y) + ") is not finite");
+        negative += v < 0;
+        lowest = std::min(lowest, v);
         out.at(x, y, c) = float(std::max(0.0f, v) * scale);
       }
+  if (negative > 0)
+    warning(source + ": " + std::to_string(negative) + " of " + std::to_string(out.pixels.size()) +
+            " pixel values are negative (down to " + formatShort(lowest) +
+            "); the environment light treats them as 0");
   return out;
 }
 

@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "sampler/io/atomic_file.h"
+
 namespace nuld {
 namespace {
 
@@ -89,13 +91,19 @@ Image toneMap(const Image &linear, double exposure) {
   return out;
 }
 
-void writeRender(const std::string &exrPath, const Image &image) {
+void checkRenderOutputs(const std::string &exrPath) {
   // Any other name would lose the linear image (a PNG holds 8 bits) and then
   // be overwritten by the tone-mapped one.
   if (std::filesystem::path(exrPath).extension() != ".exr")
     throw std::invalid_argument(exrPath +
                                 ": a render is written as a linear .exr with a tone-mapped .png "
                                 "beside it; name an .exr file");
+  checkDestination(exrPath);
+  checkDestination(std::filesystem::path(exrPath).replace_extension(".png"));
+}
+
+void writeRender(const std::string &exrPath, const Image &image) {
+  checkRenderOutputs(exrPath);
   writeImage(exrPath, image);
   writeImage(std::filesystem::path(exrPath).replace_extension(".png").string(), toneMap(image));
 }

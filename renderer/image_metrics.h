@@ -30,5 +30,8 @@ Image toneMap(const Image &linear, double exposure = 1.0);
 
 // Writes image.exr plus a tone-mapped image.png beside it (both atomic).
 void writeRender(const std::string &exrPath, const Image &image);
+// The checks writeRender makes of its two outputs, for a command to make
+// before it spends time rendering.
+void checkRenderOutputs(const std::string &exrPath);
 
 }  // namespace nuld

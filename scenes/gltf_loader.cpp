@@ -15,6 +15,8 @@
 #include <stdexcept>
 #include <utility>
 
+#include "sampler/io/input_file.h"
+
 namespace nuld {
 namespace {
 
@@ -367,6 +369,7 @@ std::vector<TriangleMesh> loadGltf(const std::string &path) {
   if (!binary && !hasExtension(path, ".gltf"))
     fail(path, "unknown glTF file extension; expected .gltf or .glb");
 
+  requireInputFile(path, "glTF file");
   tinygltf::TinyGLTF gltf;
   gltf.SetImageLoader(&skipImage, nullptr);
   tinygltf::Model model;

@@ -23,6 +23,11 @@ void JsonReader::fail(const std::string &expected) const {
                               "': expected " + expected + ", got " + got);
 }
 
+void JsonReader::refuse(const std::string &why) const {
+  throw std::invalid_argument(file_ + ": field '" + (path_.empty() ? "(top level)" : path_) +
+                              "': " + why);
+}
+
 bool JsonReader::has(const std::string &key) const {
   return value_.is_object() && value_.contains(key);
 }
@@ -98,10 +103,10 @@ Vec3 JsonReader::vec3() const {
   return {at(0).number(), at(1).number(), at(2).number()};
 }
 
-Rgb JsonReader::rgb() const {
-  if (value_.is_number()) return Rgb::grey(number(0, 1e300));
-  if (!value_.is_array() || value_.size() != 3) fail("[r, g, b] or one number, each >= 0");
-  return {at(0).number(0, 1e300), at(1).number(0, 1e300), at(2).number(0, 1e300)};
+Rgb JsonReader::reflectance() const {
+  if (value_.is_number()) return Rgb::grey(number(0, 1));
+  if (!value_.is_array() || value_.size() != 3) fail("[r, g, b] or one number, each in [0, 1]");
+  return {at(0).number(0, 1), at(1).number(0, 1), at(2).number(0, 1)};
 }
 
 std::vector<std::string> JsonReader::strings() const {

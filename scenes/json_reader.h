@@ -32,7 +32,7 @@ class JsonReader {
   bool boolean() const;
   std::string string() const;
   Vec3 vec3() const;
-  Rgb rgb() const;                           // [r, g, b] or one grey number, each >= 0
+  Rgb reflectance() const;                   // [r, g, b] or one grey number, each in [0, 1]
   std::vector<std::string> strings() const;  // a string or an array of strings
   // A string that names a value of `names`; fails listing the names and,
   // after them, `note`.
@@ -47,6 +47,8 @@ class JsonReader {
   std::string string(const std::string &key, const std::string &fallback) const;
 
   [[noreturn]] void fail(const std::string &expected) const;
+  // "FILE: field 'PATH': WHY", for a value that reads well but cannot be used.
+  [[noreturn]] void refuse(const std::string &why) const;
   const std::string &file() const { return file_; }
   const std::string &path() const { return path_; }
 

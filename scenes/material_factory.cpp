@@ -1,5 +1,7 @@
 #include "scenes/material_factory.h"
 
+#include <stdexcept>
+
 #include "materials/disney.h"
 #include "materials/lambertian.h"
 
@@ -9,14 +11,15 @@ std::shared_ptr<const Bsdf> makeMaterial(const JsonReader &m) {
   const std::string type = m["type"].string();
   if (type == "lambertian") {
     m.allowOnly({"type", "albedo"});
-    return std::make_shared<Lambertian>(m.has("albedo") ? m["albedo"].rgb() : Rgb::grey(0.5));
+    return std::make_shared<Lambertian>(m.has("albedo") ? m["albedo"].reflectance()
+                                                        : Rgb::grey(0.5));
   }
   if (type != "disney") m["type"].fail("\"disney\" or \"lambertian\"");
   m.allowOnly({"type", "base_color", "metallic", "subsurface", "specular", "roughness",
                "specular_tint", "anisotropic", "sheen", "sheen_tint", "clearcoat",
                "clearcoat_gloss"});
   DisneyParams p;
-  if (m.has("base_color")) p.baseColor = m["base_color"].rgb();
+  if (m.has("base_color")) p.baseColor = m["base_color"].reflectance();
   const auto unit = [&](const char *key, double &value) { value = m.number(key, value, 0, 1); };
   unit("metallic", p.metallic);
   unit("subsurface", p.subsurface);
@@ -28,7 +31,12 @@ std::shared_ptr<const Bsdf> makeMaterial(const JsonReader &m) {
   unit("sheen_tint", p.sheenTint);
   unit("clearcoat", p.clearcoat);
   unit("clearcoat_gloss", p.clearcoatGloss);
-  return std::make_shared<DisneyBrdf>(p);
+  // The checks above are the model's own; any it adds later still names the field.
+  try {
+    return std::make_shared<DisneyBrdf>(p);
+  } catch (const std::invalid_argument &e) {
+    m.refuse(e.what());
+  }
 }
 
 }  // namespace nuld

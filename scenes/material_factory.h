@@ -4,8 +4,8 @@
 //    "specular": 0.5, "roughness": 0.5, "specular_tint": 0, "anisotropic": 0,
 //    "sheen": 0, "sheen_tint": 0, "clearcoat": 0, "clearcoat_gloss": 1}
 //   {"type": "lambertian", "albedo": [r,g,b]}
-// Omitted Disney parameters take the defaults of DisneyParams; every scalar
-// must lie in [0, 1].
+// Omitted Disney parameters take the defaults of DisneyParams; every scalar,
+// and every channel of a colour (a reflectance), must lie in [0, 1].
 
 #include <memory>
 

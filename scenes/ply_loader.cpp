@@ -16,6 +16,8 @@
 #include <vector>
 
 #include "sampler/enum_names.h"
+#include "sampler/io/input_file.h"
+#include "sampler/io/round_trip.h"
 
 namespace nuld {
 namespace {
@@ -331,8 +333,7 @@ void readElements(const std::string &path, const Header &header, Source &source,
         for (double j = 0; j < n; ++j) {
           const double index = next(p.type);
           if (index < 0 || index > std::numeric_limits<std::uint32_t>::max())
-            fail(path, where() + "vertex index " + std::to_string(std::int64_t(index)) +
-                           " is out of range");
+            fail(path, where() + "vertex index " + formatRoundTrip(index) + " is out of range");
           polygon.push_back(static_cast<std::uint32_t>(index));
         }
         if (polygon.size() < 3)
@@ -357,6 +358,7 @@ void readElements(const std::string &path, const Header &header, Source &source,
 }
 
 std::string readFile(const std::string &path) {
+  requireInputFile(path, "PLY file");
   std::ifstream in(path, std::ios::binary);
   if (!in) fail(path, "cannot open PLY file");
   in.seekg(0, std::ios::end);

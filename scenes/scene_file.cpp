@@ -10,6 +10,9 @@
 #include <set>
 #include <stdexcept>
 
+#include "sampler/diagnostics.h"
+#include "sampler/io/input_file.h"
+#include "sampler/io/round_trip.h"
 #include "scenes/default_scene.h"
 #include "scenes/gltf_loader.h"
 #include "scenes/json_reader.h"
@@ -43,6 +46,43 @@ std::vector<TriangleMesh> loadMeshFile(const std::string &path, const JsonReader
   field.fail("a .glb, .gltf or .ply file");
 }
 
+// Embree traces in single precision: at 1e7 neighbouring floats are a unit
+// apart, so geometry or a camera beyond cannot be resolved against a scene of
+// unit scale; such coordinates are a unit or transform mistake.
+constexpr double kCoordinateLimit = 1e7;
+
+bool withinLimit(Vec3 p) {
+  return std::abs(p.x) <= kCoordinateLimit && std::abs(p.y) <= kCoordinateLimit &&
+         std::abs(p.z) <= kCoordinateLimit;
+}
+
+// Built by appending: GCC 12 warns falsely (-Wrestrict) on "(" + string.
+std::string describe(Vec3 p) {
+  std::string text = "(";
+  text += formatShort(p.x) + ", " + formatShort(p.y) + ", " + formatShort(p.z) + ")";
+  return text;
+}
+
+// Refuses geometry out of range; warns about triangles of zero area in a
+// mesh file (an exporter's leftovers: harmless, but the user should know;
+// the built-in sphere's pole rows are degenerate by construction).
+void checkGeometry(const TriangleMesh &mesh, const JsonReader &entry, const std::string &from) {
+  for (const Vec3 &p : mesh.positions)
+    if (!withinLimit(p))
+      entry.refuse("mesh '" + mesh.name + "'" + from + " has a vertex at " + describe(p) +
+                   ", outside +-1e7 on some axis (check the transform and the file's units)");
+  if (from.empty()) return;
+  std::size_t degenerate = 0;
+  for (const auto &t : mesh.triangles) {
+    const Vec3 a = mesh.positions[t[0]], b = mesh.positions[t[1]], c = mesh.positions[t[2]];
+    degenerate += !(length(cross(b - a, c - a)) > 0);
+  }
+  if (degenerate > 0)
+    warning(entry.file() + ": mesh '" + mesh.name + "'" + from + ": " + std::to_string(degenerate) +
+            " of " + std::to_string(mesh.triangles.size()) +
+            " triangles have zero area (they are never hit)");
+}
+
 // Scale, then rotation about +Y, then translation.
 void applyTransform(TriangleMesh &mesh, const JsonReader &t) {
   t.allowOnly({"scale", "rotate_y", "translate"});
@@ -68,17 +108,30 @@ TriangleMesh builtinShape(const JsonReader &entry) {
   entry["shape"].fail("\"floor\" or \"sphere\"");
 }
 
+// A direction of any length, made unit: scaled by its largest component
+// first, so that [1e-200, 0, 0] neither vanishes nor [1e200, 0, 0] overflows.
+Vec3 readDirection(const JsonReader &field, const std::string &meaning) {
+  const Vec3 v = field.vec3();
+  const double largest = std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+  if (!(largest > 0)) field.fail("a non-zero direction" + meaning);
+  return normalize(v / largest);
+}
+
 CameraSettings readCamera(const JsonReader &c) {
   c.allowOnly({"eye", "look_at", "up", "fov", "mirror_x"});
   CameraSettings cam;
   cam.eye = c["eye"].vec3();
   cam.target = c["look_at"].vec3();
-  if (c.has("up")) cam.up = c["up"].vec3();
+  if (c.has("up")) cam.up = readDirection(c["up"], "");
   cam.fovDegrees = c["fov"].number(1e-3, 179.9);
   if (c.has("mirror_x")) cam.mirrorX = c["mirror_x"].boolean();
-  if (!(length(cam.target - cam.eye) > 0)) c["look_at"].fail("a point different from 'eye'");
-  if (!(length(cross(cam.target - cam.eye, cam.up)) > 0))
-    c["up"].fail("a direction not parallel to the view");
+  for (const char *key : {"eye", "look_at"})
+    if (!withinLimit(c[key].vec3())) c[key].fail("a point within +-1e7 on every axis");
+  if (!(length(cam.target - cam.eye) > 1e-6)) c["look_at"].fail("a point at least 1e-6 from 'eye'");
+  const JsonReader up = c.has("up") ? c["up"] : c;
+  if (!(length(cross(normalize(cam.target - cam.eye), cam.up)) > 1e-6))
+    up.fail(c.has("up") ? "a direction not parallel to the view"
+                        : "an 'up' direction: the default [0, 1, 0] is parallel to the view");
   return cam;
 }
 
@@ -99,13 +152,19 @@ LoadedScene loadScene(const std::string &path, const std::string &assetRoot) {
   if (path == "default") return makeDefaultScene();
   if (path == "stress") return makeStressScene();
 
+  requireInputFile(path, "the scene file");
   std::ifstream in(path);
   if (!in) throw std::runtime_error(path + ": cannot open the scene file");
   nlohmann::json doc;
   try {
     doc = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::parse_error &e) {
-    throw std::invalid_argument(path + ": malformed JSON: " + e.what());
+  } catch (const nlohmann::json::exception &e) {
+    // Syntax errors and numbers beyond a double: the parser's reason,
+    // without its "[json.exception.parse_error.101]" tag.
+    std::string why = e.what();
+    if (const auto tag = why.find("] "); why.rfind("[json.exception.", 0) == 0 && tag != why.npos)
+      why = why.substr(tag + 2);
+    throw std::invalid_argument(path + ": malformed JSON: " + why);
   }
   const JsonReader root(doc, path);
   root.allowOnly({"camera", "film", "render", "environment", "materials", "meshes", "comment"});
@@ -155,6 +214,7 @@ LoadedScene loadScene(const std::string &path, const std::string &assetRoot) {
                                     "set \"material\" in its 'meshes' entry");
       if (!built.count(name)) built[name] = makeMaterial(materials[name]);
       if (entry.has("transform")) applyTransform(mesh, entry["transform"]);
+      checkGeometry(mesh, entry, file.empty() ? "" : " from '" + file + "'");
       out.scene.materials.push_back(built[name]);
       meshes.push_back(std::move(mesh));
     }
@@ -169,11 +229,8 @@ LoadedScene loadScene(const std::string &path, const std::string &assetRoot) {
     if (!fs::exists(file))
       throw std::runtime_error(path + ": field 'environment.file': '" + file +
                                "' does not exist (check --assets or NULD_ASSETS)");
-    Vec3 up{0, 1, 0};
-    if (env.has("up")) {
-      up = env["up"].vec3();
-      if (!(length(up) > 0)) env["up"].fail("a non-zero direction (the map's zenith in the world)");
-    }
+    const Vec3 up = env.has("up") ? readDirection(env["up"], " (the map's zenith in the world)")
+                                  : Vec3{0, 1, 0};
     constexpr auto kImportance = enumTable<PixelWeight>(
         "importance", {{"luminance", PixelWeight::Luminance}, {"mean", PixelWeight::ChannelMean}});
     const PixelWeight weight =

@@ -39,13 +39,18 @@ std::filesystem::path regularDestination(std::filesystem::path destination) {
 
 }  // namespace
 
+std::filesystem::path checkDestination(const std::filesystem::path &destination) {
+  std::filesystem::path checked = regularDestination(destination);
+  const auto dir = checked.has_parent_path() ? checked.parent_path() : std::filesystem::path(".");
+  if (!std::filesystem::is_directory(dir))
+    throw std::runtime_error(checked.string() + ": directory " + dir.string() + " does not exist");
+  return checked;
+}
+
 AtomicFile::AtomicFile(std::filesystem::path destination)
-    : destination_(regularDestination(std::move(destination))) {
+    : destination_(checkDestination(destination)) {
   const auto dir =
       destination_.has_parent_path() ? destination_.parent_path() : std::filesystem::path(".");
-  if (!std::filesystem::is_directory(dir))
-    throw std::runtime_error(destination_.string() + ": directory " + dir.string() +
-                             " does not exist");
   // Hidden, per-process name; built by appending (GCC 12 warns falsely on "." + string).
   std::string name = ".";
   name += destination_.stem().string();

@@ -7,6 +7,8 @@
 #include <stdexcept>
 
 #include "sampler/io/atomic_file.h"
+#include "sampler/io/input_file.h"
+#include "sampler/resources.h"
 
 namespace nuld {
 
@@ -16,9 +18,15 @@ double Image::luminance(int x, int y) const {
 }
 
 Image readImage(const std::string &path, bool requireFinite) {
-  if (!std::filesystem::exists(path)) throw std::runtime_error(path + ": no such image file");
+  requireInputFile(path, "image file");
   auto in = OIIO::ImageInput::open(path);
-  if (!in) throw std::runtime_error(path + ": cannot read image (" + OIIO::geterror() + ")");
+  // OpenImageIO's own wording names its internals; ours says what to check.
+  if (!in) {
+    OIIO::geterror();  // clear it
+    throw std::runtime_error(path +
+                             ": cannot read it as an image (a format OpenImageIO does not read, "
+                             "or a damaged file)");
+  }
   const OIIO::ImageSpec &spec = in->spec();
   Image img;
   img.width = spec.width;
@@ -26,9 +34,14 @@ Image readImage(const std::string &path, bool requireFinite) {
   img.channels = spec.nchannels;
   if (img.width <= 0 || img.height <= 0 || img.channels <= 0)
     throw std::runtime_error(path + ": image has no pixels");
+  // The header's size, before allocating: a corrupt or hostile one may claim
+  // far more than the file holds.
+  requireMemory(double(img.width) * img.height * img.channels * sizeof(float),
+                path + ": a " + std::to_string(img.width) + " x " + std::to_string(img.height) +
+                    " image of " + std::to_string(img.channels) + " channels");
   img.pixels.resize(std::size_t(img.width) * img.height * img.channels);
   if (!in->read_image(0, 0, 0, img.channels, OIIO::TypeDesc::FLOAT, img.pixels.data()))
-    throw std::runtime_error(path + ": cannot decode image (" + in->geterror() + ")");
+    throw std::runtime_error(path + ": cannot decode the image data (a truncated or damaged file)");
   in->close();
   if (requireFinite) {
     for (int y = 0; y < img.height; ++y)
@@ -45,8 +58,12 @@ Image readImage(const std::string &path, bool requireFinite) {
 void writeImage(const std::string &path, const Image &image) {
   AtomicFile file(path);
   auto out = OIIO::ImageOutput::create(path);
-  if (!out)
-    throw std::runtime_error(path + ": no writer for this format (" + OIIO::geterror() + ")");
+  if (!out) {
+    OIIO::geterror();  // clear it
+    throw std::runtime_error(path +
+                             ": cannot write an image with this extension (use .exr, or "
+                             ".png for an 8-bit picture)");
+  }
   OIIO::ImageSpec spec(image.width, image.height, image.channels, OIIO::TypeDesc::FLOAT);
   const std::string ext = std::filesystem::path(path).extension().string();
   if (ext == ".png" || ext == ".jpg" || ext == ".jpeg") spec.set_format(OIIO::TypeDesc::UINT8);
@@ -54,9 +71,10 @@ void writeImage(const std::string &path, const Image &image) {
   // OpenImageIO picks the format from the name it is given, so the temporary
   // file keeps the extension.
   if (!out->open(file.tempPath(), spec))
-    throw std::runtime_error(path + ": cannot open for writing (" + out->geterror() + ")");
+    throw std::runtime_error(path + ": cannot open " + file.tempPath() +
+                             " for writing (is the directory writable?)");
   if (!out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data()))
-    throw std::runtime_error(path + ": cannot write image (" + out->geterror() + ")");
+    throw std::runtime_error(path + ": cannot write the image (is the disk full?)");
   out->close();
   file.commit();
 }

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "sampler/io/atomic_file.h"
+#include "sampler/io/input_file.h"
 #include "sampler/io/pointset_metadata.h"
 #include "sampler/io/round_trip.h"
 
@@ -160,6 +161,7 @@ PointSet readBinary(const std::string &path, std::istream &in, std::uintmax_t fi
 }  // namespace
 
 PointSet readPointSet(const std::string &path) {
+  requireInputFile(path, "point-set file");
   std::ifstream in(path, std::ios::binary);
   if (!in) fail(path, 0, "cannot open point-set file");
   char magic[sizeof(kMagic)] = {};

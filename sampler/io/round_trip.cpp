@@ -1,6 +1,7 @@
 #include "sampler/io/round_trip.h"
 
 #include <charconv>
+#include <cstdio>
 #include <stdexcept>
 
 namespace nuld {
@@ -14,6 +15,16 @@ char *formatRoundTrip(char *first, char *last, double v) {
 std::string formatRoundTrip(double v) {
   char buf[32];
   return std::string(buf, formatRoundTrip(buf, buf + sizeof buf, v));
+}
+
+}  // namespace nuld
+
+namespace nuld {
+
+std::string formatShort(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", v);
+  return buf;
 }
 
 }  // namespace nuld

@@ -12,9 +12,12 @@ namespace nuld {
 inline double fastExpNonPositive(double x) {
   x = x < -700.0 ? -700.0 : x;
   constexpr double kLog2e = 1.4426950408889634;
-  constexpr double kLn2Hi = 0.6931471805599453;      // ln2 rounded to double
-  constexpr double kLn2Lo = 2.3190468138462996e-17;  // ln2 - kLn2Hi
-  constexpr double kShift = 6755399441055744.0;      // 1.5 * 2^52: rounds to integer
+  // ln2 split so that n * kLn2Hi is exact for |n| < 2^21 (kLn2Hi has 32
+  // significant bits, fdlibm's split): the reduction needs no fused
+  // multiply-add to be exact, so builds without FMA keep the accuracy.
+  constexpr double kLn2Hi = 6.93147180369123816490e-01;
+  constexpr double kLn2Lo = 1.90821492927058770002e-10;  // ln2 - kLn2Hi
+  constexpr double kShift = 6755399441055744.0;          // 1.5 * 2^52: rounds to integer
   const double t = x * kLog2e + kShift;
   const double n = t - kShift;  // round(x log2 e)
   const double r = (x - n * kLn2Hi) - n * kLn2Lo;

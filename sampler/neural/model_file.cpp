@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "sampler/io/atomic_file.h"
+#include "sampler/io/input_file.h"
 
 namespace nuld {
 namespace {
@@ -103,6 +104,7 @@ void writeModelFile(const std::string &path, const ModelFile &model) {
 }
 
 ModelFile readModelFile(const std::string &path) {
+  requireInputFile(path, "the model file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error(path + ": cannot open the model file");
   std::ostringstream buffer;
@@ -147,8 +149,10 @@ ModelFile readModelFile(const std::string &path) {
       elements *= dim;
       t.shape.push_back(dim);
     }
+    // Taken before allocating: a header may declare far more than the file holds.
+    const auto *data =
+        r.take(std::size_t(elements) * sizeof(float), "the data of '" + t.name + "'");
     t.data.resize(std::size_t(elements));
-    const auto *data = r.take(t.data.size() * sizeof(float), "the data of '" + t.name + "'");
     // An empty tensor has no storage: memcpy to its null data() is undefined
     // even for 0 bytes (UBSan, tools/sanitize.sh).
     if (!t.data.empty()) std::memcpy(t.data.data(), data, t.data.size() * sizeof(float));

@@ -136,41 +136,6 @@ torch::Tensor baseSets(const NeuralGenerator &gen, std::span<const Point2> z, st
   return base;
 }
 
-void NeuralSettings::validate() const {
-  auto bad = [](const std::string &what) { throw std::invalid_argument("neural: " + what); };
-  if (n < 1 || n > (std::size_t(1) << 20)) bad("n must be in [1, 2^20]");
-  if (hidden < 1 || hidden > 16384) bad("hidden width must be in [1, 16384]");
-  if (!(sigma > 0 && std::isfinite(sigma))) bad("sigma must be positive");
-  if (encodingDims < 2 || encodingDims % 2 != 0) bad("the encoding size must be even and >= 2");
-  if (zHarmonics < 0 || zHarmonics > 32) bad("z harmonics must be in [0, 32]");
-  if (!(offsetRange > 0 && offsetRange <= 1)) bad("the offset range must be in (0, 1]");
-  if (!trainingNs.empty()) {
-    if (arch != NetworkArch::Graph)
-      bad("several training sizes need the graph generator (the supplement's network emits a "
-          "fixed N)");
-    if (trainingNs.size() > 64) bad("at most 64 training sizes");
-    for (const std::size_t m : trainingNs)
-      if (m < 1 || m > (std::size_t(1) << 20)) bad("training sizes must be in [1, 2^20]");
-    if (trainingNs.front() != n) bad("n must be the first training size");
-  }
-  if (arch == NetworkArch::Graph) {
-    if (zHarmonics != 0) bad("z harmonics belong to the supplement's network, not the graph one");
-    if (neighbours < 1 || neighbours > 64) bad("neighbours must be in [1, 64]");
-    if (rounds < 0 || rounds > 16) bad("rounds must be in [0, 16]");
-    if (positionHarmonics < 1 || positionHarmonics > 16)
-      bad("position harmonics must be in [1, 16]");
-    if (stages < 1 || stages > 16) bad("stages must be in [1, 16]");
-    if (base == BaseRandomization::Owen && offsetRange != 1)
-      bad("the offset range applies to the rotated base only");
-  } else if (base != BaseRandomization::Rotated) {
-    bad("the supplement's network needs the rotated base (its residuals are functions of z)");
-  }
-}
-
-std::vector<std::size_t> NeuralSettings::sizesTrained() const {
-  return trainingNs.empty() ? std::vector<std::size_t>{n} : trainingNs;
-}
-
 Point2 balancedPullback(Point2 pulled, const Jacobian2 &j) {
   auto scaled = [](double component, double a, double b) {
     const double length = std::hypot(a, b);

@@ -123,6 +123,10 @@ struct NeuralSettings {
 
   // Throws std::invalid_argument naming the bad setting.
   void validate() const;
+  // The settings a model file's metadata records, validated, and checked
+  // against the weights the file holds before any network is built. Throws
+  // std::runtime_error naming the file and the key.
+  static NeuralSettings fromModelFile(const ModelFile &file, const std::string &path);
   // The sizes training uses: trainingNs, or {n}.
   std::vector<std::size_t> sizesTrained() const;
 };

@@ -13,6 +13,7 @@
 #include <cstddef>
 #include <exception>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 #include <memory>
 #include <stdexcept>
@@ -21,6 +22,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "sampler/diagnostics.h"
 #include "sampler/io/image_io.h"
 #include "sampler/point.h"
 #include "sampler/sequences/rng.h"
@@ -211,6 +213,48 @@ TEST(TargetInput, ImageFileErrorsNameTheFile) {
   writeImage(blackPath, constantImage(4, 4, 0.0f));
   const std::string msg = messageOf<std::exception>([&] { makeTarget("image:" + blackPath); });
   EXPECT_TRUE(contains(msg, blackPath)) << msg;
+}
+
+// A header that claims more pixels than the machine can hold is refused
+// with the numbers before anything is allocated (a PFM header costs a few
+// bytes to write; the file holds almost nothing behind it).
+TEST(TargetInput, ImageHeaderBeyondMemoryIsRefusedBeforeAllocating) {
+  TempDir dir;
+  const std::string path = dir.file("huge.pfm");
+  std::ofstream(path, std::ios::binary) << "PF\n1000000 1000000\n-1.0\n" << std::string(64, '\0');
+  const std::string msg = messageOf<std::exception>([&] { readImage(path); });
+  EXPECT_TRUE(contains(msg, path)) << msg;
+  EXPECT_TRUE(contains(msg, "1000000 x 1000000 image of 3 channels needs about 10.9 TiB")) << msg;
+  EXPECT_TRUE(contains(msg, "more than this machine's")) << msg;
+}
+
+// Negative pixels carry no probability: the density there is 0, and the
+// user is told how many there were (sampler/diagnostics.h).
+TEST(TargetInput, NegativePixelsBecomeZeroDensityWithAWarning) {
+  std::vector<std::string> warnings;
+  const WarningHandler previous =
+      setWarningHandler([&](const std::string &m) { warnings.push_back(m); });
+  TempDir dir;
+  Image img{4, 2, 3, std::vector<float>(24, 1.0f)};
+  for (int c = 0; c < 3; ++c) img.at(1, 0, c) = -0.5f;
+  img.at(3, 1, 0) = -9.0f;  // a negative luminance from one channel
+  const std::string path = dir.file("negative.exr");
+  writeImage(path, img);
+  const auto image = makeTarget("image:" + path);
+  const auto envmap = makeTarget("envmap:" + path);
+  setWarningHandler(previous);
+  ASSERT_EQ(warnings.size(), 2u);
+  for (const std::string &w : warnings) {
+    EXPECT_TRUE(contains(w, path)) << w;
+    EXPECT_TRUE(contains(w, "2 of 8 pixels have a negative weight (down to -1.13)")) << w;
+  }
+  // Image rows run top-down, the square's y bottom-up: pixel (1, 0) is the
+  // cell [0.25, 0.5] x [0.5, 1].
+  EXPECT_NEAR(image->mass({{0.25, 0.5}, {0.5, 1}}), 0.0, 1e-15);
+  EXPECT_GT(image->mass({{0, 0.5}, {0.25, 1}}), 0.0);
+  warnings.clear();
+  makeTarget("image:" + dir.file("negative.exr"));  // the handler is the default again
+  EXPECT_TRUE(warnings.empty());
 }
 
 // Two specs name the same target when equal, or when an image or a map is

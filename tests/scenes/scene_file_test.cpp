@@ -10,6 +10,7 @@
 #include <fstream>
 
 #include "renderer/render.h"
+#include "sampler/diagnostics.h"
 #include "scenes/default_scene.h"
 #include "tests/common/temp_dir.h"
 
@@ -115,6 +116,56 @@ TEST_F(SceneFileTest, BadInputGivesClearErrors) {
               {"render.integrator", "expected path, direct, light or bsdf", "mis"});
   expectError(valid("\"scale\": 2", "\"scale\": 2, \"importance\": \"max\""),
               {"environment.importance", "luminance or mean"});
+}
+
+// What the loader accepts but reports (sampler/diagnostics.h): triangles of
+// zero area and negative map pixels. What it refuses naming the cause:
+// geometry or a camera beyond the range single-precision tracing resolves.
+// Extreme but meaningful values (a tiny 'up') are accepted.
+TEST_F(SceneFileTest, DegenerateInputIsReportedAndExtremesRefused) {
+  std::ofstream(dir_ / "meshes" / "flat.ply") << "ply\nformat ascii 1.0\nelement vertex 4\n"
+                                                 "property float x\nproperty float y\n"
+                                                 "property float z\nelement face 2\n"
+                                                 "property list uchar int vertex_indices\n"
+                                                 "end_header\n-1 0 -1\n1 0 -1\n0 0 1\n3 0 -1\n"
+                                                 "3 0 2 1\n3 0 1 3\n";
+  Image sky{8, 4, 3, std::vector<float>(96, 0.5f)};
+  sky.pixels[0] = -0.25f;
+  sky.pixels[50] = -1.0f;
+  writeImage((dir_ / "negative.exr").string(), sky);
+  std::vector<std::string> warnings;
+  const WarningHandler previous =
+      setWarningHandler([&](const std::string &m) { warnings.push_back(m); });
+  const std::string path = write(R"({
+      "camera": {"eye": [0, 2, 5], "look_at": [0, 0, 0], "up": [0, 1e-200, 0], "fov": 40},
+      "environment": {"file": "negative.exr"},
+      "materials": {"default": {"type": "lambertian"}},
+      "meshes": [{"file": "meshes/flat.ply"}]})");
+  const LoadedScene s = loadScene(path, dir_.path().string());
+  setWarningHandler(previous);
+  ASSERT_EQ(warnings.size(), 2u) << (warnings.empty() ? "" : warnings[0]);
+  EXPECT_NE(warnings[0].find("mesh 'flat' from '"), std::string::npos) << warnings[0];
+  EXPECT_NE(warnings[0].find("1 of 2 triangles have zero area"), std::string::npos) << warnings[0];
+  EXPECT_NE(warnings[1].find("negative.exr: 2 of 96 pixel values are negative (down to -1)"),
+            std::string::npos)
+      << warnings[1];
+  EXPECT_TRUE(s.scene.environment);
+
+  const auto expectError = [&](const std::string &path, std::vector<std::string> parts) {
+    const std::string msg = errorOf(path);
+    ASSERT_FALSE(msg.empty()) << "no error for " << parts[0];
+    for (const std::string &p : parts) EXPECT_NE(msg.find(p), std::string::npos) << msg;
+  };
+  expectError(
+      valid("\"radius\": 0.5", "\"radius\": 0.5, \"transform\": {\"translate\": [2e7, 0, 0]}"),
+      {"scene.json", "meshes[1]", "mesh 'sphere' has a vertex at (2e+07", "+-1e7"});
+  expectError(valid("\"eye\": [0, 2, 5]", "\"eye\": [0, 2, 5e9]"), {"camera.eye", "within +-1e7"});
+  expectError(valid("\"look_at\": [0, 0, 0]", "\"look_at\": [0, 2, 5.0000000001]"),
+              {"camera.look_at", "at least 1e-6 from 'eye'"});
+  expectError(valid("\"fov\": 40", "\"fov\": 40, \"up\": [0, 0, 0]"),
+              {"camera.up", "non-zero direction"});
+  expectError(valid("\"look_at\": [0, 0, 0]", "\"look_at\": [0, -5, 5]"),
+              {"camera", "the default [0, 1, 0] is parallel to the view"});
 }
 
 // The map's importance weighting: luminance unless the file says mean.

@@ -9,10 +9,16 @@ out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 mkfifo "$out/pipe"
 failures=0 cases=0
+declare -A perCommand
 while IFS= read -r line; do
   [[ -z "$line" || "$line" == \#* ]] && continue
   expected=${line%% | *}
   args=${line#* | }
+  warn=0
+  if [[ "$expected" == "WARN "* ]]; then warn=1 expected=${expected#WARN }; fi
+  command=${args%% *}
+  [[ "$command" == study ]] && command="study $(echo "$args" | cut -d' ' -f2)"
+  perCommand[$command]=$((${perCommand[$command]:-0} + 1))
   args=${args//DATA/$data}
   args=${args//OUT/$out}
   args=${args//FIFO/$out/pipe}
@@ -20,16 +26,22 @@ while IFS= read -r line; do
   # shellcheck disable=SC2086  # the arguments are words by design
   timeout 120 "$nuld" $args >"$out/stdout" 2>"$out/stderr"
   rc=$?
-  if [[ $rc -eq 0 || $rc -ge 124 ]]; then
+  if ((warn)); then
+    if [[ $rc -ne 0 ]] || ! grep -qF -- "$expected" "$out/stderr"; then
+      echo "FAIL ($rc): nuld $args: expected exit 0 and a warning containing '$expected', got:"
+      cat "$out/stderr"; failures=$((failures + 1))
+    fi
+  elif [[ $rc -eq 0 || $rc -ge 124 ]]; then
     echo "FAIL ($rc): nuld $args"; cat "$out/stderr"; failures=$((failures + 1))
   elif ! grep -qF -- "$expected" "$out/stderr"; then
     echo "FAIL: nuld $args: expected a message containing '$expected', got:"
     cat "$out/stderr"; failures=$((failures + 1))
   elif compgen -G "$out/x.*" >/dev/null; then
     echo "FAIL: nuld $args: wrote $(ls "$out"/x.*) although it failed"; failures=$((failures + 1))
-    rm -f "$out"/x.*
+    rm -rf "$out"/x.*
   fi
   [[ -p "$out/pipe" ]] || { echo "FAIL: nuld $args replaced the pipe"; failures=$((failures + 1)); rm -f "$out/pipe"; mkfifo "$out/pipe"; }
 done <"$data/cases.txt"
+for c in "${!perCommand[@]}"; do echo "  $c: ${perCommand[$c]}"; done | sort
 echo "bad inputs: $cases cases, $failures failed"
 ((failures == 0))

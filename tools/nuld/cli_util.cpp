@@ -110,10 +110,16 @@ std::string closestName(const std::string &word, const std::vector<std::string> 
   return best;
 }
 
-std::string shortNumber(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", v);
-  return buf;
+void onlyWhen(const CLI::App &app, bool applies, std::initializer_list<const char *> options,
+              const std::string &when) {
+  if (applies) return;
+  // "study render", not just "render".
+  std::string command = app.get_name();
+  for (const CLI::App *p = app.get_parent(); p && p->get_parent(); p = p->get_parent())
+    command = p->get_name() + " " + command;
+  for (const char *option : options)
+    if (app.count(option))
+      throw std::invalid_argument(command + ": " + option + " applies to " + when + " only");
 }
 
 }  // namespace nuld::cli

@@ -50,6 +50,12 @@ CLI::Validator oneOf(const EnumTable<E, N> &names) {
       CLI::detail::generate_set(names.names()));
 }
 
+// The one rule for options that do not apply: when `applies` is false, the
+// first of `options` the user gave is refused as "COMMAND: OPTION applies to
+// WHEN only", rather than silently ignored.
+void onlyWhen(const CLI::App &app, bool applies, std::initializer_list<const char *> options,
+              const std::string &when);
+
 // A whole number >= 0 that fits 64 bits (seeds): refuses "-1", "1.5" and
 // "1e30" by quoting the text, where CLI11's range check would print its
 // bound in 300 digits (and an unsigned option would wrap -1 to 2^64 - 1).
@@ -64,8 +70,5 @@ CLI::Validator nonNegativeNumber();
 // enough to be a likely typo (at most a third of the word's letters wrong);
 // else "".
 std::string closestName(const std::string &word, const std::vector<std::string> &names);
-
-// Three significant digits, for progress-bar status lines (loss, lr, alpha).
-std::string shortNumber(double v);
 
 }  // namespace nuld::cli

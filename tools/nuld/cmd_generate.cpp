@@ -63,14 +63,8 @@ int generateBlueNoise(const Options &o, const CLI::App &app) {
   BlueNoiseRequest request = parseBlueNoiseName(o.sequence);
   request.seed = o.seed;
   const bool sliced = request.method == BlueNoiseMethod::SlicedOt;
-  for (const char *gbnOnly : {"--sigma", "--boundary"})
-    if (sliced && app.count(gbnOnly))
-      throw std::invalid_argument(std::string("generate: ") + gbnOnly +
-                                  " applies to --sequence gbn or gbn-mapped only");
-  for (const char *sotOnly : {"--slices", "--uniform-domain"})
-    if (!sliced && app.count(sotOnly))
-      throw std::invalid_argument(std::string("generate: ") + sotOnly +
-                                  " applies to --sequence sot or sot-mapped only");
+  onlyWhen(app, !sliced, {"--sigma", "--boundary"}, "--sequence gbn or gbn-mapped");
+  onlyWhen(app, sliced, {"--slices", "--uniform-domain"}, "--sequence sot or sot-mapped");
   // Given values replace each method's own defaults.
   if (app.count("--iterations")) request.sot.iterations = request.gbn.iterations = o.iterations;
   if (app.count("--step")) request.sot.step = request.gbn.step = o.step;
@@ -160,12 +154,10 @@ Runner addGenerate(CLI::App &app) {
       ->required();
   return [o, &app] {
     const bool blueNoise = kBlueNoiseNames.find(o->sequence).has_value();
-    if (!blueNoise)
-      for (const char *only : {"--iterations", "--slices", "--step", "--target-samples", "--sigma",
-                               "--boundary", "--uniform-domain"})
-        if (app.count(only))
-          throw std::invalid_argument(std::string("generate: ") + only +
-                                      " applies to the blue-noise sequences (sot, gbn) only");
+    onlyWhen(app, blueNoise,
+             {"--iterations", "--slices", "--step", "--target-samples", "--sigma", "--boundary",
+              "--uniform-domain"},
+             "the blue-noise sequences (sot, gbn)");
     if (!o->model.empty()) {
       // A model makes its own sets: a sequence or scrambling would be ignored.
       for (const char *notWithModel : {"--sequence", "--scramble"})
@@ -174,10 +166,7 @@ Runner addGenerate(CLI::App &app) {
                                       " does not apply to --model (the model makes its own sets)");
       return generateFromModel(*o);
     }
-    if (app.count("--gamma"))
-      throw std::invalid_argument(
-          "generate: --gamma applies to --model only (the family "
-          "parameter of a trained generator)");
+    onlyWhen(app, false, {"--gamma"}, "--model");
     if (o->n == 0) throw std::invalid_argument("generate: --n is required (or --model)");
     if (blueNoise) {
       if (app.count("--scramble"))

@@ -1,14 +1,18 @@
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <optional>
 #include <sstream>
 
+#include "sampler/io/atomic_file.h"
 #include "sampler/io/pointset_io.h"
 #include "sampler/io/pointset_metadata.h"
 #include "sampler/io/round_trip.h"
 #include "sampler/metrics/discrepancy.h"
 #include "sampler/optimize/optimizer.h"
+#include "sampler/resources.h"
 #include "sampler/targets/target_spec.h"
 #include "tools/nuld/cli_util.h"
 #include "tools/nuld/commands.h"
@@ -93,7 +97,42 @@ double objectiveL2(const PointSet &set, const Target &target, Objective objectiv
   return sum / double(set.instances());
 }
 
+// Sizes beyond which the final L2 and D* (O(N^2) each) are left to
+// `nuld eval`: about a minute of the metrics on two cores.
+constexpr double kMaxMetricPairs = 2e10;
+
+// Up front, before anything is allocated: a size the machine cannot hold is
+// refused, and so is a run whose first epoch (the widest sigmoid, the
+// slowest) would take over an hour before the progress bar first moves; a
+// first epoch over half a minute is announced. The costs were measured here
+// (tools/experiments/README.md, "Optimizer run estimates"): about 110 bytes
+// of state per point, and about 1.8 ns per box-point pair of an epoch at
+// alpha 20 (the exact objectives: per pair of points), falling roughly as
+// alpha^-1/2 and faster above.
+void checkResources(const OptimizerSettings &s, bool quiet) {
+  constexpr double kBytesPerPoint = 160, kSecondsPerPair = 2e-9, kMaxFirstEpochSeconds = 3600;
+  const double points = double(s.n) * double(s.instances);
+  requireMemory(points * kBytesPerPoint, "optimize: " + std::to_string(s.instances) + " x " +
+                                             std::to_string(s.n) + " points");
+  const bool soft = s.objective == Objective::SoftBoxes;
+  const double pairs = soft ? points * double(s.boxes) : points * double(s.n);
+  const double seconds =
+      pairs * kSecondsPerPair * (soft ? std::min(1.0, std::sqrt(20 / s.alphaStart)) : 1.0);
+  const std::string what = formatShort(pairs) + (soft ? " box-point pairs" : " point pairs");
+  if (seconds > kMaxFirstEpochSeconds)
+    throw std::invalid_argument("optimize: the first epoch alone compares about " + what +
+                                ", about " + formatShort(seconds / 3600) +
+                                " hours here before the progress bar first moves (" +
+                                std::to_string(s.epochs) +
+                                " epochs in all); use fewer points or instances, or fewer --boxes");
+  if (!quiet && seconds > 30)
+    std::cerr << "optimize: the first epoch compares about " << what << ", about "
+              << formatDuration(seconds) << " here; later epochs are faster\n";
+}
+
 int runOptimize(const OptimizeOptions &o, const Target &target, const OptimizerSettings &s) {
+  checkDestination(o.output);
+  checkResources(s, o.run.quiet);
   const DirectOptimizer opt(target, s);
 
   const std::string ckpt = o.output + ".ckpt";
@@ -103,18 +142,30 @@ int runOptimize(const OptimizeOptions &o, const Target &target, const OptimizerS
   EpochReport last;
   const ResumableRun run = resumableRun(opt, target.spec(), state, [&](const EpochReport &r) {
     last = r;
-    std::string status = "loss " + shortNumber(r.loss);
-    if (s.unionWeight > 0) status += "  union " + shortNumber(r.unionLoss);
-    if (s.objective == Objective::SoftBoxes) status += "  alpha " + shortNumber(r.alpha);
-    bar->update(r.epoch, status + "  lr " + shortNumber(r.lr));
+    std::string status = "loss " + formatShort(r.loss);
+    if (s.unionWeight > 0) status += "  union " + formatShort(r.unionLoss);
+    if (s.objective == Objective::SoftBoxes) status += "  alpha " + formatShort(r.alpha);
+    bar->update(r.epoch, status + "  lr " + formatShort(r.lr));
   });
   resumeRun(run, ckpt, o.run, &std::cerr);
   if (!quiet) std::cerr << "optimize " << target.spec() << ": " << s.describe() << "\n";
   bar.emplace("epoch", s.epochs, state.epoch, quiet);
   if (!driveRun(run, ckpt, o.run, &std::cerr)) return 0;
-  bar->finish("loss " + shortNumber(last.loss));
+  bar->finish("loss " + formatShort(last.loss));
 
   PointSet set = opt.points(state);
+  const double metricPairs = double(s.n) * double(s.n) * double(s.instances);
+  if (metricPairs > kMaxMetricPairs) {
+    // Divergence then shows only as a non-finite loss, which stops the run.
+    writePointSet(o.output, set);
+    std::filesystem::remove(ckpt);
+    std::cerr << "note: the final l2asd and dstar (O(N^2): " << formatShort(metricPairs)
+              << " point pairs) are left to `nuld eval " << o.output << "`\n";
+    if (!quiet)
+      std::cerr << "wrote " << set.instances() << " x " << set.n << " points to " << o.output
+                << "\n";
+    return 0;
+  }
   // A learning rate far too large leaves the points scattered to the
   // domain's edges with a finite loss: the sets then end far worse than the
   // Owen-Sobol sets they started from. Refuse to write them.
@@ -179,9 +230,17 @@ Runner addOptimize(CLI::App &app) {
       ->check(wholeNumber());
   addRunFlags(app, o->run, "epoch");
   app.add_option("-o,--output", o->output, "point-set file to write")->required();
-  return [o] {
+  return [o, &app] {
     const auto target = makeTarget(o->target);
-    return runOptimize(*o, *target, settingsFrom(*o, *target));
+    const OptimizerSettings s = settingsFrom(*o, *target);
+    // The exact objectives have no boxes, no masses and no sigmoid.
+    onlyWhen(app, s.objective == Objective::SoftBoxes,
+             {"--boxes", "--box-kind", "--mass", "--alpha", "--alpha-end", "--ramp"},
+             app.count("--objective") ? std::string("--objective soft")
+                                      : "--objective soft (the preset for this target uses " +
+                                            toString(s.objective) + ")");
+    onlyWhen(app, s.unionWeight > 0, {"--union-group"}, "--union-weight > 0");
+    return runOptimize(*o, *target, s);
   };
 }
 

@@ -28,7 +28,8 @@ Runner addPlot(CLI::App &app) {
       ->check(CLI::Range(16, 8192))
       ->capture_default_str();
   app.add_option("--instance", o->instance, "which set of the file")->capture_default_str();
-  app.add_option("--radius", o->radius, "dot radius in pixels (default from N)");
+  app.add_option("--radius", o->radius, "dot radius in pixels (default from N)")
+      ->check(positiveNumber());
   return [o] {
     const PointSet set = readPointSet(o->file);
     if (o->instance >= set.instances())
@@ -88,6 +89,9 @@ Runner addSpectrum(CLI::App &app) {
       ->check(CLI::Range(1, 1024))
       ->capture_default_str();
   return [o] {
+    // Both outputs checked before either is written.
+    checkDestination(o->output);
+    if (!o->csv.empty()) checkDestination(o->csv);
     const PointSet set = readPointSet(o->file);
     const PowerSpectrum ps = averagePowerSpectrum(set, o->half);
     const int S = 2 * o->half + 1;

@@ -47,7 +47,8 @@ Runner addRender(CLI::App &app) {
   app.add_option("-o,--output", o->output, "output EXR (a tone-mapped PNG is written beside it)")
       ->required();
   app.add_flag("-q,--quiet", o->quiet, "no progress bar");
-  return [o] {
+  return [o, &app] {
+    checkRenderOutputs(o->output);
     LoadedScene loaded = loadScene(o->scene, resolveAssetRoot(o->assets));
     RenderSettings s = loaded.settings;
     if (o->spp) s.spp = o->spp;
@@ -57,6 +58,7 @@ Runner addRender(CLI::App &app) {
     }
     if (!o->integrator.empty()) s.integrator = parseIntegrator(o->integrator);
     if (o->maxDepth) s.maxDepth = o->maxDepth;
+    onlyWhen(app, s.integrator == IntegratorKind::Path, {"--max-depth"}, "--integrator path");
     const std::uint64_t seed = o->seed >= 0 ? std::uint64_t(o->seed) : loaded.seed;
     const auto backend = makeBackend(o->backend.empty() ? loaded.backend : o->backend, seed);
 

@@ -121,7 +121,7 @@ Runner addStudyRender(CLI::App &app) {
                  "backend of the reference (default halton, as the paper)");
   app.add_option("--res", o->res, "resolution W or WxH (default: the scene's)");
   app.add_option("--res-scale", o->s.resolutionScale,
-                 "scale each scene's own resolution (e.g. 0.25; ignored with --res)");
+                 "scale each scene's own resolution (e.g. 0.25; not with --res)");
   app.add_option("--integrator", o->integrator,
                  "path, direct (MIS), light or bsdf (default: the scene's)")
       ->check(oneOf(kIntegratorNames));
@@ -152,10 +152,25 @@ Runner addStudyRender(CLI::App &app) {
       "over the repeats, seconds per render including the backend's sample generation,\n"
       "setup_seconds of one-off optimization), OUT/references.csv, OUT/SCENE/*.exr|png and,\n"
       "unless --no-report, OUT/plots/*.png and OUT/index.html (open it in a browser).");
-  return [o] {
+  return [o, &app] {
     study::RenderStudySettings s = o->s;
     s.out = o->out;
     if (s.scenes.empty()) s.scenes = {"default"};
+    const auto anyBackend = [&](std::initializer_list<const char *> prefixes) {
+      for (const std::string &b : s.backends)
+        for (const char *p : prefixes)
+          if (b.rfind(p, 0) == 0 && b.find(':') == std::string::npos) return true;
+      return false;
+    };
+    onlyWhen(app, o->res.empty(), {"--res-scale"},
+             "renders at the scenes' own resolution (no --res)");
+    onlyWhen(app, anyBackend({"optimized"}), {"--opt-instances", "--opt-epochs"},
+             "the sets the study optimizes (backends optimized, optimized-uniform, "
+             "optimized-bsdf, optimized-both)");
+    onlyWhen(app, anyBackend({"optimized-bsdf", "optimized-both"}), {"--opt-union-weight"},
+             "the lobe banks (backends optimized-bsdf, optimized-both)");
+    onlyWhen(app, !app.count("--integrator") || o->integrator == "path", {"--max-depth"},
+             "--integrator path");
     if (!o->res.empty()) {
       const Resolution r = parseResolution(o->res);
       s.width = r.width, s.height = r.height;

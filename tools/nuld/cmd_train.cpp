@@ -3,6 +3,7 @@
 #include <iostream>
 #include <optional>
 
+#include "sampler/io/round_trip.h"
 #include "sampler/neural/neural_trainer.h"
 #include "sampler/targets/target_spec.h"
 #include "tools/nuld/cli_util.h"
@@ -106,11 +107,10 @@ std::pair<NeuralSettings, TrainerSettings> settingsFrom(const TrainOptions &o,
   ns.arch = parseNetworkArch(o.arch);
   ns.base = parseBaseRandomization(o.base);
   if (ns.arch == NetworkArch::Graph && app.count("--hidden") == 0) ns.hidden = 64;
-  if (ns.arch == NetworkArch::Supplement)
-    for (const char *graphOnly : {"--neighbours", "--rounds", "--position-harmonics", "--stages",
-                                  "--discrepancy-gradient", "--base"})
-      if (app.count(graphOnly))
-        throw std::invalid_argument(std::string(graphOnly) + " applies to --arch graph only");
+  onlyWhen(app, ns.arch == NetworkArch::Graph,
+           {"--neighbours", "--rounds", "--position-harmonics", "--stages",
+            "--discrepancy-gradient", "--base"},
+           "--arch graph");
   ns.trainingNs = parseSizeList("--n", o.sizes);
   ns.n = ns.trainingNs.front();
   if (ns.trainingNs.size() == 1)
@@ -137,15 +137,15 @@ int runTrain(const TrainOptions &o, const NeuralSettings &ns, const TrainerSetti
   const auto heldOut = [&trainer] {
     if (trainer.history().empty()) return std::string();
     const Validation best = *trainer.best();
-    return "  held-out L2 " + shortNumber(trainer.history().back().l2) + " (best " +
-           shortNumber(best.l2) + " @" + std::to_string(best.step) + ")";
+    return "  held-out L2 " + formatShort(trainer.history().back().l2) + " (best " +
+           formatShort(best.l2) + " @" + std::to_string(best.step) + ")";
   };
   std::optional<ProgressBar> bar;
   TrainReport last;
   const ResumableRun run = trainer.resumableRun(o.output, [&](const TrainReport &r) {
     last = r;
-    bar->update(r.step, "loss " + shortNumber(r.loss) + "  lr " + shortNumber(r.lr) + "  alpha " +
-                            shortNumber(r.alpha) + heldOut());
+    bar->update(r.step, "loss " + formatShort(r.loss) + "  lr " + formatShort(r.lr) + "  alpha " +
+                            formatShort(r.alpha) + heldOut());
   });
   resumeRun(run, ckpt, o.run, &std::cerr);
   if (!quiet)
@@ -156,7 +156,7 @@ int runTrain(const TrainOptions &o, const NeuralSettings &ns, const TrainerSetti
               << ts.describe() << "\n";
   bar.emplace("step", ts.steps, trainer.step(), quiet);
   if (!driveRun(run, ckpt, o.run, &std::cerr)) return 0;
-  bar->finish("loss " + shortNumber(last.loss) + heldOut());
+  bar->finish("loss " + formatShort(last.loss) + heldOut());
   const bool keptBest = trainer.writeModel(o.output, o.keep == "best");
   std::filesystem::remove(ckpt);
   // The split the neural issue asks for (this session's steps only).

@@ -1,0 +1,16 @@
+#pragma once
+// Where a reader meets a path the user named: refuses what cannot be read as
+// a file before opening it, naming the path and what it is. Opening a named
+// pipe would block until something writes to it, and a device can read
+// forever; a directory reads as nothing.
+
+#include <string>
+
+namespace nuld {
+
+// Throws std::runtime_error "PATH: cannot open WHAT: REASON" (REASON: no such
+// file, a directory, not a regular file (a device, pipe or socket)). `what`
+// names the kind of file expected, e.g. "point-set file". Links are followed.
+void requireInputFile(const std::string &path, const std::string &what);
+
+}  // namespace nuld
