@@ -2,6 +2,7 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <bit>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -9,6 +10,7 @@
 #include <stdexcept>
 
 #include "sampler/io/pointset_metadata.h"
+#include "sampler/io/round_trip.h"
 #include "sampler/targets/basic_targets.h"
 #include "sampler/targets/target_spec.h"
 
@@ -68,6 +70,13 @@ CLI::Validator wholeNumber() {
 
 namespace {
 
+// 2^k for the large powers of two the options use as bounds, else digits.
+std::string boundText(std::int64_t v) {
+  if (v >= (std::int64_t(1) << 20) && (v & (v - 1)) == 0)
+    return "2^" + std::to_string(std::countr_zero(std::uint64_t(v)));
+  return std::to_string(v);
+}
+
 CLI::Validator numberAbove(bool allowZero) {
   return CLI::Validator(
       [allowZero](std::string &text) {
@@ -83,6 +92,33 @@ CLI::Validator numberAbove(bool allowZero) {
 }
 
 }  // namespace
+
+CLI::Validator wholeNumberIn(std::int64_t lo, std::int64_t hi) {
+  const std::string range = boundText(lo) + " to " + boundText(hi);
+  return CLI::Validator(
+      [lo, hi, range](std::string &text) {
+        std::int64_t value = 0;
+        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+        if (!text.empty() && ec == std::errc() && end == text.data() + text.size() && value >= lo &&
+            value <= hi)
+          return std::string();
+        return "expected a whole number from " + range + ", got '" + text + "'";
+      },
+      "INT in " + range);
+}
+
+CLI::Validator numberIn(double lo, double hi) {
+  const std::string range = "[" + formatShort(lo) + ", " + formatShort(hi) + "]";
+  return CLI::Validator(
+      [lo, hi, range](std::string &text) {
+        double value = 0;
+        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+        if (ec == std::errc() && end == text.data() + text.size() && value >= lo && value <= hi)
+          return std::string();
+        return "expected a number in " + range + ", got '" + text + "'";
+      },
+      "NUMBER in " + range);
+}
 
 CLI::Validator positiveNumber() { return numberAbove(false); }
 CLI::Validator nonNegativeNumber() { return numberAbove(true); }

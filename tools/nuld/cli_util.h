@@ -63,6 +63,11 @@ CLI::Validator wholeNumber();
 
 // A finite number > 0, or >= 0: the refusal quotes the text (CLI11's own
 // PositiveNumber and NonNegativeNumber print their bound in 300 digits).
+// A whole number in [lo, hi], or a number in [lo, hi]: the refusal quotes
+// the text and states the range ("from 1 to 2^20"), where CLI11's own range
+// check says "Value 0 not in range".
+CLI::Validator wholeNumberIn(std::int64_t lo, std::int64_t hi);
+CLI::Validator numberIn(double lo, double hi);
 CLI::Validator positiveNumber();
 CLI::Validator nonNegativeNumber();
 

@@ -26,7 +26,7 @@ Runner addEval(CLI::App &app) {
       ->check(CLI::IsMember({"l2star", "l2asd", "dstar", "l2", "l2per", "all"}))
       ->capture_default_str();
   app.add_option("--grid", o->grid, "grid resolution of the non-uniform L2 measures")
-      ->check(CLI::Range(1, 4096))
+      ->check(wholeNumberIn(1, 4096))
       ->capture_default_str();
   app.add_flag("--per-instance", o->perInstance, "also print each instance's values");
   app.add_flag(

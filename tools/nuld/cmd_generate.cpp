@@ -199,7 +199,7 @@ Runner addMap(CLI::App &app) {
                  "randomize first: K Cranley-Patterson shifts (from --seed) of every input set, "
                  "so the output has K times its instances (for sets optimized with --objective "
                  "l2per, whose quality no shift changes)")
-      ->check(CLI::Range(1, 1 << 20));
+      ->check(wholeNumberIn(1, 1 << 20));
   app.add_option("--seed", o->seed, "seed of the shifts")
       ->capture_default_str()
       ->check(wholeNumber());

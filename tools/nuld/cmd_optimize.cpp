@@ -225,7 +225,7 @@ Runner addOptimize(CLI::App &app) {
   app.add_option("--union-group", o->unionGroup,
                  "instances per group of the bank term, regrouped every epoch (default: "
                  "about 256 points, at least 2 instances)")
-      ->check(CLI::Range(2L, 1L << 20));
+      ->check(wholeNumberIn(2, 1 << 20));
   app.add_option("--seed", o->seed, "seed of the Sobol start and of the boxes")
       ->check(wholeNumber());
   addRunFlags(app, o->run, "epoch");

@@ -25,7 +25,7 @@ Runner addPlot(CLI::App &app) {
   app.add_option("--target", o->target,
                  "draw this target's density underneath (default: the file's)");
   app.add_option("--size", o->size, "image size in pixels")
-      ->check(CLI::Range(16, 8192))
+      ->check(wholeNumberIn(16, 8192))
       ->capture_default_str();
   app.add_option("--instance", o->instance, "which set of the file")->capture_default_str();
   app.add_option("--radius", o->radius, "dot radius in pixels (default from N)")
@@ -86,7 +86,7 @@ Runner addSpectrum(CLI::App &app) {
   app.add_option("-o,--output", o->output, "spectrum image (PNG or EXR)")->required();
   app.add_option("--csv", o->csv, "radial average as CSV (columns: frequency,power)");
   app.add_option("--half-size", o->half, "frequencies -K..K per axis")
-      ->check(CLI::Range(1, 1024))
+      ->check(wholeNumberIn(1, 1024))
       ->capture_default_str();
   return [o] {
     // Both outputs checked before either is written.

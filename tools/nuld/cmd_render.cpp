@@ -31,7 +31,7 @@ Runner addRender(CLI::App &app) {
                  "shifted in primary space: unbiased), neural:MODEL (default: the scene's, "
                  "else sobol)");
   app.add_option("--spp", o->spp, "samples per pixel (default: the scene's)")
-      ->check(CLI::Range(std::size_t(1), std::size_t(1) << 24));
+      ->check(wholeNumberIn(1, 1 << 24));
   app.add_option("--res", o->res, "resolution W or WxH (default: the scene's)");
   app.add_option("--assets", o->assets,
                  "asset root for the scene's meshes and maps (default: $NULD_ASSETS, else "
@@ -41,9 +41,9 @@ Runner addRender(CLI::App &app) {
                  "bounce, light sampling only) or bsdf (first bounce, BSDF sampling only)")
       ->check(oneOf(kIntegratorNames));
   app.add_option("--max-depth", o->maxDepth, "maximum path length in bounces")
-      ->check(CLI::Range(1, 1000));
+      ->check(wholeNumberIn(1, 1000));
   app.add_option("--seed", o->seed, "seed of the backend's randomization")
-      ->check(CLI::Range(std::int64_t(0), std::int64_t(1) << 62));
+      ->check(wholeNumberIn(0, std::int64_t(1) << 62));
   app.add_option("-o,--output", o->output, "output EXR (a tone-mapped PNG is written beside it)")
       ->required();
   app.add_flag("-q,--quiet", o->quiet, "no progress bar");

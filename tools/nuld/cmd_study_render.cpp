@@ -125,7 +125,8 @@ Runner addStudyRender(CLI::App &app) {
   app.add_option("--integrator", o->integrator,
                  "path, direct (MIS), light or bsdf (default: the scene's)")
       ->check(oneOf(kIntegratorNames));
-  app.add_option("--max-depth", o->s.maxDepth, "maximum path length")->check(CLI::Range(1, 1000));
+  app.add_option("--max-depth", o->s.maxDepth, "maximum path length")
+      ->check(wholeNumberIn(1, 1000));
   app.add_option("--repeats", o->s.repeats,
                  "renders per (backend, spp) with seeds seed, seed+1, ...; MSE is their mean")
       ->check(positiveNumber());

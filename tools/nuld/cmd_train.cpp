@@ -60,7 +60,7 @@ void addNetworkOptions(CLI::App &app, TrainOptions &o) {
                  "diagnostic: rotate the base set by R z, so offsets span [0, R)^2 (the "
                  "supplement's is 1); below 1 the sets are not randomized and are not for "
                  "rendering (see README)")
-      ->check(CLI::Range(1e-9, 1.0))
+      ->check(numberIn(1e-9, 1.0))
       ->capture_default_str();
   app.add_option("--mapping", o.mapping,
                  "mapped (the net places u, the set is the target's inverse CDF of u) or "

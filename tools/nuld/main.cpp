@@ -58,6 +58,18 @@ int main(int argc, char **argv) {
       return 2;
     }
   }
+  // An option given an empty value ("--target ''") would otherwise mean
+  // "not given" and silently fall back to the default.
+  for (int i = 1; i < argc; ++i) {
+    const std::string word = argv[i];
+    const bool emptyNext = i + 1 < argc && argv[i + 1][0] == '\0';
+    if (word.size() > 1 && word[0] == '-' &&
+        (word.back() == '=' || (emptyNext && word.find('=') == std::string::npos))) {
+      std::cerr << "nuld: error: " << word.substr(0, word.find('='))
+                << ": expected a value, got ''\n";
+      return 2;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError &e) {
