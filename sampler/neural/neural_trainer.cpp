@@ -100,8 +100,9 @@ void TrainerSettings::validate() const {
   if (steps < 1) bad("steps must be positive");
   if (batch < 1) bad("batch must be positive");
   if (boxes < 1) bad("boxes must be positive");
-  if (!(lrStart > 0 && lrEnd > 0)) bad("learning rates must be positive");
-  if (!(alphaStart > 0 && alphaEnd > 0)) bad("alpha must be positive");
+  const auto positive = [](double v) { return v > 0 && std::isfinite(v); };
+  if (!(positive(lrStart) && positive(lrEnd))) bad("learning rates must be finite and positive");
+  if (!(positive(alphaStart) && positive(alphaEnd))) bad("alpha must be finite and positive");
   if (!(rampFraction >= 0 && rampFraction <= 1)) bad("ramp must be in [0, 1]");
   if (validationGrid < 8) bad("validation grid must be at least 8");
 }

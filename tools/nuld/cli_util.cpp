@@ -6,6 +6,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <regex>
 #include <stdexcept>
 
@@ -144,6 +145,12 @@ std::string closestName(const std::string &word, const std::vector<std::string> 
   for (const std::string &n : names)
     if (const std::size_t d = distance(word, n); d < bestDistance) best = n, bestDistance = d;
   return best;
+}
+
+void checkAssets(const CLI::App &app, const std::string &assets, bool used) {
+  onlyWhen(app, used, {"--assets"}, "scene files (the built-in scenes need no assets)");
+  if (app.count("--assets") && !std::filesystem::is_directory(assets))
+    throw std::invalid_argument("--assets '" + assets + "': no such directory");
 }
 
 void onlyWhen(const CLI::App &app, bool applies, std::initializer_list<const char *> options,

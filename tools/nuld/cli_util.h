@@ -56,6 +56,10 @@ CLI::Validator oneOf(const EnumTable<E, N> &names) {
 void onlyWhen(const CLI::App &app, bool applies, std::initializer_list<const char *> options,
               const std::string &when);
 
+// --assets, when given: it must name a directory, and apply (`used`: some
+// scene is a file, or the command reads maps; the built-in scenes need none).
+void checkAssets(const CLI::App &app, const std::string &assets, bool used);
+
 // A whole number >= 0 that fits 64 bits (seeds): refuses "-1", "1.5" and
 // "1e30" by quoting the text, where CLI11's range check would print its
 // bound in 300 digits (and an unsigned option would wrap -1 to 2^64 - 1).

@@ -27,9 +27,11 @@ Runner addPlot(CLI::App &app) {
   app.add_option("--size", o->size, "image size in pixels")
       ->check(wholeNumberIn(16, 8192))
       ->capture_default_str();
-  app.add_option("--instance", o->instance, "which set of the file")->capture_default_str();
+  app.add_option("--instance", o->instance, "which set of the file")
+      ->capture_default_str()
+      ->check(wholeNumber());
   app.add_option("--radius", o->radius, "dot radius in pixels (default from N)")
-      ->check(positiveNumber());
+      ->check(numberIn(0.01, 1000));
   return [o] {
     const PointSet set = readPointSet(o->file);
     if (o->instance >= set.instances())

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <optional>
 
@@ -44,6 +45,8 @@ study::IntegrateOptions integrateOptions(const IntegrateCliOptions &o) {
   opts.optUnionWeight = o.optUnionWeight;
   if (!o.optObjective.empty()) opts.optObjective = parseObjective(o.optObjective);
   opts.neuralModels = o.neural;
+  if (!o.assets.empty() && !std::filesystem::is_directory(o.assets))
+    throw std::invalid_argument("--assets '" + o.assets + "': no such directory");
   opts.assetRoot = resolveAssetRoot(o.assets);
   opts.envmaps = study::splitList(o.envmaps);
   opts.seed = o.seed;

@@ -1,6 +1,7 @@
 // nuld study render: scenes against references, every backend at every spp;
 // nuld study report: the plots and the HTML page of a study directory.
 
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <map>
@@ -163,6 +164,9 @@ Runner addStudyRender(CLI::App &app) {
           if (b.rfind(p, 0) == 0 && b.find(':') == std::string::npos) return true;
       return false;
     };
+    checkAssets(app, s.assets, std::any_of(s.scenes.begin(), s.scenes.end(), [](const auto &n) {
+                  return n != "default" && n != "stress";
+                }));
     onlyWhen(app, o->res.empty(), {"--res-scale"},
              "renders at the scenes' own resolution (no --res)");
     onlyWhen(app, anyBackend({"optimized"}), {"--opt-instances", "--opt-epochs"},

@@ -77,8 +77,12 @@ void addNetworkOptions(CLI::App &app, TrainOptions &o) {
 // The training run's options: steps, batch, schedules, validation, keep.
 void addTrainingOptions(CLI::App &app, TrainOptions &o) {
   app.add_option("--steps", o.train.steps, "training steps")->capture_default_str();
-  app.add_option("--batch", o.train.batch, "(z, gamma) pairs per step")->capture_default_str();
-  app.add_option("--boxes", o.train.boxes, "boxes per set and step")->capture_default_str();
+  app.add_option("--batch", o.train.batch, "(z, gamma) pairs per step")
+      ->capture_default_str()
+      ->check(wholeNumberIn(1, 1 << 16));
+  app.add_option("--boxes", o.train.boxes, "boxes per set and step")
+      ->capture_default_str()
+      ->check(wholeNumberIn(1, 1 << 24));
   app.add_option("--lr", o.train.lrStart, "initial learning rate")->capture_default_str();
   app.add_option("--lr-end", o.train.lrEnd, "final learning rate")->capture_default_str();
   app.add_option("--alpha", o.train.alphaStart, "initial sigmoid scale")->capture_default_str();
@@ -87,9 +91,11 @@ void addTrainingOptions(CLI::App &app, TrainOptions &o) {
       ->check(wholeNumber());
   app.add_option("--validation", o.train.validationSets,
                  "held-out (z, gamma) pairs scored by the grid L2 at every checkpoint (0: none)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(wholeNumberIn(0, 1 << 16));
   app.add_option("--validation-grid", o.train.validationGrid, "grid resolution of the held-out L2")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(wholeNumberIn(8, 4096));
   app.add_option("--keep", o.keep,
                  "which weights OUTPUT gets: best (the lowest held-out L2 seen, the untrained "
                  "net included) or last")
