@@ -4,6 +4,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
@@ -114,12 +115,15 @@ Runner addStudyIntegrate(CLI::App &app) {
                  "independent,sobol,halton,optimized)");
   app.add_option("--n", o->ns, "comma-separated N (default 16,32,...,4096; any N >= 1)");
   app.add_option("--instances", o->instances,
-                 "randomized instances per conventional sampler (default 128)");
+                 "randomized instances per conventional sampler (default 128)")
+      ->check(wholeNumberIn(1, 1 << 20));
   app.add_option("--optimized-instances", o->optimizedInstances,
-                 "instances of optimized and neural sets (default 16)");
+                 "instances of optimized and neural sets (default 16)")
+      ->check(wholeNumberIn(1, 1 << 20));
   app.add_option("--optimized-max-n", o->optimizedMaxN,
                  "largest N for optimized sets (default 1024): Algorithm 1's time grows with N "
-                 "times the boxes, and its preset quadruples the boxes from N = 2048");
+                 "times the boxes, and its preset quadruples the boxes from N = 2048")
+      ->check(wholeNumberIn(1, 1 << 20));
   app.add_option("--opt-objective", o->optObjective,
                  "objective of the direct optimization: soft (Algorithm 1, the preset's) or "
                  "l2asd (exact grid L2asd; 30-100x faster on the Disney lobe tables)")
@@ -147,7 +151,15 @@ Runner addStudyIntegrate(CLI::App &app) {
       ->check(wholeNumber());
   app.add_flag("--no-plots", o->noPlots, "write only the CSV");
   app.add_flag("-q,--quiet", o->quiet, "no progress or notes on stderr (the table still prints)");
-  return [o] { return runStudyIntegrate(*o); };
+  return [o, &app] {
+    // The maps serve the sphere integrands only (all of them by default).
+    const std::vector<std::string> wanted = study::splitList(o->integrands);
+    const bool maps = wanted.empty() || std::any_of(wanted.begin(), wanted.end(), [](auto &t) {
+                        return t == "all" || t.find("envmap") != std::string::npos;
+                      });
+    onlyWhen(app, maps, {"--envmaps", "--assets"}, "the environment-map integrands");
+    return runStudyIntegrate(*o);
+  };
 }
 
 }  // namespace nuld::cli
