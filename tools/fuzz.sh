@@ -44,7 +44,9 @@ fuzz_one() {
   seeds=$(find "$root/tests/fuzz/corpus/$name" -type f | wc -l)
   # -timeout: an input that takes 10 s is a hang; -rss_limit_mb: one that
   # needs 2 GB is a size the reader should have refused.
-  "$build/tests/fuzz/fuzz_$name" "$corpus" "$root/tests/fuzz/corpus/$name" \
+  local dict=()
+  [[ -f "$root/tests/fuzz/$name.dict" ]] && dict=(-dict="$root/tests/fuzz/$name.dict")
+  "$build/tests/fuzz/fuzz_$name" "$corpus" "$root/tests/fuzz/corpus/$name" "${dict[@]}" \
     -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
     -artifact_prefix="$findings" >"$build/fuzz_$name.log" 2>&1 || true
   local execs cov found

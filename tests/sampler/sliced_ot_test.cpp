@@ -98,8 +98,9 @@ TEST(SlicedOt, ConcentricMapIsAnAreaPreservingBijection) {
     const Point2 dx = squareToDisc({u.x + h, u.y}) - squareToDisc({u.x - h, u.y});
     const Point2 dy = squareToDisc({u.x, u.y + h}) - squareToDisc({u.x, u.y - h});
     const double det = (dx.x * dy.y - dx.y * dy.x) / (4 * h * h);
-    if (std::abs(std::abs(u.x - 0.5) - std::abs(u.y - 0.5)) > 1e-4)
+    if (std::abs(std::abs(u.x - 0.5) - std::abs(u.y - 0.5)) > 1e-4) {
       EXPECT_NEAR(det, std::numbers::pi / 4, 1e-6) << u.x << " " << u.y;
+    }
   }
 }
 
@@ -135,8 +136,12 @@ TEST(SlicedOt, UniformSetsHaveFarLowerDiscrepancyThanTheirRandomStart) {
     const double before = l2StarDiscrepancy(p);
     slicedOtTransport(SliceDestinations(*uniform, s, n), s, 0, p);
     for (const Point2 &q : p) ASSERT_TRUE(q.x >= 0 && q.x < 1 && q.y >= 0 && q.y < 1) << n;
-    if (n >= 100) EXPECT_LT(l2StarDiscrepancy(p), 0.4 * before) << n;
-    if (n == 1) EXPECT_NEAR(p[0].x, 0.5, 1e-9);  // the median of every projection
+    if (n >= 100) {
+      EXPECT_LT(l2StarDiscrepancy(p), 0.4 * before) << n;
+    }
+    if (n == 1) {
+      EXPECT_NEAR(p[0].x, 0.5, 1e-9);  // the median of every projection
+    }
   }
 }
 
