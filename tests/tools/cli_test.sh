@@ -24,6 +24,11 @@ fails_with() { # fails_with DESCRIPTION PATTERN COMMAND...
 }
 
 ok "help" "$nuld" help
+grep -q "optimize" "$dir/out" || { echo "FAIL: help lists the subcommands"; failures=$((failures + 1)); }
+ok "help optimize" "$nuld" help optimize
+grep -q -- "--target" "$dir/out" || { echo "FAIL: help optimize prints optimize's options"; failures=$((failures + 1)); }
+ok "help study render" "$nuld" help study render
+grep -q -- "--backends" "$dir/out" || { echo "FAIL: help study render prints its options"; failures=$((failures + 1)); }
 ok "generate sobol" "$nuld" generate --sequence sobol --n 100 --instances 3 -o "$dir/s.txt"
 ok "generate mapped halton" "$nuld" generate --sequence halton --n 64 --target quarterdisc -o "$dir/q.ptsb"
 # The blue-noise baselines, each way, and their options refused elsewhere.

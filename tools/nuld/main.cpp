@@ -42,7 +42,9 @@ int main(int argc, char **argv) {
       nuld::cli::addCompare);
   add("study", "Comparison studies: integration error, renders against references, reports",
       nuld::cli::addStudy);
-  CLI::App *help = app.add_subcommand("help", "Show this help");
+  CLI::App *help = app.add_subcommand("help", "Show this help, or a subcommand's: help SUB [SUB]");
+  std::vector<std::string> helpTopic;
+  help->add_option("subcommand", helpTopic, "e.g. optimize, or study render");
 
   // A first word that names no subcommand (a typo) gets its own message
   // rather than CLI11's "a subcommand is required".
@@ -76,7 +78,27 @@ int main(int argc, char **argv) {
     return app.exit(e);
   }
   if (help->parsed()) {
-    std::cout << app.help();
+    // "help study render" walks down the subcommands named. The formatter
+    // is called directly: App::help() would show the parsed subcommand's
+    // help, that is help's own.
+    CLI::App *topic = &app;
+    std::string path = "nuld";
+    for (const std::string &word : helpTopic) {
+      std::vector<std::string> names;
+      CLI::App *next = nullptr;
+      for (CLI::App *sub : topic->get_subcommands({})) {
+        names.push_back(sub->get_name());
+        if (sub->get_name() == word) next = sub;
+      }
+      if (!next) {
+        std::cerr << "nuld: help: unknown subcommand '" << word << "'; expected "
+                  << nuld::joinAlternatives(names) << "\n";
+        return 2;
+      }
+      topic = next;
+      path += " " + word;
+    }
+    std::cout << topic->get_formatter()->make_help(topic, path, CLI::AppFormatMode::Normal);
     return 0;
   }
   try {
