@@ -200,5 +200,14 @@ fails_with "study integrate unknown sampler" "--samplers" "$nuld" study integrat
 fails_with "study integrate bad N" "--n" "$nuld" study integrate --n 4,0 -o "$dir/integ2"
 fails_with "study integrate unknown integrand" "gauss" "$nuld" study integrate --integrands gauss --n 4 -o "$dir/integ2"
 
+# Ctrl-C in a long run says where the checkpoint is (exit 128 + SIGINT).
+timeout --preserve-status -s INT 3 "$nuld" optimize --target quarterdisc --n 4096 --epochs 2000 --checkpoint-every 1 \
+  -o "$dir/interrupted.txt" >"$dir/out" 2>"$dir/err"
+rc=$?
+if [[ $rc -ne 130 ]] || ! grep -q "nuld: interrupted" "$dir/err"; then
+  echo "FAIL: an interrupted optimize notes its checkpoint: exit $rc"; tail -c 300 "$dir/err"
+  failures=$((failures + 1))
+fi
+
 echo "$((failures == 0 ? 1 : 0)) passed, $failures failed"
 exit $((failures > 0))

@@ -16,6 +16,7 @@
 #include "sampler/targets/target_spec.h"
 #include "tools/nuld/cli_util.h"
 #include "tools/nuld/commands.h"
+#include "tools/nuld/interrupt_note.h"
 #include "tools/nuld/progress.h"
 
 namespace nuld::cli {
@@ -147,6 +148,7 @@ int runOptimize(const OptimizeOptions &o, const Target &target, const OptimizerS
     if (s.objective == Objective::SoftBoxes) status += "  alpha " + formatShort(r.alpha);
     bar->update(r.epoch, status + "  lr " + formatShort(r.lr));
   });
+  const InterruptNote interruptNote(ckpt);
   resumeRun(run, ckpt, o.run, &std::cerr);
   if (!quiet) std::cerr << "optimize " << target.spec() << ": " << s.describe() << "\n";
   bar.emplace("epoch", s.epochs, state.epoch, quiet);

@@ -8,6 +8,7 @@
 #include "sampler/targets/target_spec.h"
 #include "tools/nuld/cli_util.h"
 #include "tools/nuld/commands.h"
+#include "tools/nuld/interrupt_note.h"
 #include "tools/nuld/progress.h"
 
 namespace nuld::cli {
@@ -153,6 +154,7 @@ int runTrain(const TrainOptions &o, const NeuralSettings &ns, const TrainerSetti
     bar->update(r.step, "loss " + formatShort(r.loss) + "  lr " + formatShort(r.lr) + "  alpha " +
                             formatShort(r.alpha) + heldOut());
   });
+  const InterruptNote interruptNote(ckpt);
   resumeRun(run, ckpt, o.run, &std::cerr);
   if (!quiet)
     std::cerr << "train " << gen.family().spec() << ": arch=" << toString(ns.arch)
