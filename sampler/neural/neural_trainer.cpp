@@ -103,6 +103,8 @@ void TrainerSettings::validate() const {
   const auto positive = [](double v) { return v > 0 && std::isfinite(v); };
   if (!(positive(lrStart) && positive(lrEnd))) bad("learning rates must be finite and positive");
   if (!(positive(alphaStart) && positive(alphaEnd))) bad("alpha must be finite and positive");
+  // Beyond this the sigmoid is a hard box edge: no gradient reaches a point.
+  if (alphaStart > 1e7 || alphaEnd > 1e7) bad("alpha must be at most 1e7");
   if (!(rampFraction >= 0 && rampFraction <= 1)) bad("ramp must be in [0, 1]");
   if (validationGrid < 8) bad("validation grid must be at least 8");
 }

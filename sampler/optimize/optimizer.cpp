@@ -48,6 +48,8 @@ void OptimizerSettings::validate() const {
     bad("learning rates must be finite and > 0");
   if (!(alphaStart > 0 && alphaEnd > 0) || !std::isfinite(alphaStart) || !std::isfinite(alphaEnd))
     bad("alpha must be finite and > 0");
+  // Beyond this the sigmoid is a hard box edge: no gradient reaches a point.
+  if (alphaStart > 1e7 || alphaEnd > 1e7) bad("alpha must be at most 1e7");
   if (!(rampFraction >= 0 && rampFraction <= 1)) bad("ramp fraction must lie in [0, 1]");
   if (!(cutoff > 0)) bad("cutoff must be > 0");
   if (!(unionWeight >= 0) || !std::isfinite(unionWeight))
