@@ -19,8 +19,7 @@ std::string shortNumber(double v) {
 void JsonReader::fail(const std::string &expected) const {
   std::string got = value_.dump();
   if (got.size() > 60) got = got.substr(0, 57) + "...";
-  throw std::invalid_argument(file_ + ": field '" + (path_.empty() ? "(top level)" : path_) +
-                              "': expected " + expected + ", got " + got);
+  refuse("expected " + expected + ", got " + got);
 }
 
 void JsonReader::refuse(const std::string &why) const {

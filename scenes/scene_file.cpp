@@ -148,6 +148,8 @@ void readRender(const JsonReader &r, LoadedScene &out) {
 
 }  // namespace
 
+bool isBuiltInScene(const std::string &name) { return name == "default" || name == "stress"; }
+
 LoadedScene loadScene(const std::string &path, const std::string &assetRoot) {
   if (path == "default") return makeDefaultScene();
   if (path == "stress") return makeStressScene();

@@ -17,10 +17,6 @@ std::string formatRoundTrip(double v) {
   return std::string(buf, formatRoundTrip(buf, buf + sizeof buf, v));
 }
 
-}  // namespace nuld
-
-namespace nuld {
-
 std::string formatShort(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.3g", v);

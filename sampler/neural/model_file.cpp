@@ -22,15 +22,6 @@ constexpr std::uint32_t kMaxTensors = 1024;
 constexpr std::uint32_t kMaxRank = 8;
 constexpr std::int64_t kMaxElements = std::int64_t(1) << 31;
 
-std::uint64_t fnv1a(const char *data, std::size_t size) {
-  std::uint64_t h = 0xcbf29ce484222325ull;
-  for (std::size_t i = 0; i < size; ++i) {
-    h ^= static_cast<unsigned char>(data[i]);
-    h *= 0x100000001b3ull;
-  }
-  return h;
-}
-
 template <class T>
 void put(std::string &out, T v) {
   out.append(reinterpret_cast<const char *>(&v), sizeof v);
@@ -77,6 +68,15 @@ const std::string &ModelFile::value(const std::string &key, const std::string &p
   return it->second;
 }
 
+std::uint64_t modelFileChecksum(const char *data, std::size_t size) {
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  for (std::size_t i = 0; i < size; ++i) {
+    h ^= static_cast<unsigned char>(data[i]);
+    h *= 0x100000001b3ull;
+  }
+  return h;
+}
+
 void writeModelFile(const std::string &path, const ModelFile &model) {
   std::string out(kMagic, sizeof kMagic);
   std::string meta;
@@ -99,7 +99,7 @@ void writeModelFile(const std::string &path, const ModelFile &model) {
     for (std::int64_t d : t.shape) put(out, d);
     out.append(reinterpret_cast<const char *>(t.data.data()), t.data.size() * sizeof(float));
   }
-  put(out, fnv1a(out.data(), out.size()));
+  put(out, modelFileChecksum(out.data(), out.size()));
   writeFileAtomically(path, out);
 }
 
@@ -119,7 +119,7 @@ ModelFile readModelFile(const std::string &path) {
   if (bytes.size() < sizeof kMagic + 8) r.fail("truncated: no checksum");
   std::uint64_t stored;
   std::memcpy(&stored, bytes.data() + bytes.size() - 8, 8);
-  if (fnv1a(bytes.data(), bytes.size() - 8) != stored)
+  if (modelFileChecksum(bytes.data(), bytes.size() - 8) != stored)
     throw std::runtime_error(path +
                              ": checksum mismatch (the model file is truncated or corrupted)");
 

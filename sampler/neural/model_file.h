@@ -36,4 +36,7 @@ struct ModelFile {
 void writeModelFile(const std::string &path, const ModelFile &model);  // atomic
 ModelFile readModelFile(const std::string &path);
 
+// The file's closing checksum (FNV-1a, 64 bits) of `size` bytes: for tools
+// that write model files by other means (the fuzz harness, tests/fuzz/).
+std::uint64_t modelFileChecksum(const char *data, std::size_t size);
 }  // namespace nuld

@@ -1,7 +1,6 @@
 // NeuralGenerator's model files: the metadata that rebuilds the network
 // (metadata(), load()) and the weights (toModelFile(), loadWeights()).
 
-#include <cmath>
 #include <cstdio>
 #include <stdexcept>
 
@@ -9,7 +8,6 @@
 #include "sampler/neural/model_file.h"
 #include "sampler/neural/model_metadata.h"
 #include "sampler/neural/network.h"
-#include "sampler/targets/target_spec.h"
 
 namespace nuld {
 namespace {

@@ -9,25 +9,16 @@
 #include <cstring>
 #include <vector>
 
+#include "sampler/neural/model_file.h"
 #include "sampler/neural/neural_generator.h"
 #include "tests/fuzz/fuzz_support.h"
-
-namespace {
-
-// FNV-1a, 64 bits: the file format's checksum.
-std::uint64_t fnv1a(const std::uint8_t *p, std::size_t n) {
-  std::uint64_t h = 1469598103934665603ull;
-  for (std::size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;
-  return h;
-}
-
-}  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t *data, std::size_t size) {
   static const nuld::fuzz::ScratchFile file(".nuldnet");
   std::vector<std::uint8_t> bytes(data, data + size);
   if (size >= 16 && std::memcmp(data, "NULDNET1", 8) == 0) {
-    const std::uint64_t sum = fnv1a(bytes.data(), size - 8);
+    const std::uint64_t sum =
+        nuld::modelFileChecksum(reinterpret_cast<const char *>(bytes.data()), size - 8);
     std::memcpy(bytes.data() + size - 8, &sum, 8);
   }
   const std::string &path = file.write(bytes.data(), bytes.size());

@@ -66,6 +66,13 @@ class SceneFileTest : public ::testing::Test {
     return "";
   }
 
+  // Loading `path` fails with a message holding every one of `parts`.
+  void expectError(const std::string &path, const std::vector<std::string> &parts) {
+    const std::string msg = errorOf(path);
+    ASSERT_FALSE(msg.empty()) << "no error for " << parts[0];
+    for (const std::string &p : parts) EXPECT_NE(msg.find(p), std::string::npos) << msg;
+  }
+
   const test::TempDir dir_;
 };
 
@@ -91,11 +98,6 @@ TEST_F(SceneFileTest, NoEnvironmentMeansNoMapIsRead) {
 }
 
 TEST_F(SceneFileTest, BadInputGivesClearErrors) {
-  const auto expectError = [&](const std::string &path, std::vector<std::string> parts) {
-    const std::string msg = errorOf(path);
-    ASSERT_FALSE(msg.empty()) << "no error for " << parts[0];
-    for (const std::string &p : parts) EXPECT_NE(msg.find(p), std::string::npos) << msg;
-  };
   expectError(write("{\"camera\": "), {"scene.json", "malformed JSON"});
   expectError(valid("meshes/tri.ply", "meshes/none.ply"), {"none.ply", "does not exist"});
   expectError(valid("sky.exr", "broken.exr"), {"broken.exr"});
@@ -151,11 +153,6 @@ TEST_F(SceneFileTest, DegenerateInputIsReportedAndExtremesRefused) {
       << warnings[1];
   EXPECT_TRUE(s.scene.environment);
 
-  const auto expectError = [&](const std::string &path, std::vector<std::string> parts) {
-    const std::string msg = errorOf(path);
-    ASSERT_FALSE(msg.empty()) << "no error for " << parts[0];
-    for (const std::string &p : parts) EXPECT_NE(msg.find(p), std::string::npos) << msg;
-  };
   expectError(
       valid("\"radius\": 0.5", "\"radius\": 0.5, \"transform\": {\"translate\": [2e7, 0, 0]}"),
       {"scene.json", "meshes[1]", "mesh 'sphere' has a vertex at (2e+07", "+-1e7"});

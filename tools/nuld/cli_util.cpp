@@ -147,8 +147,9 @@ std::string closestName(const std::string &word, const std::vector<std::string> 
   return best;
 }
 
-void checkAssets(const CLI::App &app, const std::string &assets, bool used) {
-  onlyWhen(app, used, {"--assets"}, "scene files (the built-in scenes need no assets)");
+void checkAssets(const CLI::App &app, const std::string &assets, bool used,
+                 const std::string &when) {
+  onlyWhen(app, used, {"--assets"}, when);
   if (app.count("--assets") && !std::filesystem::is_directory(assets))
     throw std::invalid_argument("--assets '" + assets + "': no such directory");
 }

@@ -56,9 +56,11 @@ CLI::Validator oneOf(const EnumTable<E, N> &names) {
 void onlyWhen(const CLI::App &app, bool applies, std::initializer_list<const char *> options,
               const std::string &when);
 
-// --assets, when given: it must name a directory, and apply (`used`: some
-// scene is a file, or the command reads maps; the built-in scenes need none).
-void checkAssets(const CLI::App &app, const std::string &assets, bool used);
+// --assets, when given: it must name a directory, and apply (`used`; `when`
+// says to what, as onlyWhen's message does).
+void checkAssets(const CLI::App &app, const std::string &assets, bool used,
+                 const std::string &when);
+inline const std::string kSceneFilesOnly = "scene files (the built-in scenes need no assets)";
 
 // A whole number >= 0 that fits 64 bits (seeds): refuses "-1", "1.5" and
 // "1e30" by quoting the text, where CLI11's range check would print its

@@ -131,6 +131,23 @@ void checkResources(const OptimizerSettings &s, bool quiet) {
               << formatDuration(seconds) << " here; later epochs are faster\n";
 }
 
+// A learning rate far too large leaves the points scattered to the
+// domain's edges with a finite loss: the sets then end far worse than the
+// Owen-Sobol sets they started from. Refuse to write them.
+void refuseDiverged(const DirectOptimizer &opt, const PointSet &set, const Target &target,
+                    const OptimizerSettings &s, const std::string &ckpt) {
+  const double startL2 = objectiveL2(opt.points(opt.initialState()), target, s.objective);
+  const double endL2 = objectiveL2(set, target, s.objective);
+  if (endL2 <= 2 * startL2) return;
+  std::filesystem::remove(ckpt);  // the state of a diverged run is no use to resume
+  throw std::runtime_error(
+      "optimize: the sets ended with L2 discrepancy " + formatRoundTrip(endL2) +
+      ", more than twice the " + formatRoundTrip(startL2) +
+      " of the Owen-Sobol sets they started from: the optimization diverged; lower --lr "
+      "(it ran from " +
+      formatRoundTrip(s.lrStart) + " to " + formatRoundTrip(s.lrEnd) + "); nothing was written");
+}
+
 int runOptimize(const OptimizeOptions &o, const Target &target, const OptimizerSettings &s) {
   checkDestination(o.output);
   checkResources(s, o.run.quiet);
@@ -156,40 +173,26 @@ int runOptimize(const OptimizeOptions &o, const Target &target, const OptimizerS
   bar->finish("loss " + formatShort(last.loss));
 
   PointSet set = opt.points(state);
+  // Above kMaxMetricPairs the final metrics, and with them the divergence
+  // check that needs the L2, are left to `nuld eval`: divergence then shows
+  // only as a non-finite loss, which stops the run.
   const double metricPairs = double(s.n) * double(s.n) * double(s.instances);
-  if (metricPairs > kMaxMetricPairs) {
-    // Divergence then shows only as a non-finite loss, which stops the run.
-    writePointSet(o.output, set);
-    std::filesystem::remove(ckpt);
-    std::cerr << "note: the final l2asd and dstar (O(N^2): " << formatShort(metricPairs)
-              << " point pairs) are left to `nuld eval " << o.output << "`\n";
-    if (!quiet)
-      std::cerr << "wrote " << set.instances() << " x " << set.n << " points to " << o.output
-                << "\n";
-    return 0;
+  std::optional<std::pair<double, double>> metrics;
+  if (metricPairs <= kMaxMetricPairs) {
+    refuseDiverged(opt, set, target, s, ckpt);
+    metrics = finalMetrics(set, target);
+    std::ostringstream m;
+    m.precision(9);
+    m << "l2asd=" << metrics->first << " dstar=" << metrics->second;
+    setMeta(set, meta::kFinalMetrics, m.str());
   }
-  // A learning rate far too large leaves the points scattered to the
-  // domain's edges with a finite loss: the sets then end far worse than the
-  // Owen-Sobol sets they started from. Refuse to write them.
-  const double startL2 = objectiveL2(opt.points(opt.initialState()), target, s.objective);
-  const double endL2 = objectiveL2(set, target, s.objective);
-  if (!(endL2 <= 2 * startL2)) {
-    std::filesystem::remove(ckpt);  // the state of a diverged run is no use to resume
-    throw std::runtime_error(
-        "optimize: the sets ended with L2 discrepancy " + formatRoundTrip(endL2) +
-        ", more than twice the " + formatRoundTrip(startL2) +
-        " of the Owen-Sobol sets they started from: the optimization diverged; lower --lr "
-        "(it ran from " +
-        formatRoundTrip(s.lrStart) + " to " + formatRoundTrip(s.lrEnd) + "); nothing was written");
-  }
-  const auto [l2, dstar] = finalMetrics(set, target);
-  std::ostringstream m;
-  m.precision(9);
-  m << "l2asd=" << l2 << " dstar=" << dstar;
-  setMeta(set, meta::kFinalMetrics, m.str());
   writePointSet(o.output, set);
   std::filesystem::remove(ckpt);
-  std::printf("l2asd %.9g\ndstar %.9g\n", l2, dstar);
+  if (metrics)
+    std::printf("l2asd %.9g\ndstar %.9g\n", metrics->first, metrics->second);
+  else
+    std::cerr << "note: the final l2asd and dstar (O(N^2): " << formatShort(metricPairs)
+              << " point pairs) are left to `nuld eval " << o.output << "`\n";
   if (!quiet)
     std::cerr << "wrote " << set.instances() << " x " << set.n << " points to " << o.output << "\n";
   return 0;

@@ -49,7 +49,7 @@ Runner addRender(CLI::App &app) {
   app.add_flag("-q,--quiet", o->quiet, "no progress bar");
   return [o, &app] {
     checkRenderOutputs(o->output);
-    checkAssets(app, o->assets, o->scene != "default" && o->scene != "stress");
+    checkAssets(app, o->assets, !isBuiltInScene(o->scene), kSceneFilesOnly);
     LoadedScene loaded = loadScene(o->scene, resolveAssetRoot(o->assets));
     RenderSettings s = loaded.settings;
     if (o->spp) s.spp = o->spp;

@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <cstdlib>
-#include <filesystem>
 #include <iostream>
 #include <optional>
 
@@ -46,8 +45,6 @@ study::IntegrateOptions integrateOptions(const IntegrateCliOptions &o) {
   opts.optUnionWeight = o.optUnionWeight;
   if (!o.optObjective.empty()) opts.optObjective = parseObjective(o.optObjective);
   opts.neuralModels = o.neural;
-  if (!o.assets.empty() && !std::filesystem::is_directory(o.assets))
-    throw std::invalid_argument("--assets '" + o.assets + "': no such directory");
   opts.assetRoot = resolveAssetRoot(o.assets);
   opts.envmaps = study::splitList(o.envmaps);
   opts.seed = o.seed;
@@ -157,7 +154,8 @@ Runner addStudyIntegrate(CLI::App &app) {
     const bool maps = wanted.empty() || std::any_of(wanted.begin(), wanted.end(), [](auto &t) {
                         return t == "all" || t.find("envmap") != std::string::npos;
                       });
-    onlyWhen(app, maps, {"--envmaps", "--assets"}, "the environment-map integrands");
+    onlyWhen(app, maps, {"--envmaps"}, "the environment-map integrands");
+    checkAssets(app, o->assets, maps, "the environment-map integrands");
     return runStudyIntegrate(*o);
   };
 }

@@ -7,6 +7,7 @@
 #include <map>
 
 #include "renderer/path_integrator.h"
+#include "scenes/scene_file.h"
 #include "tools/nuld/cli_util.h"
 #include "tools/nuld/commands.h"
 #include "tools/nuld/progress.h"
@@ -164,9 +165,8 @@ Runner addStudyRender(CLI::App &app) {
           if (b.rfind(p, 0) == 0 && b.find(':') == std::string::npos) return true;
       return false;
     };
-    checkAssets(app, s.assets, std::any_of(s.scenes.begin(), s.scenes.end(), [](const auto &n) {
-                  return n != "default" && n != "stress";
-                }));
+    checkAssets(app, s.assets, !std::all_of(s.scenes.begin(), s.scenes.end(), isBuiltInScene),
+                kSceneFilesOnly);
     onlyWhen(app, o->res.empty(), {"--res-scale"},
              "renders at the scenes' own resolution (no --res)");
     onlyWhen(app, anyBackend({"optimized"}), {"--opt-instances", "--opt-epochs"},

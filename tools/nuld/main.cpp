@@ -2,7 +2,6 @@
 // The command line is documented in docs/usage.md; scripts and docs rely on it.
 
 #include <CLI/CLI.hpp>
-#include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <map>
@@ -13,6 +12,26 @@
 #include "sampler/enum_names.h"
 #include "tools/nuld/cli_util.h"
 #include "tools/nuld/commands.h"
+
+namespace {
+
+// The subcommand of `parent` named `word`; nullptr after saying on stderr,
+// with the closest name and the choices, that there is none ("nuld: PREFIX
+// unknown subcommand ...").
+CLI::App *subcommandNamed(CLI::App &parent, const std::string &word, const std::string &prefix) {
+  std::vector<std::string> names;
+  for (CLI::App *sub : parent.get_subcommands({})) {
+    if (sub->get_name() == word) return sub;
+    names.push_back(sub->get_name());
+  }
+  std::cerr << "nuld: " << prefix << "unknown subcommand '" << word << "'";
+  if (const std::string near = nuld::cli::closestName(word, names); !near.empty())
+    std::cerr << " (did you mean '" << near << "'?)";
+  std::cerr << "; expected " << nuld::joinAlternatives(names) << "\n";
+  return nullptr;
+}
+
+}  // namespace
 
 int main(int argc, char **argv) {
   nuld::registerMaterialTargets();  // disney:... target specs
@@ -48,18 +67,7 @@ int main(int argc, char **argv) {
 
   // A first word that names no subcommand (a typo) gets its own message
   // rather than CLI11's "a subcommand is required".
-  if (argc > 1 && argv[1][0] != '-') {
-    const std::string word = argv[1];
-    std::vector<std::string> names;
-    for (const CLI::App *sub : app.get_subcommands({})) names.push_back(sub->get_name());
-    if (std::find(names.begin(), names.end(), word) == names.end()) {
-      std::cerr << "nuld: unknown subcommand '" << word << "'";
-      if (const std::string near = nuld::cli::closestName(word, names); !near.empty())
-        std::cerr << " (did you mean '" << near << "'?)";
-      std::cerr << "; expected " << nuld::joinAlternatives(names) << "\n";
-      return 2;
-    }
-  }
+  if (argc > 1 && argv[1][0] != '-' && !subcommandNamed(app, argv[1], "")) return 2;
   // An option given an empty value ("--target ''") would otherwise mean
   // "not given" and silently fall back to the default.
   for (int i = 1; i < argc; ++i) {
@@ -84,18 +92,8 @@ int main(int argc, char **argv) {
     CLI::App *topic = &app;
     std::string path = "nuld";
     for (const std::string &word : helpTopic) {
-      std::vector<std::string> names;
-      CLI::App *next = nullptr;
-      for (CLI::App *sub : topic->get_subcommands({})) {
-        names.push_back(sub->get_name());
-        if (sub->get_name() == word) next = sub;
-      }
-      if (!next) {
-        std::cerr << "nuld: help: unknown subcommand '" << word << "'; expected "
-                  << nuld::joinAlternatives(names) << "\n";
-        return 2;
-      }
-      topic = next;
+      topic = subcommandNamed(*topic, word, "help: ");
+      if (!topic) return 2;
       path += " " + word;
     }
     std::cout << topic->get_formatter()->make_help(topic, path, CLI::AppFormatMode::Normal);

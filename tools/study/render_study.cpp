@@ -271,7 +271,7 @@ void RenderStudySettings::validate() const {
 
 std::string sceneIdentity(const std::string &scenePath) {
   const std::string name = slug(scenePath);
-  if (scenePath == "default" || scenePath == "stress") return name;  // built in (scene_file.h)
+  if (isBuiltInScene(scenePath)) return name;
   std::ifstream in(scenePath, std::ios::binary);
   if (!in) throw std::runtime_error(scenePath + ": cannot read the scene file");
   std::ostringstream text;
