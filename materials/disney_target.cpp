@@ -41,7 +41,7 @@ constexpr std::array<ParamKey, 10> kParamKeys{{
 }};
 constexpr const char *kKnownKeys =
     "basecolor, metallic, subsurface, specular, roughness, speculartint, anisotropic, sheen, "
-    "sheentint, clearcoat, clearcoatgloss, theta, phi, res, rows";
+    "sheentint, clearcoat, clearcoatgloss, theta, phi, res, rows, mix";
 
 class ArgsParser {
  public:
@@ -138,6 +138,8 @@ DisneyTargetSpec parseDisneyTargetArgs(const std::string &args) {
       out.phiDegrees = parser.number(key, value);
     } else if (key == "res") {
       out.phiCells = parser.cells(key, value, 2);
+    } else if (key == "mix") {
+      out.samplingMix = parser.inRange(key, value, 0, 1, false, "a number in [0, 1]");
     } else if (key == "rows") {
       out.thetaRows = parser.cells(key, value, 1);
       rowsGiven = true;
@@ -171,6 +173,7 @@ std::string toSpec(const DisneyTargetSpec &s) {
   if (s.phiDegrees != d.phiDegrees) add("phi", formatRoundTrip(s.phiDegrees));
   if (s.phiCells != d.phiCells) add("res", std::to_string(s.phiCells));
   if (s.thetaRows != std::max(1, s.phiCells / 2)) add("rows", std::to_string(s.thetaRows));
+  if (s.samplingMix != d.samplingMix) add("mix", formatRoundTrip(s.samplingMix));
   return args.empty() ? "disney" : "disney:" + args;
 }
 
@@ -179,7 +182,7 @@ namespace {
 // f(wo, .) cos tabulated on the layout described in the header; `name` is
 // the spec the target reports.
 std::unique_ptr<GridTarget> tabulate(const DisneyParams &params, Vec3 wo, int phiCells,
-                                     int thetaRows, const std::string &name) {
+                                     int thetaRows, double samplingMix, const std::string &name) {
   if (!(phiCells >= 1 && thetaRows >= 1 && phiCells <= kMaxCells && thetaRows <= kMaxCells))
     throw std::invalid_argument("target '" + name + "': expected 1 to " +
                                 std::to_string(kMaxCells) + " cells per axis, got " +
@@ -194,21 +197,34 @@ std::unique_ptr<GridTarget> tabulate(const DisneyParams &params, Vec3 wo, int ph
   yEdges[thetaRows + 1] = 1.0;
   std::vector<double> xEdges = GridTarget::uniformEdges(phiCells);
 
-  // The last row (the lower hemisphere) stays zero.
-  std::vector<double> density(std::size_t(phiCells) * (thetaRows + 1), 0.0);
+  // The last row (the lower hemisphere) stays zero. f cos and the sampling
+  // pdf are tabulated apart, then each normalized to mass one and mixed.
+  const std::size_t cells = std::size_t(phiCells) * (thetaRows + 1);
+  std::vector<double> density(cells, 0.0), sampling(samplingMix > 0 ? cells : 0, 0.0);
   tbb::parallel_for(0, thetaRows, [&](int j) {
     for (int i = 0; i < phiCells; ++i) {
-      double sum = 0;
+      double sum = 0, pdfSum = 0;
       for (int sj = 0; sj < kSubSamples; ++sj)
         for (int si = 0; si < kSubSamples; ++si) {
           const Point2 uv{xEdges[i] + (si + 0.5) / kSubSamples * (xEdges[i + 1] - xEdges[i]),
                           yEdges[j] + (sj + 0.5) / kSubSamples * (yEdges[j + 1] - yEdges[j])};
           const Vec3 wi = sphereDirection(uv);
-          sum += brdf.eval(wo, wi).luminance() * std::max(0.0, wi.z);
+          if (samplingMix < 1) sum += brdf.eval(wo, wi).luminance() * std::max(0.0, wi.z);
+          if (samplingMix > 0 && wi.z > 0) pdfSum += brdf.pdf(wo, wi);
         }
       density[std::size_t(j) * phiCells + i] = sum / (kSubSamples * kSubSamples);
+      if (samplingMix > 0) sampling[std::size_t(j) * phiCells + i] = pdfSum;
     }
   });
+  if (samplingMix > 0) {
+    // Sums in a fixed order: tables stay bit-identical across thread counts.
+    double productTotal = 0, samplingTotal = 0;
+    for (std::size_t c = 0; c < cells; ++c)
+      productTotal += density[c], samplingTotal += sampling[c];
+    for (std::size_t c = 0; c < cells; ++c)
+      density[c] = (productTotal > 0 ? (1 - samplingMix) * density[c] / productTotal : 0) +
+                   samplingMix * sampling[c] / samplingTotal;
+  }
   return std::make_unique<GridTarget>(std::move(xEdges), std::move(yEdges), density, name,
                                       Domain::Hemisphere, "target '" + name + "'");
 }
@@ -223,11 +239,12 @@ std::unique_ptr<GridTarget> makeDisneyTarget(const DisneyParams &params, Vec3 wo
   spec.phiDegrees = std::atan2(wo.y, wo.x) * kDegrees;
   spec.phiCells = phiCells;
   spec.thetaRows = thetaRows;
-  return tabulate(params, wo, phiCells, thetaRows, toSpec(spec));
+  return tabulate(params, wo, phiCells, thetaRows, spec.samplingMix, toSpec(spec));
 }
 
 std::unique_ptr<GridTarget> makeDisneyTarget(const DisneyTargetSpec &spec) {
-  return tabulate(spec.params, spec.wo(), spec.phiCells, spec.thetaRows, toSpec(spec));
+  return tabulate(spec.params, spec.wo(), spec.phiCells, spec.thetaRows, spec.samplingMix,
+                  toSpec(spec));
 }
 
 DisneyView disneyFamilyView(std::array<double, 2> gamma) {
@@ -289,7 +306,8 @@ std::optional<std::array<double, 2>> disneyFamilyGamma(const std::string &family
   try {
     const DisneyTargetSpec base = parseDisneyTargetArgs(*familyArgs);
     const DisneyTargetSpec t = parseDisneyTargetArgs(*targetArgs);
-    if (!(t.params == base.params) || t.phiCells != base.phiCells || t.thetaRows != base.thetaRows)
+    if (!(t.params == base.params) || t.phiCells != base.phiCells ||
+        t.thetaRows != base.thetaRows || t.samplingMix != base.samplingMix)
       return std::nullopt;
     return invertDisneyFamilyView({t.thetaDegrees, t.phiDegrees});
   } catch (const std::invalid_argument &) {
@@ -298,12 +316,24 @@ std::optional<std::array<double, 2>> disneyFamilyGamma(const std::string &family
 }
 
 void registerMaterialTargets() {
-  registerTargetKind("disney", [](const std::string &args) -> std::unique_ptr<Target> {
-    return makeDisneyTarget(parseDisneyTargetArgs(args));
-  });
-  registerTargetFamily("disney", [](const std::string &args) -> std::unique_ptr<TargetFamily> {
-    return std::make_unique<DisneyFamily>(args);
-  });
+  registerTargetKind(
+      "disney",
+      [](const std::string &args) -> std::unique_ptr<Target> {
+        return makeDisneyTarget(parseDisneyTargetArgs(args));
+      },
+      "disney[:KEY=VALUE,...]",
+      std::string("a Disney BRDF lobe f cos on the hemisphere at the view (theta, phi) in "
+                  "degrees, tabulated; keys: ") +
+          kKnownKeys +
+          " (mix: the share of the material's own sampling pdf); plain `disney` "
+          "is the supplement's instance at theta 45");
+  registerTargetFamily(
+      "disney",
+      [](const std::string &args) -> std::unique_ptr<TargetFamily> {
+        return std::make_unique<DisneyFamily>(args);
+      },
+      "family:disney[:KEY=VALUE,...]",
+      "gamma = (theta / 89 degrees, phi / 360 degrees) of the view; the other keys as disney");
 }
 
 }  // namespace nuld

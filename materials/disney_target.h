@@ -1,7 +1,8 @@
 #pragma once
 // A Disney BRDF lobe as a sampler target (docs/architecture.md,
 // "Materials"): the hemisphere
-// density proportional to luminance(f(wo, wi)) cos theta_i, tabulated on the
+// density proportional to luminance(f(wo, wi)) cos theta_i (or, with `mix`,
+// blended with the material's own sampling pdf), tabulated on the
 // equal-area sphere map (materials/sphere_map.h) as a GridTarget, so box
 // masses are exact reads of its summed-area table.
 //
@@ -20,7 +21,9 @@
 // or r/g/b), metallic, subsurface, specular, roughness, speculartint,
 // anisotropic, sheen, sheentint, clearcoat, clearcoatgloss (all in [0, 1]),
 // theta and phi (the polar and azimuthal angle of wo in degrees; theta in
-// [0, 90)), res (phiCells) and rows (thetaRows, default res / 2). Keys left
+// [0, 90)), res (phiCells), rows (thetaRows, default res / 2) and mix (the
+// share of the material's own sampling pdf in the density, in [0, 1], default
+// 0: see DisneyTargetSpec::samplingMix). Keys left
 // out take the supplement's instance (supplementDisneyParams) and wo at
 // theta 45, phi 0.
 
@@ -49,6 +52,9 @@ struct DisneyTargetSpec {
   DisneyParams params = supplementDisneyParams();
   double thetaDegrees = 45, phiDegrees = 0;
   int phiCells = 256, thetaRows = 128;
+  // 0: f cos; 1: the material's own sampling pdf (the lobe-selection
+  // mapping's); between: the mixture of the two, each of mass one.
+  double samplingMix = 0;
 
   Vec3 wo() const;
 };

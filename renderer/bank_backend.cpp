@@ -6,6 +6,7 @@
 
 #include "renderer/neural_backend.h"
 #include "renderer/padding.h"
+#include "sampler/enum_names.h"
 #include "sampler/io/pointset_io.h"
 #include "sampler/io/pointset_metadata.h"
 #include "sampler/sequences/rng.h"
@@ -186,9 +187,37 @@ std::unique_ptr<SamplerBackend> makeBackend(const std::string &spec, std::uint64
   constexpr std::string_view kNeural = "neural:";
   if (spec.rfind(kNeural, 0) == 0 && spec.size() > kNeural.size())
     return std::make_unique<NeuralBackend>(spec, spec.substr(kNeural.size()), seed);
-  throw std::invalid_argument("unknown backend '" + spec +
-                              "': expected independent, sobol, sobol-tabulated, halton, "
-                              "optimized:PATHS, points:PATHS, shifted:PATHS or neural:MODEL");
+  std::vector<std::string> names;
+  for (const BackendDescription &d : backendDescriptions()) names.push_back(d.spelling);
+  throw std::invalid_argument("unknown backend '" + spec + "': expected " +
+                              joinAlternatives(names) + " (nuld help backends)");
+}
+
+const std::vector<BackendDescription> &backendDescriptions() {
+  static const std::vector<BackendDescription> list{
+      {"independent",
+       "independent uniform points; the map's inverse CDF for light samples, the "
+       "material's lobe-selection mapping for BSDF samples"},
+      {"sobol",
+       "Owen-scrambled Sobol per pixel and pair, mapped as independent (the paper's "
+       "baseline)"},
+      {"halton", "Owen-scrambled Halton, mapped as independent"},
+      {"sobol-tabulated",
+       "sobol, with BSDF samples through the tabulated lobe's inverse CDF at "
+       "every bounce (the strongest classic baseline; --lobe-mix)"},
+      {"optimized:PATHS",
+       "point-set files or directories (comma-separated): sets for the "
+       "scene's map, lobe tables or the uniform target serve the first "
+       "bounce; everything else is sobol"},
+      {"points:PATHS", "the same as optimized:PATHS"},
+      {"shifted:PATHS",
+       "optimized:PATHS with every set Cranley-Patterson shifted in primary "
+       "space per pixel and pair (unbiased)"},
+      {"neural:MODEL",
+       "sets a trained model (nuld train) generates for the map or, for a "
+       "family:disney model, for each lobe table"},
+  };
+  return list;
 }
 
 }  // namespace nuld

@@ -102,10 +102,12 @@ void checkRenderOutputs(const std::string &exrPath) {
   checkDestination(std::filesystem::path(exrPath).replace_extension(".png"));
 }
 
-void writeRender(const std::string &exrPath, const Image &image) {
+void writeRender(const std::string &exrPath, const Image &image,
+                 const ImageAttributes &attributes) {
   checkRenderOutputs(exrPath);
-  writeImage(exrPath, image);
-  writeImage(std::filesystem::path(exrPath).replace_extension(".png").string(), toneMap(image));
+  writeImage(exrPath, image, attributes);
+  writeImage(std::filesystem::path(exrPath).replace_extension(".png").string(), toneMap(image),
+             attributes);
 }
 
 }  // namespace nuld

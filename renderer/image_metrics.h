@@ -28,8 +28,10 @@ Image errorMap(const Image &image, const Image &reference);
 // Exposure, clamp and the sRGB transfer curve: an 8-bit-ready preview.
 Image toneMap(const Image &linear, double exposure = 1.0);
 
-// Writes image.exr plus a tone-mapped image.png beside it (both atomic).
-void writeRender(const std::string &exrPath, const Image &image);
+// Writes image.exr plus a tone-mapped image.png beside it (both atomic),
+// both carrying `attributes` (renderAttributes in render.h).
+void writeRender(const std::string &exrPath, const Image &image,
+                 const ImageAttributes &attributes = {});
 // The checks writeRender makes of its two outputs, for a command to make
 // before it spends time rendering.
 void checkRenderOutputs(const std::string &exrPath);

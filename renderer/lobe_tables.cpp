@@ -39,6 +39,8 @@ LobeTables::LobeTables(const std::vector<std::shared_ptr<const Bsdf>> &materials
   if (settings.thetaBins < 1 || settings.phiBins < 1 || settings.phiCells < 2)
     throw std::invalid_argument(
         "lobe tables: theta and phi bins must be >= 1 and the resolution >= 2");
+  if (!settings.samplingMix || !(*settings.samplingMix >= 0 && *settings.samplingMix <= 1))
+    throw std::invalid_argument("lobe tables: the sampling mix must be given, in [0, 1]");
   for (const auto &m : materials) {
     const auto *disney = dynamic_cast<const DisneyBrdf *>(m.get());
     if (!disney || std::any_of(entries_.begin(), entries_.end(),
@@ -54,6 +56,7 @@ LobeTables::LobeTables(const std::vector<std::shared_ptr<const Bsdf>> &materials
         spec.phiDegrees = e.anisotropic ? binCentre(p, 90, phiBins) : 0;
         spec.phiCells = settings.phiCells;
         spec.thetaRows = std::max(1, settings.phiCells / 2);
+        spec.samplingMix = *settings.samplingMix;
         e.tables.push_back(makeDisneyTarget(spec));
       }
     entries_.push_back(std::move(e));

@@ -16,6 +16,11 @@
 //  - anisotropic: f is symmetric under x -> -x and y -> -y (the GGX
 //    ellipse's axes are the frame's), so wo is folded into the first
 //    quadrant, the direction drawn there, and the folds undone.
+// Which density a table holds depends on the estimator (renderer/README.md,
+// "Sampling contexts"): f cos for BSDF sampling alone, the density that is
+// exact for a constant light; under MIS with light sampling the material's
+// own sampling pdf, which gives a sharp lobe (a clear coat) the share of
+// samples light sampling cannot, where f cos gives it its small albedo share.
 // Any table is a valid importance density (positive wherever the lobe is,
 // f > 0 on the whole upper hemisphere), so sampling the bin's table instead of
 // the exact lobe at wo costs variance, never bias, provided the estimator
@@ -35,6 +40,10 @@ struct LobeTableSettings {
   int thetaBins = 9;   // over theta_o in [0, 90) degrees
   int phiBins = 3;     // over folded phi_o in [0, 90] degrees; anisotropic materials only
   int phiCells = 256;  // table resolution (rows = phiCells / 2), as the `disney` target's
+  // The tables' density: 0 f cos, 1 the material's own sampling pdf
+  // (`mix` of materials/disney_target.h); nullopt: chosen by the estimator
+  // (lobeTablesFor in renderer/render.h).
+  std::optional<double> samplingMix;
 };
 
 // One shading point's table and the map from the table's frame to the
@@ -54,7 +63,8 @@ struct LobeFrame {
 class LobeTables {
  public:
   // Tables for every distinct DisneyBrdf among `materials`; other materials
-  // get none. Throws std::invalid_argument for bins < 1.
+  // get none. Throws std::invalid_argument for bins < 1, a mix outside
+  // [0, 1] or none given.
   LobeTables(const std::vector<std::shared_ptr<const Bsdf>> &materials,
              const LobeTableSettings &settings = {});
 

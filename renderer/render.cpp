@@ -11,6 +11,8 @@
 #include <optional>
 #include <stdexcept>
 
+#include "sampler/io/round_trip.h"
+
 namespace nuld {
 
 namespace {
@@ -72,6 +74,30 @@ void renderTile(const Scene &scene, const RenderSettings &s, SamplerBackend &bac
 
 }  // namespace
 
+ImageAttributes renderAttributes(const std::string &scene, const RenderSettings &s,
+                                 const std::string &backend, std::uint64_t seed,
+                                 const RenderStats &stats) {
+  const LobeTableSettings lobes = lobeTablesFor(s);
+  return {{"nuld:scene", scene},
+          {"nuld:backend", backend},
+          {"nuld:seed", std::to_string(seed)},
+          {"nuld:spp", std::to_string(s.spp)},
+          {"nuld:integrator", toString(s.integrator)},
+          {"nuld:resolution", std::to_string(s.width) + "x" + std::to_string(s.height)},
+          {"nuld:max_depth", std::to_string(s.maxDepth)},
+          {"nuld:lobe_mix", formatRoundTrip(*lobes.samplingMix)},
+          {"nuld:render_seconds", formatRoundTrip(stats.seconds)},
+          {"nuld:setup_seconds", formatRoundTrip(stats.setupSeconds)},
+          {"nuld:renderer_revision", std::to_string(kRendererRevision)},
+          {"nuld:version", NULD_VERSION}};
+}
+
+LobeTableSettings lobeTablesFor(const RenderSettings &s) {
+  LobeTableSettings out = s.lobeTables;
+  if (!out.samplingMix) out.samplingMix = s.integrator == IntegratorKind::Bsdf ? 0.0 : 1.0;
+  return out;
+}
+
 Image render(const Scene &scene, const RenderSettings &s, SamplerBackend &backend,
              RenderStats *stats, const RenderProgress &progress, std::vector<RecordedRay> *rays) {
   if (s.width <= 0 || s.height <= 0) throw std::invalid_argument("render: resolution must be > 0");
@@ -83,7 +109,7 @@ Image render(const Scene &scene, const RenderSettings &s, SamplerBackend &backen
   targets.light = scene.environment ? scene.environment->target() : nullptr;
   std::optional<LobeTables> lobes;
   if (backend.samplesLobes() && s.integrator != IntegratorKind::Light) {
-    lobes.emplace(scene.materials, s.lobeTables);
+    lobes.emplace(scene.materials, lobeTablesFor(s));
     targets.lobes = lobes->targets();
   }
   backend.prepare(s.spp, targets);

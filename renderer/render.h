@@ -27,9 +27,16 @@ struct RenderSettings {
   int maxDepth = 5;
   int rouletteDepth = 2;  // the first hit (0-based) where Russian roulette may end a path
   // The lobe tables of a backend that samples lobes (built from the scene's
-  // materials for each render, and only for such a backend).
+  // materials for each render, and only for such a backend); see
+  // lobeTablesFor.
   LobeTableSettings lobeTables{};
 };
+
+// The lobe tables a render with `s` builds: s.lobeTables with the density
+// chosen when it is not given, f cos (mix 0) for the BSDF-only estimator and
+// the material's sampling pdf (mix 1) for those that weigh BSDF samples
+// against light samples by MIS (renderer/lobe_tables.h says why).
+LobeTableSettings lobeTablesFor(const RenderSettings &s);
 
 struct RenderStats {
   double seconds = 0;       // the render, setup excluded
@@ -39,6 +46,14 @@ struct RenderStats {
   std::uint64_t classicFallbacks = 0;  // first-bounce lobe contexts the backend declined
   double raysPerSecond() const { return seconds > 0 ? rays / seconds : 0; }
 };
+
+// What a render's files say about it (EXR and PNG attributes, "nuld:" names):
+// scene, backend, seed, spp, integrator, resolution, max depth, the lobe
+// tables' mix, render and setup seconds, the renderer's revision and the
+// program's version.
+ImageAttributes renderAttributes(const std::string &scene, const RenderSettings &s,
+                                 const std::string &backend, std::uint64_t seed,
+                                 const RenderStats &stats);
 
 // Called after each finished tile with (tiles done, tiles in all); calls are
 // serialized.

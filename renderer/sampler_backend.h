@@ -90,6 +90,14 @@ class SamplerBackend {
   }
 };
 
+// The backends makeBackend knows, as (spelling, what it samples), in the
+// order `nuld help backends` lists them; the error for an unknown name and
+// the CLI's option help list the same spellings.
+struct BackendDescription {
+  const char *spelling, *description;
+};
+const std::vector<BackendDescription> &backendDescriptions();
+
 // independent | sobol | halton | sobol-tabulated (Owen-scrambled Sobol
 // through the inverse CDF of every lobe context); null for any other name.
 std::unique_ptr<SamplerBackend> makeClassicBackend(const std::string &name, std::uint64_t seed);

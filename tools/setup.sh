@@ -9,6 +9,7 @@ packages=(
   libembree-dev libopenimageio-dev openimageio-tools libopenexr-dev libimath-dev
   libtinygltf-dev libtbb-dev googletest libgtest-dev libbenchmark-dev libcli11-dev
   nlohmann-json3-dev libtorch-dev libopenblas0-openmp python3-matplotlib
+  pybind11-dev python3-dev python3-numpy python3-scipy python3-pytest
 )
 
 missing=()

@@ -55,7 +55,7 @@ Image readImage(const std::string &path, bool requireFinite) {
   return img;
 }
 
-void writeImage(const std::string &path, const Image &image) {
+void writeImage(const std::string &path, const Image &image, const ImageAttributes &attributes) {
   AtomicFile file(path);
   auto out = OIIO::ImageOutput::create(path);
   if (!out) {
@@ -68,6 +68,7 @@ void writeImage(const std::string &path, const Image &image) {
   const std::string ext = std::filesystem::path(path).extension().string();
   if (ext == ".png" || ext == ".jpg" || ext == ".jpeg") spec.set_format(OIIO::TypeDesc::UINT8);
   if (ext == ".exr") spec.attribute("compression", "zip");
+  for (const auto &[name, value] : attributes) spec.attribute(name, value);
   // OpenImageIO picks the format from the name it is given, so the temporary
   // file keeps the extension.
   if (!out->open(file.tempPath(), spec))
@@ -77,6 +78,20 @@ void writeImage(const std::string &path, const Image &image) {
     throw std::runtime_error(path + ": cannot write the image (is the disk full?)");
   out->close();
   file.commit();
+}
+
+ImageAttributes readImageAttributes(const std::string &path, const std::string &prefix) {
+  requireInputFile(path, "image");
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) {
+    OIIO::geterror();  // clear it
+    throw std::runtime_error(path + ": cannot read the image's header");
+  }
+  ImageAttributes out;
+  for (const OIIO::ParamValue &p : in->spec().extra_attribs)
+    if (p.type() == OIIO::TypeDesc::STRING && p.name().string().rfind(prefix, 0) == 0)
+      out.emplace_back(p.name().string(), p.get_string());
+  return out;
 }
 
 }  // namespace nuld

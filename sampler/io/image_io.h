@@ -4,6 +4,7 @@
 // so a reader never sees a half-written image.
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace nuld {
@@ -29,8 +30,18 @@ struct Image {
 // a NaN or infinite pixel is an error naming the pixel.
 Image readImage(const std::string &path, bool requireFinite = true);
 
+// Text attributes an image file carries (EXR header attributes, PNG text
+// chunks), so that a file says how it was made: name and value pairs, names
+// prefixed "nuld:" by the caller.
+using ImageAttributes = std::vector<std::pair<std::string, std::string>>;
+
 // The format follows the extension (.exr, .png, .hdr, ...); 8-bit formats are
 // written with the values clamped to [0, 1] (no tone mapping here).
-void writeImage(const std::string &path, const Image &image);
+void writeImage(const std::string &path, const Image &image,
+                const ImageAttributes &attributes = {});
+
+// The string attributes of an image file whose names start with `prefix`, in
+// the file's order. Throws std::runtime_error naming the file.
+ImageAttributes readImageAttributes(const std::string &path, const std::string &prefix = "nuld:");
 
 }  // namespace nuld

@@ -1,8 +1,10 @@
 #include "sampler/io/pointset_io.h"
 
+#include <bit>
 #include <charconv>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -215,6 +217,40 @@ void writePointSet(const std::string &path, const PointSet &set) {
               std::streamsize(set.points.size() * sizeof(Point2)));
   } else {
     writePointSetText(out, set);
+  }
+  writeFileAtomically(path, out.str());
+}
+
+void exportPointSet(const std::string &path, const PointSet &set) {
+  const std::string ext = std::filesystem::path(path).extension().string();
+  std::ostringstream out;
+  if (ext == ".npy") {
+    // NPY 1.0: magic, version, header length, a Python dict literal padded
+    // with spaces to a multiple of 64 bytes and ending in a newline.
+    std::string header = "{'descr': '<f8', 'fortran_order': False, 'shape': (" +
+                         std::to_string(set.instances()) + ", " + std::to_string(set.n) + ", 2), }";
+    const std::size_t unpadded = 10 + header.size() + 1;
+    header += std::string((64 - unpadded % 64) % 64, ' ') + "\n";
+    out << "\x93NUMPY" << char(1) << char(0) << char(header.size() & 0xff)
+        << char(header.size() >> 8) << header;
+    static_assert(std::endian::native == std::endian::little, "NPY data is written little-endian");
+    out.write(reinterpret_cast<const char *>(set.points.data()),
+              std::streamsize(set.points.size() * sizeof(Point2)));
+  } else if (ext == ".csv") {
+    out << "instance,x,y\n";
+    for (std::size_t k = 0; k < set.instances(); ++k)
+      for (const Point2 &p : set.instance(k))
+        out << k << "," << formatRoundTrip(p.x) << "," << formatRoundTrip(p.y) << "\n";
+  } else if (ext == ".dat") {
+    // UTK's text format: one point per line, a line "#" between sets.
+    for (std::size_t k = 0; k < set.instances(); ++k) {
+      if (k > 0) out << "#\n";
+      for (const Point2 &p : set.instance(k))
+        out << formatRoundTrip(p.x) << " " << formatRoundTrip(p.y) << "\n";
+    }
+  } else {
+    throw std::invalid_argument(path + ": cannot export to '" + ext +
+                                "' (expected a name ending in .npy, .csv or .dat)");
   }
   writeFileAtomically(path, out.str());
 }

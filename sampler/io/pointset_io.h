@@ -23,4 +23,16 @@ void writePointSet(const std::string &path, const PointSet &set);  // atomic
 
 void writePointSetText(std::ostream &out, const PointSet &set);
 
+// The points alone, for numpy and spreadsheets (`nuld export`), atomic; the
+// format follows the extension:
+//   .npy  float64 array of shape (instances, N, 2), C order (numpy.load);
+//   .csv  a header "instance,x,y", then one point per line (numpy.loadtxt
+//         with delimiter=',' and skiprows=1 gives (instances * N, 3));
+//   .dat  UTK's text format: one point per line, a line "#" between sets
+//         (readPointSet reads it back; the text format's metadata lines
+//         would read as set separators in UTK).
+// Metadata is not written. Throws std::invalid_argument naming the file for
+// another extension.
+void exportPointSet(const std::string &path, const PointSet &set);
+
 }  // namespace nuld

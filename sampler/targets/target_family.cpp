@@ -16,6 +16,10 @@ std::map<std::string, TargetFamilyFactory> &registry() {
   static std::map<std::string, TargetFamilyFactory> r;
   return r;
 }
+std::map<std::string, TargetDescription> &descriptions() {
+  static std::map<std::string, TargetDescription> d;
+  return d;
+}
 std::mutex &registryMutex() {
   static std::mutex m;
   return m;
@@ -70,9 +74,23 @@ class BilinearFamily final : public TargetFamily {
 
 }  // namespace
 
-void registerTargetFamily(const std::string &name, TargetFamilyFactory factory) {
+void registerTargetFamily(const std::string &name, TargetFamilyFactory factory,
+                          const std::string &grammar, const std::string &description) {
   std::lock_guard lock(registryMutex());
   registry()[name] = std::move(factory);
+  descriptions()[name] = {grammar.empty() ? "family:" + name + "[:ARGS]" : grammar, description};
+}
+
+std::vector<TargetDescription> targetFamilyDescriptions() {
+  std::vector<TargetDescription> out{
+      {"family:gaussian[:SMIN,SMAX]",
+       "gamma = (mx, my, s): a Gaussian at (mx, my) with sigma = SMIN (SMAX/SMIN)^s "
+       "(default 0.05, 0.3)"},
+      {"family:bilinear", "gamma = the four corner weights (plus 0.05)"},
+  };
+  std::lock_guard lock(registryMutex());
+  for (const auto &[name, d] : descriptions()) out.push_back(d);
+  return out;
 }
 
 void checkGamma(const TargetFamily &family, std::span<const double> gamma) {

@@ -18,6 +18,7 @@
 #include <string>
 
 #include "sampler/targets/target.h"
+#include "sampler/targets/target_spec.h"
 
 namespace nuld {
 
@@ -34,8 +35,14 @@ class TargetFamily {
 
 using TargetFamilyFactory = std::function<std::unique_ptr<TargetFamily>(const std::string &args)>;
 
-// Adds `family:NAME[:ARGS]` (the materials module adds `disney`).
-void registerTargetFamily(const std::string &name, TargetFamilyFactory factory);
+// Adds `family:NAME[:ARGS]` (the materials module adds `disney`), with its
+// line in targetFamilyDescriptions.
+void registerTargetFamily(const std::string &name, TargetFamilyFactory factory,
+                          const std::string &grammar = "", const std::string &description = "");
+
+// Every family makeTargetFamily knows, built in and registered, as
+// (grammar, description) pairs (`nuld help targets`).
+std::vector<TargetDescription> targetFamilyDescriptions();
 
 // Throws std::invalid_argument naming the spec and what was expected.
 std::unique_ptr<TargetFamily> makeTargetFamily(const std::string &spec);

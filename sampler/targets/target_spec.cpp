@@ -16,8 +16,12 @@
 namespace nuld {
 namespace {
 
-std::map<std::string, TargetFactory> &registry() {
-  static std::map<std::string, TargetFactory> r;
+struct Registered {
+  TargetFactory factory;
+  TargetDescription description;
+};
+std::map<std::string, Registered> &registry() {
+  static std::map<std::string, Registered> r;
   return r;
 }
 std::mutex &registryMutex() {
@@ -49,9 +53,30 @@ const ImageKind *findImageKind(const std::string &name) {
 
 }  // namespace
 
-void registerTargetKind(const std::string &name, TargetFactory factory) {
+void registerTargetKind(const std::string &name, TargetFactory factory, const std::string &grammar,
+                        const std::string &description) {
   std::lock_guard lock(registryMutex());
-  registry()[name] = std::move(factory);
+  registry()[name] = {std::move(factory),
+                      {grammar.empty() ? name + ":ARGS" : grammar, description}};
+}
+
+std::vector<TargetDescription> targetDescriptions() {
+  std::vector<TargetDescription> out{
+      {"uniform", "the unit square"},
+      {"bilinear:w00,w10,w01,w11", "bilinear in the four corner weights (>= 0, not all 0)"},
+      {"gaussian:mx,my,sigma", "a normal density truncated to the square"},
+      {"quarterdisc", "uniform on the quarter disc x^2 + y^2 < 1"},
+      {"step:x0[,left,right]", "density `left` below x0 and `right` above (default 0,1)"},
+      {"image:PATH", "the luminance of any image OpenImageIO reads, upright"},
+      {std::string(envmapFamily(PixelWeight::Luminance)) + ":PATH",
+       "a lat-long environment map on the sphere (phi = 2 pi u, cos theta = 1 - 2v), texels "
+       "weighted by luminance"},
+      {std::string(envmapFamily(PixelWeight::ChannelMean)) + ":PATH",
+       "the same with texels weighted by the mean of their channels"},
+  };
+  std::lock_guard lock(registryMutex());
+  for (const auto &[name, r] : registry()) out.push_back(r.description);
+  return out;
 }
 
 std::vector<double> parseNumberList(const std::string &spec, const std::string &args,
@@ -122,16 +147,14 @@ std::unique_ptr<Target> makeTarget(const std::string &spec) {
   {
     std::lock_guard lock(registryMutex());
     auto it = registry().find(family);
-    if (it != registry().end()) factory = it->second;
+    if (it != registry().end()) factory = it->second.factory;
   }
   if (factory) return factory(args);
-  std::string known = "uniform, bilinear, gaussian, quarterdisc, step";
-  for (const ImageKind &kind : imageKinds()) known += ", " + kind.name;
-  {
-    std::lock_guard lock(registryMutex());
-    for (const auto &[name, f] : registry()) known += ", " + name;
-  }
-  throw std::invalid_argument("unknown target '" + spec + "' (expected one of: " + known + ")");
+  std::string known;
+  for (const TargetDescription &d : targetDescriptions())
+    known += (known.empty() ? "" : ", ") + d.grammar;
+  throw std::invalid_argument("unknown target '" + spec + "' (expected one of: " + known +
+                              "; nuld help targets)");
 }
 
 std::vector<std::size_t> parseSizeList(const std::string &what, const std::string &text) {

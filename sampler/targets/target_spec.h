@@ -17,8 +17,18 @@ namespace nuld {
 
 using TargetFactory = std::function<std::unique_ptr<Target>(const std::string &args)>;
 
-// Adds the kind of target `NAME[:ARGS]` to makeTarget.
-void registerTargetKind(const std::string &name, TargetFactory factory);
+// Adds the kind of target `NAME[:ARGS]` to makeTarget; `grammar` and
+// `description` are its line in targetDescriptions.
+void registerTargetKind(const std::string &name, TargetFactory factory,
+                        const std::string &grammar = "", const std::string &description = "");
+
+// Every kind of target makeTarget knows, built in and registered, as
+// (grammar, description) pairs in a fixed order: what `nuld help targets`
+// prints and the error for an unknown kind names.
+struct TargetDescription {
+  std::string grammar, description;
+};
+std::vector<TargetDescription> targetDescriptions();
 
 // Throws std::invalid_argument naming the spec and what was expected; for
 // image: and envmap: a file that cannot be read gives std::runtime_error

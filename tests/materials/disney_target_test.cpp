@@ -120,6 +120,54 @@ TEST(DisneyTarget, InvertedSamplesFollowTheLobe) {
   EXPECT_NEAR(r.pdfMass, 1, 1e-6);
 }
 
+// mix = 1 tabulates the material's own sampling pdf: inverse-CDF points of
+// the table, mapped to directions, follow DisneyBrdf::pdf (chi-square), for
+// a clear-coated glaze whose peaks the mix exists for; mix = 1/2 is the
+// cell-by-cell average of the two tables, each of mass one.
+TEST(DisneyTarget, MixTabulatesTheSamplingPdf) {
+  DisneyParams glaze;
+  glaze.baseColor = {0.92, 0.9, 0.86};
+  glaze.roughness = 0.3;
+  glaze.clearcoat = 1;
+  glaze.clearcoatGloss = 0.5;
+  DisneyTargetSpec spec;
+  spec.params = glaze;
+  spec.thetaDegrees = 30;
+  spec.samplingMix = 1;
+  const DisneyBrdf brdf(glaze);
+  const Vec3 wo = spec.wo();
+  const auto sampling = makeDisneyTarget(spec);
+  EXPECT_EQ(sampling->spec(), toSpec(spec));
+  EXPECT_NE(sampling->spec().find("mix=1"), std::string::npos);
+  // The sampling pdf loses the mass of the microfacet samples that land
+  // below the surface; the table holds it renormalized over the hemisphere.
+  double mass = 1;
+  for (int pass = 0; pass < 2; ++pass) {
+    const auto r = test::testDirections(
+        [&](Point2 u) -> std::optional<Vec3> { return sphereDirection(sampling->invert(u).x); },
+        [&](Vec3 wi) { return wi.z > 0 ? brdf.pdf(wo, wi) / mass : 0.0; }, 300000, 63,
+        test::peakAt(reflect(wo, Vec3{0, 0, 1})), 32, 16);
+    if (pass == 0) {
+      EXPECT_GT(r.pdfMass, 0.9);
+      mass = r.pdfMass;
+    } else {
+      EXPECT_GT(r.chi.pValue, test::sidakLevel()) << r.describe();
+      EXPECT_NEAR(r.pdfMass, 1, 1e-6);
+    }
+  }
+
+  spec.samplingMix = 0;
+  const auto product = makeDisneyTarget(spec);
+  spec.samplingMix = 0.5;
+  const auto half = makeDisneyTarget(spec);
+  for (int j = 0; j < 128; j += 3)
+    for (int i = 0; i < 256; i += 5)
+      EXPECT_NEAR(half->cellDensity(i, j),
+                  0.5 * (product->cellDensity(i, j) + sampling->cellDensity(i, j)),
+                  1e-12 * (1 + half->cellDensity(i, j)))
+          << i << " " << j;
+}
+
 // ------------------------------------------------------------------- specs
 
 TEST(DisneyTargetSpec, DefaultsAreTheSupplementInstance) {
@@ -144,7 +192,7 @@ TEST(DisneyTargetSpec, EveryKeyParsesAndRoundTrips) {
   const DisneyTargetSpec s = parseDisneyTargetArgs(
       "basecolor=0.5,metallic=0.1,subsurface=0.2,specular=0.3,roughness=0.4,speculartint=0.5,"
       "anisotropic=0.6,sheen=0.7,sheentint=0.8,clearcoat=0.9,clearcoatgloss=1,theta=30,phi=-90,"
-      "res=64");
+      "res=64,mix=0.25");
   EXPECT_EQ(s.params.baseColor, Rgb::grey(0.5));
   EXPECT_EQ(s.params.metallic, 0.1);
   EXPECT_EQ(s.params.subsurface, 0.2);
@@ -160,6 +208,7 @@ TEST(DisneyTargetSpec, EveryKeyParsesAndRoundTrips) {
   EXPECT_EQ(s.phiDegrees, -90);
   EXPECT_EQ(s.phiCells, 64);
   EXPECT_EQ(s.thetaRows, 32);
+  EXPECT_EQ(s.samplingMix, 0.25);
   const std::string spec = toSpec(s);
   const auto again = parseDisneyTargetArgs(spec.substr(spec.find(':') + 1));
   EXPECT_EQ(again.params, s.params);
@@ -192,6 +241,7 @@ TEST(DisneyTargetSpec, BadArgumentsNameSpecKeyAndExpectation) {
   expectError("disney:metallic=-0.1", {"metallic", "[0, 1]"});
   expectError("disney:theta=90", {"theta", "[0, 90)"});
   expectError("disney:res=0", {"res", "integer"});
+  expectError("disney:mix=2", {"mix = 2", "[0, 1]"});
   expectError("disney:res=10.5", {"res", "integer"});
   expectError("disney:roughness", {"'roughness' is not key=value"});
   expectError("disney:roughness=0.1,roughness=0.2", {"'roughness' is given twice"});

@@ -2,7 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+
+#include "renderer/render.h"
+#include "sampler/io/image_io.h"
+#include "tests/common/temp_dir.h"
 
 namespace nuld {
 namespace {
@@ -50,6 +55,39 @@ TEST(ImageMetrics, ErrorMapGrowsWithTheErrorAndToneMapIsBounded) {
   Image hdr = filled(2, 1, 1e6f);
   hdr.at(0, 0, 0) = std::nanf("");
   for (float v : toneMap(hdr).pixels) EXPECT_TRUE(v >= 0 && v <= 1);
+}
+
+// A render's files say how they were made: the attributes written with the
+// EXR and its PNG preview read back, in order, with their values.
+TEST(ImageMetrics, RenderFilesCarryTheirAttributes) {
+  const test::TempDir dir;
+  const Image img{4, 3, 3, std::vector<float>(36, 0.25f)};
+  RenderSettings s;
+  s.width = 4, s.height = 3, s.spp = 8;
+  s.integrator = IntegratorKind::Direct;
+  RenderStats stats;
+  stats.seconds = 1.5;
+  const ImageAttributes attributes = renderAttributes("default", s, "sobol", 7, stats);
+  const std::string exr = (dir.path() / "r.exr").string();
+  writeRender(exr, img, attributes);
+  for (const std::string &path : {exr, (dir.path() / "r.png").string()}) {
+    const ImageAttributes back = readImageAttributes(path);
+    EXPECT_EQ(back.size(), attributes.size()) << path;
+    for (const auto &[name, value] : attributes)
+      EXPECT_NE(std::find(back.begin(), back.end(), std::pair{name, value}), back.end())
+          << path << " " << name << " = " << value;
+  }
+  const auto has = [&](const std::string &name, const std::string &value) {
+    return std::find(attributes.begin(), attributes.end(), std::pair{name, value}) !=
+           attributes.end();
+  };
+  EXPECT_TRUE(has("nuld:backend", "sobol"));
+  EXPECT_TRUE(has("nuld:spp", "8"));
+  EXPECT_TRUE(has("nuld:seed", "7"));
+  EXPECT_TRUE(has("nuld:integrator", "direct"));
+  EXPECT_TRUE(has("nuld:lobe_mix", "1"));  // MIS: the sampling pdf
+  EXPECT_TRUE(has("nuld:render_seconds", "1.5"));
+  EXPECT_THROW(readImageAttributes((dir.path() / "absent.exr").string()), std::runtime_error);
 }
 
 }  // namespace

@@ -26,7 +26,9 @@ using test::constantMap;
 using test::sceneWith;
 
 constexpr double kPi = std::numbers::pi;
-const LobeTableSettings kSmallTables{4, 2, 64};
+// Density by estimator (for RenderSettings), and f cos (for LobeTables).
+const LobeTableSettings kSmallTables{4, 2, 64, std::nullopt};
+const LobeTableSettings kSmallProductTables{4, 2, 64, 0.0};
 
 std::shared_ptr<const DisneyBrdf> disney(double anisotropic, double roughness = 0.4) {
   DisneyParams p;
@@ -50,7 +52,7 @@ double meanOf(const Image &img) {
 TEST(LobeTables, OneSetOfBinsPerDistinctDisneyMaterial) {
   const auto iso = disney(0), aniso = disney(0.5);
   const LobeTables tables({iso, std::make_shared<Lambertian>(Rgb::grey(0.5)), iso, aniso},
-                          kSmallTables);
+                          kSmallProductTables);
   EXPECT_EQ(tables.materials(), 2u);
   EXPECT_EQ(tables.targets().size(), 4u + 4u * 2u);  // theta bins, times phi bins if anisotropic
   EXPECT_FALSE(tables.frame(nullptr, {0, 0, 1}));
@@ -59,14 +61,16 @@ TEST(LobeTables, OneSetOfBinsPerDistinctDisneyMaterial) {
   const auto f = tables.frame(iso.get(), direction(30, 0));
   ASSERT_TRUE(f);
   EXPECT_NE(f->table->spec().find("theta=33.75"), std::string::npos) << f->table->spec();
-  EXPECT_THROW(LobeTables({iso}, {0, 1, 64}), std::invalid_argument);
+  EXPECT_THROW(LobeTables({iso}, {0, 1, 64, 0.0}), std::invalid_argument);
+  EXPECT_THROW(LobeTables({iso}, {4, 1, 64, 1.5}), std::invalid_argument);
+  EXPECT_THROW(LobeTables({iso}, kSmallTables), std::invalid_argument);  // no mix
 }
 
 // The density handed back for a direction is the table's density at the
 // point it came from, in every frame (rotation, folds).
 TEST(LobeTables, PdfOfADrawnDirectionIsTheTablesDensityThere) {
   const auto iso = disney(0), aniso = disney(0.6);
-  const LobeTables tables({iso, aniso}, kSmallTables);
+  const LobeTables tables({iso, aniso}, kSmallProductTables);
   Rng rng(7);
   for (const auto &m : {iso, aniso})
     for (const Vec3 wo : {direction(10, 0), direction(50, 130), direction(80, -100)}) {
@@ -88,7 +92,7 @@ TEST(LobeTables, PdfOfADrawnDirectionIsTheTablesDensityThere) {
 // folds of anisotropic ones at several view directions.
 TEST(LobeTables, DrawnDirectionsFollowTheFramesPdf) {
   const auto iso = disney(0), aniso = disney(0.6, 0.25);
-  const LobeTables tables({iso, aniso}, kSmallTables);
+  const LobeTables tables({iso, aniso}, kSmallProductTables);
   // Bin and sub-sample edges fall on the 64 x 32 tables' cell edges, so the
   // expected counts of the piecewise constant pdf are exact: the folds keep
   // the edges in place, and for an isotropic lobe (rotated to wo's azimuth)
@@ -157,6 +161,23 @@ TEST(LobeSampling, EveryEstimatorAgreesUnderAConstantSky) {
   }
 }
 
+// The tables' density follows the estimator unless given: f cos for BSDF
+// sampling alone, the material's sampling pdf under MIS.
+TEST(LobeSampling, TableDensityFollowsTheEstimator) {
+  RenderSettings s;
+  s.integrator = IntegratorKind::Bsdf;
+  EXPECT_EQ(lobeTablesFor(s).samplingMix, 0.0);
+  for (const auto kind : {IntegratorKind::Direct, IntegratorKind::Path}) {
+    s.integrator = kind;
+    EXPECT_EQ(lobeTablesFor(s).samplingMix, 1.0);
+  }
+  s.lobeTables.samplingMix = 0.25;
+  EXPECT_EQ(lobeTablesFor(s).samplingMix, 0.25);
+  const auto m = disney(0);
+  EXPECT_NE(LobeTables({m}, lobeTablesFor(s)).targets()[0]->spec().find("mix=0.25"),
+            std::string::npos);
+}
+
 // The power heuristic's two weights of one direction sum to one, at any
 // ratio of the pdfs, even where their squares underflow.
 TEST(LobeSampling, MisWeightsSumToOne) {
@@ -175,7 +196,9 @@ TEST(LobeSampling, ABankForOneMaterialLeavesTheOtherAsSobol) {
                  makeSphere({1.6, 0, 0}, 1.0, 16, 32, "right")},
                 {left, right}, constantMap(0.8f), {{0, 0, 7}, {0, 0, 0}, {0, 1, 0}, 45, false});
   constexpr std::size_t kSpp = 8;
-  const LobeTables tables({left}, kSmallTables);
+  RenderSettings s{32, 12, kSpp, IntegratorKind::Direct, 1};
+  s.lobeTables = kSmallTables;
+  const LobeTables tables({left}, lobeTablesFor(s));
   std::vector<SetBank> banks;
   Rng rng(5);
   for (const Target *t : tables.targets()) {
@@ -186,8 +209,6 @@ TEST(LobeSampling, ABankForOneMaterialLeavesTheOtherAsSobol) {
     b.sets.metadata["target"] = t->spec();
     banks.push_back(std::move(b));
   }
-  RenderSettings s{32, 12, kSpp, IntegratorKind::Direct, 1};
-  s.lobeTables = kSmallTables;
   BankBackend bank("optimized:test", banks, 21);
   ASSERT_TRUE(bank.samplesLobes());
   RenderStats bankStats;
@@ -225,7 +246,7 @@ TEST(LobeSampling, ABankForOneMaterialLeavesTheOtherAsSobol) {
 // masses passes shifted and fails unshifted.
 TEST(LobeSampling, ShiftedBanksFollowTheTableOverPixels) {
   const auto material = disney(0.0, 0.3);
-  const LobeTables tables({material}, kSmallTables);
+  const LobeTables tables({material}, kSmallProductTables);
   const Target &table = *tables.targets()[1];
   constexpr std::size_t kN = 8;
   SetBank bank{PointSet{}, "one set"};

@@ -173,7 +173,7 @@ TEST(Render, StiffCasesStayFinite) {
                                                 {"sobol-tabulated", IntegratorKind::Path},
                                                 {"sobol-tabulated", IntegratorKind::Bsdf}}) {
           RenderSettings s{12, 12, 8, kind, 8};
-          s.lobeTables = {3, 2, 32};
+          s.lobeTables = {3, 2, 32, std::nullopt};
           auto backend = makeBackend(backendName, 3);
           RenderStats stats;
           const Image img = render(scene, s, *backend, &stats);

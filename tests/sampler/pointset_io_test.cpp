@@ -5,6 +5,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -85,6 +86,54 @@ TEST(PointSetIo, ReadsUtkStyleFiles) {
   EXPECT_EQ(s.n, 2u);
   EXPECT_EQ(s.instances(), 2u);
   EXPECT_EQ(s.points[3], (Point2{0.7, 0.8}));
+}
+
+// A UTK .dat file round-trips through nuld byte for byte: read, then
+// exported as .dat (UTK's own text format, without the metadata lines its
+// reader would take for separators).
+TEST(PointSetIo, UtkFilesRoundTrip) {
+  const test::TempDir dir;
+  const std::string utk = "0.1 0.2\n0.3 0.4\n0.25 0.125\n#\n0.5 0.6\n0.7 0.8\n0.9 1e-05\n";
+  writeText(dir / "in.dat", utk);
+  const PointSet s = readPointSet((dir / "in.dat").string());
+  exportPointSet((dir / "out.dat").string(), s);
+  std::ifstream in(dir / "out.dat");
+  std::stringstream back;
+  back << in.rdbuf();
+  EXPECT_EQ(back.str(), utk);
+  EXPECT_EQ(readPointSet((dir / "out.dat").string()).points, s.points);
+}
+
+// Exports for numpy: the .npy header numpy expects and the raw doubles; CSV
+// columns with the instance index.
+TEST(PointSetIo, ExportsForNumpy) {
+  const test::TempDir dir;
+  SequenceOptions o;
+  const PointSet s = generatePointSet(o, 5, 3);
+  exportPointSet((dir / "s.npy").string(), s);
+  std::ifstream in(dir / "s.npy", std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_GE(bytes.size(), 10u);
+  EXPECT_EQ(bytes.substr(0, 8), std::string("\x93NUMPY\x01\x00", 8));
+  const std::size_t headerLength = std::uint8_t(bytes[8]) | std::uint8_t(bytes[9]) << 8;
+  EXPECT_EQ((10 + headerLength) % 64, 0u);
+  const std::string header = bytes.substr(10, headerLength);
+  EXPECT_NE(header.find("'shape': (3, 5, 2)"), std::string::npos) << header;
+  EXPECT_EQ(header.back(), '\n');
+  ASSERT_EQ(bytes.size(), 10 + headerLength + 30 * sizeof(double));
+  EXPECT_EQ(std::memcmp(bytes.data() + 10 + headerLength, s.points.data(), 30 * sizeof(double)), 0);
+  exportPointSet((dir / "s.csv").string(), s);
+  std::ifstream csv(dir / "s.csv");
+  std::string line;
+  std::getline(csv, line);
+  EXPECT_EQ(line, "instance,x,y");
+  int lines = 0;
+  while (std::getline(csv, line)) ++lines;
+  EXPECT_EQ(lines, 15);
+  const std::string refusal =
+      test::errorMessage([&] { exportPointSet((dir / "s.xyz").string(), s); });
+  EXPECT_NE(refusal.find("s.xyz"), std::string::npos) << refusal;
+  EXPECT_NE(refusal.find(".npy, .csv or .dat"), std::string::npos) << refusal;
 }
 
 TEST(PointSetIo, MalformedFilesNameFileLineAndProblem) {

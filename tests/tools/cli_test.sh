@@ -48,6 +48,26 @@ grep -q '^l2star [0-9.e-]*$' "$dir/out" || { echo "FAIL: eval output lines"; cat
 [[ $(wc -l <"$dir/out") -eq 5 ]] && grep -q "^l2per " "$dir/out" || { echo "FAIL: eval all prints 5 metrics on a uniform set (l2per included)"; failures=$((failures + 1)); }
 ok "eval target from metadata" "$nuld" eval "$dir/q.ptsb" --metric dstar --integrand disc
 grep -q '^integration_rmse' "$dir/out" || { echo "FAIL: integrand output"; failures=$((failures + 1)); }
+ok "help targets" "$nuld" help targets
+grep -q "gaussian:mx,my,sigma" "$dir/out" && grep -q "disney\[:KEY=VALUE" "$dir/out" && grep -q "family:disney" "$dir/out" ||
+  { echo "FAIL: help targets lists the target grammar"; failures=$((failures + 1)); }
+ok "help backends" "$nuld" help backends
+grep -q "sobol-tabulated" "$dir/out" && grep -q "optimized-both" "$dir/out" ||
+  { echo "FAIL: help backends lists the backends"; failures=$((failures + 1)); }
+# export: the instances of a text file kept apart, for numpy
+ok "export npy" "$nuld" export "$dir/s.txt" -o "$dir/s.npy"
+ok "export csv" "$nuld" export "$dir/s.txt" -o "$dir/s.csv"
+[[ $(head -1 "$dir/s.csv") == "instance,x,y" && $(wc -l <"$dir/s.csv") -eq 301 ]] ||
+  { echo "FAIL: export csv has a header and one line per point"; failures=$((failures + 1)); }
+if [[ -x /usr/bin/python3 ]] && /usr/bin/python3 -c "import numpy" 2>/dev/null; then
+  /usr/bin/python3 -c "
+import numpy as np, sys
+a = np.load(sys.argv[1]); c = np.loadtxt(sys.argv[2], delimiter=',', skiprows=1)
+assert a.shape == (3, 100, 2) and a.dtype == np.float64, a.shape
+assert np.array_equal(c[:, 1:].reshape(3, 100, 2), a) and np.array_equal(c[::100, 0], [0, 1, 2])
+" "$dir/s.npy" "$dir/s.csv" || { echo "FAIL: numpy reads the export"; failures=$((failures + 1)); }
+fi
+fails_with "export to an unknown format" "expected a name ending in .npy, .csv or .dat" "$nuld" export "$dir/s.txt" -o "$dir/s.xyz"
 ok "plot" "$nuld" plot "$dir/q.ptsb" -o "$dir/q.png"
 [[ -s "$dir/q.png" ]] || { echo "FAIL: plot wrote nothing"; failures=$((failures + 1)); }
 ok "spectrum" "$nuld" spectrum "$dir/s.txt" -o "$dir/ps.png" --csv "$dir/ps.csv" --half-size 8

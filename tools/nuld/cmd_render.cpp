@@ -3,6 +3,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 
 #include "renderer/image_metrics.h"
 #include "renderer/render.h"
@@ -18,6 +19,7 @@ Runner addRender(CLI::App &app) {
     std::string scene, backend, res, assets, integrator, output;
     std::size_t spp = 0;
     int maxDepth = 0;
+    std::optional<double> lobeMix;
     std::int64_t seed = -1;
     bool quiet = false;
   };
@@ -27,9 +29,9 @@ Runner addRender(CLI::App &app) {
   app.add_option("--backend", o->backend,
                  "sampler backend: independent, sobol, halton, sobol-tabulated (Sobol through "
                  "the tabulated lobe's inverse CDF for BSDF sampling), optimized:PATHS (point-set "
-                 "files or directories, comma-separated), shifted:PATHS (the same, each set "
-                 "shifted in primary space: unbiased), neural:MODEL (default: the scene's, "
-                 "else sobol)");
+                 "files or directories, comma-separated), points:PATHS (the same), shifted:PATHS "
+                 "(each set shifted in primary space: unbiased), neural:MODEL (default: the "
+                 "scene's, else sobol; nuld help backends)");
   app.add_option("--spp", o->spp, "samples per pixel (default: the scene's)")
       ->check(wholeNumberIn(1, 1 << 24));
   app.add_option("--res", o->res, "resolution W or WxH (default: the scene's)");
@@ -42,6 +44,12 @@ Runner addRender(CLI::App &app) {
       ->check(oneOf(kIntegratorNames));
   app.add_option("--max-depth", o->maxDepth, "maximum path length in bounces")
       ->check(wholeNumberIn(1, 1000));
+  app.add_option(
+         "--lobe-mix", o->lobeMix,
+         "density of the lobe tables that sobol-tabulated and lobe banks sample: 0 f cos, 1 the "
+         "material's own sampling pdf, between a mixture (default: 0 for --integrator "
+         "bsdf, 1 under MIS)")
+      ->check(numberIn(0, 1));
   app.add_option("--seed", o->seed, "seed of the backend's randomization")
       ->check(wholeNumberIn(0, std::int64_t(1) << 62));
   app.add_option("-o,--output", o->output, "output EXR (a tone-mapped PNG is written beside it)")
@@ -62,6 +70,10 @@ Runner addRender(CLI::App &app) {
     onlyWhen(app, s.integrator == IntegratorKind::Path, {"--max-depth"}, "--integrator path");
     const std::uint64_t seed = o->seed >= 0 ? std::uint64_t(o->seed) : loaded.seed;
     const auto backend = makeBackend(o->backend.empty() ? loaded.backend : o->backend, seed);
+    onlyWhen(app, backend->samplesLobes() && s.integrator != IntegratorKind::Light, {"--lobe-mix"},
+             "a backend that samples lobe tables (sobol-tabulated, lobe banks) and an integrator "
+             "other than light");
+    if (o->lobeMix) s.lobeTables.samplingMix = o->lobeMix;
 
     ProgressBar bar("render", 1000, 0, o->quiet);
     RenderStats stats;
@@ -70,7 +82,7 @@ Runner addRender(CLI::App &app) {
           bar.update(long(1000 * d / n), std::to_string(d) + "/" + std::to_string(n) + " tiles");
         });
     bar.finish(formatDuration(stats.seconds));
-    writeRender(o->output, image);
+    writeRender(o->output, image, renderAttributes(loaded.name, s, backend->name(), seed, stats));
     std::printf("scene %s\nbackend %s\nspp %zu\nresolution %dx%d\nintegrator %s\n",
                 loaded.name.c_str(), backend->name().c_str(), s.spp, s.width, s.height,
                 toString(s.integrator).c_str());

@@ -127,7 +127,7 @@ Runner addStudyIntegrate(CLI::App &app) {
       ->check(CLI::IsMember({toString(Objective::SoftBoxes), toString(Objective::ExactL2asd)}));
   app.add_option("--opt-union-weight", o->optUnionWeight,
                  "with --opt-objective l2asd: weight of the bank term (nuld optimize "
-                 "--union-weight; default 4, as the render study's lobe banks; 0: instances "
+                 "--union-weight; default 3, as the render study's lobe banks; 0: instances "
                  "optimized apart)")
       ->check(nonNegativeNumber());
   app.add_option("--opt-epochs", o->optEpochs,

@@ -141,9 +141,15 @@ Runner addStudyRender(CLI::App &app) {
       ->check(positiveNumber());
   app.add_option("--opt-union-weight", o->s.lobeUnionWeight,
                  "weight of the lobe banks' bank term (nuld optimize --union-weight), which "
-                 "keeps a glossy lobe's instances from converging to one set (default 4; 0: "
+                 "keeps a glossy lobe's instances from converging to one set (default 3; 0: "
                  "instances optimized apart)")
       ->check(nonNegativeNumber());
+  app.add_option(
+         "--lobe-mix", o->s.lobeMix,
+         "density of the lobe tables that sobol-tabulated and lobe banks sample: 0 f cos, 1 the "
+         "material's own sampling pdf, between a mixture (default: 0 for --integrator "
+         "bsdf, 1 under MIS)")
+      ->check(numberIn(0, 1));
   app.add_option("--assets", o->s.assets,
                  "asset root (default: $NULD_ASSETS, else ../shared/assets)");
   app.add_option("-o,--output", o->out, "study directory (created; a rerun resumes it)")
@@ -174,6 +180,15 @@ Runner addStudyRender(CLI::App &app) {
              "optimized-bsdf, optimized-both)");
     onlyWhen(app, anyBackend({"optimized-bsdf", "optimized-both"}), {"--opt-union-weight"},
              "the lobe banks (backends optimized-bsdf, optimized-both)");
+    onlyWhen(app,
+             std::any_of(s.backends.begin(), s.backends.end(),
+                         [](const std::string &b) {
+                           return b.rfind("sobol-tabulated", 0) == 0 ||
+                                  b.rfind("optimized-b", 0) == 0 || b.find(':') != b.npos;
+                         }),
+             {"--lobe-mix"},
+             "backends that sample lobe tables (sobol-tabulated, optimized-bsdf, optimized-both, "
+             "optimized:PATHS, shifted:PATHS, neural:MODEL)");
     onlyWhen(app, !app.count("--integrator") || o->integrator == "path", {"--max-depth"},
              "--integrator path");
     if (!o->res.empty()) {

@@ -11,6 +11,7 @@ using Runner = std::function<int()>;
 
 Runner addGenerate(CLI::App &app);
 Runner addEval(CLI::App &app);
+Runner addExport(CLI::App &app);
 Runner addPlot(CLI::App &app);
 Runner addSpectrum(CLI::App &app);
 Runner addOptimize(CLI::App &app);

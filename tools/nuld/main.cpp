@@ -9,7 +9,10 @@
 #include <vector>
 
 #include "materials/disney_target.h"
+#include "renderer/sampler_backend.h"
 #include "sampler/enum_names.h"
+#include "sampler/targets/target_family.h"
+#include "sampler/targets/target_spec.h"
 #include "tools/nuld/cli_util.h"
 #include "tools/nuld/commands.h"
 
@@ -31,6 +34,61 @@ CLI::App *subcommandNamed(CLI::App &parent, const std::string &word, const std::
   return nullptr;
 }
 
+// "  GRAMMAR  description", the description wrapped under a fixed column.
+void printEntry(const std::string &grammar, const std::string &description) {
+  constexpr std::size_t kColumn = 30, kWidth = 100;
+  std::string line = "  " + grammar;
+  line += line.size() + 2 <= kColumn ? std::string(kColumn - line.size(), ' ')
+                                     : "\n" + std::string(kColumn, ' ');
+  std::size_t col = kColumn;
+  std::size_t pos = 0;
+  while (pos < description.size()) {
+    std::size_t end = description.find(' ', pos);
+    if (end == std::string::npos) end = description.size();
+    const std::string word = description.substr(pos, end - pos);
+    if (col > kColumn && col + 1 + word.size() > kWidth) {
+      line += "\n" + std::string(kColumn, ' ');
+      col = kColumn;
+    } else if (col > kColumn) {
+      line += ' ';
+      ++col;
+    }
+    line += word;
+    col += word.size();
+    pos = end + 1;
+  }
+  std::cout << line << "\n";
+}
+
+// `nuld help targets` and `nuld help backends`: the SPEC grammars that
+// --target and --backend take, from the catalogues makeTarget and
+// makeBackend refuse unknown names with.
+bool printTopic(const std::string &topic) {
+  if (topic == "targets") {
+    std::cout << "Targets (--target SPEC): densities on the unit square, or on the sphere and\n"
+                 "hemisphere through the equal-area map (docs/usage.md, \"Point sets\").\n\n";
+    for (const auto &d : nuld::targetDescriptions()) printEntry(d.grammar, d.description);
+    std::cout << "\nTarget families (nuld train --target family:...): a target for every gamma\n"
+                 "in [0, 1]^k, what conditioned models learn.\n\n";
+    for (const auto &d : nuld::targetFamilyDescriptions()) printEntry(d.grammar, d.description);
+    return true;
+  }
+  if (topic == "backends") {
+    std::cout << "Sampler backends (nuld render --backend; study render --backends):\n\n";
+    for (const auto &d : nuld::backendDescriptions()) printEntry(d.spelling, d.description);
+    std::cout << "\nnuld study render also makes its own sets (docs/usage.md, \"Comparison "
+                 "studies\"):\n\n";
+    printEntry("optimized", "sets optimized for the scene's environment map (light samples)");
+    printEntry("optimized-uniform",
+               "uniform sets for the periodic L2 discrepancy (primary samples)");
+    printEntry("optimized-bsdf", "lobe banks for the scene's Disney materials (BSDF samples)");
+    printEntry("optimized-both", "optimized and optimized-bsdf together");
+    printEntry("NAME+shift", "any of the four, each set shifted in primary space (unbiased)");
+    return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 int main(int argc, char **argv) {
@@ -48,6 +106,8 @@ int main(int argc, char **argv) {
       nuld::cli::addGenerate);
   add("map", "Map uniform point sets to a target by its inverse CDF", nuld::cli::addMap);
   add("eval", "Print discrepancies of a point-set file as 'NAME VALUE' lines", nuld::cli::addEval);
+  add("export", "Write a point-set file's points as numpy .npy, CSV columns or UTK .dat",
+      nuld::cli::addExport);
   add("optimize", "Optimize point sets for a target by gradient descent (Algorithm 1)",
       nuld::cli::addOptimize);
   add("train", "Train a neural generator for a target or target family (LibTorch)",
@@ -61,7 +121,10 @@ int main(int argc, char **argv) {
       nuld::cli::addCompare);
   add("study", "Comparison studies: integration error, renders against references, reports",
       nuld::cli::addStudy);
-  CLI::App *help = app.add_subcommand("help", "Show this help, or a subcommand's: help SUB [SUB]");
+  CLI::App *help = app.add_subcommand(
+      "help",
+      "Show this help, a subcommand's (help SUB [SUB]), or the grammar of --target "
+      "and --backend (help targets, help backends)");
   std::vector<std::string> helpTopic;
   help->add_option("subcommand", helpTopic, "e.g. optimize, or study render");
 
@@ -89,6 +152,7 @@ int main(int argc, char **argv) {
     // "help study render" walks down the subcommands named. The formatter
     // is called directly: App::help() would show the parsed subcommand's
     // help, that is help's own.
+    if (helpTopic.size() == 1 && printTopic(helpTopic[0])) return 0;
     CLI::App *topic = &app;
     std::string path = "nuld";
     for (const std::string &word : helpTopic) {

@@ -139,7 +139,14 @@ ReferenceResult renderReference(const Scene &scene, const std::string &sceneName
   result.complete = state.passesDone >= passes;
   result.totalSeconds = state.seconds;
   if (result.complete) {
-    writeRender(finalPath.string(), result.image);
+    RenderSettings whole = rs;
+    whole.spp = settings.totalSpp();
+    RenderStats stats;
+    stats.seconds = state.seconds;
+    ImageAttributes attributes =
+        renderAttributes(sceneName, whole, settings.backend, settings.seed, stats);
+    attributes.emplace_back("nuld:reference", description);
+    writeRender(finalPath.string(), result.image, attributes);
     fs::remove(partialPath);
   }
   return result;

@@ -122,7 +122,7 @@ ResolvedBackend resolveBackend(const std::string &backend, const Scene &scene,
     // settings give the same specs), optimized for the exact L2asd
     // objective: as good as the sphere preset's soft boxes for these targets
     // at 1/30 to 1/100 of the time (tools/experiments/lobe_banks_log.md).
-    const LobeTables tables(scene.materials, render.lobeTables);
+    const LobeTables tables(scene.materials, lobeTablesFor(render));
     if (tables.materials() == 0)
       return {"", 0, "the scene has no Disney material to optimize lobe sets for"};
     request.objective = Objective::ExactL2asd;
@@ -206,7 +206,8 @@ std::optional<std::vector<std::string>> renderCell(
     nonFinite += e.nonFinitePixels;
     rejected += stats.rejectedSamples;
     if (r == 0) {
-      writeRender(image.string(), img);
+      writeRender(image.string(), img,
+                  renderAttributes(c.sceneSlug, c.settings, b->name(), s.seed, stats));
       writeImage(errorPath.string(), errorMap(img, c.reference));
     }
   }
@@ -262,6 +263,8 @@ void RenderStudySettings::validate() const {
   if (optimizedInstances == 0) throw std::invalid_argument("--opt-instances: must be at least 1");
   if (!(lobeUnionWeight >= 0) || !std::isfinite(lobeUnionWeight))
     throw std::invalid_argument("--opt-union-weight: expected a finite weight >= 0");
+  if (lobeMix && !(*lobeMix >= 0 && *lobeMix <= 1))
+    throw std::invalid_argument("--lobe-mix: expected a number in [0, 1]");
   if (out.empty()) throw std::invalid_argument("study render: -o OUTDIR is required");
   for (const auto &b : backends)  // fail now, not after an hour of reference
     if (!isStudyBackend(b) && b.rfind("optimized:", 0) != 0 && b.rfind("points:", 0) != 0 &&
@@ -316,6 +319,7 @@ RenderStudyResult runRenderStudy(const RenderStudySettings &s, const StudyProgre
     }
     if (s.integrator) rs.integrator = *s.integrator;
     if (s.maxDepth) rs.maxDepth = s.maxDepth;
+    if (s.lobeMix) rs.lobeTables.samplingMix = s.lobeMix;
     const std::string sceneSlug = slug(scenePath);
     const fs::path dir = s.out / sceneSlug;
 

@@ -54,6 +54,9 @@ struct RenderStudySettings {
   // The lobe banks' bank term (optimizer.h, unionWeight): without it the
   // instances of a glossy lobe's bank converge to nearly one set.
   double lobeUnionWeight = kBankUnionWeight;
+  // The lobe tables' density (LobeTableSettings::samplingMix); nullopt: by
+  // the estimator (lobeTablesFor).
+  std::optional<double> lobeMix;
   std::filesystem::path out;
 
   // Throws std::invalid_argument naming the bad option.

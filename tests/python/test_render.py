@@ -1,0 +1,49 @@
+# Rendering from Python: the image the CLI writes, bit for bit; images
+# compared; bad input refused with the CLI's message.
+import subprocess
+
+import numpy as np
+import pytest
+
+import nuld
+
+
+def test_render_is_the_clis_image(tmp_path, nuld_bin):
+    img, stats = nuld.render("default", backend="sobol", spp=2, resolution=(24, 16), seed=3,
+                             integrator="direct", stats=True)
+    assert img.shape == (16, 24, 3) and img.dtype == np.float32
+    assert np.all(np.isfinite(img)) and img.mean() > 0
+    assert stats["spp"] == 2 and stats["rejected_samples"] == 0
+    exr = str(tmp_path / "r.exr")
+    subprocess.run([nuld_bin, "render", "default", "--backend", "sobol", "--spp", "2", "--res",
+                    "24x16", "--seed", "3", "--integrator", "direct", "-q", "-o", exr],
+                   check=True, capture_output=True)
+    assert np.array_equal(nuld.read_image(exr), img)
+    attributes = nuld.read_image_attributes(exr)
+    assert attributes["nuld:backend"] == "sobol" and attributes["nuld:spp"] == "2"
+    assert attributes["nuld:seed"] == "3" and attributes["nuld:integrator"] == "direct"
+    assert attributes["nuld:scene"] == "default" and "nuld:version" in attributes
+
+
+def test_compare_and_image_files(tmp_path):
+    ref = nuld.render("default", spp=4, resolution=(12, 8), seed=1)
+    img = nuld.render("default", spp=1, resolution=(12, 8), seed=1)
+    assert nuld.compare(ref, ref)["mse"] == 0
+    e = nuld.compare(img, ref)
+    assert e["mse"] > 0 and e["relmse"] > 0
+    path = str(tmp_path / "x.exr")
+    nuld.write_image(path, img)
+    assert np.array_equal(nuld.read_image(path), img)
+    with pytest.raises(ValueError, match="differ in size"):
+        nuld.compare(img, ref[:4])
+
+
+def test_bad_render_arguments():
+    with pytest.raises(ValueError, match="no_such_backend"):
+        nuld.render("default", backend="no_such_backend", resolution=(4, 4))
+    with pytest.raises(ValueError, match="integrator"):
+        nuld.render("default", integrator="photon", resolution=(4, 4))
+    with pytest.raises(ValueError, match="spp"):
+        nuld.render("default", spp=0)
+    with pytest.raises(RuntimeError, match="missing.json"):
+        nuld.render("missing.json")

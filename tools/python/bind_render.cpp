@@ -1,0 +1,125 @@
+// Rendering and images for Python (tools/python/README.md): a scene with a
+// backend to a float32 (H, W, 3) array, images compared and read or written.
+
+#include <pybind11/stl.h>
+
+#include <cstring>
+#include <optional>
+#include <stdexcept>
+
+#include "renderer/image_metrics.h"
+#include "renderer/render.h"
+#include "scenes/scene_file.h"
+#include "tools/python/bindings.h"
+
+namespace nuld::python {
+
+namespace {
+
+using FloatArray = py::array_t<float, py::array::c_style | py::array::forcecast>;
+
+FloatArray arrayOf(const Image &img) {
+  std::vector<py::ssize_t> shape{img.height, img.width};
+  if (img.channels != 1) shape.push_back(img.channels);
+  FloatArray out(shape);
+  std::memcpy(out.mutable_data(), img.pixels.data(), img.pixels.size() * sizeof(float));
+  return out;
+}
+
+Image imageOf(const FloatArray &a, const std::string &what) {
+  if (!(a.ndim() == 2 || (a.ndim() == 3 && a.shape(2) >= 1 && a.shape(2) <= 4)) ||
+      a.shape(0) == 0 || a.shape(1) == 0)
+    throw std::invalid_argument(what +
+                                ": expected an image array of shape (H, W) or (H, W, C), "
+                                "C from 1 to 4");
+  Image img{int(a.shape(1)), int(a.shape(0)), a.ndim() == 3 ? int(a.shape(2)) : 1, {}};
+  img.pixels.assign(a.data(), a.data() + a.size());
+  return img;
+}
+
+}  // namespace
+
+void bindRender(py::module_ &m) {
+  m.def(
+      "render",
+      [](const std::string &scene, std::optional<std::string> backend,
+         std::optional<std::size_t> spp, std::optional<std::pair<int, int>> resolution,
+         std::optional<std::string> integrator, std::optional<int> maxDepth,
+         std::optional<std::uint64_t> seed, const std::string &assets,
+         std::optional<double> lobeMix, bool stats) {
+        const bool builtIn = isBuiltInScene(scene);
+        LoadedScene loaded = loadScene(scene, builtIn ? std::string() : resolveAssetRoot(assets));
+        RenderSettings s = loaded.settings;
+        if (spp) {
+          if (*spp == 0) throw std::invalid_argument("render: spp must be at least 1");
+          s.spp = *spp;
+        }
+        if (resolution) {
+          if (resolution->first < 1 || resolution->second < 1)
+            throw std::invalid_argument("render: resolution must be at least 1 x 1");
+          s.width = resolution->first, s.height = resolution->second;
+        }
+        if (integrator) s.integrator = parseIntegrator(*integrator);
+        if (maxDepth) s.maxDepth = *maxDepth;
+        if (lobeMix) {
+          if (!(*lobeMix >= 0 && *lobeMix <= 1))
+            throw std::invalid_argument("render: lobe_mix must be in [0, 1]");
+          s.lobeTables.samplingMix = *lobeMix;
+        }
+        const auto b = makeBackend(backend ? *backend : loaded.backend, seed ? *seed : loaded.seed);
+        RenderStats st;
+        Image img;
+        {
+          py::gil_scoped_release release;
+          img = render(loaded.scene, s, *b, &st);
+        }
+        FloatArray out = arrayOf(img);
+        if (!stats) return py::object(out);
+        py::dict d;
+        d["backend"] = b->name(), d["spp"] = s.spp, d["integrator"] = toString(s.integrator);
+        d["seconds"] = st.seconds, d["setup_seconds"] = st.setupSeconds, d["rays"] = st.rays;
+        d["rejected_samples"] = st.rejectedSamples, d["classic_fallbacks"] = st.classicFallbacks;
+        return py::object(py::make_tuple(out, d));
+      },
+      py::arg("scene") = "default", py::arg("backend") = py::none(), py::arg("spp") = py::none(),
+      py::arg("resolution") = py::none(), py::arg("integrator") = py::none(),
+      py::arg("max_depth") = py::none(), py::arg("seed") = py::none(), py::arg("assets") = "",
+      py::arg("lobe_mix") = py::none(), py::arg("stats") = false,
+      R"(Renders a scene file (or 'default', 'stress') as `nuld render` does, to a
+linear float32 (H, W, 3) array, row 0 at the top. Unset arguments take the
+scene's values; resolution is (width, height); assets defaults to
+$NULD_ASSETS, else ../shared/assets. With stats=True returns (image, dict).)");
+
+  m.def(
+      "compare",
+      [](const FloatArray &image, const FloatArray &reference) {
+        const ImageError e = compareImages(imageOf(image, "compare: image"),
+                                           imageOf(reference, "compare: reference"));
+        py::dict d;
+        d["mse"] = e.mse, d["relmse"] = e.relmse, d["nonfinite_pixels"] = e.nonFinitePixels;
+        return d;
+      },
+      py::arg("image"), py::arg("reference"),
+      "mse and relmse (as `nuld compare`) of an image against a reference of the same size");
+
+  m.def(
+      "read_image", [](const std::string &path) { return arrayOf(readImage(path, false)); },
+      py::arg("path"), "an EXR, PFM or PNG as a float32 array (H, W[, C])");
+  m.def(
+      "read_image_attributes",
+      [](const std::string &path) {
+        py::dict d;
+        for (const auto &[name, value] : readImageAttributes(path)) d[py::str(name)] = value;
+        return d;
+      },
+      py::arg("path"),
+      "the nuld:* attributes of a render's EXR or PNG (scene, backend, spp, seed, ...)");
+  m.def(
+      "write_image",
+      [](const std::string &path, const FloatArray &image) {
+        writeImage(path, imageOf(image, "write_image"));
+      },
+      py::arg("path"), py::arg("image"), "writes an image (EXR, PFM or PNG by extension)");
+}
+
+}  // namespace nuld::python

@@ -1,0 +1,30 @@
+#pragma once
+// Shared pieces of the Python bindings (tools/python/README.md): numpy
+// arrays of points in and out.
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <string>
+#include <vector>
+
+#include "sampler/point.h"
+
+namespace nuld::python {
+
+namespace py = pybind11;
+
+// Any array convertible to float64, C order.
+using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+// Points of an (N, 2) array (one set) or a (K, N, 2) array (K instances of
+// N); `n` receives N. Throws std::invalid_argument naming `what` and the
+// shape otherwise.
+std::vector<Point2> pointsOf(const DoubleArray &a, const std::string &what, std::size_t &n);
+// The inverse: (N, 2) when `instances` is 0, else (instances, N, 2).
+DoubleArray arrayOf(const std::vector<Point2> &points, std::size_t n, std::size_t instances);
+
+void bindPoints(py::module_ &m);
+void bindRender(py::module_ &m);
+
+}  // namespace nuld::python

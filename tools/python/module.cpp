@@ -1,0 +1,13 @@
+// The extension module behind `import nuld` (tools/python/README.md). C++
+// exceptions become Python's with the same message: std::invalid_argument
+// ValueError, std::runtime_error RuntimeError (pybind11's own translation).
+
+#include "materials/disney_target.h"
+#include "tools/python/bindings.h"
+
+PYBIND11_MODULE(_nuld, m) {
+  m.doc() = "nuld: non-uniform low-discrepancy point sets and a path tracer to test them";
+  nuld::registerMaterialTargets();  // `disney:...` target specs, as the CLI has them
+  nuld::python::bindPoints(m);
+  nuld::python::bindRender(m);
+}
