@@ -71,7 +71,7 @@ Scene contractScene() {
 
 TEST_P(BackendContract, PointsAreInTheUnitSquareAndAPureFunctionOfTheirArguments) {
   const Scene scene = contractScene();
-  const LobeTables lobes(scene.materials, {});
+  const LobeTables lobes(scene.materials, lobeTablesFor(RenderSettings{}));
   SamplingTargets targets{scene.environment->target(), lobes.targets()};
   auto a = makeBackend(spec(), 7), b = makeBackend(spec(), 7);
   a->prepare(kSpp, targets);

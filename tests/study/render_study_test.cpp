@@ -177,9 +177,16 @@ TEST_F(TinyStudy, ReportLinksOnlyFilesThatExist) {
     EXPECT_TRUE(fs::exists(*dir_ / target)) << target;
     ++links;
   }
-  // Reference, plot, and per backend at 2 spp: image, crop, error map.
-  EXPECT_GE(links, 2u + 5 * 2 * 3);
+  // Reference, plot, and per backend at 2 spp: image, crop, error map, EXR.
+  EXPECT_GE(links, 2u + 5 * 2 * 4);
   EXPECT_TRUE(fs::exists(*dir_ / "plots" / "render_default.png"));
+  // Every spp rendered has its images, the data files are linked, the
+  // error maps have their colour scale, and no absolute path is shown.
+  for (const std::size_t spp : tinyStudy(*dir_).spp)
+    EXPECT_NE(html.find("<h3>" + std::to_string(spp) + " spp</h3>"), std::string::npos) << spp;
+  EXPECT_NE(html.find("href=\"render.csv\""), std::string::npos);
+  EXPECT_NE(html.find("src=\"plots/error_scale.png\""), std::string::npos);
+  EXPECT_EQ(html.find(fs::absolute(*dir_).string()), std::string::npos) << "an absolute path";
 }
 
 TEST(ReferenceRender, ResumedEqualsUninterruptedBitForBit) {

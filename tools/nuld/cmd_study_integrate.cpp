@@ -99,9 +99,10 @@ Runner addStudyIntegrate(CLI::App &app) {
       ->required();
   app.add_option("--integrands", o->integrands,
                  "comma-separated: gaussian*step, quarterdisc*bilinear, envmap*cos, "
-                 "disney*envmap, disney-grazing*envmap (these three once per map), "
-                 "disney*cosines (the lobe under a smooth light, at 20, 45 and 70 degrees); or a "
-                 "full name such as envmap:grace*cos (default: all)");
+                 "disney*envmap, disney-grazing*envmap, disney-views*envmap (the lobe at 20 "
+                 "and 70 degrees; these four once per map), disney*cosines (the lobe under a "
+                 "smooth light, at 20, 45 and 70 degrees); or a full name such as "
+                 "envmap:grace*cos (default: all)");
   app.add_option("--samplers", o->samplers,
                  "comma-separated: independent, sobol, halton (each with its -lobes variant "
                  "on the BRDF integrand; or name e.g. sobol-lobes alone), optimized, the "

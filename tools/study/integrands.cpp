@@ -93,8 +93,8 @@ void gaussLegendre(int q, std::vector<double> &nodes, std::vector<double> &weigh
 
 const std::vector<std::string> &integrandKinds() {
   static const std::vector<std::string> kinds{
-      "gaussian*step", "quarterdisc*bilinear",  "envmap*cos",
-      "disney*envmap", "disney-grazing*envmap", "disney*cosines"};
+      "gaussian*step",         "quarterdisc*bilinear", "envmap*cos",         "disney*envmap",
+      "disney-grazing*envmap", "disney*cosines",       "disney-views*envmap"};
   return kinds;
 }
 
@@ -379,6 +379,19 @@ Integrand makeDisneyCosines(double thetaDegrees, const DisneyParams &params) {
 }
 
 std::vector<double> disneyCosinesThetas() { return {20, 45, 70}; }
+
+std::vector<double> disneyViewThetas() { return {20, 70}; }
+
+std::string disneyViewName(const std::string &map, double thetaDegrees) {
+  char theta[32];
+  std::snprintf(theta, sizeof theta, "%g", thetaDegrees);
+  return "disney*envmap:" + map + ":theta=" + theta;
+}
+
+Vec3 disneyViewWo(double thetaDegrees) {
+  const double theta = thetaDegrees / kDegrees;
+  return {std::sin(theta), 0, std::cos(theta)};
+}
 
 std::string disneyCosinesName(double thetaDegrees) {
   char name[64];

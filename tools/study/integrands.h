@@ -127,6 +127,11 @@ Integrand makeDisneyCosines(double thetaDegrees,
                             const DisneyParams &params = supplementDisneyParams());
 std::vector<double> disneyCosinesThetas();
 std::string disneyCosinesName(double thetaDegrees);
+// disney-views*envmap: disney*envmap at the other views of disneyCosinesThetas
+// (20 and 70 degrees, phi 0), named disney*envmap:MAP:theta=T.
+std::vector<double> disneyViewThetas();
+std::string disneyViewName(const std::string &map, double thetaDegrees);
+Vec3 disneyViewWo(double thetaDegrees);
 std::vector<Vec3> smoothLightNormals();
 
 // omega_o 89 degrees from the normal, in the plane of the tangent: the

@@ -126,6 +126,8 @@ std::vector<Integrand> selectIntegrands(const IntegrateOptions &o,
     known.push_back("envmap:" + envmapShortName(m) + "*cos");
     known.push_back("disney*envmap:" + envmapShortName(m));
     known.push_back("disney-grazing*envmap:" + envmapShortName(m));
+    for (double theta : disneyViewThetas())
+      known.push_back(disneyViewName(envmapShortName(m), theta));
   }
   for (double theta : disneyCosinesThetas()) known.push_back(disneyCosinesName(theta));
   for (const auto &t : o.integrands)
@@ -141,7 +143,10 @@ std::vector<Integrand> selectIntegrands(const IntegrateOptions &o,
     const bool cosine = wants(kinds[2], "envmap:" + name + "*cos");
     const bool disney = wants(kinds[3], "disney*envmap:" + name);
     const bool grazing = wants(kinds[4], "disney-grazing*envmap:" + name);
-    if (!cosine && !disney && !grazing) continue;
+    std::vector<double> views;
+    for (double theta : disneyViewThetas())
+      if (wants(kinds[6], disneyViewName(name, theta))) views.push_back(theta);
+    if (!cosine && !disney && !grazing && views.empty()) continue;
     std::shared_ptr<const StudyEnvmap> map;
     if (m == kSunMap) {
       // The stability case: the default scene's sky with a sun 1e6 times
@@ -160,6 +165,11 @@ std::vector<Integrand> selectIntegrands(const IntegrateOptions &o,
     if (grazing) {
       Integrand in = makeDisneyEnvmap(map, supplementDisneyParams(), grazingWo());
       in.name = "disney-grazing*envmap:" + name;
+      out.push_back(std::move(in));
+    }
+    for (double theta : views) {
+      Integrand in = makeDisneyEnvmap(map, supplementDisneyParams(), disneyViewWo(theta));
+      in.name = disneyViewName(name, theta);
       out.push_back(std::move(in));
     }
   }

@@ -137,6 +137,26 @@ def save_crop(src_png, window, dst_png):
     plt.imsave(dst_png, np.clip(img, 0, 1))
 
 
+# The false-colour error maps' ramp and scale (renderer/image_metrics.cpp,
+# errorMap): the pixel's relative squared error, 1e-4 to 1 on a log axis,
+# through these colours.
+ERROR_RAMP = [(0.02, 0.02, 0.15), (0.1, 0.3, 0.9), (0.1, 0.8, 0.3), (1.0, 0.9, 0.1), (1, 1, 1)]
+
+
+def error_scale(plots_dir):
+    """A colour bar for the error maps, drawn once; its path relative to the page."""
+    from matplotlib.colors import LinearSegmentedColormap, LogNorm
+    name = "error_scale.png"
+    fig, ax = plt.subplots(figsize=(1.3, 3.2))
+    cmap = LinearSegmentedColormap.from_list("nuld_error", ERROR_RAMP)
+    bar = fig.colorbar(plt.cm.ScalarMappable(norm=LogNorm(1e-4, 1), cmap=cmap), cax=ax)
+    bar.set_label("relative squared error")
+    fig.subplots_adjust(left=0.05, right=0.35, top=0.95, bottom=0.05)
+    fig.savefig(os.path.join(plots_dir, name), dpi=110)
+    plt.close(fig)
+    return "plots/" + name
+
+
 def fmt(v, digits=3):
     v = num(v)
     if not math.isfinite(v):
@@ -190,7 +210,7 @@ def render_section(root, scene, rows, ref, plots_dir):
     crops = os.path.join(plots_dir, "crops")
     os.makedirs(crops, exist_ok=True)
 
-    def figure(png_rel, caption, tag):
+    def figure(png_rel, caption, tag, exr_rel=None):
         png = os.path.join(root, png_rel)
         if not os.path.exists(png):
             return ""
@@ -199,12 +219,18 @@ def render_section(root, scene, rows, ref, plots_dir):
             crop_rel = f"plots/crops/{scene}_{tag}.png"
             save_crop(png, window, os.path.join(root, crop_rel))
             crop_html = f'<img class="crop" src="{crop_rel}" alt="crop">'
+        link = ""
+        if exr_rel and os.path.exists(os.path.join(root, exr_rel)):
+            link = f' <a href="{html.escape(exr_rel)}">EXR</a>'
         return (f'<figure><img class="full" src="{png_rel}" alt="{html.escape(caption)}">'
-                f"{crop_html}<figcaption>{html.escape(caption)}</figcaption></figure>")
+                f"{crop_html}<figcaption>{html.escape(caption)}{link}</figcaption></figure>")
 
-    out.append('<div class="row">' + figure(f"{scene}/reference.png", "reference", "reference") +
-               "</div>")
-    for s in sorted({spps[0], spps[-1]}):
+    out.append('<div class="row">' +
+               figure(f"{scene}/reference.png", "reference", "reference",
+                      f"{scene}/reference.exr") + "</div>")
+    scale = error_scale(plots_dir)
+    # Every spp rendered; the smallest and largest open, the others folded.
+    for s in spps:
         figs = []
         for b in backends:
             r = cell.get((b, s))
@@ -212,13 +238,20 @@ def render_section(root, scene, rows, ref, plots_dir):
                 continue
             tag = f"{os.path.splitext(os.path.basename(r['image']))[0]}"
             figs.append(figure(os.path.splitext(r["image"])[0] + ".png",
-                               f"{backend_label(b)}, {s} spp, MSE {fmt(r['mse'])}", tag))
+                               f"{backend_label(b)}, {s} spp, MSE {fmt(r['mse'])}", tag,
+                               r["image"]))
             err = r["error_map"]
             if os.path.exists(os.path.join(root, err)):
                 figs.append(f'<figure><img class="full" src="{err}" alt="error map">'
                             f"<figcaption>relative error, {html.escape(backend_label(b))}"
                             "</figcaption></figure>")
-        out.append(f"<h3>{s} spp</h3><div class='row'>{''.join(figs)}</div>")
+        figs.append(f'<figure class="scale"><img class="scale" src="{scale}" '
+                    'alt="error colour scale"><figcaption>error maps: (image − reference)² / '
+                    "(reference² + 0.01), mean of the channels (relMSE per pixel)"
+                    "</figcaption></figure>")
+        is_open = " open" if s in (spps[0], spps[-1]) else ""
+        out.append(f"<details{is_open}><summary><h3>{s} spp</h3></summary>"
+                   f"<div class='row'>{''.join(figs)}</div></details>")
     return "\n".join(out)
 
 
@@ -244,7 +277,11 @@ def integrate_section(root, rows):
 
 
 STYLE = """
-body { font-family: sans-serif; margin: 2em; max-width: 1400px; }
+body { font-family: sans-serif; margin: 1em 2em; max-width: 1400px; }
+@media (max-width: 1400px) {
+  img.full { width: 220px; }
+  figcaption { max-width: 220px; }
+}
 table { border-collapse: collapse; margin: 0.5em 0; font-size: 0.9em; }
 td, th { border: 1px solid #ccc; padding: 3px 8px; text-align: right; }
 td.win { background: #dff5df; }
@@ -253,7 +290,11 @@ figure { margin: 0; }
 figcaption { font-size: 0.8em; max-width: 260px; }
 img.full { width: 260px; image-rendering: pixelated; display: block; }
 img.crop { width: 128px; image-rendering: pixelated; display: block; margin-top: 3px; }
+img.scale { height: 190px; display: block; }
+figure.scale figcaption { max-width: 140px; }
 img.plot { max-width: 100%; }
+summary h3 { display: inline; }
+details { margin: 0.6em 0; }
 img.plot-small { max-width: 900px; width: 100%; }
 .note { color: #555; font-size: 0.85em; }
 .bad { color: #b00; font-weight: bold; }
@@ -280,11 +321,15 @@ def main():
         body.append(integrate_section(root, integrate_rows))
     toc = " · ".join([f'<a href="#{html.escape(s)}">{html.escape(s)}</a>' for s in scenes] +
                      (['<a href="#integrate">integration</a>'] if integrate_rows else []))
-    page = (f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>nuld study</title>"
-            f"<style>{STYLE}</style></head><body><h1>nuld study</h1>"
-            f"<p class='note'>Generated {datetime.datetime.now():%Y-%m-%d %H:%M} from "
-            f"{html.escape(os.path.abspath(root))}. {toc}</p>" + "\n".join(body) +
-            "</body></html>\n")
+    data = " · ".join(f'<a href="{name}">{name}</a>'
+                      for name in ("render.csv", "references.csv", "integrate.csv")
+                      if os.path.exists(os.path.join(root, name)))
+    # No absolute path on the page: it is meant to be copied and shared.
+    page = (f"<!DOCTYPE html><html><head><meta charset='utf-8'>"
+            f"<meta name='viewport' content='width=device-width, initial-scale=1'>"
+            f"<title>nuld study</title><style>{STYLE}</style></head><body><h1>nuld study</h1>"
+            f"<p class='note'>Generated {datetime.datetime.now():%Y-%m-%d %H:%M}. {toc}"
+            f"<br>Data: {data}</p>" + "\n".join(body) + "</body></html>\n")
     tmp = os.path.join(root, ".index.html.tmp")
     with open(tmp, "w") as f:
         f.write(page)
