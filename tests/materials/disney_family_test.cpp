@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -89,6 +90,15 @@ TEST(DisneyFamily, SpecGammaIsTheViewsInverse) {
   ASSERT_TRUE(g);
   EXPECT_EQ(*g, *invertDisneyFamilyView({60, 300}));
   EXPECT_FALSE(disneyFamilyGamma(family->spec(), "disney:theta=89.5,res=32"));
+  // The tables' density is part of the family: a model trained on f cos does
+  // not serve the MIS tables (mix 1), one trained on family:disney:mix=1 does.
+  EXPECT_FALSE(disneyFamilyGamma(family->spec(), "disney:theta=60,res=32,mix=1"));
+  const auto sampling = makeTargetFamily("family:disney:res=32,mix=1");
+  EXPECT_EQ(sampling->spec(), "family:disney:res=32,mix=1");
+  EXPECT_TRUE(disneyFamilyGamma(sampling->spec(), "disney:theta=60,res=32,mix=1"));
+  EXPECT_FALSE(disneyFamilyGamma(sampling->spec(), "disney:theta=60,res=32"));
+  const std::array<double, 2> gamma{0.5, 0.25};
+  EXPECT_NE(sampling->target(gamma)->spec().find("mix=1"), std::string::npos);
 }
 
 }  // namespace

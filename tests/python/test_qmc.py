@@ -45,3 +45,20 @@ def test_engine_from_a_point_file(tmp_path):
     e = PointSetEngine(path)
     assert e.metadata["comment"] == "c"
     assert np.array_equal(e.random(8), bank.reshape(-1, 2))
+
+
+def test_neural_engine_serves_a_models_sets(tmp_path, nuld_bin):
+    import subprocess
+    model = str(tmp_path / "tiny.nuldnet")
+    subprocess.run([nuld_bin, "train", "--target", "uniform", "--n", "16", "--hidden", "64",
+                    "--steps", "3", "-q", "-o", model], check=True, capture_output=True)
+    points, spec = nuld.generate_neural(model, instances=3, seed=5)
+    assert points.shape == (3, 16, 2) and spec == "uniform"
+    assert np.all((points >= 0) & (points < 1))
+    again, _ = nuld.generate_neural(model, instances=3, seed=5)
+    assert np.array_equal(points, again)  # a pure function of (model, seed)
+    from nuld.qmc import NeuralEngine
+    e = NeuralEngine(model, instances=3, seed=5)
+    assert e.target_spec == "uniform" and np.array_equal(e.random(16), points[0])
+    with pytest.raises(ValueError, match="gamma"):
+        nuld.generate_neural(model, gamma=[0.5])

@@ -166,4 +166,11 @@ void onlyWhen(const CLI::App &app, bool applies, std::initializer_list<const cha
       throw std::invalid_argument(command + ": " + option + " applies to " + when + " only");
 }
 
+std::string targetOptionHelp(const std::string &what) {
+  std::string list;
+  for (const TargetDescription &d : targetDescriptions())
+    list += (list.empty() ? "" : ", ") + d.grammar;
+  return what + ": " + list + " (nuld help targets)";
+}
+
 }  // namespace nuld::cli

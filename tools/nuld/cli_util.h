@@ -82,4 +82,8 @@ CLI::Validator nonNegativeNumber();
 // else "".
 std::string closestName(const std::string &word, const std::vector<std::string> &names);
 
+// "WHAT: uniform, bilinear:w00,w10,w01,w11, ... (nuld help targets)": every
+// target grammar makeTarget knows, for a --target option's help.
+std::string targetOptionHelp(const std::string &what);
+
 }  // namespace nuld::cli

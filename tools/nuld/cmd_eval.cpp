@@ -20,7 +20,7 @@ Runner addEval(CLI::App &app) {
   auto o = std::make_shared<Options>();
   app.add_option("file", o->file, "point-set file")->required();
   app.add_option("--target", o->target,
-                 "target SPEC (default: the file's, else uniform; nuld help targets)");
+                 targetOptionHelp("target SPEC (default: the file's, else uniform)"));
   app.add_option("--metric", o->metric,
                  "l2star, l2asd, dstar, l2 (grid L2asd against the target), l2per (periodic "
                  "L2, uniform target only) or all")

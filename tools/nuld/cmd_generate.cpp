@@ -150,7 +150,7 @@ Runner addGenerate(CLI::App &app) {
       ->check(positiveNumber())
       ->capture_default_str();
   app.add_option("--target", o->target,
-                 "map the points to this target by inverse CDF (SPEC; nuld help targets)");
+                 targetOptionHelp("map the points to this target by inverse CDF (SPEC)"));
   app.add_option("-o,--output", o->output, "output file (.ptsb: binary; otherwise text)")
       ->required();
   return [o, &app] {
@@ -195,7 +195,7 @@ Runner addMap(CLI::App &app) {
   };
   auto o = std::make_shared<Options>();
   app.add_option("file", o->input, "point-set file of uniform points")->required();
-  app.add_option("--target", o->target, "target SPEC to map to by inverse CDF (nuld help targets)")
+  app.add_option("--target", o->target, targetOptionHelp("target SPEC to map to by inverse CDF"))
       ->required();
   app.add_option("--shifts", o->shifts,
                  "randomize first: K Cranley-Patterson shifts (from --seed) of every input set, "

@@ -202,10 +202,7 @@ int runOptimize(const OptimizeOptions &o, const Target &target, const OptimizerS
 
 Runner addOptimize(CLI::App &app) {
   auto o = std::make_shared<OptimizeOptions>();
-  app.add_option("--target", o->target,
-                 "target SPEC (uniform, gaussian:mx,my,sigma, envmap:PATH, disney:..., see nuld "
-                 "help targets)")
-      ->required();
+  app.add_option("--target", o->target, targetOptionHelp("target SPEC"))->required();
   app.add_option("--n", o->n, "points per set")->required()->check(positiveNumber());
   app.add_option("--preset", o->preset,
                  "uniform, nonuniform, nonuniform-mc, sphere or sphere-mc (default: by target)");

@@ -23,7 +23,7 @@ Runner addPlot(CLI::App &app) {
   app.add_option("file", o->file, "point-set file")->required();
   app.add_option("-o,--output", o->output, "PNG to write")->required();
   app.add_option("--target", o->target,
-                 "draw this target's density underneath (default: the file's; nuld help targets)");
+                 targetOptionHelp("draw this target's density underneath (default: the file's)"));
   app.add_option("--size", o->size, "image size in pixels")
       ->check(wholeNumberIn(16, 8192))
       ->capture_default_str();

@@ -193,8 +193,9 @@ int runTrain(const TrainOptions &o, const NeuralSettings &ns, const TrainerSetti
 Runner addTrain(CLI::App &app) {
   auto o = std::make_shared<TrainOptions>();
   app.add_option("--target", o->target,
-                 "target SPEC (z is the only input) or family:gaussian|bilinear|disney[:ARGS] "
-                 "(gamma drawn per batch entry; nuld help targets)")
+                 targetOptionHelp("target SPEC (z is the only input) or a family "
+                                  "family:gaussian|bilinear|disney[:ARGS] (gamma drawn per "
+                                  "batch entry); targets"))
       ->required();
   app.add_option("--n", o->sizes,
                  "points per set; graph: several sizes as N1,N2,... (one per step in turn; the "

@@ -19,15 +19,18 @@
 namespace {
 
 // The subcommand of `parent` named `word`; nullptr after saying on stderr,
-// with the closest name and the choices, that there is none ("nuld: PREFIX
-// unknown subcommand ...").
-CLI::App *subcommandNamed(CLI::App &parent, const std::string &word, const std::string &prefix) {
+// with the closest name and the choices (also `otherTopics`, help's own),
+// that there is none ("nuld: PREFIX unknown subcommand ...").
+CLI::App *subcommandNamed(CLI::App &parent, const std::string &word, const std::string &prefix,
+                          const std::vector<std::string> &otherTopics = {}) {
   std::vector<std::string> names;
   for (CLI::App *sub : parent.get_subcommands({})) {
     if (sub->get_name() == word) return sub;
     names.push_back(sub->get_name());
   }
-  std::cerr << "nuld: " << prefix << "unknown subcommand '" << word << "'";
+  names.insert(names.end(), otherTopics.begin(), otherTopics.end());
+  std::cerr << "nuld: " << prefix << "unknown " << (otherTopics.empty() ? "subcommand" : "topic")
+            << " '" << word << "'";
   if (const std::string near = nuld::cli::closestName(word, names); !near.empty())
     std::cerr << " (did you mean '" << near << "'?)";
   std::cerr << "; expected " << nuld::joinAlternatives(names) << "\n";
@@ -156,7 +159,9 @@ int main(int argc, char **argv) {
     CLI::App *topic = &app;
     std::string path = "nuld";
     for (const std::string &word : helpTopic) {
-      topic = subcommandNamed(*topic, word, "help: ");
+      topic = subcommandNamed(*topic, word, "help: ",
+                              topic == &app ? std::vector<std::string>{"targets", "backends"}
+                                            : std::vector<std::string>{});
       if (!topic) return 2;
       path += " " + word;
     }
