@@ -54,6 +54,7 @@ def test_l2star_agrees_with_scipy(n):
     # prints (nuld eval, nuld.discrepancy): two implementations, one number.
     for points in (nuld.sequence(n, seed=5), np.random.default_rng(n).random((n, 2))):
         ours = nuld.discrepancy(points, "l2star")
+        assert isinstance(ours, float)
         theirs = qmc.discrepancy(points, method="L2-star")
         assert ours == pytest.approx(theirs, rel=1e-10)
 

@@ -5,6 +5,7 @@
 #include <pybind11/functional.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <cstring>
 #include <memory>
 #include <optional>
@@ -224,13 +225,16 @@ returning False stops there. Returns (K, N, 2).)");
         };
         if (n == 0) throw std::invalid_argument("discrepancy: the set is empty");
         const std::size_t k = p.size() / n;
-        DoubleArray out(std::vector<py::ssize_t>(points.ndim() == 3 ? 1 : 0, py::ssize_t(k)));
+        std::vector<double> values(k);
         {
           py::gil_scoped_release release;
           for (std::size_t i = 0; i < k; ++i)
-            out.mutable_data()[i] = one(std::span<const Point2>(p).subspan(i * n, n));
+            values[i] = one(std::span<const Point2>(p).subspan(i * n, n));
         }
-        return out;
+        if (points.ndim() == 2) return py::object(py::float_(values[0]));
+        DoubleArray out{py::ssize_t(k)};
+        std::copy(values.begin(), values.end(), out.mutable_data());
+        return py::object(out);
       },
       py::arg("points"), py::arg("metric") = "l2star", py::arg("target") = py::none(),
       py::arg("grid") = 256,
