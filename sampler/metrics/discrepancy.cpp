@@ -137,4 +137,22 @@ double starDiscrepancy(std::span<const Point2> p, const Target *target) {
   return *std::max_element(best.begin(), best.end());
 }
 
+double discrepancyByName(const std::string &metric, std::span<const Point2> points,
+                         const Target &target, int res) {
+  const bool uniform = target.isUniform();
+  if (metric == "l2star")
+    return uniform ? l2StarDiscrepancy(points) : nonuniformL2Star(points, target, res);
+  if (metric == "l2asd") return uniform ? l2asd(points) : nonuniformL2asd(points, target, res);
+  if (metric == "dstar") return starDiscrepancy(points, uniform ? nullptr : &target);
+  if (metric == "l2") return nonuniformL2asd(points, target, res);
+  if (metric == "l2per") {
+    if (!uniform)
+      throw std::invalid_argument("l2per measures uniform sets on the torus; the target is '" +
+                                  target.spec() + "'");
+    return periodicL2(points);
+  }
+  throw std::invalid_argument("unknown metric '" + metric +
+                              "' (expected l2star, l2asd, dstar, l2 or l2per)");
+}
+
 }  // namespace nuld

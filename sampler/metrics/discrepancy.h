@@ -4,6 +4,7 @@
 // take box masses from a target.
 
 #include <span>
+#include <string>
 
 #include "sampler/point.h"
 #include "sampler/targets/target.h"
@@ -44,5 +45,14 @@ double starDiscrepancy(std::span<const Point2> points, const Target *target = nu
 // res x res grid (exact for uniform targets, O(1/res^2) error otherwise).
 double nonuniformL2Star(std::span<const Point2> points, const Target &target, int res = 256);
 double nonuniformL2asd(std::span<const Point2> points, const Target &target, int res = 256);
+
+// The metrics by the names `nuld eval` and the Python module use, against
+// `target` (closed forms when it is uniform, the grid of `res` otherwise):
+//   l2star, l2asd, dstar, l2 (the grid L2asd even for a uniform target) and
+//   l2per (uniform targets only).
+// Throws std::invalid_argument for another name or l2per of a non-uniform
+// target.
+double discrepancyByName(const std::string &metric, std::span<const Point2> points,
+                         const Target &target, int res = 256);
 
 }  // namespace nuld

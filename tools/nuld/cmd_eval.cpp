@@ -69,13 +69,7 @@ Runner addEval(CLI::App &app) {
       double sum = 0;
       for (std::size_t k = 0; k < set.instances(); ++k) {
         const auto pts = set.instance(k);
-        double v = 0;
-        if (m == "l2star")
-          v = uniform ? l2StarDiscrepancy(pts) : nonuniformL2Star(pts, *target, o->grid);
-        if (m == "l2asd") v = uniform ? l2asd(pts) : nonuniformL2asd(pts, *target, o->grid);
-        if (m == "dstar") v = starDiscrepancy(pts, uniform ? nullptr : target.get());
-        if (m == "l2") v = nonuniformL2asd(pts, *target, o->grid);
-        if (m == "l2per") v = periodicL2(pts);
+        const double v = discrepancyByName(m, pts, *target, o->grid);
         if (o->perInstance) std::printf("%s[%zu] %.9g\n", m.c_str(), k, v);
         sum += v;
       }

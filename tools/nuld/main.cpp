@@ -15,6 +15,7 @@
 #include "sampler/targets/target_spec.h"
 #include "tools/nuld/cli_util.h"
 #include "tools/nuld/commands.h"
+#include "tools/study/render_study.h"
 
 namespace {
 
@@ -81,12 +82,9 @@ bool printTopic(const std::string &topic) {
     for (const auto &d : nuld::backendDescriptions()) printEntry(d.spelling, d.description);
     std::cout << "\nnuld study render also makes its own sets (docs/usage.md, \"Comparison "
                  "studies\"):\n\n";
-    printEntry("optimized", "sets optimized for the scene's environment map (light samples)");
-    printEntry("optimized-uniform",
-               "uniform sets for the periodic L2 discrepancy (primary samples)");
-    printEntry("optimized-bsdf", "lobe banks for the scene's Disney materials (BSDF samples)");
-    printEntry("optimized-both", "optimized and optimized-bsdf together");
-    printEntry("NAME+shift", "any of the four, each set shifted in primary space (unbiased)");
+    for (const auto &d : nuld::study::studyBackendDescriptions())
+      printEntry(d.spelling, d.description);
+    printEntry("NAME+shift", "any of these, each set shifted in primary space (unbiased)");
     return true;
   }
   return false;

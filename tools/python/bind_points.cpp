@@ -208,28 +208,16 @@ returning False stops there. Returns (K, N, 2).)");
         std::size_t n;
         const std::vector<Point2> p = pointsOf(points, "discrepancy", n);
         const TargetPtr t = target ? target : targetOf("uniform");
-        const bool uniform = t->isUniform();
-        const auto one = [&](std::span<const Point2> s) {
-          if (metric == "l2star")
-            return uniform ? l2StarDiscrepancy(s) : nonuniformL2Star(s, *t, grid);
-          if (metric == "l2asd") return uniform ? l2asd(s) : nonuniformL2asd(s, *t, grid);
-          if (metric == "dstar") return starDiscrepancy(s, uniform ? nullptr : t.get());
-          if (metric == "l2") return nonuniformL2asd(s, *t, grid);
-          if (metric == "l2per") {
-            if (!uniform)
-              throw std::invalid_argument("discrepancy: l2per measures uniform sets on the torus");
-            return periodicL2(s);
-          }
-          throw std::invalid_argument("discrepancy: unknown metric '" + metric +
-                                      "' (expected l2star, l2asd, dstar, l2 or l2per)");
-        };
         if (n == 0) throw std::invalid_argument("discrepancy: the set is empty");
         const std::size_t k = p.size() / n;
         std::vector<double> values(k);
-        {
+        try {
           py::gil_scoped_release release;
           for (std::size_t i = 0; i < k; ++i)
-            values[i] = one(std::span<const Point2>(p).subspan(i * n, n));
+            values[i] =
+                discrepancyByName(metric, std::span<const Point2>(p).subspan(i * n, n), *t, grid);
+        } catch (const std::invalid_argument &e) {
+          throw std::invalid_argument(std::string("discrepancy: ") + e.what());
         }
         if (points.ndim() == 2) return py::object(py::float_(values[0]));
         DoubleArray out{py::ssize_t(k)};
@@ -267,19 +255,14 @@ l2star, l2asd, dstar, l2 (grid L2asd), l2per (uniform only). A scalar for
       [](const std::string &model, std::size_t instances, std::uint64_t seed,
          std::vector<double> gamma, std::optional<std::size_t> n) {
         const NeuralGenerator gen = NeuralGenerator::load(model);
-        const std::size_t size = n ? *n : gen.settings().n;
-        gen.checkSize(size);
-        if (gamma.size() != gen.gammaDimension())
-          throw std::invalid_argument(model + " (" + gen.family().spec() + ") needs " +
-                                      std::to_string(gen.gammaDimension()) + " gamma values, got " +
-                                      std::to_string(gamma.size()));
+        // The family checks gamma (and the generator the size) itself.
+        const std::string spec = gen.family().target(gamma)->spec();
         PointSet set;
         {
           py::gil_scoped_release release;
-          set = gen.generateSets(instances, seed, gamma, size);
+          set = gen.generateSets(instances, seed, gamma, n.value_or(0));
         }
-        return py::make_tuple(arrayOf(set.points, size, instances),
-                              gen.family().target(gamma)->spec());
+        return py::make_tuple(arrayOf(set.points, set.n, instances), spec);
       },
       py::arg("model"), py::arg("instances") = 1, py::arg("seed") = 0,
       py::arg("gamma") = std::vector<double>{}, py::arg("n") = py::none(),

@@ -388,11 +388,6 @@ std::string disneyViewName(const std::string &map, double thetaDegrees) {
   return "disney*envmap:" + map + ":theta=" + theta;
 }
 
-Vec3 disneyViewWo(double thetaDegrees) {
-  const double theta = thetaDegrees / kDegrees;
-  return {std::sin(theta), 0, std::cos(theta)};
-}
-
 std::string disneyCosinesName(double thetaDegrees) {
   char name[64];
   std::snprintf(name, sizeof name, "disney*cosines:theta=%g", thetaDegrees);

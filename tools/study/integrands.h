@@ -131,7 +131,6 @@ std::string disneyCosinesName(double thetaDegrees);
 // (20 and 70 degrees, phi 0), named disney*envmap:MAP:theta=T.
 std::vector<double> disneyViewThetas();
 std::string disneyViewName(const std::string &map, double thetaDegrees);
-Vec3 disneyViewWo(double thetaDegrees);
 std::vector<Vec3> smoothLightNormals();
 
 // omega_o 89 degrees from the normal, in the plane of the tangent: the

@@ -168,7 +168,9 @@ std::vector<Integrand> selectIntegrands(const IntegrateOptions &o,
       out.push_back(std::move(in));
     }
     for (double theta : views) {
-      Integrand in = makeDisneyEnvmap(map, supplementDisneyParams(), disneyViewWo(theta));
+      DisneyTargetSpec view;  // the supplement's instance at theta, phi 0
+      view.thetaDegrees = theta;
+      Integrand in = makeDisneyEnvmap(map, view.params, view.wo());
       in.name = disneyViewName(name, theta);
       out.push_back(std::move(in));
     }

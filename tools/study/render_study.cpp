@@ -38,8 +38,9 @@ std::string withoutShift(const std::string &b) {
 
 bool isStudyBackend(const std::string &b) {
   const std::string base = withoutShift(b);
-  return base == "optimized" || base == "optimized-uniform" || base == "optimized-bsdf" ||
-         base == "optimized-both";
+  const auto &study = studyBackendDescriptions();
+  return std::any_of(study.begin(), study.end(),
+                     [&](const BackendDescription &d) { return base == d.spelling; });
 }
 
 // Mean and standard error of the mean.
@@ -231,6 +232,16 @@ std::optional<std::vector<std::string>> renderCell(
 }
 
 }  // namespace
+
+const std::vector<BackendDescription> &studyBackendDescriptions() {
+  static const std::vector<BackendDescription> list{
+      {"optimized", "sets optimized for the scene's environment map (light samples)"},
+      {"optimized-uniform", "uniform sets for the periodic L2 discrepancy (primary samples)"},
+      {"optimized-bsdf", "lobe banks for the scene's Disney materials (BSDF samples)"},
+      {"optimized-both", "optimized and optimized-bsdf together"},
+  };
+  return list;
+}
 
 const std::vector<std::string> &renderStudyColumns() {
   static const std::vector<std::string> columns{"scene",

@@ -32,6 +32,7 @@
 #include <string>
 #include <vector>
 
+#include "renderer/sampler_backend.h"
 #include "tools/study/optimized_sets.h"
 #include "tools/study/reference_render.h"
 
@@ -71,6 +72,11 @@ using StudyProgress =
 
 // The CSV's columns, in order (render.csv); units: seconds of wall time.
 const std::vector<std::string> &renderStudyColumns();
+
+// The backends the render study makes its own sets for (optimized,
+// optimized-uniform, optimized-bsdf, optimized-both), each also with the
+// suffix +shift: the names `nuld help backends` lists.
+const std::vector<BackendDescription> &studyBackendDescriptions();
 
 struct RenderStudyResult {
   std::filesystem::path csv;         // out/render.csv

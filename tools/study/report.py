@@ -144,7 +144,7 @@ ERROR_RAMP = [(0.02, 0.02, 0.15), (0.1, 0.3, 0.9), (0.1, 0.8, 0.3), (1.0, 0.9, 0
 
 
 def error_scale(plots_dir):
-    """A colour bar for the error maps, drawn once; its path relative to the page."""
+    """A colour bar for the error maps; its path relative to the page."""
     from matplotlib.colors import LinearSegmentedColormap, LogNorm
     name = "error_scale.png"
     fig, ax = plt.subplots(figsize=(1.3, 3.2))
@@ -164,7 +164,7 @@ def fmt(v, digits=3):
     return f"{v:.{digits}e}"
 
 
-def render_section(root, scene, rows, ref, plots_dir):
+def render_section(root, scene, rows, ref, plots_dir, scale):
     out = [f'<h2 id="{html.escape(scene)}">Scene: {html.escape(scene)}</h2>']
     if ref:
         out.append(f"<p>Reference: {html.escape(ref['backend'])}, {ref['spp']} spp, "
@@ -228,7 +228,6 @@ def render_section(root, scene, rows, ref, plots_dir):
     out.append('<div class="row">' +
                figure(f"{scene}/reference.png", "reference", "reference",
                       f"{scene}/reference.exr") + "</div>")
-    scale = error_scale(plots_dir)
     # Every spp rendered; the smallest and largest open, the others folded.
     for s in spps:
         figs = []
@@ -315,8 +314,9 @@ def main():
 
     body = []
     scenes = by(render_rows, "scene")
+    scale = error_scale(plots_dir) if scenes else None
     for scene, rows in scenes.items():
-        body.append(render_section(root, scene, rows, refs.get(scene), plots_dir))
+        body.append(render_section(root, scene, rows, refs.get(scene), plots_dir, scale))
     if integrate_rows:
         body.append(integrate_section(root, integrate_rows))
     toc = " · ".join([f'<a href="#{html.escape(s)}">{html.escape(s)}</a>' for s in scenes] +
