@@ -48,8 +48,8 @@ PointGrid::PointGrid(std::span<const Point2> points, std::span<const double> wei
   for (std::size_t i = 0; i < n; ++i)
     cellOfPoint[i] = std::uint32_t(cellOfY(points[i].y)) * g_ + cellOfX(points[i].x);
   bucketByKey(cellOfPoint, cells, start_, index_);
-  xs_.resize(n);
-  ys_.resize(n);
+  xs_.assign(n + kSlack, 0.0);
+  ys_.assign(n + kSlack, 0.0);
   if (!weights.empty()) w_.resize(n);
   for (std::size_t slot = 0; slot < n; ++slot) {
     const std::uint32_t i = index_[slot];
@@ -88,8 +88,8 @@ void PointGrid::buildColumnOrder(const std::vector<std::uint32_t> &cellOfPoint,
     columnCell[i] = cx * g_ + cy;
   }
   bucketByKey(columnCell, std::size_t(g_) * g_, colStart_, colIndex_);
-  colXs_.resize(n);
-  colYs_.resize(n);
+  colXs_.assign(n + kSlack, 0.0);
+  colYs_.assign(n + kSlack, 0.0);
   for (std::size_t slot = 0; slot < n; ++slot) {
     colXs_[slot] = points[colIndex_[slot]].x;
     colYs_[slot] = points[colIndex_[slot]].y;
@@ -98,14 +98,17 @@ void PointGrid::buildColumnOrder(const std::vector<std::uint32_t> &cellOfPoint,
 
 PointGrid::CellRange PointGrid::cellsInside(const Box2 &box) const {
   // Cell c spans [e[c], e[c+1]]; it is inside when e[c] >= lo and e[c+1] <= hi.
-  auto first = [](const std::vector<double> &e, double lo) {
-    return int(std::lower_bound(e.begin(), e.end(), lo) - e.begin());
+  // The locator's cell holds the bound; step past it when it sticks out.
+  const auto first = [](const std::vector<double> &e, const EdgeLocator &cells, double lo) {
+    const int c = cells.cell(e, lo);
+    return e[c] >= lo ? c : c + 1;
   };
-  auto last = [](const std::vector<double> &e, double hi) {
-    return int(std::upper_bound(e.begin(), e.end(), hi) - e.begin()) - 2;
+  const auto last = [](const std::vector<double> &e, const EdgeLocator &cells, double hi) {
+    const int c = cells.cell(e, hi);
+    return e[c + 1] <= hi ? c : c - 1;
   };
-  return {first(xEdges_, box.lo.x), last(xEdges_, box.hi.x), first(yEdges_, box.lo.y),
-          last(yEdges_, box.hi.y)};
+  return {first(xEdges_, xCells_, box.lo.x), last(xEdges_, xCells_, box.hi.x),
+          first(yEdges_, yCells_, box.lo.y), last(yEdges_, yCells_, box.hi.y)};
 }
 
 PointGrid::CellRange PointGrid::cellsTouching(const Box2 &box) const {

@@ -44,8 +44,11 @@ class PointGrid {
   // [cellBegin(cx, cy), cellBegin(cx + 1, cy)) — cells of a row are contiguous.
   std::uint32_t cellBegin(int cx, int cy) const { return start_[std::size_t(cy) * g_ + cx]; }
   std::uint32_t rowEnd(int cx1, int cy) const { return start_[std::size_t(cy) * g_ + cx1 + 1]; }
-  const std::vector<double> &xs() const { return xs_; }
-  const std::vector<double> &ys() const { return ys_; }
+  // Coordinates in this order, followed by kSlack readable zeros so that
+  // vector loads may run past the last point.
+  static constexpr std::size_t kSlack = 8;
+  const double *xs() const { return xs_.data(); }
+  const double *ys() const { return ys_.data(); }
   const std::vector<double> &weights() const { return w_; }  // empty when unweighted
   const std::vector<std::uint32_t> &originalIndex() const { return index_; }
 
@@ -55,8 +58,8 @@ class PointGrid {
   std::uint32_t columnEnd(int cx, int cy1) const {
     return colStart_[std::size_t(cx) * g_ + cy1 + 1];
   }
-  const std::vector<double> &columnXs() const { return colXs_; }
-  const std::vector<double> &columnYs() const { return colYs_; }
+  const double *columnXs() const { return colXs_.data(); }  // with kSlack zeros too
+  const double *columnYs() const { return colYs_.data(); }
   const std::vector<std::uint32_t> &columnIndex() const { return colIndex_; }
 
   // Exact total (weight) of the points inside the closed box.

@@ -5,11 +5,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
-#include "sampler/loss/fast_exp.h"
+#include "sampler/loss/lanes.h"
 #include "sampler/loss/point_grid.h"
 
 namespace nuld {
@@ -30,7 +32,7 @@ void validate(std::span<const Point2> points, std::span<const Box2> boxes,
 }
 
 // A run of one storage order that a box scanned, and where its signed slopes
-// start in the box's slope buffer.
+// start in the box's slope buffers.
 struct ScannedRun {
   bool columnOrder;
   std::uint32_t begin, end, offset;
@@ -42,133 +44,385 @@ std::size_t chunkCount(std::size_t n, std::size_t m) {
   const std::size_t byBoxes = std::max<std::size_t>(1, m / 128);
   const std::size_t byMemory =
       std::max<std::size_t>(1, (std::size_t(1) << 22) / std::max<std::size_t>(n, 1));
-  return std::min({byBoxes, byMemory, std::size_t(64)});
+  return std::min({byBoxes, byMemory, std::size_t(16)});
 }
+
+// Gradients of one chunk of boxes, one array per coordinate, each holding
+// the grid's row order and then its column order (2 N slots).
+struct ChunkGradient {
+  double *x, *y;
+};
+
+// sigma(alpha d) and its slope for a vector of points.
+struct PairLanes {
+  lanes::Doubles value, slopeX, slopeY;
+};
+
+// What a kernel reads for the points of one storage order: the coordinates
+// (DirectKernel) or their exponentials (FactoredKernel), each array followed
+// by readable slack.
+struct PointColumns {
+  const double *c0 = nullptr, *c1 = nullptr, *c2 = nullptr, *c3 = nullptr;
+  const std::int64_t *tileX = nullptr, *tileY = nullptr;  // FactoredKernel's tiles
+};
+
+// The definition: d = the smallest signed distance to the box's sides,
+// sigma(alpha d) through one exp of -|alpha d| per pair. Reads x and y.
+class DirectKernel {
+ public:
+  DirectKernel(const Box2 &A, double alpha, double cutoff)
+      : loX_(lanes::broadcast(A.lo.x)),
+        hiX_(lanes::broadcast(A.hi.x)),
+        loY_(lanes::broadcast(A.lo.y)),
+        hiY_(lanes::broadcast(A.hi.y)),
+        alpha_(lanes::broadcast(alpha)),
+        cutoff_(lanes::broadcast(cutoff)) {}
+
+  // Which of a vector of points lie in the band, and which deep inside.
+  struct Classified {
+    lanes::Doubles x, y;
+    lanes::Mask band, inside;
+  };
+  Classified classify(const PointColumns &p, std::uint32_t k) const {
+    using lanes::Doubles;
+    const Doubles x = lanes::load(p.c0 + k), y = lanes::load(p.c1 + k);
+    const Doubles dX = lanes::min(x - loX_, hiX_ - x), dY = lanes::min(y - loY_, hiY_ - y);
+    const Doubles at = alpha_ * lanes::min(dX, dY);
+    return {x, y, lanes::abs(at) <= cutoff_, at > cutoff_};
+  }
+
+  PairLanes evaluate(const PointColumns &p, std::uint32_t k, bool wantSlope) const {
+    using lanes::Doubles;
+    const Doubles x = lanes::load(p.c0 + k), y = lanes::load(p.c1 + k);
+    const Doubles zero{}, one = lanes::broadcast(1.0);
+    const Doubles toLoX = x - loX_, toHiX = hiX_ - x, toLoY = y - loY_, toHiY = hiY_ - y;
+    const Doubles dX = lanes::min(toLoX, toHiX), dY = lanes::min(toLoY, toHiY);
+    const Doubles at = alpha_ * lanes::min(dX, dY);
+    const Doubles a = lanes::min(lanes::abs(at), cutoff_);
+    const Doubles e = lanes::exp(-a);
+    const Doubles inv = 1.0 / (1.0 + e);
+    const lanes::Mask band = lanes::abs(at) <= cutoff_;
+    PairLanes out{};
+    out.value = at > cutoff_ ? one : (band ? (at >= 0 ? inv : e * inv) : zero);
+    if (!wantSlope) return out;
+    // The nearest side, ties to the first of lo x, hi x, lo y, hi y.
+    const Doubles ds = band ? e * inv * inv : zero;
+    const lanes::Mask onX = dX <= dY;
+    out.slopeX = onX ? (toLoX <= toHiX ? ds : -ds) : zero;
+    out.slopeY = onX ? zero : (toLoY <= toHiY ? ds : -ds);
+    return out;
+  }
+
+ private:
+  lanes::Doubles loX_, hiX_, loY_, hiY_, alpha_, cutoff_;
+};
+
+// The same sigma without an exp per pair. exp(-alpha d) is the largest of
+// exp(-alpha (x - lo.x)) and its three siblings, and each factors through a
+// reference c near the point: exp(-alpha (x - c)) exp(alpha (lo.x - c)), a
+// per-point and a per-box exponential; then sigma(alpha d) = 1 / (1 + that)
+// on either side of the box. The references are the centres of kTiles x
+// kTiles tiles of the unit square, so a point's factors stay within
+// e^(alpha / 2 kTiles) and a box's, for the tiles near a side, within
+// e^(alpha / 2 kTiles + cutoff); factors for tiles far from a side saturate
+// at e^(+-700), which only ever makes a product lie further beyond the
+// cutoff, where sigma is 0 or 1 anyway. Rounding moves the exponent by up to
+// alpha / 2 kTiles ulps, about 4e-14 relative per pair at the largest alpha
+// allowed, far inside the kernel's 1e-12 contract. Pairs beyond the cutoff
+// get 1 / (1 + E) instead of an exact 0 or 1: within e^-36 of it, as the
+// cutoff itself allows.
+class FactoredKernel {
+ public:
+  static constexpr int kTiles = lanes::kWidth;  // a box's factors fill one vector per side
+
+  // Whether points in the unit square keep every relevant factor finite.
+  static bool applies(double alpha, double cutoff) {
+    return alpha / (2.0 * kTiles) + cutoff <= 700.0;
+  }
+  // The tile of a coordinate in [0, 1].
+  static int tileOf(double t) { return std::clamp(int(t * kTiles), 0, kTiles - 1); }
+  static double tileCentre(int tile) { return (tile + 0.5) / kTiles; }
+
+  FactoredKernel(const Box2 &A, double alpha, double) {
+    lanes::Doubles centre;
+    for (int t = 0; t < kTiles; ++t) centre[t] = tileCentre(t);
+    const lanes::Doubles a = lanes::broadcast(alpha);
+    loX_ = lanes::exp(a * (lanes::broadcast(A.lo.x) - centre));
+    hiX_ = lanes::exp(a * (centre - lanes::broadcast(A.hi.x)));
+    loY_ = lanes::exp(a * (lanes::broadcast(A.lo.y) - centre));
+    hiY_ = lanes::exp(a * (centre - lanes::broadcast(A.hi.y)));
+  }
+
+  PairLanes evaluate(const PointColumns &p, std::uint32_t k, bool wantSlope) const {
+    using lanes::Doubles;
+    const lanes::Mask tileX = lanes::loadMask(p.tileX + k), tileY = lanes::loadMask(p.tileY + k);
+    // exp(-alpha (x - lo.x)), exp(-alpha (hi.x - x)), and the same in y.
+    const Doubles eLoX = lanes::load(p.c0 + k) * lanes::permute(loX_, tileX);
+    const Doubles eHiX = lanes::load(p.c1 + k) * lanes::permute(hiX_, tileX);
+    const Doubles eLoY = lanes::load(p.c2 + k) * lanes::permute(loY_, tileY);
+    const Doubles eHiY = lanes::load(p.c3 + k) * lanes::permute(hiY_, tileY);
+    const Doubles eX = lanes::max(eLoX, eHiX), eY = lanes::max(eLoY, eHiY);
+    // Far outside the box the product may overflow; 1e300 keeps E * inv^2 finite.
+    const Doubles e = lanes::min(lanes::max(eX, eY), lanes::broadcast(1e300));
+    const Doubles inv = 1.0 / (1.0 + e);
+    PairLanes out{};
+    out.value = inv;
+    if (!wantSlope) return out;
+    const Doubles zero{}, ds = e * inv * inv;
+    // The nearest side has the largest exponential; ties as DirectKernel's.
+    const lanes::Mask onX = eX >= eY;
+    out.slopeX = onX ? (eLoX >= eHiX ? ds : -ds) : zero;
+    out.slopeY = onX ? zero : (eLoY >= eHiY ? ds : -ds);
+    return out;
+  }
+
+ private:
+  lanes::Doubles loX_, hiX_, loY_,
+      hiY_;  // per tile: exp(alpha (lo.x - c)), exp(alpha (c - hi.x)), ...
+};
 
 // One box's soft count over the points in its band, the cells its outer box
 // touches less the whole cells deep inside it: each scanned point adds
 // sigma(alpha d) for its signed distance d to the nearest side. With a
 // gradient it also keeps each scanned point's dsigma/dx (sigma'(alpha d) on
-// the nearest side's axis, signed by that side, zero outside the band) and
-// the runs they came from, for addGradient. A box scans each point at most
-// once, so N slopes suffice.
+// the nearest side's axis, signed by that side, zero outside the band) for
+// addGradient. A box scans each point at most once, so N slopes (and a
+// vector's worth of slack) suffice.
+//
+// Two ways to go through the scanned runs of points:
+//  * FactoredKernel evaluates every scanned point where it lies and keeps
+//    the slopes run by run: its wide bands leave few scanned points outside.
+//  * DirectKernel first sorts the scanned points: those deep inside count 1,
+//    those outside 0, and only the ones in the band are copied out and then
+//    evaluated, a full vector at a time. With a narrow band most scanned
+//    points (whole cells) lie outside it, and the exp and division are most
+//    of a pair's cost.
+template <class Kernel>
 class BandScan {
  public:
-  BandScan(const PointGrid &grid, double alpha, double cutoff, bool wantGrad)
+  static_assert(PointGrid::kSlack >= lanes::kWidth, "vector loads run past a run's end");
+  static constexpr bool kCompacts = std::is_same_v<Kernel, DirectKernel>;
+
+  BandScan(const PointGrid &grid, const PointColumns &rowOrder, const PointColumns &columnOrder,
+           double alpha, double cutoff, bool wantGrad)
       : grid_(grid),
+        rowOrder_(rowOrder),
+        columnOrder_(columnOrder),
         alpha_(alpha),
         cutoff_(cutoff),
         wantGrad_(wantGrad),
-        slopes_(wantGrad ? grid.xs().size() : 0) {}
+        slopeX_(wantGrad || kCompacts ? grid.size() + lanes::kWidth : 0),
+        slopeY_(slopeX_.size()) {
+    runs_.reserve(64);
+    if (kCompacts) {
+      bandX_.assign(grid.size() + lanes::kWidth, 0.0);
+      bandY_.assign(bandX_.size(), 0.0);
+      bandSlot_.assign(bandX_.size(), 0.0);
+    }
+  }
 
   // The soft count of box A, whose outer box touches `touch` and whose inner
   // box covers the whole cells `in`.
   double box(const Box2 &A, const PointGrid::CellRange &touch, const PointGrid::CellRange &in) {
-    double soft = 0;
+    lanes::Doubles soft{};
     used_ = 0;
     runs_.clear();
-    if (touch.empty()) return soft;
+    if (touch.empty()) return 0;
+    const Kernel kernel(A, alpha_, cutoff_);
+    // Whole rows of the touched range; rows spanning every column are one
+    // contiguous run together.
+    const bool fullWidth = touch.cx0 == 0 && touch.cx1 == grid_.resolution() - 1;
     const auto rows = [&](int row0, int row1) {
+      if (row0 > row1) return;
+      if (fullWidth) {
+        scan(kernel, false, grid_.cellBegin(0, row0), grid_.rowEnd(touch.cx1, row1), soft);
+        return;
+      }
       for (int row = row0; row <= row1; ++row)
-        scan(A, false, grid_.cellBegin(touch.cx0, row), grid_.rowEnd(touch.cx1, row), soft);
+        scan(kernel, false, grid_.cellBegin(touch.cx0, row), grid_.rowEnd(touch.cx1, row), soft);
     };
     if (in.empty()) {
       rows(touch.cy0, touch.cy1);
-      return soft;
+    } else {
+      // Rows above and below the interior: whole rows of the touched range.
+      rows(touch.cy0, in.cy0 - 1);
+      rows(in.cy1 + 1, touch.cy1);
+      // Columns left and right of the interior, over the interior's rows:
+      // one contiguous run each in the column-major order.
+      for (int col = touch.cx0; col < in.cx0; ++col)
+        scan(kernel, true, grid_.columnBegin(col, in.cy0), grid_.columnEnd(col, in.cy1), soft);
+      for (int col = in.cx1 + 1; col <= touch.cx1; ++col)
+        scan(kernel, true, grid_.columnBegin(col, in.cy0), grid_.columnEnd(col, in.cy1), soft);
     }
-    // Rows above and below the interior: whole rows of the touched range.
-    rows(touch.cy0, in.cy0 - 1);
-    rows(in.cy1 + 1, touch.cy1);
-    // Columns left and right of the interior, over the interior's rows: one
-    // contiguous run each in the column-major order.
-    for (int col = touch.cx0; col < in.cx0; ++col)
-      scan(A, true, grid_.columnBegin(col, in.cy0), grid_.columnEnd(col, in.cy1), soft);
-    for (int col = in.cx1 + 1; col <= touch.cx1; ++col)
-      scan(A, true, grid_.columnBegin(col, in.cy0), grid_.columnEnd(col, in.cy1), soft);
-    return soft;
+    if (kCompacts) evaluateBand(kernel, soft);
+    return lanes::sum(soft);
   }
 
-  // Adds coef times the last box's slopes to the gradients kept in the grid's
-  // row-major (gRow) and column-major (gCol) orders.
-  void addGradient(double coef, Point2 *gRow, Point2 *gCol) const {
+  // Adds coef times the last box's slopes to a chunk's gradients.
+  void addGradient(double coef, const ChunkGradient &g) const {
+    if (kCompacts) {
+      for (std::uint32_t i = 0; i < used_; ++i) {
+        const auto slot = std::size_t(bandSlot_[i]);
+        g.x[slot] += coef * slopeX_[i];
+        g.y[slot] += coef * slopeY_[i];
+      }
+      return;
+    }
     for (const ScannedRun &run : runs_) {
-      double *g = reinterpret_cast<double *>((run.columnOrder ? gCol : gRow) + run.begin);
-      const double *sl = reinterpret_cast<const double *>(slopes_.data() + run.offset);
-      const std::size_t len = 2 * std::size_t(run.end - run.begin);
-      for (std::size_t k = 0; k < len; ++k) g[k] += coef * sl[k];
+      double *gx = g.x + run.begin + (run.columnOrder ? grid_.size() : 0);
+      double *gy = g.y + run.begin + (run.columnOrder ? grid_.size() : 0);
+      const double *sx = slopeX_.data() + run.offset, *sy = slopeY_.data() + run.offset;
+      const std::uint32_t len = run.end - run.begin;
+      for (std::uint32_t k = 0; k < len; ++k) gx[k] += coef * sx[k];
+      for (std::uint32_t k = 0; k < len; ++k) gy[k] += coef * sy[k];
     }
   }
 
  private:
-  // Evaluates the contiguous run [begin, end) of one storage order in
-  // branch-free, vectorizable blocks, adding to `soft`.
-  void scan(const Box2 &A, bool columnOrder, std::uint32_t begin, std::uint32_t end, double &soft) {
+  // Goes through the contiguous run [begin, end) of one storage order a
+  // vector of points at a time. The last vector reads into the slack and
+  // masks the lanes past the run.
+  [[gnu::always_inline]] void scan(const Kernel &kernel, bool columnOrder, std::uint32_t begin,
+                                   std::uint32_t end, lanes::Doubles &soft) {
     if (begin >= end) return;
-    const double alpha = alpha_, cutoff = cutoff_;
-    const double *sx = columnOrder ? grid_.columnXs().data() : grid_.xs().data();
-    const double *sy = columnOrder ? grid_.columnYs().data() : grid_.ys().data();
-    Point2 *slope = wantGrad_ ? slopes_.data() + used_ : nullptr;
-    if (wantGrad_) {
-      if (end - begin > slopes_.size() - used_)
-        throw std::logic_error("softBoxLoss: a box scanned a point twice");
-      runs_.push_back({columnOrder, begin, end, used_});
-      used_ += end - begin;
-    }
-    constexpr std::uint32_t kBlock = 64;
-    alignas(64) double value[kBlock], slopeX[kBlock], slopeY[kBlock];
-    for (std::uint32_t k0 = begin; k0 < end; k0 += kBlock) {
-      const int n = int(std::min(kBlock, end - k0));
-      const double *bx = sx + k0, *by = sy + k0;
-      for (int j = 0; j < n; ++j) {
-        const double toLoX = bx[j] - A.lo.x, toHiX = A.hi.x - bx[j];
-        const double toLoY = by[j] - A.lo.y, toHiY = A.hi.y - by[j];
-        const double dX = std::min(toLoX, toHiX), dY = std::min(toLoY, toHiY);
-        const double at = alpha * std::min(dX, dY);
-        const double a = std::min(std::abs(at), cutoff);
-        const double e = fastExpNonPositive(-a);
-        const double inv = 1 / (1 + e);
-        const bool band = std::abs(at) <= cutoff;
-        value[j] = at > cutoff ? 1.0 : band ? (at >= 0 ? inv : e * inv) : 0.0;
-        // The nearest side, ties to the first of lo x, hi x, lo y, hi y.
-        const double ds = band ? e * inv * inv : 0.0;
-        const bool onX = dX <= dY;
-        slopeX[j] = onX ? (toLoX <= toHiX ? ds : -ds) : 0.0;
-        slopeY[j] = onX ? 0.0 : (toLoY <= toHiY ? ds : -ds);
+    const PointColumns &points = columnOrder ? columnOrder_ : rowOrder_;
+    const std::uint32_t len = end - begin;
+    if (len > grid_.size() - used_)
+      throw std::logic_error("softBoxLoss: a box scanned a point twice");
+    if constexpr (kCompacts) {
+      // Slots in the chunk gradients: row order first, then column order.
+      const double slot0 = double(begin + (columnOrder ? grid_.size() : 0));
+      const lanes::Doubles iota = __builtin_convertvector(lanes::laneIndex(), lanes::Doubles);
+      for (std::uint32_t k = 0; k < len; k += lanes::kWidth) {
+        const auto c = kernel.classify(points, begin + k);
+        const lanes::Mask valid =
+            lanes::firstLanes(int(std::min<std::uint32_t>(len - k, lanes::kWidth)));
+        soft += (c.inside & valid) ? lanes::broadcast(1.0) : lanes::Doubles{};
+        const lanes::Mask band = c.band & valid;
+        lanes::compress(band, c.x, &bandX_[used_]);
+        lanes::compress(band, c.y, &bandY_[used_]);
+        used_ += std::uint32_t(
+            lanes::compress(band, lanes::broadcast(slot0 + double(k)) + iota, &bandSlot_[used_]));
       }
+    } else {
+      double *outX = nullptr, *outY = nullptr;
       if (wantGrad_) {
-        Point2 *sl = slope + (k0 - begin);
-        for (int j = 0; j < n; ++j) sl[j] = {slopeX[j], slopeY[j]};
+        runs_.push_back({columnOrder, begin, end, used_});
+        outX = slopeX_.data() + used_;
+        outY = slopeY_.data() + used_;
       }
-      double partial[4] = {0, 0, 0, 0};
-      for (int j = 0; j < n; ++j) partial[j & 3] += value[j];
-      soft += (partial[0] + partial[1]) + (partial[2] + partial[3]);
+      used_ += len;
+      std::uint32_t k = 0;
+      // Two vectors per step: two independent chains through the division
+      // keep the pipelines fuller.
+      for (; k + 2 * lanes::kWidth <= len; k += 2 * lanes::kWidth) {
+        const PairLanes p0 = kernel.evaluate(points, begin + k, wantGrad_);
+        const PairLanes p1 = kernel.evaluate(points, begin + k + lanes::kWidth, wantGrad_);
+        soft += p0.value + p1.value;
+        if (!wantGrad_) continue;
+        lanes::store(outX + k, p0.slopeX);
+        lanes::store(outY + k, p0.slopeY);
+        lanes::store(outX + k + lanes::kWidth, p1.slopeX);
+        lanes::store(outY + k + lanes::kWidth, p1.slopeY);
+      }
+      for (; k < len; k += lanes::kWidth) {
+        const PairLanes p = kernel.evaluate(points, begin + k, wantGrad_);
+        soft += lanes::firstLanes(int(std::min<std::uint32_t>(len - k, lanes::kWidth)))
+                    ? p.value
+                    : lanes::Doubles{};
+        if (!wantGrad_) continue;
+        // Lanes past the run land in the buffers' slack or under the next
+        // run's slopes, and addGradient never reads them.
+        lanes::store(outX + k, p.slopeX);
+        lanes::store(outY + k, p.slopeY);
+      }
+    }
+  }
+
+  // sigma and the slopes of the points copied out of the band.
+  void evaluateBand(const Kernel &kernel, lanes::Doubles &soft) {
+    const PointColumns band{bandX_.data(), bandY_.data()};
+    for (std::uint32_t k = 0; k < used_; k += lanes::kWidth) {
+      const PairLanes p = kernel.evaluate(band, k, wantGrad_);
+      soft += lanes::firstLanes(int(std::min<std::uint32_t>(used_ - k, lanes::kWidth)))
+                  ? p.value
+                  : lanes::Doubles{};
+      if (!wantGrad_) continue;
+      lanes::store(&slopeX_[k], p.slopeX);
+      lanes::store(&slopeY_[k], p.slopeY);
     }
   }
 
   const PointGrid &grid_;
+  const PointColumns rowOrder_, columnOrder_;
   const double alpha_, cutoff_;
   const bool wantGrad_;
-  std::vector<Point2> slopes_;
-  std::vector<ScannedRun> runs_;
-  std::uint32_t used_ = 0;
+  std::vector<double> slopeX_, slopeY_;
+  std::vector<ScannedRun> runs_;                  // FactoredKernel: the runs the slopes came from
+  std::vector<double> bandX_, bandY_, bandSlot_;  // DirectKernel: the band's points, slots
+  std::uint32_t used_ = 0;  // slopes kept (FactoredKernel) or points in the band (DirectKernel)
 };
 
-// Sums the chunks' gradients in a fixed order per storage slot, then maps
-// both storage orders back to the caller's indices.
-void gatherGradient(const PointGrid &grid, std::span<const Point2> chunkGrad, std::size_t chunks,
+// The per-point factors FactoredKernel reads, for n coordinates in one
+// storage order and their slack.
+struct Exponentials {
+  std::vector<double> minusX, plusX, minusY, plusY;
+  std::vector<std::int64_t> tileX, tileY;
+
+  Exponentials(const double *xs, const double *ys, std::size_t n, double alpha) {
+    const std::size_t padded = n + PointGrid::kSlack;
+    for (auto *v : {&minusX, &plusX, &minusY, &plusY}) v->assign(padded, 0.0);
+    tileX.assign(padded, 0);
+    tileY.assign(padded, 0);
+    for (std::size_t k = 0; k < padded; ++k) {
+      tileX[k] = FactoredKernel::tileOf(xs[k]);
+      tileY[k] = FactoredKernel::tileOf(ys[k]);
+    }
+    for (std::size_t k = 0; k + lanes::kWidth <= padded; k += lanes::kWidth) {
+      lanes::Doubles cx, cy;
+      for (int j = 0; j < lanes::kWidth; ++j) {
+        cx[j] = FactoredKernel::tileCentre(int(tileX[k + j]));
+        cy[j] = FactoredKernel::tileCentre(int(tileY[k + j]));
+      }
+      const lanes::Doubles ax = alpha * (lanes::load(xs + k) - cx);
+      const lanes::Doubles ay = alpha * (lanes::load(ys + k) - cy);
+      lanes::store(&minusX[k], lanes::exp(-ax));
+      lanes::store(&plusX[k], lanes::exp(ax));
+      lanes::store(&minusY[k], lanes::exp(-ay));
+      lanes::store(&plusY[k], lanes::exp(ay));
+    }
+  }
+  PointColumns columns() const {
+    return {minusX.data(), plusX.data(), minusY.data(), plusY.data(), tileX.data(), tileY.data()};
+  }
+};
+
+// Whether FactoredKernel applies: every point in the unit square, and alpha
+// within its bound.
+bool factorsRepresentable(std::span<const Point2> points, double alpha, double cutoff) {
+  if (!FactoredKernel::applies(alpha, cutoff)) return false;
+  return std::all_of(points.begin(), points.end(),
+                     [](Point2 p) { return p.x >= 0 && p.x <= 1 && p.y >= 0 && p.y <= 1; });
+}
+
+// Sums the chunks' gradients (4 N doubles each: row x, column x, row y,
+// column y) in a fixed order per storage slot, then maps both storage orders
+// back to the caller's indices.
+void gatherGradient(const PointGrid &grid, std::span<const double> chunkGrad, std::size_t chunks,
                     std::span<Point2> grad) {
   const std::size_t N = grad.size();
-  std::vector<Point2> total(2 * N);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, 2 * N, 1024), [&](const auto &r) {
+  std::vector<double> total(4 * N);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, 4 * N, 2048), [&](const auto &r) {
     for (std::size_t k = r.begin(); k < r.end(); ++k) {
-      Point2 sum{};
-      for (std::size_t c = 0; c < chunks; ++c) sum = sum + chunkGrad[2 * c * N + k];
+      double sum = 0;
+      for (std::size_t c = 0; c < chunks; ++c) sum += chunkGrad[4 * c * N + k];
       total[k] = sum;
     }
   });
   const std::uint32_t *ri = grid.originalIndex().data(), *ci = grid.columnIndex().data();
-  for (std::size_t k = 0; k < N; ++k) grad[ri[k]] = total[k];
-  for (std::size_t k = 0; k < N; ++k) grad[ci[k]] = grad[ci[k]] + total[N + k];
+  for (std::size_t k = 0; k < N; ++k) grad[ri[k]] = {total[k], total[2 * N + k]};
+  for (std::size_t k = 0; k < N; ++k)
+    grad[ci[k]] = grad[ci[k]] + Point2{total[N + k], total[3 * N + k]};
 }
 
 }  // namespace
@@ -191,9 +445,9 @@ double softBoxLoss(std::span<const Point2> points, std::span<const Box2> boxes,
     return loss / double(M);
   }
 
-  const PointGrid grid(points, {}, 0, /*columnOrder=*/true);
   const double alpha = options.alpha, cutoff = options.cutoff;
   const double delta = cutoff / alpha;  // half-width of the band around each side
+  const PointGrid grid(points, {}, 0, /*columnOrder=*/true);
   const double invN = 1.0 / double(N);
   const double gradScale = 2.0 * alpha / (double(M) * double(N));
 
@@ -202,30 +456,100 @@ double softBoxLoss(std::span<const Point2> points, std::span<const Box2> boxes,
   // scattering them by original index; they are mapped back once at the end.
   const std::size_t chunks = chunkCount(N, M);
   std::vector<double> chunkLoss(chunks, 0.0);
-  std::vector<Point2> chunkGrad(wantGrad ? 2 * chunks * N : 0);
+  std::vector<double> chunkGrad(wantGrad ? 4 * chunks * N : 0);
 
-  tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
-    const std::size_t m0 = M * c / chunks, m1 = M * (c + 1) / chunks;
-    Point2 *gRow = wantGrad ? &chunkGrad[2 * c * N] : nullptr;
-    Point2 *gCol = wantGrad ? gRow + N : nullptr;
-    BandScan scan(grid, alpha, cutoff, wantGrad);
-    double lossSum = 0;
-    for (std::size_t m = m0; m < m1; ++m) {
-      const Box2 &A = boxes[m];
-      const Box2 inner{{A.lo.x + delta, A.lo.y + delta}, {A.hi.x - delta, A.hi.y - delta}};
-      const Box2 outer{{A.lo.x - delta, A.lo.y - delta}, {A.hi.x + delta, A.hi.y + delta}};
-      const PointGrid::CellRange in = grid.cellsInside(inner);
-      const double count = grid.cellSum(in);  // whole cells deep inside: sigma = 1
-      const double soft = scan.box(A, grid.cellsTouching(outer), in);
-      const double r = (count + soft) * invN - masses[m];
-      lossSum += r * r;
-      if (wantGrad && r != 0) scan.addGradient(gradScale * r, gRow, gCol);
+  const auto run = [&]<class Kernel>(const PointColumns &rowOrder,
+                                     const PointColumns &columnOrder) {
+    tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
+      const std::size_t m0 = M * c / chunks, m1 = M * (c + 1) / chunks;
+      ChunkGradient g{};
+      if (wantGrad) {
+        g.x = &chunkGrad[4 * c * N];
+        g.y = g.x + 2 * N;
+      }
+      BandScan<Kernel> scan(grid, rowOrder, columnOrder, alpha, cutoff, wantGrad);
+      double lossSum = 0;
+      for (std::size_t m = m0; m < m1; ++m) {
+        const Box2 &A = boxes[m];
+        const Box2 inner{{A.lo.x + delta, A.lo.y + delta}, {A.hi.x - delta, A.hi.y - delta}};
+        const Box2 outer{{A.lo.x - delta, A.lo.y - delta}, {A.hi.x + delta, A.hi.y + delta}};
+        const PointGrid::CellRange in = grid.cellsInside(inner);
+        const double count = grid.cellSum(in);  // whole cells deep inside: sigma = 1
+        const double soft = scan.box(A, grid.cellsTouching(outer), in);
+        const double r = (count + soft) * invN - masses[m];
+        lossSum += r * r;
+        if (wantGrad && r != 0) scan.addGradient(gradScale * r, g);
+      }
+      chunkLoss[c] = lossSum;
+    });
+  };
+  // A band wider than a cell leaves few scanned points outside it: evaluate
+  // them all with the cheaper FactoredKernel. A narrower one (late epochs)
+  // is mostly whole cells outside it: DirectKernel sorts them out first.
+  // The switch is where the two cost the same on a 2048-point set
+  // (tools/experiments/README.md, "Where an optimizer epoch goes").
+  const bool factored = [&] {
+    switch (options.kernel) {
+      case SoftBoxKernel::Direct: return false;
+      case SoftBoxKernel::Factored:
+        if (!factorsRepresentable(points, alpha, cutoff))
+          throw std::invalid_argument(
+              "softBoxLoss: the factored kernel needs points in the unit square and alpha / " +
+              std::to_string(2 * FactoredKernel::kTiles) + " + cutoff <= 700");
+        return true;
+      case SoftBoxKernel::Automatic: break;
     }
-    chunkLoss[c] = lossSum;
-  });
+    const bool wideBand = 2 * delta * grid.resolution() >= 1;
+    return wideBand && factorsRepresentable(points, alpha, cutoff);
+  }();
+  if (factored) {
+    const Exponentials rowOrder(grid.xs(), grid.ys(), N, alpha);
+    const Exponentials columnOrder(grid.columnXs(), grid.columnYs(), N, alpha);
+    run.template operator()<FactoredKernel>(rowOrder.columns(), columnOrder.columns());
+  } else {
+    run.template operator()<DirectKernel>({grid.xs(), grid.ys()},
+                                          {grid.columnXs(), grid.columnYs()});
+  }
   if (wantGrad) gatherGradient(grid, chunkGrad, chunks, grad);
   double loss = 0;
   for (double l : chunkLoss) loss += l;
+  return loss / double(M);
+}
+
+double softBoxLossReference(std::span<const Point2> points, std::span<const Box2> boxes,
+                            std::span<const double> masses, double alpha, std::span<Point2> grad) {
+  validate(points, boxes, masses);
+  const std::size_t N = points.size(), M = boxes.size();
+  if (!grad.empty() && grad.size() != N)
+    throw std::invalid_argument("softBoxLossReference: gradient size differs from the point count");
+  std::fill(grad.begin(), grad.end(), Point2{});
+  if (M == 0) return 0;
+  double loss = 0;
+  for (std::size_t m = 0; m < M; ++m) {
+    const Box2 &A = boxes[m];
+    double soft = 0;
+    for (const Point2 &p : points) {
+      const double d = std::min({p.x - A.lo.x, A.hi.x - p.x, p.y - A.lo.y, A.hi.y - p.y});
+      soft += safeSigmoid(alpha * d);
+    }
+    const double r = (N ? soft / double(N) : 0.0) - masses[m];
+    loss += r * r;
+    if (grad.empty()) continue;
+    const double coef = 2.0 * alpha * r / (double(M) * double(N));
+    for (std::size_t i = 0; i < N; ++i) {
+      const Point2 &p = points[i];
+      const double toLoX = p.x - A.lo.x, toHiX = A.hi.x - p.x;
+      const double toLoY = p.y - A.lo.y, toHiY = A.hi.y - p.y;
+      const double dX = std::min(toLoX, toHiX), dY = std::min(toLoY, toHiY);
+      const double e = std::exp(-std::abs(alpha * std::min(dX, dY)));
+      const double slope = coef * e / ((1 + e) * (1 + e));  // sigma' is even
+      // d moves with the nearest side's coordinate, ties to lo x, hi x, lo y, hi y.
+      if (dX <= dY)
+        grad[i].x += toLoX <= toHiX ? slope : -slope;
+      else
+        grad[i].y += toLoY <= toHiY ? slope : -slope;
+    }
+  }
   return loss / double(M);
 }
 

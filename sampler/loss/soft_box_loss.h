@@ -18,11 +18,20 @@
 
 namespace nuld {
 
+// How the kernel evaluates sigma (soft_box_loss.cpp says more): Direct
+// computes one exp per point-box pair and first sorts the scanned points
+// into inside, outside and band; Factored multiplies per-point and per-box
+// exponentials and needs points in the unit square and alpha / 16 + cutoff
+// <= 700. Automatic picks Factored for bands wider than a grid cell, where
+// it is the faster, and Direct otherwise. All agree to about 1e-13.
+enum class SoftBoxKernel { Automatic, Direct, Factored };
+
 struct SoftBoxLossOptions {
   double alpha = 20;
   // |alpha d| beyond which sigma is treated as exactly 0 or 1: at 36 the
   // neglected tail is below 2.4e-16 per pair.
   double cutoff = 36;
+  SoftBoxKernel kernel = SoftBoxKernel::Automatic;
 };
 
 // Returns L; writes dL/dx into `grad` (same size as `points`) unless empty.
@@ -30,6 +39,12 @@ struct SoftBoxLossOptions {
 double softBoxLoss(std::span<const Point2> points, std::span<const Box2> boxes,
                    std::span<const double> masses, const SoftBoxLossOptions &options,
                    std::span<Point2> grad = {});
+
+// The definition itself, O(N M), every pair through safeSigmoid with no
+// cutoff, culling or vectors: the reference the kernels are tested against.
+double softBoxLossReference(std::span<const Point2> points, std::span<const Box2> boxes,
+                            std::span<const double> masses, double alpha,
+                            std::span<Point2> grad = {});
 
 // The same with hard indicators (alpha -> infinity): a reference, O(N M).
 double hardBoxLoss(std::span<const Point2> points, std::span<const Box2> boxes,

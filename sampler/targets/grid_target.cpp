@@ -114,6 +114,8 @@ GridTarget::GridTarget(std::vector<double> xEdges, std::vector<double> yEdges,
       sat_[std::size_t(j + 1) * W + i + 1] = sat_[std::size_t(j) * W + i + 1] + rowSum;
     }
   }
+  satLastColumn_.resize(rows_ + 1);
+  for (int j = 0; j <= rows_; ++j) satLastColumn_[j] = sat_[std::size_t(j) * W + cols_];
 
   // Sampling tables: rows by their mass, then columns within the row.
   rowCdf_.assign(rows_ + 1, 0.0);
@@ -155,10 +157,23 @@ double GridTarget::pdf(Point2 p) const {
 double GridTarget::cumulative(double x, double y) const {
   x = std::clamp(x, 0.0, 1.0);
   y = std::clamp(y, 0.0, 1.0);
+  // On the square's right or top side the mass is linear in the other
+  // coordinate within a cell: one 1D table, no 2D read.
+  const int W = cols_ + 1;
+  if (x == 1.0) {
+    const int j = yCells_.cell(yEdges_, y);
+    const double ty = (y - yEdges_[j]) / (yEdges_[j + 1] - yEdges_[j]);
+    return satLastColumn_[j] + ty * (satLastColumn_[j + 1] - satLastColumn_[j]);
+  }
+  if (y == 1.0) {
+    const int i = xCells_.cell(xEdges_, x);
+    const double tx = (x - xEdges_[i]) / (xEdges_[i + 1] - xEdges_[i]);
+    const double *top = &sat_[std::size_t(rows_) * W];
+    return top[i] + tx * (top[i + 1] - top[i]);
+  }
   const int i = xCells_.cell(xEdges_, x), j = yCells_.cell(yEdges_, y);
   const double tx = (x - xEdges_[i]) / (xEdges_[i + 1] - xEdges_[i]);
   const double ty = (y - yEdges_[j]) / (yEdges_[j + 1] - yEdges_[j]);
-  const int W = cols_ + 1;
   const double s00 = sat_[std::size_t(j) * W + i], s10 = sat_[std::size_t(j) * W + i + 1];
   const double s01 = sat_[std::size_t(j + 1) * W + i], s11 = sat_[std::size_t(j + 1) * W + i + 1];
   // Exact: the mass inside one cell is uniform in area.
