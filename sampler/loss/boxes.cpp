@@ -1,5 +1,8 @@
 #include "sampler/loss/boxes.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <limits>
 
@@ -31,8 +34,23 @@ Box2 sampleBox(BoxKind kind, Rng &rng) {
   return {};
 }
 
+int drawsPerBox(BoxKind kind) {
+  switch (kind) {
+    case BoxKind::MultipleCorner: return 3;
+    case BoxKind::Anchored: return 2;
+    case BoxKind::TwoPoint: return 4;
+  }
+  return 0;
+}
+
 void sampleBoxes(BoxKind kind, Rng &rng, std::span<Box2> out) {
-  for (Box2 &b : out) b = sampleBox(kind, rng);
+  const std::uint64_t draws = std::uint64_t(drawsPerBox(kind));
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, out.size(), 2048), [&](const auto &r) {
+    Rng local = rng;
+    local.advance(draws * r.begin());
+    for (std::size_t m = r.begin(); m < r.end(); ++m) out[m] = sampleBox(kind, local);
+  });
+  rng.advance(draws * out.size());
 }
 
 }  // namespace nuld

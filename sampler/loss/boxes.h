@@ -30,7 +30,12 @@ inline constexpr auto kBoxKindNames =
 constexpr const auto &enumNames(BoxKind) { return kBoxKindNames; }
 inline BoxKind parseBoxKind(const std::string &s) { return kBoxKindNames.parse(s); }
 
+// Draws one box; it takes drawsPerBox(kind) values from rng.
 Box2 sampleBox(BoxKind kind, Rng &rng);
+int drawsPerBox(BoxKind kind);
+// out.size() boxes, the same as as many sampleBox calls in a row (rng ends
+// where they would leave it), drawn in parallel blocks: the generator is
+// counter-based, so each block starts where the boxes before it stop.
 void sampleBoxes(BoxKind kind, Rng &rng, std::span<Box2> out);
 
 }  // namespace nuld

@@ -1,5 +1,7 @@
 #include "sampler/loss/point_grid.h"
 
+#include <tbb/parallel_invoke.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -40,8 +42,8 @@ PointGrid::PointGrid(std::span<const Point2> points, std::span<const double> wei
     }
     return e;
   };
-  xEdges_ = quantileEdges([](Point2 p) { return p.x; });
-  yEdges_ = quantileEdges([](Point2 p) { return p.y; });
+  tbb::parallel_invoke([&] { xEdges_ = quantileEdges([](Point2 p) { return p.x; }); },
+                       [&] { yEdges_ = quantileEdges([](Point2 p) { return p.y; }); });
   xCells_ = EdgeLocator(xEdges_);
   yCells_ = EdgeLocator(yEdges_);
   std::vector<std::uint32_t> cellOfPoint(n);

@@ -1,5 +1,6 @@
 #include "sampler/optimize/optimizer.h"
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -22,6 +23,11 @@
 #include "sampler/targets/grid_target.h"
 
 namespace nuld {
+namespace {
+// Points per task in the per-point steps (inverse CDF, Adam): enough to
+// outweigh a task's cost, few enough that 2048 points use two cores.
+constexpr std::size_t kPointBlock = 512;
+}  // namespace
 
 std::string OptimizerSettings::describe() const {
   const auto r = [](double v) { return formatRoundTrip(v); };
@@ -174,12 +180,14 @@ void DirectOptimizer::run(OptimizerState &state, int untilEpoch,
         throw std::runtime_error("optimizer: the loss became non-finite at epoch " +
                                  std::to_string(epoch + 1) + " (learning rate " +
                                  formatRoundTrip(lr) + "): the optimization diverged; lower --lr");
-    tbb::parallel_for(std::size_t(0), K, [&](std::size_t k) {
-      const auto g = slice(grad, k);
+    // Point by point, so blocks of any instance can run side by side.
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n * K, kPointBlock), [&](const auto &r) {
+      const auto part = [&](auto &v) { return std::span(v).subspan(r.begin(), r.size()); };
+      const auto g = part(grad);
       if (mapped)
-        for (std::size_t i = 0; i < n; ++i) g[i] = jac[k * n + i].transposeTimes(g[i]);
-      const auto params = slice(state.params, k);
-      adamStep(params, g, slice(state.m, k), slice(state.v, k), epoch + 1, lr);
+        for (std::size_t i = 0; i < g.size(); ++i) g[i] = jac[r.begin() + i].transposeTimes(g[i]);
+      const auto params = part(state.params);
+      adamStep(params, g, part(state.m), part(state.v), epoch + 1, lr);
       constrain(params);
     });
     state.epoch = epoch + 1;
@@ -204,11 +212,14 @@ void DirectOptimizer::mapToTarget(std::span<const Point2> params, std::span<Poin
     std::copy(params.begin(), params.end(), x.begin());
     return;
   }
-  for (std::size_t i = 0; i < params.size(); ++i) {
-    const Inversion inv = target_.invert(params[i]);
-    x[i] = inv.x;
-    jac[i] = inv.jacobian;
-  }
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, params.size(), kPointBlock),
+                    [&](const auto &r) {
+                      for (std::size_t i = r.begin(); i < r.end(); ++i) {
+                        const Inversion inv = target_.invert(params[i]);
+                        x[i] = inv.x;
+                        jac[i] = inv.jacobian;
+                      }
+                    });
 }
 
 double DirectOptimizer::instanceLoss(std::size_t k, int epoch, std::span<const Point2> x,

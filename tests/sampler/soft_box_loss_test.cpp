@@ -121,6 +121,23 @@ TEST(SoftBoxLoss, GradientMatchesCentralDifferences) {
     }
 }
 
+// The parallel blocks draw exactly the sequential boxes, and leave the
+// generator where the sequential draws would.
+TEST(SampleBoxes, ParallelBlocksEqualSequentialDraws) {
+  for (BoxKind kind : {BoxKind::MultipleCorner, BoxKind::Anchored, BoxKind::TwoPoint}) {
+    Rng parallel(5, 9), sequential(5, 9);
+    std::vector<Box2> boxes(5000);
+    sampleBoxes(kind, parallel, boxes);
+    for (std::size_t m = 0; m < boxes.size(); ++m) {
+      const Box2 b = sampleBox(kind, sequential);
+      ASSERT_TRUE(b.lo.x == boxes[m].lo.x && b.lo.y == boxes[m].lo.y && b.hi.x == boxes[m].hi.x &&
+                  b.hi.y == boxes[m].hi.y)
+          << toString(kind) << " box " << m;
+    }
+    EXPECT_EQ(parallel.nextBits(), sequential.nextBits()) << toString(kind);
+  }
+}
+
 // Every kernel against the definition (no cutoff, culling or vectors), on
 // uniform and clustered points: the loss and gradient to 1e-12 relative.
 TEST(SoftBoxLoss, KernelsMatchTheReference) {

@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# The optimizer against another build of it, side by side: the 2048-point
+# sphere-preset instance on grace_latlong.exr (2048 points, 16384 boxes,
+# 5000 epochs, exact mass) and 16 instances at N = 64, each seed run by both
+# binaries one after the other so that machine load affects both alike.
+# Wall time, peak memory, and the final L2asd and D* of every run; then means
+# and ranges per binary. Usage:
+#   optimizer_speed.sh OUT OLD_NULD [ASSET_ROOT] [SEEDS (default "1 2 3 4")]
+source "$(dirname "$0")/common.sh"
+out=${1:?output directory}
+old=${2:?the other nuld binary}
+assets=${3:-${NULD_ASSETS:-"$root/../shared/assets"}}
+seeds=${4:-"1 2 3 4"}
+map="$assets/envmaps/grace_latlong.exr"
+[[ -f "$map" ]] || { echo "missing $map (pass the asset root)" >&2; exit 1; }
+[[ -x "$old" ]] || { echo "not an executable: $old" >&2; exit 1; }
+mkdir -p "$out"
+csv="$out/optimizer_speed.csv"
+echo "run,binary,seed,seconds,peak_mb,l2asd,dstar" >"$csv"
+for seed in $seeds; do
+  for run in "n2048:--n 2048" "n64x16:--n 64 --instances 16"; do
+    name=${run%%:*}
+    read -r -a args <<<"${run#*:}"
+    for which in old new; do
+      bin=$nuld
+      [[ $which == old ]] && bin=$old
+      f="$out/${name}_${which}_$seed.ptsb"
+      /usr/bin/time -f "%e %M" -o "$out/time.txt" \
+        "$bin" optimize --target "envmap:$map" "${args[@]}" --preset sphere --seed "$seed" -q -o "$f" >/dev/null
+      read -r secs kb <"$out/time.txt"
+      echo "$name,$which,$seed,$secs,$((kb / 1024)),$(l2_dstar "$f" "envmap:$map")" >>"$csv"
+    done
+  done
+done
+column -s, -t "$csv"
+echo
+awk -F, 'NR > 1 {
+    k = $1 " " $2; if (!(k in n)) order[++kinds] = k
+    n[k]++; t[k] += $4; mem[k] = ($5 > mem[k] ? $5 : mem[k]); l[k] += $6; d[k] += $7
+    if (!(k in tmin) || $4 < tmin[k]) tmin[k] = $4; if ($4 > tmax[k]) tmax[k] = $4
+    if (!(k in lmin) || $6 < lmin[k]) lmin[k] = $6; if ($6 > lmax[k]) lmax[k] = $6
+  } END {
+    print "run binary,seeds,mean_seconds,min_seconds,max_seconds,peak_mb,mean_l2asd,min_l2asd,max_l2asd,mean_dstar"
+    for (i = 1; i <= kinds; i++) { k = order[i]
+      printf "%s,%d,%.1f,%.1f,%.1f,%d,%.3g,%.3g,%.3g,%.3g\n", k, n[k], t[k] / n[k], tmin[k], tmax[k],
+        mem[k], l[k] / n[k], lmin[k], lmax[k], d[k] / n[k] }
+  }' "$csv" | tee "$out/optimizer_speed_summary.csv" | column -s, -t
