@@ -77,6 +77,7 @@ EnvironmentLight::EnvironmentLight(Image latlong, double scale, double rotationD
   // A black map emits nothing and has nothing to sample: no target.
   if (black) return;
   target_ = makeEnvmapTarget(image, source_, weight_);
+  compensation_ = envmapCompensation(image, weight_);
   reserveLargeTable(texels_, std::size_t(width_) * height_);
   texels_.resize(std::size_t(width_) * height_);
   // The target's density is the weight (clamped at 0, which the radiance
@@ -87,7 +88,7 @@ EnvironmentLight::EnvironmentLight(Image latlong, double scale, double rotationD
     for (int i = 0; i < width_; ++i) {
       Texel &t = texels_[std::size_t(j) * width_ + i];
       t = {{image.at(i, j, 0), image.at(i, j, 1), image.at(i, j, 2)}};
-      const double w = pixelWeight(t.rgb[0], t.rgb[1], t.rgb[2], weight_);
+      const double w = pixelWeight(t.rgb[0], t.rgb[1], t.rgb[2], weight_) - compensation_;
       if (w > brightest) {
         brightest = w;
         pdfPerWeight_ = target_->cellDensity(i, j) * kInvFourPi / w;

@@ -12,7 +12,9 @@
 // which is exactly pbrt's luminance x sin(theta) distribution with sin(theta)
 // integrated over each row; or, with PixelWeight::ChannelMean, its
 // `envmap-mean:` target, the channels' mean in place of the luminance
-// (pbrt-v4's and Cycles' choice: lower variance under coloured light). Because the light samples
+// (pbrt-v4's and Cycles' choice: lower variance under coloured light); or
+// either less its mean over the sphere (MIS compensation, for estimators
+// that add BSDF samples by MIS; see image_targets.h). Because the light samples
 // *through the target*, a backend may hand over points already distributed by that target
 // (optimized or neural sets) and the light uses them with the same pdf.
 
@@ -70,6 +72,7 @@ class EnvironmentLight {
   // The sampling density on the equal-area square; null when the map is black.
   const GridTarget *target() const { return target_.get(); }
   const std::string &source() const { return source_; }
+  PixelWeight weight() const { return weight_; }
   int width() const { return width_; }
   int height() const { return height_; }
 
@@ -92,14 +95,16 @@ class EnvironmentLight {
   const Texel &texel(GridTarget::Cell c) const { return texels_[std::size_t(c.j) * width_ + c.i]; }
   static Rgb rgbOf(const Texel &t) { return {t.rgb[0], t.rgb[1], t.rgb[2]}; }
   double pdfOf(const Rgb &radiance) const {
-    return pixelWeight(radiance.r, radiance.g, radiance.b, weight_) * pdfPerWeight_;
+    const double w = pixelWeight(radiance.r, radiance.g, radiance.b, weight_) - compensation_;
+    return w > 0 ? w * pdfPerWeight_ : 0.0;
   }
   std::optional<LightSample> sampleCell(Point2 x, GridTarget::Cell c) const;
 
   int width_, height_;
   std::vector<Texel> texels_;  // row-major; empty for a black map
   PixelWeight weight_;
-  double pdfPerWeight_ = 0;  // solid-angle pdf of a cell / its weight
+  double compensation_ = 0;  // the weight a compensated map subtracts (envmapCompensation)
+  double pdfPerWeight_ = 0;  // solid-angle pdf of a cell / its (compensated) weight
   std::unique_ptr<GridTarget> target_;
   double cosRot_, sinRot_;  // the turn about the map's zenith
   bool tilted_;             // up is not +Y: tilt_ applies

@@ -19,6 +19,14 @@ PathIntegrator::PathIntegrator(const Scene &scene, IntegratorKind kind, int maxD
       bsdfOnly_(kind == IntegratorKind::Bsdf) {
   if (maxDepth < 1) throw std::invalid_argument("max depth must be at least 1");
   if (rouletteDepth < 1) throw std::invalid_argument("roulette depth must be at least 1");
+  // A compensated map has no density below its mean: only BSDF samples
+  // reach those directions, so the light alone would miss their light.
+  if (lightOnly_ && scene.environment && isCompensated(scene.environment->weight()))
+    throw std::invalid_argument(
+        "the light integrator cannot use a compensated environment (importance '" +
+        std::string(envmapFamily(scene.environment->weight())) +
+        "'): its sampling skips directions dimmer than the map's mean, which only BSDF "
+        "sampling reaches; use direct or path, or plain importance");
 }
 
 namespace {

@@ -234,7 +234,10 @@ LoadedScene loadScene(const std::string &path, const std::string &assetRoot) {
     const Vec3 up = env.has("up") ? readDirection(env["up"], " (the map's zenith in the world)")
                                   : Vec3{0, 1, 0};
     constexpr auto kImportance = enumTable<PixelWeight>(
-        "importance", {{"luminance", PixelWeight::Luminance}, {"mean", PixelWeight::ChannelMean}});
+        "importance", {{"luminance", PixelWeight::Luminance},
+                       {"mean", PixelWeight::ChannelMean},
+                       {"luminance-compensated", PixelWeight::LuminanceCompensated},
+                       {"mean-compensated", PixelWeight::ChannelMeanCompensated}});
     const PixelWeight weight =
         env.has("importance")
             ? env["importance"].oneOf(kImportance, " (how a pixel's colour weighs its sampling)")

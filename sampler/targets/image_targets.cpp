@@ -13,7 +13,18 @@ namespace {
 // A pixel's weight as the image gives it: its one channel for a grey image
 // (its density under either weight), else the weight of its colour.
 double colourWeight(double r, double g, double b, PixelWeight weight) {
-  return weight == PixelWeight::Luminance ? rec709Luminance(r, g, b) : (r + g + b) / 3;
+  const bool luminance =
+      weight == PixelWeight::Luminance || weight == PixelWeight::LuminanceCompensated;
+  return luminance ? rec709Luminance(r, g, b) : (r + g + b) / 3;
+}
+
+// A lat-long map's row edges in the equal-area v = (1 - cos theta) / 2.
+std::vector<double> equalAreaRowEdges(int rows) {
+  std::vector<double> yEdges(rows + 1);
+  for (int j = 0; j <= rows; ++j) yEdges[j] = 0.5 * (1 - std::cos(std::numbers::pi * j / rows));
+  yEdges.front() = 0.0;
+  yEdges.back() = 1.0;
+  return yEdges;
 }
 double rawWeight(const Image &img, int x, int y, PixelWeight weight) {
   if (img.channels < 3) return img.at(x, y, 0);
@@ -45,12 +56,41 @@ std::vector<double> densities(const Image &img, PixelWeight weight, bool flipRow
 
 }  // namespace
 
+bool isCompensated(PixelWeight weight) {
+  return weight == PixelWeight::LuminanceCompensated ||
+         weight == PixelWeight::ChannelMeanCompensated;
+}
+
 double pixelWeight(double r, double g, double b, PixelWeight weight) {
   return std::max(0.0, colourWeight(r, g, b, weight));
 }
 
+double envmapCompensation(const Image &latlong, PixelWeight weight) {
+  if (!isCompensated(weight)) return 0;
+  const int W = latlong.width, H = latlong.height;
+  const std::vector<double> yEdges = equalAreaRowEdges(H);
+  // The mean over the sphere: rows weighted by their share of the solid angle.
+  double mean = 0, brightest = 0;
+  for (int j = 0; j < H; ++j) {
+    double row = 0;
+    for (int i = 0; i < W; ++i) {
+      const double w = std::max(0.0, rawWeight(latlong, i, j, weight));
+      row += w;
+      brightest = std::max(brightest, w);
+    }
+    mean += row * (yEdges[j + 1] - yEdges[j]) / W;
+  }
+  return brightest > mean ? mean : 0.0;
+}
+
 const char *envmapFamily(PixelWeight weight) {
-  return weight == PixelWeight::Luminance ? "envmap" : "envmap-mean";
+  switch (weight) {
+    case PixelWeight::Luminance: return "envmap";
+    case PixelWeight::ChannelMean: return "envmap-mean";
+    case PixelWeight::LuminanceCompensated: return "envmap-compensated";
+    case PixelWeight::ChannelMeanCompensated: return "envmap-mean-compensated";
+  }
+  return "envmap";
 }
 
 std::unique_ptr<GridTarget> makeImageTarget(const Image &image, const std::string &source) {
@@ -63,12 +103,10 @@ std::unique_ptr<GridTarget> makeImageTarget(const Image &image, const std::strin
 std::unique_ptr<GridTarget> makeEnvmapTarget(const Image &latlong, const std::string &source,
                                              PixelWeight weight) {
   const int W = latlong.width, H = latlong.height;
-  std::vector<double> yEdges(H + 1);
-  for (int j = 0; j <= H; ++j) yEdges[j] = 0.5 * (1 - std::cos(std::numbers::pi * j / H));
-  yEdges.front() = 0.0;
-  yEdges.back() = 1.0;
-  const std::vector<double> density = densities(latlong, weight, false, source);
-  return std::make_unique<GridTarget>(GridTarget::uniformEdges(W), std::move(yEdges), density,
+  std::vector<double> density = densities(latlong, weight, false, source);
+  if (const double offset = envmapCompensation(latlong, weight); offset > 0)
+    for (double &d : density) d = std::max(0.0, d - offset);
+  return std::make_unique<GridTarget>(GridTarget::uniformEdges(W), equalAreaRowEdges(H), density,
                                       std::string(envmapFamily(weight)) + ":" + source,
                                       Domain::Sphere, source);
 }

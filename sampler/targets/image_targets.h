@@ -19,10 +19,23 @@
 
 namespace nuld {
 
-// How a pixel's colour becomes density (negative values count as 0).
-enum class PixelWeight { Luminance, ChannelMean };
+// How a pixel's colour becomes density (negative values count as 0). The
+// compensated weights of an environment map also subtract the map's mean
+// weight over the sphere, clamped at 0: MIS compensation (Karlik et al.
+// 2019), for renderers that combine the light's samples with BSDF samples
+// by multiple importance sampling. The BSDF samples cover the directions
+// dimmer than average, where the light then places none, and the light's
+// samples go to the bright part that matters. A map with no pixel above its
+// mean (a constant one) keeps its plain weight.
+enum class PixelWeight { Luminance, ChannelMean, LuminanceCompensated, ChannelMeanCompensated };
+bool isCompensated(PixelWeight weight);
+// A pixel's weight before any compensation.
 double pixelWeight(double r, double g, double b, PixelWeight weight);
-// The spec family of an environment map weighted so: envmap or envmap-mean.
+// The weight a compensated map subtracts from every pixel (its mean over
+// the sphere); 0 for the other weights and for maps it would leave black.
+double envmapCompensation(const Image &latlong, PixelWeight weight);
+// The spec family of an environment map weighted so: envmap, envmap-mean,
+// envmap-compensated or envmap-mean-compensated.
 const char *envmapFamily(PixelWeight weight);
 
 std::unique_ptr<GridTarget> makeImageTarget(const Image &image, const std::string &source);

@@ -41,7 +41,9 @@ const std::vector<ImageKind> &imageKinds() {
   static const std::vector<ImageKind> kinds{
       {"image", std::nullopt},
       {envmapFamily(PixelWeight::Luminance), PixelWeight::Luminance},
-      {envmapFamily(PixelWeight::ChannelMean), PixelWeight::ChannelMean}};
+      {envmapFamily(PixelWeight::ChannelMean), PixelWeight::ChannelMean},
+      {envmapFamily(PixelWeight::LuminanceCompensated), PixelWeight::LuminanceCompensated},
+      {envmapFamily(PixelWeight::ChannelMeanCompensated), PixelWeight::ChannelMeanCompensated}};
   return kinds;
 }
 
@@ -73,6 +75,10 @@ std::vector<TargetDescription> targetDescriptions() {
        "weighted by luminance"},
       {std::string(envmapFamily(PixelWeight::ChannelMean)) + ":PATH",
        "the same with texels weighted by the mean of their channels"},
+      {std::string(envmapFamily(PixelWeight::LuminanceCompensated)) + ":PATH",
+       "envmap: less its mean over the sphere, clamped at 0 (MIS compensation)"},
+      {std::string(envmapFamily(PixelWeight::ChannelMeanCompensated)) + ":PATH",
+       "envmap-mean: less its mean over the sphere, clamped at 0"},
   };
   std::lock_guard lock(registryMutex());
   for (const auto &[name, r] : registry()) out.push_back(r.description);

@@ -152,6 +152,52 @@ TEST(EnvironmentLight, ChannelMeanWeightsPixelsByTheirChannelMean) {
   chiSquareLight(random, "random map, channel mean");
 }
 
+// MIS compensation: the density is the weight less its mean over the sphere,
+// clamped at 0 and normalized; sampling follows it; a constant map, which
+// nothing exceeds, keeps its plain density.
+TEST(EnvironmentLight, CompensatedDensityIsTheWeightAboveItsMean) {
+  const Image map = randomMap(64, 32, 4);
+  const EnvironmentLight plain(map, 1.0, 0.0, "random", {0, 1, 0}, PixelWeight::ChannelMean);
+  const EnvironmentLight compensated(map, 1.0, 0.0, "random", {0, 1, 0},
+                                     PixelWeight::ChannelMeanCompensated);
+  EXPECT_EQ(compensated.target()->spec(), "envmap-mean-compensated:random");
+  // The mean over the sphere, from the plain weights and the solid angles.
+  double mean = 0, sum = 0;
+  for (int y = 0; y < map.height; ++y)
+    for (int x = 0; x < map.width; ++x) {
+      const double w = (double(map.at(x, y, 0)) + map.at(x, y, 1) + map.at(x, y, 2)) / 3.0;
+      mean += w * pixelSolidAngle(y, map.width, map.height) / (4 * std::numbers::pi);
+    }
+  const double offset = envmapCompensation(map, PixelWeight::ChannelMeanCompensated);
+  EXPECT_NEAR(offset, mean, 1e-8 * mean);
+  mean = offset;  // the same to rounding; the pdf subtracts exactly this
+  int zero = 0;
+  double ratio = -1;
+  for (int y = 0; y < map.height; ++y)
+    for (int x = 0; x < map.width; ++x) {
+      const double w = (double(map.at(x, y, 0)) + map.at(x, y, 1) + map.at(x, y, 2)) / 3.0;
+      const double pdf = pixelPdf(compensated, x, y);
+      sum += pdf * pixelSolidAngle(y, map.width, map.height);
+      if (w <= mean) {
+        EXPECT_EQ(pdf, 0) << x << "," << y;
+        ++zero;
+        continue;
+      }
+      if (ratio < 0) ratio = pdf / (w - mean);
+      EXPECT_NEAR(pdf / (w - mean), ratio, 1e-6 * ratio);
+    }
+  EXPECT_NEAR(sum, 1.0, 1e-9);
+  EXPECT_GT(zero, 0);
+  chiSquareLight(compensated, "random map, compensated");
+  // A constant map: no pixel above the mean, so the plain density.
+  Image flat{8, 4, 3, std::vector<float>(96, 2.0f)};
+  EXPECT_EQ(envmapCompensation(flat, PixelWeight::LuminanceCompensated), 0.0);
+  const EnvironmentLight flatLight(flat, 1.0, 0.0, "flat", {0, 1, 0},
+                                   PixelWeight::LuminanceCompensated);
+  EXPECT_NEAR(flatLight.pdf({0, 1, 0}), 1 / (4 * std::numbers::pi), 1e-12);
+  EXPECT_GT(plain.pdf(sphereDirection({0.3, 0.4})), 0);
+}
+
 TEST(EnvironmentLight, SamplesNeverComeFromBlackRows) {
   const EnvironmentLight light(hardMap(), 1.0, 0.0, "hard");
   Rng rng(5);

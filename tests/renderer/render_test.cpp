@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdio>
 
 #include "materials/disney.h"
 #include "renderer/image_metrics.h"
@@ -281,6 +282,40 @@ TEST(Render, LightSamplingAloneAgreesWithMisDirectLighting) {
   const Image misLow = render(scene, {16, 16, 8, IntegratorKind::Direct, 1}, *c);
   const Image lightLow = render(scene, {16, 16, 8, IntegratorKind::Light, 1}, *d);
   EXPECT_GT(compareImages(lightLow, mis).mse, compareImages(misLow, mis).mse);
+}
+
+// MIS compensation changes where the light samples, not what the estimator
+// converges to; under a sky with a hot spot it lowers a diffuse sphere's
+// noise (measured at 16 spp, 8 seeds: MSE ratio 0.145). The light
+// integrator, which has no BSDF samples to cover the dim sky, refuses it.
+TEST(Render, MisCompensationKeepsTheExpectationAndLowersNoise) {
+  Image sky = constantMap(0.3f, 32, 16);
+  for (int y = 2; y < 5; ++y)
+    for (int c = 0; c < 3; ++c) sky.at(9, y, c) = 60.0f;
+  const auto diffuse = std::make_shared<Lambertian>(Rgb{0.8, 0.8, 0.8});
+  const Scene plain =
+      sceneWith({unitSphere()}, {diffuse}, sky, kLookAtSphere, PixelWeight::ChannelMean);
+  const Scene compensated =
+      sceneWith({unitSphere()}, {diffuse}, sky, kLookAtSphere, PixelWeight::ChannelMeanCompensated);
+  auto a = makeBackend("sobol", 1), b = makeBackend("sobol", 2);
+  const Image reference = render(plain, {16, 16, 8192, IntegratorKind::Direct, 1}, *a);
+  const Image converged = render(compensated, {16, 16, 8192, IntegratorKind::Direct, 1}, *b);
+  ASSERT_TRUE(allFinite(converged));
+  EXPECT_NEAR(meanOf(converged), meanOf(reference), 0.003 * meanOf(reference));
+  double plainMse = 0, compensatedMse = 0;
+  for (std::uint64_t seed = 10; seed < 18; ++seed) {
+    auto p = makeBackend("independent", seed), c = makeBackend("independent", seed);
+    plainMse +=
+        compareImages(render(plain, {16, 16, 16, IntegratorKind::Direct, 1}, *p), reference).mse;
+    compensatedMse +=
+        compareImages(render(compensated, {16, 16, 16, IntegratorKind::Direct, 1}, *c), reference)
+            .mse;
+  }
+  std::printf("MSE at 16 spp: plain %.4g, compensated %.4g (ratio %.3f)\n", plainMse / 8,
+              compensatedMse / 8, compensatedMse / plainMse);
+  EXPECT_LT(compensatedMse, 0.5 * plainMse);
+  auto l = makeBackend("independent", 1);
+  EXPECT_THROW(render(compensated, {8, 8, 1, IntegratorKind::Light, 1}, *l), std::invalid_argument);
 }
 
 // QMC backends must keep converging at high spp. Before their pairs were

@@ -31,9 +31,9 @@ inline TriangleMesh unitSphere(int rings = 24, int segments = 48) {
 
 inline Scene sceneWith(std::vector<TriangleMesh> meshes,
                        std::vector<std::shared_ptr<const Bsdf>> materials, std::optional<Image> map,
-                       CameraSettings camera = {}) {
+                       CameraSettings camera = {}, PixelWeight weight = PixelWeight::Luminance) {
   Scene s{EmbreeScene(std::move(meshes)), std::move(materials), std::nullopt, camera};
-  if (map) s.environment.emplace(std::move(*map), 1.0, 0.0, "test-map");
+  if (map) s.environment.emplace(std::move(*map), 1.0, 0.0, "test-map", Vec3{0, 1, 0}, weight);
   return s;
 }
 

@@ -116,8 +116,9 @@ TEST_F(SceneFileTest, BadInputGivesClearErrors) {
   expectError((dir_ / "nothing.json").string(), {"nothing.json", "cannot open"});
   expectError(valid("\"integrator\": \"direct\"", "\"integrator\": \"mis\""),
               {"render.integrator", "expected path, direct, light or bsdf", "mis"});
-  expectError(valid("\"scale\": 2", "\"scale\": 2, \"importance\": \"max\""),
-              {"environment.importance", "luminance or mean"});
+  expectError(
+      valid("\"scale\": 2", "\"scale\": 2, \"importance\": \"max\""),
+      {"environment.importance", "luminance, mean, luminance-compensated or mean-compensated"});
 }
 
 // What the loader accepts but reports (sampler/diagnostics.h): triangles of
