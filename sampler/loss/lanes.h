@@ -51,15 +51,15 @@ inline Mask loadMask(const std::int64_t *p) {
 }
 inline void store(double *p, Doubles v) { std::memcpy(p, &v, sizeof v); }
 
-// table[index[j]] in lane j, for indices in [0, kWidth).
-inline Doubles permute(Doubles table, Mask index) {
-#if defined(__clang__)
-  Doubles out;
-  for (int j = 0; j < kWidth; ++j) out[j] = table[index[j] & (kWidth - 1)];
-  return out;
-#else
-  return __builtin_shuffle(table, index);
+// table[index[j]] in lane j, for a table of 8 and indices in [0, 8): one
+// permutation where 8 lanes fill a register, lane by lane elsewhere.
+inline Doubles lookup8(const double *table, Mask index) {
+#if !defined(__clang__)
+  if constexpr (kWidth == 8) return __builtin_shuffle(load(table), index);
 #endif
+  Doubles out;
+  for (int j = 0; j < kWidth; ++j) out[j] = table[index[j] & 7];
+  return out;
 }
 
 // std::min's rule, lane by lane: b when b < a, else a.

@@ -133,7 +133,7 @@ class DirectKernel {
 // cutoff itself allows.
 class FactoredKernel {
  public:
-  static constexpr int kTiles = lanes::kWidth;  // a box's factors fill one vector per side
+  static constexpr int kTiles = 8;  // per axis: one AVX-512 vector of a box's factors per side
 
   // Whether points in the unit square keep every relevant factor finite.
   static bool applies(double alpha, double cutoff) {
@@ -144,23 +144,25 @@ class FactoredKernel {
   static double tileCentre(int tile) { return (tile + 0.5) / kTiles; }
 
   FactoredKernel(const Box2 &A, double alpha, double) {
-    lanes::Doubles centre;
-    for (int t = 0; t < kTiles; ++t) centre[t] = tileCentre(t);
-    const lanes::Doubles a = lanes::broadcast(alpha);
-    loX_ = lanes::exp(a * (lanes::broadcast(A.lo.x) - centre));
-    hiX_ = lanes::exp(a * (centre - lanes::broadcast(A.hi.x)));
-    loY_ = lanes::exp(a * (lanes::broadcast(A.lo.y) - centre));
-    hiY_ = lanes::exp(a * (centre - lanes::broadcast(A.hi.y)));
+    for (int t0 = 0; t0 < kTiles; t0 += lanes::kWidth) {
+      lanes::Doubles centre;
+      for (int j = 0; j < lanes::kWidth; ++j) centre[j] = tileCentre(t0 + j);
+      const lanes::Doubles a = lanes::broadcast(alpha);
+      lanes::store(loX_ + t0, lanes::exp(a * (lanes::broadcast(A.lo.x) - centre)));
+      lanes::store(hiX_ + t0, lanes::exp(a * (centre - lanes::broadcast(A.hi.x))));
+      lanes::store(loY_ + t0, lanes::exp(a * (lanes::broadcast(A.lo.y) - centre)));
+      lanes::store(hiY_ + t0, lanes::exp(a * (centre - lanes::broadcast(A.hi.y))));
+    }
   }
 
   PairLanes evaluate(const PointColumns &p, std::uint32_t k, bool wantSlope) const {
     using lanes::Doubles;
     const lanes::Mask tileX = lanes::loadMask(p.tileX + k), tileY = lanes::loadMask(p.tileY + k);
     // exp(-alpha (x - lo.x)), exp(-alpha (hi.x - x)), and the same in y.
-    const Doubles eLoX = lanes::load(p.c0 + k) * lanes::permute(loX_, tileX);
-    const Doubles eHiX = lanes::load(p.c1 + k) * lanes::permute(hiX_, tileX);
-    const Doubles eLoY = lanes::load(p.c2 + k) * lanes::permute(loY_, tileY);
-    const Doubles eHiY = lanes::load(p.c3 + k) * lanes::permute(hiY_, tileY);
+    const Doubles eLoX = lanes::load(p.c0 + k) * lanes::lookup8(loX_, tileX);
+    const Doubles eHiX = lanes::load(p.c1 + k) * lanes::lookup8(hiX_, tileX);
+    const Doubles eLoY = lanes::load(p.c2 + k) * lanes::lookup8(loY_, tileY);
+    const Doubles eHiY = lanes::load(p.c3 + k) * lanes::lookup8(hiY_, tileY);
     const Doubles eX = lanes::max(eLoX, eHiX), eY = lanes::max(eLoY, eHiY);
     // Far outside the box the product may overflow; 1e300 keeps E * inv^2 finite.
     const Doubles e = lanes::min(lanes::max(eX, eY), lanes::broadcast(1e300));
@@ -177,8 +179,8 @@ class FactoredKernel {
   }
 
  private:
-  lanes::Doubles loX_, hiX_, loY_,
-      hiY_;  // per tile: exp(alpha (lo.x - c)), exp(alpha (c - hi.x)), ...
+  // Per tile: exp(alpha (lo.x - c)), exp(alpha (c - hi.x)), and in y.
+  alignas(64) double loX_[kTiles], hiX_[kTiles], loY_[kTiles], hiY_[kTiles];
 };
 
 // One box's soft count over the points in its band, the cells its outer box
