@@ -76,8 +76,7 @@ EnvironmentLight::EnvironmentLight(Image latlong, double scale, double rotationD
   for (float v : image.pixels) black = black && v == 0;
   // A black map emits nothing and has nothing to sample: no target.
   if (black) return;
-  target_ = makeEnvmapTarget(image, source_, weight_);
-  compensation_ = envmapCompensation(image, weight_);
+  target_ = makeEnvmapTarget(image, source_, weight_, &compensation_);
   reserveLargeTable(texels_, std::size_t(width_) * height_);
   texels_.resize(std::size_t(width_) * height_);
   // The target's density is the weight (clamped at 0, which the radiance

@@ -78,8 +78,8 @@ inline double sum(Doubles v) {
     for (int j = 0; j < width; ++j) part[j] = part[2 * j] + part[2 * j + 1];
   return part[0];
 }
-// Lanes [0, n) set.
-inline Mask firstLanes(int n) { return laneIndex() < n; }
+// Lanes [0, n) set: every lane once n >= kWidth.
+inline Mask firstLanes(std::int64_t n) { return laneIndex() < n; }
 
 // Writes the lanes of v that m selects to out[0, count), in lane order, and
 // returns count; out must hold kWidth values (the rest are overwritten).

@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -213,7 +212,7 @@ class BandScan {
         alpha_(alpha),
         cutoff_(cutoff),
         wantGrad_(wantGrad),
-        slopeX_(wantGrad || kCompacts ? grid.size() + lanes::kWidth : 0),
+        slopeX_(wantGrad ? grid.size() + lanes::kWidth : 0),
         slopeY_(slopeX_.size()) {
     runs_.reserve(64);
     if (kCompacts) {
@@ -297,8 +296,7 @@ class BandScan {
       const lanes::Doubles iota = __builtin_convertvector(lanes::laneIndex(), lanes::Doubles);
       for (std::uint32_t k = 0; k < len; k += lanes::kWidth) {
         const auto c = kernel.classify(points, begin + k);
-        const lanes::Mask valid =
-            lanes::firstLanes(int(std::min<std::uint32_t>(len - k, lanes::kWidth)));
+        const lanes::Mask valid = lanes::firstLanes(len - k);
         soft += (c.inside & valid) ? lanes::broadcast(1.0) : lanes::Doubles{};
         const lanes::Mask band = c.band & valid;
         lanes::compress(band, c.x, &bandX_[used_]);
@@ -329,9 +327,7 @@ class BandScan {
       }
       for (; k < len; k += lanes::kWidth) {
         const PairLanes p = kernel.evaluate(points, begin + k, wantGrad_);
-        soft += lanes::firstLanes(int(std::min<std::uint32_t>(len - k, lanes::kWidth)))
-                    ? p.value
-                    : lanes::Doubles{};
+        soft += lanes::firstLanes(len - k) ? p.value : lanes::Doubles{};
         if (!wantGrad_) continue;
         // Lanes past the run land in the buffers' slack or under the next
         // run's slopes, and addGradient never reads them.
@@ -346,9 +342,7 @@ class BandScan {
     const PointColumns band{bandX_.data(), bandY_.data()};
     for (std::uint32_t k = 0; k < used_; k += lanes::kWidth) {
       const PairLanes p = kernel.evaluate(band, k, wantGrad_);
-      soft += lanes::firstLanes(int(std::min<std::uint32_t>(used_ - k, lanes::kWidth)))
-                  ? p.value
-                  : lanes::Doubles{};
+      soft += lanes::firstLanes(used_ - k) ? p.value : lanes::Doubles{};
       if (!wantGrad_) continue;
       lanes::store(&slopeX_[k], p.slopeX);
       lanes::store(&slopeY_[k], p.slopeY);

@@ -101,11 +101,13 @@ std::unique_ptr<GridTarget> makeImageTarget(const Image &image, const std::strin
 }
 
 std::unique_ptr<GridTarget> makeEnvmapTarget(const Image &latlong, const std::string &source,
-                                             PixelWeight weight) {
+                                             PixelWeight weight, double *compensation) {
   const int W = latlong.width, H = latlong.height;
   std::vector<double> density = densities(latlong, weight, false, source);
-  if (const double offset = envmapCompensation(latlong, weight); offset > 0)
+  const double offset = envmapCompensation(latlong, weight);
+  if (offset > 0)
     for (double &d : density) d = std::max(0.0, d - offset);
+  if (compensation) *compensation = offset;
   return std::make_unique<GridTarget>(GridTarget::uniformEdges(W), equalAreaRowEdges(H), density,
                                       std::string(envmapFamily(weight)) + ":" + source,
                                       Domain::Sphere, source);

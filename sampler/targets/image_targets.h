@@ -39,8 +39,11 @@ double envmapCompensation(const Image &latlong, PixelWeight weight);
 const char *envmapFamily(PixelWeight weight);
 
 std::unique_ptr<GridTarget> makeImageTarget(const Image &image, const std::string &source);
+// `compensation`, when given, receives the weight the target subtracted
+// (envmapCompensation), so that a light can evaluate the same density.
 std::unique_ptr<GridTarget> makeEnvmapTarget(const Image &latlong, const std::string &source,
-                                             PixelWeight weight = PixelWeight::Luminance);
+                                             PixelWeight weight = PixelWeight::Luminance,
+                                             double *compensation = nullptr);
 
 std::unique_ptr<GridTarget> loadImageTarget(const std::string &path);
 std::unique_ptr<GridTarget> loadEnvmapTarget(const std::string &path,

@@ -55,6 +55,8 @@ TEST(Lanes, SumFirstLanesCompressPermute) {
     const Mask m = firstLanes(n);
     for (int j = 0; j < kWidth; ++j) EXPECT_EQ(m[j] != 0, j < n);
   }
+  const Mask all = firstLanes(kWidth + 5);  // a count past the vector sets every lane
+  for (int j = 0; j < kWidth; ++j) EXPECT_NE(all[j], 0);
   // Every other lane, kept in order.
   Mask odd;
   for (int j = 0; j < kWidth; ++j) odd[j] = (j % 2) ? -1 : 0;
