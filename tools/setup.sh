@@ -7,7 +7,7 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config
   libembree-dev libopenimageio-dev openimageio-tools libopenexr-dev libimath-dev
-  libtinygltf-dev libtbb-dev googletest libgtest-dev libbenchmark-dev libcli11-dev
+  libtinygltf-dev libtbb-dev libopenmpi-dev openmpi-bin googletest libgtest-dev libbenchmark-dev libcli11-dev
   nlohmann-json3-dev libtorch-dev libopenblas0-openmp python3-matplotlib
   pybind11-dev python3-dev python3-numpy python3-scipy python3-pytest
 )

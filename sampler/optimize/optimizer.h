@@ -76,6 +76,12 @@ struct OptimizerSettings {
   // at most all of them.
   double unionWeight = 0;
   std::size_t unionGroup = 0;
+  // These are instances [firstInstance, firstInstance + instances) of a
+  // larger run: instance k starts and draws its boxes as instance
+  // firstInstance + k would, so a run split into parts (one per MPI rank)
+  // makes the same sets as one run. Not with the bank term, which couples
+  // the instances.
+  std::size_t firstInstance = 0;
   std::size_t unionGroupSize() const {
     if (unionGroup) return unionGroup;
     return std::min(instances, std::max<std::size_t>(2, 256 / std::max<std::size_t>(n, 1)));

@@ -18,10 +18,14 @@
 #include "tools/nuld/commands.h"
 #include "tools/nuld/interrupt_note.h"
 #include "tools/nuld/progress.h"
+#include "tools/study/ranks.h"
 
 namespace nuld::cli {
 
 namespace {
+
+using study::ByteWriter;
+using study::fromBytes;
 
 struct OptimizeOptions {
   std::string target, preset, mass, mapping, objective, boxKind, output;
@@ -148,30 +152,11 @@ void refuseDiverged(const DirectOptimizer &opt, const PointSet &set, const Targe
       formatRoundTrip(s.lrStart) + " to " + formatRoundTrip(s.lrEnd) + "); nothing was written");
 }
 
-int runOptimize(const OptimizeOptions &o, const Target &target, const OptimizerSettings &s) {
-  checkDestination(o.output);
-  checkResources(s, o.run.quiet);
-  const DirectOptimizer opt(target, s);
-
-  const std::string ckpt = o.output + ".ckpt";
-  const bool quiet = o.run.quiet;
-  OptimizerState state = opt.initialState();
-  std::optional<ProgressBar> bar;
-  EpochReport last;
-  const ResumableRun run = resumableRun(opt, target.spec(), state, [&](const EpochReport &r) {
-    last = r;
-    std::string status = "loss " + formatShort(r.loss);
-    if (s.unionWeight > 0) status += "  union " + formatShort(r.unionLoss);
-    if (s.objective == Objective::SoftBoxes) status += "  alpha " + formatShort(r.alpha);
-    bar->update(r.epoch, status + "  lr " + formatShort(r.lr));
-  });
-  const InterruptNote interruptNote(ckpt);
-  resumeRun(run, ckpt, o.run, &std::cerr);
-  if (!quiet) std::cerr << "optimize " << target.spec() << ": " << s.describe() << "\n";
-  bar.emplace("epoch", s.epochs, state.epoch, quiet);
-  if (!driveRun(run, ckpt, o.run, &std::cerr)) return 0;
-  bar->finish("loss " + formatShort(last.loss));
-
+// Writes the sets of the final `state` (after the divergence check) and
+// prints their metrics.
+void writeOptimized(const OptimizeOptions &o, const DirectOptimizer &opt, const Target &target,
+                    const OptimizerSettings &s, const OptimizerState &state,
+                    const std::string &ckpt) {
   PointSet set = opt.points(state);
   // Above kMaxMetricPairs the final metrics, and with them the divergence
   // check that needs the L2, are left to `nuld eval`: divergence then shows
@@ -187,14 +172,95 @@ int runOptimize(const OptimizeOptions &o, const Target &target, const OptimizerS
     setMeta(set, meta::kFinalMetrics, m.str());
   }
   writePointSet(o.output, set);
-  std::filesystem::remove(ckpt);
   if (metrics)
     std::printf("l2asd %.9g\ndstar %.9g\n", metrics->first, metrics->second);
   else
     std::cerr << "note: the final l2asd and dstar (O(N^2): " << formatShort(metricPairs)
               << " point pairs) are left to `nuld eval " << o.output << "`\n";
-  if (!quiet)
+  if (!o.run.quiet)
     std::cerr << "wrote " << set.instances() << " x " << set.n << " points to " << o.output << "\n";
+}
+
+// This rank's part of the instances: all of them in a single process, a
+// contiguous share in a job of several ranks (tools/study/ranks.h), which
+// each rank optimizes and checkpoints on its own.
+struct InstancePart {
+  std::size_t first = 0, count = 0;
+  std::string checkpoint;
+};
+
+InstancePart instancePart(const std::string &output, const OptimizerSettings &s,
+                          const study::Ranks &ranks) {
+  if (!ranks.distributed()) return {0, s.instances, output + ".ckpt"};
+  if (s.unionWeight > 0)
+    throw std::invalid_argument(
+        "--union-weight: the bank term couples all instances, so they cannot be split over " +
+        std::to_string(ranks.size()) + " ranks; run this command as one process (no mpirun)");
+  const std::size_t K = std::size_t(ranks.size()), r = std::size_t(ranks.rank());
+  const std::size_t first = s.instances * r / K, end = s.instances * (r + 1) / K;
+  return {first, end - first,
+          output + ".ckpt.instances-" + std::to_string(first) + "-" + std::to_string(end)};
+}
+
+int runOptimize(const OptimizeOptions &o, const Target &target, const OptimizerSettings &s) {
+  const study::Ranks &ranks = study::Ranks::world();
+  if (ranks.root()) checkDestination(o.output);
+  checkResources(s, o.run.quiet || !ranks.root());
+  const DirectOptimizer opt(target, s);
+  const InstancePart part = instancePart(o.output, s, ranks);
+  OptimizerSettings partSettings = s;
+  partSettings.instances = std::max<std::size_t>(part.count, 1);
+  partSettings.firstInstance = part.first;
+
+  // In a job, rank 0 shows its own part's progress: every part runs the
+  // same epochs.
+  const bool quiet = o.run.quiet || !ranks.root();
+  RunFlags flags = o.run;
+  flags.quiet = quiet;
+  std::ostream *log = quiet ? nullptr : &std::cerr;
+  std::vector<Point2> params;  // this part's, at the end
+  if (part.count > 0) {
+    const DirectOptimizer partOpt(target, partSettings);
+    OptimizerState state = partOpt.initialState();
+    std::optional<ProgressBar> bar;
+    EpochReport last;
+    const ResumableRun run = resumableRun(partOpt, target.spec(), state, [&](const EpochReport &r) {
+      last = r;
+      std::string status = "loss " + formatShort(r.loss);
+      if (s.unionWeight > 0) status += "  union " + formatShort(r.unionLoss);
+      if (s.objective == Objective::SoftBoxes) status += "  alpha " + formatShort(r.alpha);
+      bar->update(r.epoch, status + "  lr " + formatShort(r.lr));
+    });
+    const InterruptNote interruptNote(part.checkpoint);
+    resumeRun(run, part.checkpoint, flags, log);
+    if (!quiet) {
+      std::cerr << "optimize " << target.spec() << ": " << s.describe() << "\n";
+      if (ranks.distributed())
+        std::cerr << "optimize: instances split over " << ranks.size()
+                  << " ranks; the bar follows rank 0's " << part.count << " of " << s.instances
+                  << "\n";
+    }
+    bar.emplace("epoch", s.epochs, state.epoch, quiet);
+    // Every part runs the same epochs, so every rank stops or completes alike.
+    if (!driveRun(run, part.checkpoint, flags, log)) return 0;
+    bar->finish("loss " + formatShort(last.loss));
+    params = std::move(state.params);
+  }
+
+  // Rank 0 joins the parts in instance order: the state one process ends in.
+  const std::vector<std::string> parts = ranks.gather(ByteWriter().put(params).take());
+  if (ranks.root()) {
+    OptimizerState state;
+    state.epoch = s.epochs;
+    for (const std::string &bytes : parts) {
+      const auto part = fromBytes<std::vector<Point2>>(bytes);
+      state.params.insert(state.params.end(), part.begin(), part.end());
+    }
+    writeOptimized(o, opt, target, s, state, part.checkpoint);
+  }
+  // The checkpoints go once the sets are written.
+  ranks.barrier();
+  std::filesystem::remove(part.checkpoint);
   return 0;
 }
 

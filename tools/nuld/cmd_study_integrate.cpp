@@ -14,6 +14,7 @@
 #include "tools/nuld/commands.h"
 #include "tools/nuld/progress.h"
 #include "tools/study/integration_study.h"
+#include "tools/study/ranks.h"
 #include "tools/study/stopwatch.h"
 
 namespace nuld::cli {
@@ -56,21 +57,25 @@ study::IntegrateOptions integrateOptions(const IntegrateCliOptions &o) {
 int runStudyIntegrate(const IntegrateCliOptions &o) {
   const study::IntegrateOptions opts = integrateOptions(o);
   const bool tty = ::isatty(STDERR_FILENO);
+  // In a job of several ranks (mpirun, srun) rank 0 alone reports.
+  const study::Ranks &ranks = study::Ranks::world();
+  const bool quiet = o.quiet || !ranks.root();
   std::optional<ProgressBar> bar;
   bool barDrawn = false;
   study::IntegrateHooks hooks;
   hooks.message = [&](const std::string &text) {
-    if (o.quiet) return;
+    if (quiet) return;
     std::cerr << (barDrawn && tty ? "\n" : "") << "nuld: " << text << "\n";
   };
   hooks.progress = [&](long done, long total, const std::string &status) {
-    if (!bar) bar.emplace("integrate", total, 0, o.quiet);
+    if (!bar) bar.emplace("integrate", total, 0, quiet);
     bar->update(done, status);
     barDrawn = true;
   };
   const auto start = study::Clock::now();
   const study::IntegrateSummary summary = study::runIntegrateStudy(opts, hooks);
   const double seconds = study::secondsSince(start);
+  if (!ranks.root()) return 0;
   if (bar)
     bar->finish(std::to_string(summary.rowsAdded) + " rows added, " +
                 std::to_string(summary.rowsSkipped) + " already present");

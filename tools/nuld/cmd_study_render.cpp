@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <iostream>
 #include <map>
+#include <tuple>
 
 #include "renderer/path_integrator.h"
 #include "scenes/scene_file.h"
@@ -12,6 +13,7 @@
 #include "tools/nuld/commands.h"
 #include "tools/nuld/progress.h"
 #include "tools/study/csv_table.h"
+#include "tools/study/ranks.h"
 #include "tools/study/render_study.h"
 #include "tools/study/report_script.h"
 
@@ -63,8 +65,21 @@ void printTable(const study::CsvTable &table) {
   std::map<std::pair<std::string, std::string>, double> sobol;
   for (const auto &r : table.rows())
     if (r[backend] == "sobol") sobol[{r[scene], r[spp]}] = number(r[mse]);
-  std::string lastScene;
+  // Rows are made spp by spp; the table reads backend by backend.
+  std::map<std::string, std::size_t> sceneOrder, backendOrder;
   for (const auto &r : table.rows()) {
+    sceneOrder.emplace(r[scene], sceneOrder.size());
+    backendOrder.emplace(r[backend], backendOrder.size());
+  }
+  std::vector<const std::vector<std::string> *> rows;
+  for (const auto &r : table.rows()) rows.push_back(&r);
+  std::stable_sort(rows.begin(), rows.end(), [&](const auto *a, const auto *b) {
+    return std::tuple(sceneOrder[(*a)[scene]], backendOrder[(*a)[backend]], number((*a)[spp])) <
+           std::tuple(sceneOrder[(*b)[scene]], backendOrder[(*b)[backend]], number((*b)[spp]));
+  });
+  std::string lastScene;
+  for (const auto *row : rows) {
+    const auto &r = *row;
     if (r[scene] != lastScene) {
       std::printf("\n%s\n%-22s %6s %12s %12s %9s %9s %9s\n", r[scene].c_str(), "backend", "spp",
                   "mse", "relmse", "mse/sobol", "seconds", "setup_s");
@@ -118,6 +133,10 @@ Runner addStudyRender(CLI::App &app) {
       ->check(positiveNumber());
   app.add_option("--reference-pass-spp", o->s.reference.passSpp,
                  "reference spp per resumable pass (default 256)")
+      ->check(positiveNumber());
+  app.add_option("--reference-stop-after", o->s.referenceStopAfter,
+                 "render at most this many reference passes in this run, then stop with the "
+                 "reference saved (a rerun continues it; for job time limits)")
       ->check(positiveNumber());
   app.add_option("--reference-backend", o->s.reference.backend,
                  "backend of the reference (default halton, as the paper)");
@@ -197,17 +216,24 @@ Runner addStudyRender(CLI::App &app) {
     }
     if (!o->integrator.empty()) s.integrator = parseIntegrator(o->integrator);
 
+    // In a job of several ranks (mpirun, srun) rank 0 alone reports.
+    const study::Ranks &ranks = study::Ranks::world();
     study::RenderStudyResult result;
     {
-      TaskBars bars(o->quiet);
+      TaskBars bars(o->quiet || !ranks.root());
       result = study::runRenderStudy(
           s, [&](const std::string &task, double f, const std::string &status) {
             bars.update(task, f, status);
           });
     }
+    if (!ranks.root()) return 0;
     for (const auto &skip : result.skipped) std::cerr << "skipped " << skip << "\n";
+    for (const auto &scene : result.referencesIncomplete)
+      std::cerr << "note: " << scene << ": the reference stopped after --reference-stop-after "
+                << s.referenceStopAfter << " passes; run the same command again to continue it\n";
     study::CsvTable table(result.csv, study::renderStudyColumns());
     table.loadExisting();
+    if (table.rows().empty()) return 0;
     printTable(table);
     std::printf(
         "\n(MSE against the reference; mse/sobol < 1 beats Owen-Sobol at equal spp.\n"

@@ -15,6 +15,7 @@
 #include "sampler/targets/target_spec.h"
 #include "tools/nuld/cli_util.h"
 #include "tools/nuld/commands.h"
+#include "tools/study/ranks.h"
 #include "tools/study/render_study.h"
 
 namespace {
@@ -93,6 +94,9 @@ bool printTopic(const std::string &topic) {
 }  // namespace
 
 int main(int argc, char **argv) {
+  // Under mpirun or srun: one rank of a job (tools/study/ranks.h).
+  const nuld::study::MpiSession mpi(argc, argv);
+  const nuld::study::Ranks &ranks = nuld::study::Ranks::world();
   nuld::registerMaterialTargets();  // disney:... target specs
   CLI::App app{"nuld: optimize, evaluate and render with non-uniform low-discrepancy point sets"};
   app.require_subcommand(1);
@@ -147,7 +151,8 @@ int main(int argc, char **argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError &e) {
-    return app.exit(e);
+    // Every rank parsed the same words; one of them says what was wrong.
+    return ranks.root() ? app.exit(e) : e.get_exit_code();
   }
   if (help->parsed()) {
     // "help study render" walks down the subcommands named. The formatter
@@ -172,14 +177,13 @@ int main(int argc, char **argv) {
   } catch (const std::filesystem::filesystem_error &e) {
     // The library's text ("filesystem error: cannot create directories: ...
     // [path]") in the form of every other refusal: the path first.
-    std::cerr << "nuld: error: " << e.path1().string() << ": " << e.code().message();
-    if (const std::string what = e.what(); what.find("create director") != std::string::npos)
-      std::cerr << " (cannot create the directory)";
-    std::cerr << "\n";
-    return 1;
+    std::string what = e.path1().string() + ": " + e.code().message();
+    if (std::string(e.what()).find("create director") != std::string::npos)
+      what += " (cannot create the directory)";
+    ranks.fail(what);
   } catch (const std::exception &e) {
-    std::cerr << "nuld: error: " << e.what() << "\n";
-    return 1;
+    // In a job of several ranks this stops them all.
+    ranks.fail(e.what());
   }
   return 0;
 }

@@ -21,6 +21,7 @@
 #include "sampler/targets/target_spec.h"
 #include "tools/study/integrate_internal.h"
 #include "tools/study/optimized_sets.h"
+#include "tools/study/ranks.h"
 #include "tools/study/stopwatch.h"
 
 namespace nuld::study {
@@ -117,6 +118,30 @@ struct Measurement {
   std::vector<double> estimates;
   double genSeconds = 0, setupSeconds = 0;  // per set
   std::size_t zeroPdf = 0;
+};
+
+// One row to make: an integrand, a sampler and N.
+struct Task {
+  const Integrand *in;
+  const SamplerChoice *s;
+  std::size_t n;
+};
+
+// A measured row as it travels to rank 0: the CSV values, the notes it
+// raised and how many of its sets came from the cache.
+struct RowResult {
+  std::vector<std::string> row, notes;
+  std::size_t setsFromCache = 0;
+
+  std::string bytes() const { return ByteWriter().put(row).put(notes).put(setsFromCache).take(); }
+  static RowResult from(std::string_view bytes) {
+    ByteReader r(bytes);
+    RowResult result;
+    r.get(result.row);
+    r.get(result.notes);
+    r.get(result.setsFromCache);
+    return result;
+  }
 };
 
 class StudyRunner {
@@ -217,9 +242,7 @@ class StudyRunner {
     return hash3(o_.seed, hashString(in.name + "|" + s.name), n);
   }
 
-  // K optimized sets of N points for the target, from the cache or made now
-  // (optimized_sets.h: checkpointed, so an interrupted study resumes it).
-  PointSet bankFor(const Target &target, std::size_t n, double &secondsPerSet) {
+  OptimizedSetsRequest bankRequest(std::size_t n) const {
     OptimizedSetsRequest request;
     request.n = n;
     request.instances = o_.optimizedInstances;
@@ -227,19 +250,17 @@ class StudyRunner {
     request.seed = o_.seed;
     request.objective = o_.optObjective;
     request.unionWeight = o_.optUnionWeight;
-    const fs::path file =
-        cachedSetsPath(o_.outDir / "cache", target, optimizerSettings(target, request));
-    const std::string what = "optimizing " + shortSpec(target.spec()) + " N=" + std::to_string(n) +
-                             " (" + std::to_string(request.instances) + " sets)";
-    int lastShown = -1;
-    const OptimizedSets made =
-        study::optimizedSets(target, request, file, [&](int epoch, int epochs, double) {
-          const int percent = int(100.0 * epoch / epochs);
-          if (percent == lastShown) return;
-          lastShown = percent;
-          progress(what + " epoch " + std::to_string(epoch) + "/" + std::to_string(epochs));
-        });
-    (made.cached ? summary_.setsFromCache : summary_.setsOptimized) += request.instances;
+    return request;
+  }
+  fs::path bankPath(const Target &target, const OptimizedSetsRequest &request) const {
+    return cachedSetsPath(o_.outDir / "cache", target, optimizerSettings(target, request));
+  }
+
+  // K optimized sets of N points for the target, from the cache (makeBanks
+  // made those missing).
+  PointSet bankFor(const Target &target, std::size_t n, double &secondsPerSet) {
+    const OptimizedSetsRequest request = bankRequest(n);
+    const OptimizedSets made = study::optimizedSets(target, request, bankPath(target, request));
     secondsPerSet = made.seconds / double(request.instances);
     PointSet set = readPointSet(made.file.string());
     if (set.n != n || set.instances() < request.instances)
@@ -249,6 +270,110 @@ class StudyRunner {
     return set;
   }
 
+ public:
+  // Makes the banks of optimized sets the rows need and are not cached yet,
+  // one bank per rank and round; returns their files (made now).
+  std::vector<fs::path> makeBanks(const std::vector<const Task *> &rows, const Ranks &ranks) {
+    struct Bank {
+      const Target *target;
+      OptimizedSetsRequest request;
+      fs::path file;
+    };
+    std::vector<Bank> banks;
+    for (const Task *t : rows) {
+      const OptimizedSetsRequest request = bankRequest(t->n);
+      const fs::path file = bankPath(*t->in->target, request);
+      if (!fs::exists(file) &&
+          std::none_of(banks.begin(), banks.end(), [&](const Bank &b) { return b.file == file; }))
+        banks.push_back({t->in->target.get(), request, file});
+    }
+    runInRounds(
+        ranks, banks.size(),
+        [&](std::size_t i) {
+          const Bank &b = banks[i];
+          const std::string what = "optimizing " + shortSpec(b.target->spec()) +
+                                   " N=" + std::to_string(b.request.n) + " (" +
+                                   std::to_string(b.request.instances) + " sets)";
+          int lastShown = -1;
+          return ByteWriter()
+              .put(optimizeSets(*b.target, b.request, b.file,
+                                [&](int epoch, int epochs, double) {
+                                  const int percent = int(100.0 * epoch / epochs);
+                                  if (percent == lastShown || !ranks.root()) return;
+                                  lastShown = percent;
+                                  progress(what + " epoch " + std::to_string(epoch) + "/" +
+                                           std::to_string(epochs));
+                                }))
+              .take();
+        },
+        [&](std::size_t i, const std::string &bytes) {
+          writeOptimizedSets(banks[i].file, fromBytes<PointSet>(bytes));
+          summary_.setsOptimized += banks[i].request.instances;
+        });
+    std::vector<fs::path> files;
+    for (const Bank &b : banks) files.push_back(b.file);
+    return files;
+  }
+
+  // One row of the table, measured; its notes and cache count go with it to
+  // rank 0. `madeNow`: the banks makeBanks made (not counted as cached).
+  RowResult measureRow(const Task &t, const std::map<std::string, NeuralModel> &models,
+                       const std::vector<fs::path> &madeNow) {
+    const std::string domain = toString(t.in->domain()), n = std::to_string(t.n);
+    const std::string row = t.in->name + " " + t.s->name + " N=" + n;
+    RowResult result;
+    Measurement m;
+    std::size_t K = o_.instances;
+    switch (t.s->kind) {
+      case SamplerChoice::Kind::Optimized: {
+        const fs::path file = bankPath(*t.in->target, bankRequest(t.n));
+        m = optimized(*t.in, t.n);
+        if (std::find(madeNow.begin(), madeNow.end(), file) == madeNow.end())
+          result.setsFromCache = o_.optimizedInstances;
+        K = o_.optimizedInstances;
+        break;
+      }
+      case SamplerChoice::Kind::Neural:
+        m = neural(*t.in, *t.s, models.at(t.s->name), t.n);
+        K = o_.optimizedInstances;
+        break;
+      case SamplerChoice::Kind::BlueNoise:
+        m = blueNoise(*t.in, *t.s, t.n);
+        K = o_.optimizedInstances;
+        break;
+      default: m = classic(*t.in, *t.s, t.n);
+    }
+    const EstimateStats st = summarize(m.estimates, t.in->reference);
+    const std::vector<double> values{t.in->reference, st.mean,       st.bias,    st.biasStderr,
+                                     st.std,          st.rmse,       st.relRmse, st.mseStderr,
+                                     m.genSeconds,    m.setupSeconds};
+    for (double v : values)
+      if (!std::isfinite(v))
+        throw std::runtime_error("study integrate: " + row + " gave a value that is not finite");
+    if (m.zeroPdf > 0)
+      result.notes.push_back(
+          "note: " + row + ": " + std::to_string(m.zeroPdf) + " of " + std::to_string(K * t.n) +
+          " points had zero density (or a non-finite weight) and counted as 0; this shows as "
+          "bias");
+    result.row = {t.in->name,
+                  domain,
+                  t.s->name,
+                  n,
+                  std::to_string(K),
+                  formatPrecise(t.in->reference),
+                  formatPrecise(st.mean),
+                  formatNumber(st.bias),
+                  formatNumber(st.biasStderr),
+                  formatNumber(st.std),
+                  formatNumber(st.rmse),
+                  formatNumber(st.relRmse),
+                  formatNumber(st.mseStderr),
+                  formatNumber(m.genSeconds),
+                  formatNumber(m.setupSeconds)};
+    return result;
+  }
+
+ private:
   const IntegrateOptions &o_;
   const IntegrateHooks &hooks_;
   IntegrateSummary &summary_;
@@ -269,13 +394,6 @@ void validateOptions(const IntegrateOptions &o) {
   if (o.optEpochs < 0) throw std::invalid_argument("--opt-epochs: expected a positive count");
   if (o.outDir.empty()) throw std::invalid_argument("-o: an output directory is required");
 }
-
-// One row to make: an integrand, a sampler and N.
-struct Task {
-  const Integrand *in;
-  const SamplerChoice *s;
-  std::size_t n;
-};
 
 // The rows to make, in order: integrand, sampler, N. Lobe-selection samplers
 // only where the integrand has a lobe; optimized and blue-noise sets up to
@@ -326,54 +444,42 @@ IntegrateSummary runIntegrateStudy(const IntegrateOptions &o, const IntegrateHoo
   CsvTable table(integrateCsvPath(o.outDir), integrateColumns());
   table.loadExisting();
   runner.setTotal(long(tasks.size()));
+  std::vector<const Task *> pending;
   for (const Task &t : tasks) {
-    const std::string domain = toString(t.in->domain()), n = std::to_string(t.n);
-    const std::string row = t.in->name + " " + t.s->name + " N=" + n;
-    if (table.hasRow({t.in->name, domain, t.s->name, n})) {
-      ++summary.rowsSkipped;
-      runner.advance();
-      runner.progress(row + " (already in the CSV)");
+    if (!table.hasRow({t.in->name, toString(t.in->domain()), t.s->name, std::to_string(t.n)})) {
+      pending.push_back(&t);
       continue;
     }
-    runner.progress(row);
-    Measurement m;
-    std::size_t K = o.instances;
-    switch (t.s->kind) {
-      case SamplerChoice::Kind::Optimized:
-        m = runner.optimized(*t.in, t.n);
-        K = o.optimizedInstances;
-        break;
-      case SamplerChoice::Kind::Neural:
-        m = runner.neural(*t.in, *t.s, models.at(t.s->name), t.n);
-        K = o.optimizedInstances;
-        break;
-      case SamplerChoice::Kind::BlueNoise:
-        m = runner.blueNoise(*t.in, *t.s, t.n);
-        K = o.optimizedInstances;
-        break;
-      default: m = runner.classic(*t.in, *t.s, t.n);
-    }
-    const EstimateStats st = summarize(m.estimates, t.in->reference);
-    const std::vector<double> values{t.in->reference, st.mean,       st.bias,    st.biasStderr,
-                                     st.std,          st.rmse,       st.relRmse, st.mseStderr,
-                                     m.genSeconds,    m.setupSeconds};
-    for (double v : values)
-      if (!std::isfinite(v))
-        throw std::runtime_error("study integrate: " + row + " gave a value that is not finite");
-    if (m.zeroPdf > 0)
-      runner.note("note: " + row + ": " + std::to_string(m.zeroPdf) + " of " +
-                  std::to_string(K * t.n) +
-                  " points had zero density (or a non-finite weight) and counted as 0; this "
-                  "shows as bias");
-    table.addRow({t.in->name, domain, t.s->name, n, std::to_string(K),
-                  formatPrecise(t.in->reference), formatPrecise(st.mean), formatNumber(st.bias),
-                  formatNumber(st.biasStderr), formatNumber(st.std), formatNumber(st.rmse),
-                  formatNumber(st.relRmse), formatNumber(st.mseStderr), formatNumber(m.genSeconds),
-                  formatNumber(m.setupSeconds)});
-    ++summary.rowsAdded;
+    ++summary.rowsSkipped;
     runner.advance();
-    runner.progress(row);
+    runner.progress(t.in->name + " " + t.s->name + " N=" + std::to_string(t.n) +
+                    " (already in the CSV)");
   }
+  // Every rank has read the CSV before rank 0 first adds to it.
+  const Ranks &ranks = Ranks::world();
+  ranks.barrier();
+
+  // First the optimized banks the rows need, each made once, on one rank
+  // (rank 0 writes them); then the rows, side by side.
+  std::vector<const Task *> optimizedRows;
+  for (const Task *t : pending)
+    if (t->s->kind == SamplerChoice::Kind::Optimized) optimizedRows.push_back(t);
+  const auto banks = runner.makeBanks(optimizedRows, ranks);
+  ranks.barrier();  // the banks are on disk before any rank reads them
+
+  runInRounds(
+      ranks, pending.size(),
+      [&](std::size_t i) { return runner.measureRow(*pending[i], models, banks).bytes(); },
+      [&](std::size_t i, const std::string &bytes) {
+        const Task &t = *pending[i];
+        const RowResult r = RowResult::from(bytes);
+        for (const std::string &note : r.notes) runner.note(note);
+        summary.setsFromCache += r.setsFromCache;
+        table.addRow(r.row);
+        ++summary.rowsAdded;
+        runner.advance();
+        runner.progress(t.in->name + " " + t.s->name + " N=" + std::to_string(t.n));
+      });
   return summary;
 }
 

@@ -73,7 +73,6 @@ OptimizedSets optimizedSets(const Target &target, const OptimizedSetsRequest &re
                             const fs::path &path,
                             const std::function<void(int, int, double)> &progress) {
   const OptimizerSettings settings = optimizerSettings(target, request);
-  const DirectOptimizer opt(target, settings);
   if (fs::exists(path)) {
     const PointSet cached = readPointSet(path.string());
     const std::string cachedSettings = metaOr(cached, meta::kSettings, ""),
@@ -86,6 +85,14 @@ OptimizedSets optimizedSets(const Target &target, const OptimizedSetsRequest &re
     return {path, recordedSeconds(cached), true};
   }
 
+  const PointSet set = optimizeSets(target, request, path, progress);
+  writeOptimizedSets(path, set);
+  return {path, recordedSeconds(set), false};
+}
+
+PointSet optimizeSets(const Target &target, const OptimizedSetsRequest &request,
+                      const fs::path &path, const std::function<void(int, int, double)> &progress) {
+  const DirectOptimizer opt(target, optimizerSettings(target, request));
   fs::create_directories(path.parent_path());
   const std::string ckpt = path.string() + ".ckpt";
   OptimizerState state = opt.initialState();
@@ -101,9 +108,13 @@ OptimizedSets optimizedSets(const Target &target, const OptimizedSetsRequest &re
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   PointSet set = opt.points(state);
   setMeta(set, meta::kOptimizeSeconds, std::to_string(seconds));
-  writePointSet(path.string(), set);
-  fs::remove(ckpt);
-  return {path, seconds, false};
+  return set;
+}
+
+void writeOptimizedSets(const fs::path &path, const PointSet &sets) {
+  fs::create_directories(path.parent_path());
+  writePointSet(path.string(), sets);
+  fs::remove(path.string() + ".ckpt");
 }
 
 }  // namespace nuld::study

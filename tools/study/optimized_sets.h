@@ -61,4 +61,14 @@ OptimizedSets optimizedSets(const Target &target, const OptimizedSetsRequest &re
                             const std::filesystem::path &path,
                             const std::function<void(int, int, double)> &progress = {});
 
+// The two halves of making the file, for a job of several ranks (ranks.h)
+// where one rank optimizes and rank 0 writes: optimizeSets runs the
+// optimization, resuming and keeping up to date the checkpoint `path`.ckpt,
+// and returns the sets with their optimization time in the metadata;
+// writeOptimizedSets writes them to `path` and removes the checkpoint.
+PointSet optimizeSets(const Target &target, const OptimizedSetsRequest &request,
+                      const std::filesystem::path &path,
+                      const std::function<void(int, int, double)> &progress = {});
+void writeOptimizedSets(const std::filesystem::path &path, const PointSet &sets);
+
 }  // namespace nuld::study

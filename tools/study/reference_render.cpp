@@ -10,6 +10,7 @@
 #include "renderer/sampler_backend.h"
 #include "sampler/io/atomic_file.h"
 #include "sampler/io/image_io.h"
+#include "tools/study/ranks.h"
 
 namespace nuld::study {
 
@@ -83,72 +84,117 @@ ReferenceResult renderReference(const Scene &scene, const std::string &sceneName
                                 std::size_t stopAfterPasses) {
   if (settings.passSpp == 0 || settings.spp == 0)
     throw std::invalid_argument("reference: spp and pass spp must be positive");
-  fs::create_directories(dir);
+  const Ranks &ranks = Ranks::world();
   const fs::path finalPath = dir / "reference.exr", partialPath = dir / "reference.partial.exr",
                  statePath = dir / "reference.state";
   const std::string description = settings.describe(sceneName);
   const std::size_t passes = settings.passes();
-
-  State state{description, 0};
-  if (fs::exists(statePath)) {
-    state = readState(statePath);
-    checkDescription(statePath, state, description);
-  }
-  ReferenceResult result;
-  if (state.passesDone >= passes && fs::exists(finalPath)) {
-    result.image = readImage(finalPath.string());
-    result.complete = true;
-    result.totalSeconds = state.seconds;
-    return result;
-  }
-
   RenderSettings rs = settings.render;
   rs.spp = settings.samplesPerPass();
-  Image sum{rs.width, rs.height, 3,
-            std::vector<float>(std::size_t(rs.width) * rs.height * 3, 0.0f)};
-  if (state.passesDone > 0) {
-    sum = readImage(partialPath.string());
-    if (sum.width != rs.width || sum.height != rs.height || sum.channels != 3)
-      throw std::runtime_error(partialPath.string() + ": size differs from the state's");
+
+  // Rank 0 alone reads and writes the files; the others learn how far the
+  // reference is and, at the end, receive the image.
+  State state{description, 0};
+  ReferenceResult result;
+  Image sum;
+  bool alreadyComplete = false;
+  if (ranks.root()) {
+    fs::create_directories(dir);
+    if (fs::exists(statePath)) {
+      state = readState(statePath);
+      checkDescription(statePath, state, description);
+    }
+    alreadyComplete = state.passesDone >= passes && fs::exists(finalPath);
+    if (alreadyComplete) {
+      result.image = readImage(finalPath.string());
+    } else if (state.passesDone > 0) {
+      sum = readImage(partialPath.string());
+      if (sum.width != rs.width || sum.height != rs.height || sum.channels != 3)
+        throw std::runtime_error(partialPath.string() + ": size differs from the state's");
+    } else {
+      sum = Image{rs.width, rs.height, 3,
+                  std::vector<float>(std::size_t(rs.width) * rs.height * 3, 0.0f)};
+    }
+  }
+  {
+    const std::string bytes = ranks.broadcast(
+        ByteWriter().put(state.passesDone).put(state.seconds).put(alreadyComplete).take());
+    ByteReader r(bytes);
+    r.get(state.passesDone);
+    r.get(state.seconds);
+    r.get(alreadyComplete);
   }
 
-  const auto start = std::chrono::steady_clock::now();
-  while (state.passesDone < passes) {
-    if (stopAfterPasses && result.passesRun >= stopAfterPasses) break;
-    const auto passStart = std::chrono::steady_clock::now();
-    const auto backend = makeBackend(settings.backend, settings.seed + state.passesDone);
-    const std::size_t done = state.passesDone;
-    const Image pass = render(scene, rs, *backend, nullptr, [&](std::size_t d, std::size_t n) {
-      if (progress) progress({done, passes, (double(done) + double(d) / double(n)) / passes});
-    });
-    for (std::size_t i = 0; i < sum.pixels.size(); ++i) sum.pixels[i] += pass.pixels[i];
-    ++state.passesDone;
-    ++result.passesRun;
-    state.seconds +=
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - passStart).count();
-    // The image first: a state that counts a pass always has its sum on disk.
-    writeImage(partialPath.string(), sum);
-    writeState(statePath, state);
-    if (progress) progress({state.passesDone, passes, double(state.passesDone) / passes});
+  if (!alreadyComplete) {
+    // Rounds of one pass per rank; rank 0 adds the passes in their order, so
+    // the sum is the one a single process makes.
+    const std::size_t K = std::size_t(ranks.size());
+    const std::size_t last =
+        stopAfterPasses ? std::min(passes, state.passesDone + stopAfterPasses) : passes;
+    const auto start = std::chrono::steady_clock::now();
+    while (state.passesDone < last) {
+      const std::size_t first = state.passesDone, end = std::min(last, first + K);
+      const std::size_t mine = first + std::size_t(ranks.rank());
+      std::string bytes;
+      if (mine < end) {
+        const auto passStart = std::chrono::steady_clock::now();
+        const auto backend = makeBackend(settings.backend, settings.seed + mine);
+        const Image pass = render(scene, rs, *backend, nullptr, [&](std::size_t d, std::size_t n) {
+          if (progress && ranks.root())
+            progress({first, passes,
+                      (double(first) + double(end - first) * double(d) / double(n)) / passes});
+        });
+        const double seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - passStart).count();
+        bytes = ByteWriter().put(seconds).put(pass).take();
+      }
+      const std::vector<std::string> round = ranks.gather(bytes);
+      if (ranks.root()) {
+        for (std::size_t k = 0; k < end - first; ++k) {
+          ByteReader r(round[k]);
+          const double seconds = r.get<double>();
+          const Image pass = r.get<Image>();
+          for (std::size_t i = 0; i < sum.pixels.size(); ++i) sum.pixels[i] += pass.pixels[i];
+          state.seconds += seconds;
+        }
+      }
+      state.passesDone = end;
+      result.passesRun += end - first;
+      if (ranks.root()) {
+        // The image first: a state that counts a pass always has its sum on disk.
+        writeImage(partialPath.string(), sum);
+        writeState(statePath, state);
+      }
+      if (progress && ranks.root())
+        progress({state.passesDone, passes, double(state.passesDone) / passes});
+    }
+    result.seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
-  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-  const float scale = 1.0f / float(state.passesDone);
-  result.image = sum;
-  for (float &v : result.image.pixels) v *= scale;
   result.complete = state.passesDone >= passes;
+  state.seconds = fromBytes<double>(ranks.broadcast(ByteWriter().put(state.seconds).take()));
   result.totalSeconds = state.seconds;
-  if (result.complete) {
-    RenderSettings whole = rs;
-    whole.spp = settings.totalSpp();
-    RenderStats stats;
-    stats.seconds = state.seconds;
-    ImageAttributes attributes =
-        renderAttributes(sceneName, whole, settings.backend, settings.seed, stats);
-    attributes.emplace_back("nuld:reference", description);
-    writeRender(finalPath.string(), result.image, attributes);
-    fs::remove(partialPath);
+  if (ranks.root() && !alreadyComplete) {
+    const float scale = 1.0f / float(state.passesDone);
+    result.image = sum;
+    for (float &v : result.image.pixels) v *= scale;
+    if (result.complete) {
+      RenderSettings whole = rs;
+      whole.spp = settings.totalSpp();
+      RenderStats stats;
+      stats.seconds = state.seconds;
+      ImageAttributes attributes =
+          renderAttributes(sceneName, whole, settings.backend, settings.seed, stats);
+      attributes.emplace_back("nuld:reference", description);
+      writeRender(finalPath.string(), result.image, attributes);
+      fs::remove(partialPath);
+    }
   }
+  // Every rank scores its renders against the same image.
+  if (ranks.distributed())
+    result.image = fromBytes<Image>(
+        ranks.broadcast(ranks.root() ? ByteWriter().put(result.image).take() : std::string()));
   return result;
 }
 

@@ -56,6 +56,10 @@ struct ReferenceResult {
 // dir/reference.state while in progress. `stopAfterPasses` (0: no limit)
 // ends the run early with the partial state saved, for tests and for long
 // references spread over several sessions.
+//
+// Under MPI (ranks.h) the ranks render one pass each per round and rank 0
+// adds them in pass order and alone writes the files: the image is
+// bit-identical for any rank count, and every rank returns it.
 ReferenceResult renderReference(const Scene &scene, const std::string &sceneName,
                                 const ReferenceSettings &settings, const std::filesystem::path &dir,
                                 const std::function<void(const ReferenceProgress &)> &progress = {},

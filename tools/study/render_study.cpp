@@ -18,6 +18,7 @@
 #include "scenes/scene_file.h"
 #include "tools/study/csv_table.h"
 #include "tools/study/optimized_sets.h"
+#include "tools/study/ranks.h"
 #include "tools/study/stopwatch.h"
 
 namespace nuld::study {
@@ -58,34 +59,32 @@ Summary summarize(const std::vector<double> &v) {
   return s;
 }
 
-// The renderer backend spec for a study backend at one spp, making the
-// optimized sets first when the study owns them. Returns "" when the scene
-// cannot use the backend (reason in `why`).
-struct ResolvedBackend {
+// One optimization a study backend needs: sets for one target, cached in
+// `file` (optimized_sets.h).
+struct SetsJob {
+  const Target *target = nullptr;
+  OptimizedSetsRequest request;
+  fs::path file;
+  std::string task;  // the progress label
+};
+
+// What a study backend needs at one spp: the renderer spec, which reads the
+// sets the jobs make. `spec` is "" when the scene cannot use the backend
+// (reason in `why`).
+struct BackendPlan {
   std::string spec;
-  double setupSeconds = 0;
+  std::vector<SetsJob> sets;
   std::string why;
 };
 
-// Optimized sets for one target, from the study's cache or made now.
-OptimizedSets setsFor(const Target &target, const OptimizedSetsRequest &request,
-                      const fs::path &file, const std::string &task,
-                      const StudyProgress &progress) {
-  return optimizedSets(target, request, file, [&](int e, int n, double loss) {
-    if (progress) progress(task, double(e) / n, "loss " + formatNumber(loss));
-  });
-}
-
-ResolvedBackend resolveBackend(const std::string &backend, const Scene &scene,
-                               const RenderSettings &render, const std::string &sceneSlug,
-                               std::size_t spp, const RenderStudySettings &s,
-                               const StudyProgress &progress) {
-  if (!isStudyBackend(backend)) return {backend, 0, ""};
+BackendPlan planBackend(const std::string &backend, const Scene &scene,
+                        const std::optional<LobeTables> &tables, const std::string &sceneSlug,
+                        std::size_t spp, const RenderStudySettings &s) {
+  if (!isStudyBackend(backend)) return {backend, {}, ""};
   if (hasShiftSuffix(backend)) {
-    ResolvedBackend r =
-        resolveBackend(withoutShift(backend), scene, render, sceneSlug, spp, s, progress);
-    if (r.spec.rfind("optimized:", 0) == 0) r.spec = "shifted:" + r.spec.substr(10);
-    return r;
+    BackendPlan plan = planBackend(withoutShift(backend), scene, tables, sceneSlug, spp, s);
+    if (plan.spec.rfind("optimized:", 0) == 0) plan.spec = "shifted:" + plan.spec.substr(10);
+    return plan;
   }
   OptimizedSetsRequest request;
   request.n = spp;
@@ -95,40 +94,37 @@ ResolvedBackend resolveBackend(const std::string &backend, const Scene &scene,
   const std::string task = sceneSlug + ": " + backend + " N=" + std::to_string(spp);
   const fs::path cache = s.out / "cache";
   std::vector<std::string> paths;
-  double seconds = 0;
+  BackendPlan plan;
 
   if (backend == "optimized-uniform") {
     // Sets for the periodic L2 discrepancy: a Cranley-Patterson shift, which
     // the backend applies per pixel and pair, leaves it unchanged, so every
     // shifted set is as good as the optimized one (sets for the plain L2
     // discrepancy lose their quality under the shift).
-    const auto uniform = makeTarget("uniform");
+    static const auto uniform = makeTarget("uniform");
     request.objective = Objective::PeriodicL2;
-    const OptimizedSets sets = setsFor(
-        *uniform, request, cachedSetsPath(cache, *uniform, optimizerSettings(*uniform, request)),
-        task, progress);
-    return {"optimized:" + sets.file.string(), sets.seconds, ""};
+    const fs::path file = cachedSetsPath(cache, *uniform, optimizerSettings(*uniform, request));
+    plan.sets.push_back({uniform.get(), request, file, task});
+    plan.spec = "optimized:" + file.string();
+    return plan;
   }
   if (backend == "optimized" || backend == "optimized-both") {
     if (!scene.environment || !scene.environment->target())
-      return {"", 0, "the scene has no (non-black) environment map to optimize for"};
-    const OptimizedSets sets =
-        setsFor(*scene.environment->target(), request,
-                cache / (sceneSlug + "_envmap_n" + std::to_string(spp) + ".ptsb"), task, progress);
-    paths.push_back(sets.file.string());
-    seconds += sets.seconds;
+      return {"", {}, "the scene has no (non-black) environment map to optimize for"};
+    const fs::path file = cache / (sceneSlug + "_envmap_n" + std::to_string(spp) + ".ptsb");
+    plan.sets.push_back({scene.environment->target(), request, file, task});
+    paths.push_back(file.string());
   }
   if (backend == "optimized-bsdf" || backend == "optimized-both") {
     // A bank per lobe table the renderer will build for this scene (the same
     // settings give the same specs), optimized for the exact L2asd
     // objective: as good as the sphere preset's soft boxes for these targets
     // at 1/30 to 1/100 of the time (tools/experiments/lobe_banks_log.md).
-    const LobeTables tables(scene.materials, lobeTablesFor(render));
-    if (tables.materials() == 0)
-      return {"", 0, "the scene has no Disney material to optimize lobe sets for"};
+    if (!tables || tables->materials() == 0)
+      return {"", {}, "the scene has no Disney material to optimize lobe sets for"};
     request.objective = Objective::ExactL2asd;
     request.unionWeight = s.lobeUnionWeight;
-    const auto targets = tables.targets();
+    const auto targets = tables->targets();
     // The directory is the bank the renderer loads whole, so its name carries
     // the settings: sets made with other settings never join it.
     char hash[17];
@@ -136,18 +132,16 @@ ResolvedBackend resolveBackend(const std::string &backend, const Scene &scene,
                   static_cast<unsigned long long>(
                       hashString(optimizerSettings(*targets[0], request).describe()) >> 32));
     const fs::path dir = cache / (sceneSlug + "_lobes_n" + std::to_string(spp) + "_" + hash);
-    for (std::size_t k = 0; k < targets.size(); ++k) {
-      const OptimizedSets sets = setsFor(
-          *targets[k], request,
-          cachedSetsPath(dir, *targets[k], optimizerSettings(*targets[k], request)),
-          task + " lobe " + std::to_string(k + 1) + "/" + std::to_string(targets.size()), progress);
-      seconds += sets.seconds;
-    }
+    for (std::size_t k = 0; k < targets.size(); ++k)
+      plan.sets.push_back(
+          {targets[k], request,
+           cachedSetsPath(dir, *targets[k], optimizerSettings(*targets[k], request)),
+           task + " lobe " + std::to_string(k + 1) + "/" + std::to_string(targets.size())});
     paths.push_back(dir.string());
   }
-  std::string spec = "optimized:";
-  for (std::size_t i = 0; i < paths.size(); ++i) spec += (i ? "," : "") + paths[i];
-  return {spec, seconds, ""};
+  plan.spec = "optimized:";
+  for (std::size_t i = 0; i < paths.size(); ++i) plan.spec += (i ? "," : "") + paths[i];
+  return plan;
 }
 
 ReferenceSettings referenceFor(const RenderStudySettings &s, const RenderSettings &render) {
@@ -165,39 +159,68 @@ void appendReferenceRow(CsvTable &refs, const std::string &scene, const Referenc
 }
 
 // One cell of the table: `repeats` renders of one backend at one spp,
-// scored against the reference. The first render and its error map are
-// written beside the reference.
+// scored against the reference.
 struct Cell {
   const Scene &scene;
   RenderSettings settings;  // spp set
-  std::string sceneSlug, backend;
-  const ResolvedBackend &resolved;
+  std::string sceneSlug, backend, spec;
+  double setupSeconds = 0;
   const Image &reference;
   fs::path dir;
+
+  std::string stem() const { return slug(backend) + "_spp" + std::to_string(settings.spp); }
+  fs::path image() const { return dir / (stem() + ".exr"); }
+  fs::path errorMap() const { return dir / (stem() + "_error.png"); }
 };
 
-// The cell's row, or nullopt with `refusal` set when the backend refused the
-// render (BackendRefusal); any other error propagates. `progress(d, n)`
-// follows repeat r's render.
-std::optional<std::vector<std::string>> renderCell(
-    const Cell &c, const RenderStudySettings &s, std::string &refusal,
+// What a cell sends to rank 0: its row, or the backend's refusal, and its
+// first render (written beside the reference with its error map).
+struct CellOutcome {
+  std::vector<std::string> row;  // empty when refused
+  std::string refusal;
+  Image image;
+  ImageAttributes attributes;
+
+  std::string bytes() const {
+    ByteWriter w;
+    w.put(row).put(refusal).put(image).put(std::uint64_t(attributes.size()));
+    for (const auto &[name, value] : attributes) w.put(name).put(value);
+    return w.take();
+  }
+  static CellOutcome from(std::string_view bytes) {
+    ByteReader r(bytes);
+    CellOutcome c;
+    r.get(c.row);
+    r.get(c.refusal);
+    r.get(c.image);
+    for (auto n = r.get<std::uint64_t>(); n > 0; --n) {
+      std::string name = r.get<std::string>();
+      c.attributes.emplace_back(std::move(name), r.get<std::string>());
+    }
+    return c;
+  }
+};
+
+// The cell's outcome; a refusal (BackendRefusal) is an outcome, any other
+// error propagates. `progress(r, d, n)` follows repeat r's render.
+CellOutcome renderCell(
+    const Cell &c, const RenderStudySettings &s,
     const std::function<void(std::size_t r, std::size_t d, std::size_t n)> &progress) {
-  const std::string stem = slug(c.backend) + "_spp" + std::to_string(c.settings.spp);
-  const fs::path image = c.dir / (stem + ".exr"), errorPath = c.dir / (stem + "_error.png");
+  CellOutcome out;
   std::vector<double> mse, relmse, seconds, raysPerSecond;
   std::size_t nonFinite = 0;
   std::uint64_t rejected = 0;
   for (std::size_t r = 0; r < s.repeats; ++r) {
     const auto start = Clock::now();
-    const auto b = makeBackend(c.resolved.spec, s.seed + r);
+    const auto b = makeBackend(c.spec, s.seed + r);
     RenderStats stats;
     Image img;
     try {
       img = render(c.scene, c.settings, *b, &stats,
                    [&](std::size_t d, std::size_t n) { progress(r, d, n); });
     } catch (const BackendRefusal &e) {
-      refusal = e.what();
-      return std::nullopt;
+      out.refusal = e.what();
+      return out;
     }
     seconds.push_back(secondsSince(start));
     raysPerSecond.push_back(stats.raysPerSecond());
@@ -207,28 +230,28 @@ std::optional<std::vector<std::string>> renderCell(
     nonFinite += e.nonFinitePixels;
     rejected += stats.rejectedSamples;
     if (r == 0) {
-      writeRender(image.string(), img,
-                  renderAttributes(c.sceneSlug, c.settings, b->name(), s.seed, stats));
-      writeImage(errorPath.string(), errorMap(img, c.reference));
+      out.attributes = renderAttributes(c.sceneSlug, c.settings, b->name(), s.seed, stats);
+      out.image = std::move(img);
     }
   }
   const Summary m = summarize(mse), rm = summarize(relmse), t = summarize(seconds),
                 rps = summarize(raysPerSecond);
-  return std::vector<std::string>{c.sceneSlug,
-                                  c.backend,
-                                  std::to_string(c.settings.spp),
-                                  std::to_string(s.repeats),
-                                  formatNumber(m.mean),
-                                  formatNumber(m.stderr_),
-                                  formatNumber(rm.mean),
-                                  formatNumber(rm.stderr_),
-                                  formatNumber(t.mean),
-                                  formatNumber(c.resolved.setupSeconds),
-                                  formatNumber(rps.mean),
-                                  std::to_string(nonFinite),
-                                  std::to_string(rejected),
-                                  fs::relative(image, s.out).string(),
-                                  fs::relative(errorPath, s.out).string()};
+  out.row = {c.sceneSlug,
+             c.backend,
+             std::to_string(c.settings.spp),
+             std::to_string(s.repeats),
+             formatNumber(m.mean),
+             formatNumber(m.stderr_),
+             formatNumber(rm.mean),
+             formatNumber(rm.stderr_),
+             formatNumber(t.mean),
+             formatNumber(c.setupSeconds),
+             formatNumber(rps.mean),
+             std::to_string(nonFinite),
+             std::to_string(rejected),
+             fs::relative(c.image(), s.out).string(),
+             fs::relative(c.errorMap(), s.out).string()};
+  return out;
 }
 
 }  // namespace
@@ -309,7 +332,8 @@ std::string slug(const std::string &name) {
 
 RenderStudyResult runRenderStudy(const RenderStudySettings &s, const StudyProgress &progress) {
   s.validate();
-  fs::create_directories(s.out);
+  const Ranks &ranks = Ranks::world();
+  if (ranks.root()) fs::create_directories(s.out);
   RenderStudyResult result;
   result.csv = s.out / "render.csv";
   CsvTable table(result.csv, renderStudyColumns());
@@ -317,6 +341,9 @@ RenderStudyResult runRenderStudy(const RenderStudySettings &s, const StudyProgre
   CsvTable refs(s.out / "references.csv",
                 {"scene", "backend", "spp", "resolution", "integrator", "seconds", "image"});
   refs.loadExisting();
+
+  // Every rank has read the CSV before rank 0 first adds to it.
+  ranks.barrier();
 
   const std::string assets = resolveAssetRoot(s.assets);
   for (const std::string &scenePath : s.scenes) {
@@ -336,52 +363,122 @@ RenderStudyResult runRenderStudy(const RenderStudySettings &s, const StudyProgre
 
     const ReferenceSettings refSettings = referenceFor(s, rs);
     const ReferenceResult ref = renderReference(
-        loaded.scene, sceneIdentity(scenePath), refSettings, dir, [&](const ReferenceProgress &p) {
+        loaded.scene, sceneIdentity(scenePath), refSettings, dir,
+        [&](const ReferenceProgress &p) {
           if (progress)
             progress(sceneSlug + ": reference", p.fraction,
                      "pass " + std::to_string(p.passesDone) + "/" + std::to_string(p.passes));
-        });
-    appendReferenceRow(refs, sceneSlug, refSettings, ref,
-                       fs::relative(dir / "reference.exr", s.out));
-
-    // Render cost grows with spp; the progress fraction follows it.
-    double totalWork = 0, work = 0;
-    for (std::size_t spp : s.spp) totalWork += double(spp) * s.backends.size() * s.repeats;
-    for (const std::string &backend : s.backends) {
-      for (std::size_t spp : s.spp) {
-        const double cellWork = double(spp) * s.repeats;
-        if (table.hasRow({sceneSlug, backend, std::to_string(spp)})) {
-          work += cellWork;
-          continue;
-        }
-        const ResolvedBackend resolved =
-            resolveBackend(backend, loaded.scene, rs, sceneSlug, spp, s, progress);
-        if (resolved.spec.empty()) {
-          result.skipped.push_back(sceneSlug + " " + backend + " " + std::to_string(spp) + ": " +
-                                   resolved.why);
-          work += cellWork;
-          continue;
-        }
-        RenderSettings settings = rs;
-        settings.spp = spp;
-        const Cell cell{loaded.scene, settings, sceneSlug, backend, resolved, ref.image, dir};
-        std::string refusal;
-        const auto row =
-            renderCell(cell, s, refusal, [&](std::size_t r, std::size_t d, std::size_t n) {
-              if (progress)
-                progress(sceneSlug + ": renders",
-                         (work + cellWork / s.repeats * (double(r) + double(d) / n)) / totalWork,
-                         backend + " spp " + std::to_string(spp));
-            });
-        work += cellWork;
-        if (!row) {
-          result.skipped.push_back(sceneSlug + " " + backend + " " + std::to_string(spp) + ": " +
-                                   refusal);
-          continue;
-        }
-        table.addRow(*row);
-      }
+        },
+        s.referenceStopAfter);
+    if (!ref.complete) {
+      result.referencesIncomplete.push_back(sceneSlug);
+      continue;
     }
+    if (ranks.root())
+      appendReferenceRow(refs, sceneSlug, refSettings, ref,
+                         fs::relative(dir / "reference.exr", s.out));
+
+    // The cells to render, spp by spp: cells of one round then cost about
+    // the same (render time grows with spp).
+    struct Pending {
+      std::string backend;
+      std::size_t spp;
+    };
+    std::vector<Pending> cells;
+    for (std::size_t spp : s.spp)
+      for (const std::string &backend : s.backends)
+        if (!table.hasRow({sceneSlug, backend, std::to_string(spp)}))
+          cells.push_back({backend, spp});
+    std::optional<LobeTables> tables;
+    for (const Pending &c : cells)
+      if (!tables && withoutShift(c.backend).rfind("optimized-b", 0) == 0)
+        tables.emplace(loaded.scene.materials, lobeTablesFor(rs));
+
+    // First the sets the cells need, each optimized once, on one rank.
+    std::vector<SetsJob> jobs;
+    for (const Pending &c : cells)
+      for (SetsJob &job : planBackend(c.backend, loaded.scene, tables, sceneSlug, c.spp, s).sets)
+        if (!fs::exists(job.file) && std::none_of(jobs.begin(), jobs.end(), [&](const SetsJob &j) {
+              return j.file == job.file;
+            }))
+          jobs.push_back(std::move(job));
+    std::size_t jobsDone = 0;
+    runInRounds(
+        ranks, jobs.size(),
+        [&](std::size_t i) {
+          const SetsJob &job = jobs[i];
+          const std::string task = sceneSlug + ": optimize sets";
+          return ByteWriter()
+              .put(optimizeSets(*job.target, job.request, job.file,
+                                [&](int e, int n, double loss) {
+                                  if (progress && ranks.root())
+                                    progress(
+                                        task,
+                                        (double(jobsDone) + double(ranks.size()) * double(e) / n) /
+                                            double(jobs.size()),
+                                        job.task + ": loss " + formatNumber(loss));
+                                }))
+              .take();
+        },
+        [&](std::size_t i, const std::string &bytes) {
+          writeOptimizedSets(jobs[i].file, fromBytes<PointSet>(bytes));
+          ++jobsDone;
+        });
+    ranks.barrier();  // the sets are on disk before any rank reads them
+
+    // Then the cells, rendered side by side, their rows added in cell order.
+    double totalWork = 0, work = 0;
+    for (const Pending &c : cells) totalWork += double(c.spp) * double(s.repeats);
+    runInRounds(
+        ranks, cells.size(),
+        [&](std::size_t i) {
+          const Pending &pending = cells[i];
+          const BackendPlan plan =
+              planBackend(pending.backend, loaded.scene, tables, sceneSlug, pending.spp, s);
+          if (plan.spec.empty()) return ByteWriter().put(std::string("skip")).put(plan.why).take();
+          double setupSeconds = 0;
+          for (const SetsJob &job : plan.sets)
+            setupSeconds += optimizedSets(*job.target, job.request, job.file).seconds;
+          RenderSettings settings = rs;
+          settings.spp = pending.spp;
+          const Cell cell{loaded.scene, settings,     sceneSlug, pending.backend,
+                          plan.spec,    setupSeconds, ref.image, dir};
+          const double cellWork = double(pending.spp) * double(s.repeats);
+          const CellOutcome outcome =
+              renderCell(cell, s, [&](std::size_t r, std::size_t d, std::size_t n) {
+                if (progress && ranks.root())
+                  progress(sceneSlug + ": renders",
+                           (work + double(ranks.size()) * cellWork / double(s.repeats) *
+                                       (double(r) + double(d) / double(n))) /
+                               totalWork,
+                           pending.backend + " spp " + std::to_string(pending.spp));
+              });
+          return ByteWriter().put(std::string("cell")).put(outcome.bytes()).take();
+        },
+        [&](std::size_t i, const std::string &bytes) {
+          const Pending &pending = cells[i];
+          work += double(pending.spp) * double(s.repeats);
+          const std::string what =
+              sceneSlug + " " + pending.backend + " " + std::to_string(pending.spp) + ": ";
+          ByteReader r(bytes);
+          if (r.get<std::string>() == "skip") {
+            result.skipped.push_back(what + r.get<std::string>());
+            return;
+          }
+          const CellOutcome outcome = CellOutcome::from(r.get<std::string>());
+          if (outcome.row.empty()) {
+            result.skipped.push_back(what + outcome.refusal);
+            return;
+          }
+          RenderSettings settings = rs;
+          settings.spp = pending.spp;
+          const Cell cell{loaded.scene, settings, sceneSlug, pending.backend,
+                          "",           0,        ref.image, dir};
+          writeRender(cell.image().string(), outcome.image, outcome.attributes);
+          writeImage(cell.errorMap().string(), errorMap(outcome.image, ref.image));
+          table.addRow(outcome.row);
+        });
+    ranks.barrier();
   }
   return result;
 }

@@ -50,6 +50,9 @@ struct RenderStudySettings {
   std::size_t repeats = 1;
   std::uint64_t seed = 1;
   ReferenceSettings reference;  // its render settings are filled per scene
+  // Stop each reference after this many passes in this run (0: no limit); a
+  // scene whose reference is not complete renders no cells.
+  std::size_t referenceStopAfter = 0;
   std::size_t optimizedInstances = 16;
   int optimizedEpochs = 0;  // 0: the preset's
   // The lobe banks' bank term (optimizer.h, unionWeight): without it the
@@ -79,12 +82,16 @@ const std::vector<std::string> &renderStudyColumns();
 const std::vector<BackendDescription> &studyBackendDescriptions();
 
 struct RenderStudyResult {
-  std::filesystem::path csv;         // out/render.csv
-  std::vector<std::string> skipped;  // "scene backend spp: reason"
+  std::filesystem::path csv;                      // out/render.csv
+  std::vector<std::string> skipped;               // "scene backend spp: reason"
+  std::vector<std::string> referencesIncomplete;  // scenes stopped by referenceStopAfter
 };
 
 // Runs (or resumes: rows already in out/render.csv are kept and not
-// rendered again) the study.
+// rendered again) the study. Rows are made spp by spp. Under MPI (ranks.h)
+// the references are split by passes, then the sets the optimized backends
+// need and the cells (backend, spp) by rounds; rank 0 writes every file, and
+// the outputs are those of a single process but for the measured times.
 RenderStudyResult runRenderStudy(const RenderStudySettings &settings,
                                  const StudyProgress &progress = {});
 
