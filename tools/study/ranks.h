@@ -144,11 +144,14 @@ class ByteReader {
     std::uint64_t n = 0;
     get(n);
     if constexpr (std::is_trivially_copyable_v<T>) {
+      if (n > (bytes_.size() - pos_) / sizeof(T)) need(bytes_.size() - pos_ + 1);  // no overflow
       need(n * sizeof(T));
       v.resize(n);
       std::memcpy(v.data(), bytes_.data() + pos_, n * sizeof(T));
       pos_ += n * sizeof(T);
     } else {
+      // Every element takes at least its 8-byte length.
+      if (n > (bytes_.size() - pos_) / 8) need(bytes_.size() - pos_ + 1);
       v.resize(n);
       for (T &x : v) get(x);
     }
