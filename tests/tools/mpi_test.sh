@@ -112,5 +112,12 @@ fi
 [[ -e "$dir/bad/render.csv" ]] && grep -q "optimized" "$dir/bad/render.csv" &&
   fail "the bad cell was written"
 
+# A command that does not split its work is refused rather than run whole
+# on every rank.
+"${mpi[@]}" "$nuld" generate --sequence sobol --n 4 -o "$dir/g.txt" >/dev/null 2>"$dir/g.err" &&
+  fail "generate ran under $ranks ranks"
+grep -q "'nuld generate' does not split its work" "$dir/g.err" || { fail "generate: no refusal"; cat "$dir/g.err"; }
+[[ -e "$dir/g.txt" ]] && fail "generate wrote its file under $ranks ranks"
+
 ((failures == 0)) && echo "mpi_test ($ranks ranks): all checks passed"
 exit $((failures > 0))

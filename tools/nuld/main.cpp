@@ -171,6 +171,22 @@ int main(int argc, char **argv) {
     std::cout << topic->get_formatter()->make_help(topic, path, CLI::AppFormatMode::Normal);
     return 0;
   }
+  // Only these split their work over the ranks of an MPI job; any other
+  // command would run whole on every rank, each writing the same files.
+  if (ranks.distributed()) {
+    std::string words;
+    for (CLI::App *sub = &app; sub && sub->get_subcommands().size() == 1;
+         sub = sub->get_subcommands()[0])
+      words += (words.empty() ? "" : " ") + sub->get_subcommands()[0]->get_name();
+    if (words != "optimize" && words != "study render" && words != "study integrate") {
+      if (ranks.root())
+        std::cerr << "nuld: error: 'nuld " << words << "' does not split its work over the "
+                  << ranks.size()
+                  << " ranks of an MPI job; run it as one process (without mpirun or srun). "
+                     "Those that do: optimize, study render, study integrate\n";
+      return 2;
+    }
+  }
   try {
     for (auto &[sub, run] : runners)
       if (sub->parsed()) return run();
