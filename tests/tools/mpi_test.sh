@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # A job of K ranks (mpirun -np K) makes what one process makes: the render
 # study's references, rows, images and sets, the integration study's rows and
-# sets, and nuld optimize's file; an interrupted multi-rank reference and
-# optimization resume to the same result; a rank given a bad input stops the
+# sets, and nuld optimize's file; a multi-rank reference stopped by
+# --reference-stop-after or killed, and a stopped optimization, resume to
+# the same result; a rank given a bad input stops the
 # job with a message naming it. Measured times (the CSV's seconds columns,
 # the images' and sets' time attributes) are the only differences allowed.
 # Usage: mpi_test.sh NULD K
@@ -76,6 +77,28 @@ idiff -q -fail 0 -warn 0 "$dir/one/default/reference.exr" "$dir/resumed/default/
   >/dev/null 2>&1 || fail "the resumed reference differs from the single process's"
 cmp -s <(csv_without "$dir/one/render.csv" 9,10,11) <(csv_without "$dir/resumed/render.csv" 9,10,11) ||
   fail "the resumed study's render.csv differs"
+
+# A reference killed mid-job (SIGTERM to mpirun once a round is saved)
+# resumes to the single process's image.
+killed=(study render --backends sobol --spp 2 --res 96 --reference-spp 384 --reference-pass-spp 8
+  --no-report -q)
+run killed1 "$nuld" "${killed[@]}" -o "$dir/killed1"
+"${mpi[@]}" "$nuld" "${killed[@]}" -o "$dir/killed" >/dev/null 2>&1 &
+job=$!
+for _ in $(seq 600); do
+  grep -qs "passes_done=[1-9]" "$dir/killed/default/reference.state" && break
+  sleep 0.05
+done
+kill -TERM $job 2>/dev/null
+wait $job 2>/dev/null
+if grep -qs "passes_done=48" "$dir/killed/default/reference.state"; then
+  echo "note: the reference finished before it could be interrupted"
+elif ! grep -qs "passes_done=[1-9]" "$dir/killed/default/reference.state"; then
+  fail "no reference round was saved before the kill"
+fi
+run killedResume "${mpi[@]}" "$nuld" "${killed[@]}" -o "$dir/killed"
+idiff -q -fail 0 -warn 0 "$dir/killed1/default/reference.exr" "$dir/killed/default/reference.exr" \
+  >/dev/null 2>&1 || fail "the reference resumed after a kill differs from the single process's"
 
 # The integration study, its banks included.
 integrate=(study integrate --integrands gaussian*step,envmap*cos --samplers independent,sobol,optimized
