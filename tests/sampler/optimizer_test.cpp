@@ -220,7 +220,7 @@ TEST(DirectOptimizer, InstancesOptimizedInPartsMatchOneRun) {
   OptimizerState all = whole.initialState();
   whole.run(all, s.epochs);
   std::vector<Point2> joined;
-  for (const auto [first, count] : {std::pair<std::size_t, std::size_t>{0, 2}, {2, 1}, {3, 2}}) {
+  for (const auto &[first, count] : {std::pair<std::size_t, std::size_t>{0, 2}, {2, 1}, {3, 2}}) {
     OptimizerSettings part = s;
     part.firstInstance = first;
     part.instances = count;
