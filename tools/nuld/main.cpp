@@ -10,6 +10,7 @@
 
 #include "materials/disney_target.h"
 #include "renderer/sampler_backend.h"
+#include "sampler/diagnostics.h"
 #include "sampler/enum_names.h"
 #include "sampler/targets/target_family.h"
 #include "sampler/targets/target_spec.h"
@@ -97,6 +98,9 @@ int main(int argc, char **argv) {
   // Under mpirun or srun: one rank of a job (tools/study/ranks.h).
   const nuld::study::MpiSession mpi(argc, argv);
   const nuld::study::Ranks &ranks = nuld::study::Ranks::world();
+  // Every rank loads the same scenes and maps; rank 0 alone says what it
+  // warns about.
+  if (!ranks.root()) nuld::setWarningHandler([](const std::string &) {});
   nuld::registerMaterialTargets();  // disney:... target specs
   CLI::App app{"nuld: optimize, evaluate and render with non-uniform low-discrepancy point sets"};
   app.require_subcommand(1);
