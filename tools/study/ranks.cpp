@@ -94,10 +94,13 @@ std::string Ranks::broadcast(std::string bytes) const {
 }
 
 void Ranks::fail(const std::string &what, int status) const {
-  if (distributed())
-    std::cerr << "nuld: error on rank " << rank_ << " of " << size_ << ": " << what << std::endl;
-  else
-    std::cerr << "nuld: error: " << what << std::endl;
+  // One write, so that the launcher's own messages cannot cut the line.
+  const std::string line = (distributed() ? "nuld: error on rank " + std::to_string(rank_) +
+                                                " of " + std::to_string(size_) + ": "
+                                          : std::string("nuld: error: ")) +
+                           what + "\n";
+  std::fwrite(line.data(), 1, line.size(), stderr);
+  std::fflush(stderr);
 #if NULD_HAVE_MPI
   if (distributed()) MPI_Abort(MPI_COMM_WORLD, status);
 #endif
