@@ -22,4 +22,4 @@ rm -rf "$out"  # a fresh study: a rerun of the main job must not reuse old rows
 "$build/nuld" study render default --integrator direct --res 96x64 --spp 4,16,64 \
   --repeats 4 --reference-spp 4096 \
   --backends independent,sobol,halton,sobol-tabulated,optimized,optimized-uniform \
-  --opt-instances 16 --opt-epochs 1000 -q -o "$out"
+  --opt-instances 16 -q -o "$out"

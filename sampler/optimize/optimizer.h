@@ -99,7 +99,8 @@ struct OptimizerSettings {
 //   nonuniform   1000 epochs, lr 1e-4 -> 1e-7, alpha 20 -> 2000, 8K boxes, exact mass
 //                (N >= 2048: alpha -> 6000, 32K boxes)
 //   nonuniform-mc  as nonuniform with MC mass, K = 2^17, 4K boxes (32K for N >= 2048)
-//   sphere       5000 epochs, 16384 boxes, lr 1e-4 -> 1e-7, alpha 20 -> 6000, exact mass
+//   sphere       5000 epochs, 16384 boxes (N <= 64: 2048), lr 1e-4 -> 1e-7,
+//                alpha 20 -> 6000, exact mass
 //   sphere-mc    as sphere with MC mass, K = 65536 (the paper's 460 s GPU setting)
 OptimizerSettings presetSettings(const std::string &name, std::size_t n);
 // The preset matching a target: uniform, sphere or nonuniform.
