@@ -1,6 +1,5 @@
 #include "tools/study/ranks.h"
 
-#include <sched.h>
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
@@ -143,22 +142,19 @@ MpiSession::MpiSession(int &argc, char **&argv) {
   MPI_Comm_size(MPI_COMM_WORLD, &size);
   worldRanks() = Ranks(rank, size);
   if (size == 1) return;
-  // The ranks sharing this node share its cores. A launcher that bound each
-  // rank to its own cores (mpirun's default for two ranks, srun
-  // --cpu-bind) has already divided them: TBB follows the binding.
+  // The ranks sharing this node share its cores: each runs at most its share
+  // of them, and at most those the launcher bound it to (TBB's default
+  // follows the binding), so that neither socket binding nor none
+  // oversubscribes the node.
   MPI_Comm node;
   MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, rank, MPI_INFO_NULL, &node);
   int onNode = 1;
   MPI_Comm_size(node, &onNode);
   MPI_Comm_free(&node);
-  cpu_set_t mask;
-  const bool bound = sched_getaffinity(0, sizeof mask, &mask) == 0 &&
-                     unsigned(CPU_COUNT(&mask)) < std::thread::hardware_concurrency();
-  if (!bound && onNode > 1) {
-    const int threads = std::max(1, tbb::info::default_concurrency() / onNode);
+  const int share = std::max(1, int(std::thread::hardware_concurrency()) / onNode);
+  if (share < tbb::info::default_concurrency())
     threads_ = new ThreadLimit{std::make_unique<tbb::global_control>(
-        tbb::global_control::max_allowed_parallelism, std::size_t(threads))};
-  }
+        tbb::global_control::max_allowed_parallelism, std::size_t(share))};
 #else
   (void)argc;
   (void)argv;

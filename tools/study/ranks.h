@@ -55,9 +55,8 @@ class Ranks {
 
 // Starts MPI when this process was started by a launcher (Open MPI's mpirun,
 // Slurm's srun under PMI or PMIx), and ends it when destroyed. In a job of
-// several ranks it also divides this node's cores between the ranks on it
-// (TBB's thread count), unless the launcher already bound each rank to its
-// own cores.
+// several ranks each rank's TBB threads are at most its share of the node's
+// cores and at most the cores the launcher bound it to.
 class MpiSession {
  public:
   MpiSession(int &argc, char **&argv);
