@@ -15,9 +15,10 @@ trap 'rm -rf "$dir"' EXIT
 failures=0
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
 
-mpi=(mpirun --oversubscribe -np "$ranks")
+launch=(mpirun --oversubscribe)
 # Open MPI refuses root unless told; CI runs as root.
-[[ $(id -u) -eq 0 ]] && mpi+=(--allow-run-as-root)
+[[ $(id -u) -eq 0 ]] && launch+=(--allow-run-as-root)
+mpi=("${launch[@]}" -np "$ranks")
 run() { # run LOG COMMAND... (fails the test when the command does)
   local log=$1; shift
   "$@" >"$dir/$log.out" 2>"$dir/$log.err" || { fail "$log: exit $?"; cat "$dir/$log.err"; }
@@ -69,8 +70,7 @@ same_outputs "$dir/one" "$dir/many" "study render"
 run stop1 "${mpi[@]}" "$nuld" "${study[@]}" -o "$dir/resumed" --reference-stop-after 1
 grep -q "passes_done=1" "$dir/resumed/default/reference.state" || fail "the first run did not stop after 1 pass"
 [[ -e "$dir/resumed/render.csv" ]] && fail "a study with an incomplete reference rendered cells"
-run stop2 mpirun --oversubscribe -np 2 $([[ $(id -u) -eq 0 ]] && echo --allow-run-as-root) \
-  "$nuld" "${study[@]}" -o "$dir/resumed" --reference-stop-after 3
+run stop2 "${launch[@]}" -np 2 "$nuld" "${study[@]}" -o "$dir/resumed" --reference-stop-after 3
 grep -q "passes_done=4" "$dir/resumed/default/reference.state" || fail "the second run did not stop after 4 passes"
 run finish "${mpi[@]}" "$nuld" "${study[@]}" -o "$dir/resumed"
 idiff -q -fail 0 -warn 0 "$dir/one/default/reference.exr" "$dir/resumed/default/reference.exr" \

@@ -208,9 +208,6 @@ int runOptimize(const OptimizeOptions &o, const Target &target, const OptimizerS
   checkResources(s, o.run.quiet || !ranks.root());
   const DirectOptimizer opt(target, s);
   const InstancePart part = instancePart(o.output, s, ranks);
-  OptimizerSettings partSettings = s;
-  partSettings.instances = std::max<std::size_t>(part.count, 1);
-  partSettings.firstInstance = part.first;
 
   // In a job, rank 0 shows its own part's progress: every part runs the
   // same epochs.
@@ -220,6 +217,9 @@ int runOptimize(const OptimizeOptions &o, const Target &target, const OptimizerS
   std::ostream *log = quiet ? nullptr : &std::cerr;
   std::vector<Point2> params;  // this part's, at the end
   if (part.count > 0) {
+    OptimizerSettings partSettings = s;
+    partSettings.instances = part.count;
+    partSettings.firstInstance = part.first;
     const DirectOptimizer partOpt(target, partSettings);
     OptimizerState state = partOpt.initialState();
     std::optional<ProgressBar> bar;

@@ -271,47 +271,31 @@ class StudyRunner {
   }
 
  public:
-  // Makes the banks of optimized sets the rows need and are not cached yet,
-  // one bank per rank and round; returns their files (made now).
+  // Makes the banks of optimized sets the rows need and are not cached yet
+  // (makeMissingSets: one bank per rank and round); returns their files.
   std::vector<fs::path> makeBanks(const std::vector<const Task *> &rows, const Ranks &ranks) {
-    struct Bank {
-      const Target *target;
-      OptimizedSetsRequest request;
-      fs::path file;
-    };
-    std::vector<Bank> banks;
+    std::vector<SetsJob> jobs;
     for (const Task *t : rows) {
       const OptimizedSetsRequest request = bankRequest(t->n);
-      const fs::path file = bankPath(*t->in->target, request);
-      if (!fs::exists(file) &&
-          std::none_of(banks.begin(), banks.end(), [&](const Bank &b) { return b.file == file; }))
-        banks.push_back({t->in->target.get(), request, file});
+      jobs.push_back({t->in->target.get(), request, bankPath(*t->in->target, request),
+                      "optimizing " + shortSpec(t->in->target->spec()) +
+                          " N=" + std::to_string(t->n) + " (" + std::to_string(request.instances) +
+                          " sets)"});
     }
-    runInRounds(
-        ranks, banks.size(),
-        [&](std::size_t i) {
-          const Bank &b = banks[i];
-          const std::string what = "optimizing " + shortSpec(b.target->spec()) +
-                                   " N=" + std::to_string(b.request.n) + " (" +
-                                   std::to_string(b.request.instances) + " sets)";
-          int lastShown = -1;
-          return ByteWriter()
-              .put(optimizeSets(*b.target, b.request, b.file,
-                                [&](int epoch, int epochs, double) {
-                                  const int percent = int(100.0 * epoch / epochs);
-                                  if (percent == lastShown || !ranks.root()) return;
-                                  lastShown = percent;
-                                  progress(what + " epoch " + std::to_string(epoch) + "/" +
-                                           std::to_string(epochs));
-                                }))
-              .take();
-        },
-        [&](std::size_t i, const std::string &bytes) {
-          writeOptimizedSets(banks[i].file, fromBytes<PointSet>(bytes));
-          summary_.setsOptimized += banks[i].request.instances;
+    int lastShown = -1;
+    const std::vector<SetsJob> made = makeMissingSets(
+        ranks, jobs,
+        [&](std::size_t, std::size_t, const SetsJob &job, int epoch, int epochs, double) {
+          const int percent = int(100.0 * epoch / epochs);
+          if (percent == lastShown) return;
+          lastShown = percent;
+          progress(job.label + " epoch " + std::to_string(epoch) + "/" + std::to_string(epochs));
         });
     std::vector<fs::path> files;
-    for (const Bank &b : banks) files.push_back(b.file);
+    for (const SetsJob &job : made) {
+      summary_.setsOptimized += job.request.instances;
+      files.push_back(job.file);
+    }
     return files;
   }
 
@@ -465,7 +449,6 @@ IntegrateSummary runIntegrateStudy(const IntegrateOptions &o, const IntegrateHoo
   for (const Task *t : pending)
     if (t->s->kind == SamplerChoice::Kind::Optimized) optimizedRows.push_back(t);
   const auto banks = runner.makeBanks(optimizedRows, ranks);
-  ranks.barrier();  // the banks are on disk before any rank reads them
 
   runInRounds(
       ranks, pending.size(),

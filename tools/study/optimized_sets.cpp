@@ -1,5 +1,6 @@
 #include "tools/study/optimized_sets.h"
 
+#include <algorithm>
 #include <cctype>
 #include <chrono>
 #include <cstdio>
@@ -109,6 +110,34 @@ PointSet optimizeSets(const Target &target, const OptimizedSetsRequest &request,
   PointSet set = opt.points(state);
   setMeta(set, meta::kOptimizeSeconds, std::to_string(seconds));
   return set;
+}
+
+std::vector<SetsJob> makeMissingSets(const Ranks &ranks, const std::vector<SetsJob> &jobs,
+                                     const SetsProgress &progress) {
+  std::vector<SetsJob> missing;
+  for (const SetsJob &job : jobs)
+    if (!fs::exists(job.file) && std::none_of(missing.begin(), missing.end(),
+                                              [&](const SetsJob &m) { return m.file == job.file; }))
+      missing.push_back(job);
+  std::size_t done = 0;
+  runInRounds(
+      ranks, missing.size(),
+      [&](std::size_t i) {
+        const SetsJob &job = missing[i];
+        return ByteWriter()
+            .put(optimizeSets(*job.target, job.request, job.file,
+                              [&](int epoch, int epochs, double loss) {
+                                if (progress && ranks.root())
+                                  progress(done, missing.size(), job, epoch, epochs, loss);
+                              }))
+            .take();
+      },
+      [&](std::size_t i, const std::string &bytes) {
+        writeOptimizedSets(missing[i].file, fromBytes<PointSet>(bytes));
+        ++done;
+      });
+  ranks.barrier();  // the sets are on disk before any rank reads them
+  return missing;
 }
 
 void writeOptimizedSets(const fs::path &path, const PointSet &sets) {

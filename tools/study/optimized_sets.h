@@ -10,10 +10,12 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "sampler/optimize/optimizer.h"
 #include "sampler/point.h"
 #include "sampler/targets/target.h"
+#include "tools/study/ranks.h"
 
 namespace nuld::study {
 
@@ -70,5 +72,23 @@ PointSet optimizeSets(const Target &target, const OptimizedSetsRequest &request,
                       const std::filesystem::path &path,
                       const std::function<void(int, int, double)> &progress = {});
 void writeOptimizedSets(const std::filesystem::path &path, const PointSet &sets);
+
+// One cache file a study needs: sets for `target` made with `request`.
+struct SetsJob {
+  const Target *target = nullptr;
+  OptimizedSetsRequest request;
+  std::filesystem::path file;
+  std::string label;  // for progress
+};
+
+// Makes every job's file that does not exist yet, once per file, over the
+// ranks of the job (ranks.h): one optimization per rank and round, rank 0
+// writing the files; every rank returns once they are all on disk, with the
+// jobs made now. `progress(done, total, job, epoch, epochs, loss)` follows
+// rank 0's own optimizations (`done` of `total` made before it).
+using SetsProgress = std::function<void(std::size_t done, std::size_t total, const SetsJob &job,
+                                        int epoch, int epochs, double loss)>;
+std::vector<SetsJob> makeMissingSets(const Ranks &ranks, const std::vector<SetsJob> &jobs,
+                                     const SetsProgress &progress = {});
 
 }  // namespace nuld::study

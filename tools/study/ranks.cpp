@@ -108,15 +108,17 @@ void Ranks::fail(const std::string &what, int status) const {
 
 void runInRounds(const Ranks &ranks, std::size_t count,
                  const std::function<std::string(std::size_t)> &run,
-                 const std::function<void(std::size_t, const std::string &)> &collect) {
+                 const std::function<void(std::size_t, const std::string &)> &collect,
+                 const std::function<void(std::size_t)> &roundDone) {
   const std::size_t K = std::size_t(ranks.size());
   for (std::size_t first = 0; first < count; first += K) {
     const std::size_t mine = first + std::size_t(ranks.rank());
     const std::string result = mine < count ? run(mine) : std::string();
     const std::vector<std::string> round = ranks.gather(result);
-    if (ranks.root())
-      for (std::size_t k = 0; k < round.size() && first + k < count; ++k)
-        collect(first + k, round[k]);
+    if (!ranks.root()) continue;
+    const std::size_t end = std::min(count, first + K);
+    for (std::size_t i = first; i < end; ++i) collect(i, round[i - first]);
+    if (roundDone) roundDone(end);
   }
 }
 

@@ -19,6 +19,7 @@
 #include <string>
 #include <string_view>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "sampler/io/image_io.h"
@@ -76,11 +77,13 @@ bool builtWithMpi();
 // Runs tasks [0, count) over the ranks, in rounds of size() tasks: `run(i)`
 // runs on the rank owning task i and returns its result as bytes;
 // `collect(i, bytes)` runs on rank 0 for every task of a round, in task
-// order, once the round is done. In a single process each task is run and
-// collected in turn.
+// order, once the round is done, and then `roundDone(tasksCollected)`
+// (optional) on rank 0, where a caller saves its progress. In a single
+// process each task is run and collected in turn.
 void runInRounds(const Ranks &ranks, std::size_t count,
                  const std::function<std::string(std::size_t)> &run,
-                 const std::function<void(std::size_t, const std::string &)> &collect);
+                 const std::function<void(std::size_t, const std::string &)> &collect,
+                 const std::function<void(std::size_t)> &roundDone = {});
 
 // Flat byte records for results sent between ranks: values and strings
 // appended in order and read back in the same order.
@@ -96,6 +99,10 @@ class ByteWriter {
     bytes_ += s;
     return *this;
   }
+  template <class A, class B>
+  ByteWriter &put(const std::pair<A, B> &p) {
+    return put(p.first).put(p.second);
+  }
   template <class T>
   ByteWriter &put(const std::vector<T> &v) {
     put(std::uint64_t(v.size()));
@@ -109,9 +116,10 @@ class ByteWriter {
     return put(image.width).put(image.height).put(image.channels).put(image.pixels);
   }
   ByteWriter &put(const PointSet &set) {
-    put(std::uint64_t(set.n)).put(set.points).put(std::uint64_t(set.metadata.size()));
-    for (const auto &[key, value] : set.metadata) put(key).put(value);
-    return *this;
+    return put(std::uint64_t(set.n))
+        .put(set.points)
+        .put(std::vector<std::pair<std::string, std::string>>(set.metadata.begin(),
+                                                              set.metadata.end()));
   }
   std::string take() { return std::move(bytes_); }
 
@@ -137,6 +145,11 @@ class ByteReader {
     need(n);
     s.assign(bytes_.substr(pos_, n));
     pos_ += n;
+  }
+  template <class A, class B>
+  void get(std::pair<A, B> &p) {
+    get(p.first);
+    get(p.second);
   }
   template <class T>
   void get(std::vector<T> &v) {
@@ -164,11 +177,8 @@ class ByteReader {
   void get(PointSet &set) {
     set.n = std::size_t(get<std::uint64_t>());
     get(set.points);
-    set.metadata.clear();
-    for (auto entries = get<std::uint64_t>(); entries > 0; --entries) {
-      const std::string key = get<std::string>();
-      set.metadata[key] = get<std::string>();
-    }
+    const auto metadata = get<std::vector<std::pair<std::string, std::string>>>();
+    set.metadata = {metadata.begin(), metadata.end()};
   }
   template <class T>
   T get() {

@@ -129,45 +129,44 @@ ReferenceResult renderReference(const Scene &scene, const std::string &sceneName
     // Rounds of one pass per rank; rank 0 adds the passes in their order, so
     // the sum is the one a single process makes.
     const std::size_t K = std::size_t(ranks.size());
-    const std::size_t last =
-        stopAfterPasses ? std::min(passes, state.passesDone + stopAfterPasses) : passes;
+    const std::size_t first = state.passesDone;
+    const std::size_t last = stopAfterPasses ? std::min(passes, first + stopAfterPasses) : passes;
     const auto start = std::chrono::steady_clock::now();
-    while (state.passesDone < last) {
-      const std::size_t first = state.passesDone, end = std::min(last, first + K);
-      const std::size_t mine = first + std::size_t(ranks.rank());
-      std::string bytes;
-      if (mine < end) {
-        const auto passStart = std::chrono::steady_clock::now();
-        const auto backend = makeBackend(settings.backend, settings.seed + mine);
-        const Image pass = render(scene, rs, *backend, nullptr, [&](std::size_t d, std::size_t n) {
-          if (progress && ranks.root())
-            progress({first, passes,
-                      (double(first) + double(end - first) * double(d) / double(n)) / passes});
+    runInRounds(
+        ranks, last - first,
+        [&](std::size_t i) {
+          const std::size_t pass = first + i;
+          const std::size_t roundFirst = first + i / K * K;
+          const std::size_t roundSize = std::min(last, roundFirst + K) - roundFirst;
+          const auto passStart = std::chrono::steady_clock::now();
+          const auto backend = makeBackend(settings.backend, settings.seed + pass);
+          const Image image =
+              render(scene, rs, *backend, nullptr, [&](std::size_t d, std::size_t n) {
+                if (progress && ranks.root())
+                  progress(
+                      {roundFirst, passes,
+                       (double(roundFirst) + double(roundSize) * double(d) / double(n)) / passes});
+              });
+          const double seconds =
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - passStart).count();
+          return ByteWriter().put(seconds).put(image).take();
+        },
+        [&](std::size_t, const std::string &bytes) {
+          ByteReader r(bytes);
+          state.seconds += r.get<double>();
+          const Image image = r.get<Image>();
+          for (std::size_t i = 0; i < sum.pixels.size(); ++i) sum.pixels[i] += image.pixels[i];
+        },
+        [&](std::size_t collected) {
+          state.passesDone = first + collected;
+          // The image first: a state that counts a pass always has its sum on disk.
+          writeImage(partialPath.string(), sum);
+          writeState(statePath, state);
+          if (progress) progress({state.passesDone, passes, double(state.passesDone) / passes});
         });
-        const double seconds =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - passStart).count();
-        bytes = ByteWriter().put(seconds).put(pass).take();
-      }
-      const std::vector<std::string> round = ranks.gather(bytes);
-      if (ranks.root()) {
-        for (std::size_t k = 0; k < end - first; ++k) {
-          ByteReader r(round[k]);
-          const double seconds = r.get<double>();
-          const Image pass = r.get<Image>();
-          for (std::size_t i = 0; i < sum.pixels.size(); ++i) sum.pixels[i] += pass.pixels[i];
-          state.seconds += seconds;
-        }
-      }
-      state.passesDone = end;
-      result.passesRun += end - first;
-      if (ranks.root()) {
-        // The image first: a state that counts a pass always has its sum on disk.
-        writeImage(partialPath.string(), sum);
-        writeState(statePath, state);
-      }
-      if (progress && ranks.root())
-        progress({state.passesDone, passes, double(state.passesDone) / passes});
-    }
+    // The other ranks learn the count here; rank 0 has it from the rounds.
+    state.passesDone = last;
+    result.passesRun = last - first;
     result.seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }

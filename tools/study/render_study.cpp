@@ -59,15 +59,6 @@ Summary summarize(const std::vector<double> &v) {
   return s;
 }
 
-// One optimization a study backend needs: sets for one target, cached in
-// `file` (optimized_sets.h).
-struct SetsJob {
-  const Target *target = nullptr;
-  OptimizedSetsRequest request;
-  fs::path file;
-  std::string task;  // the progress label
-};
-
 // What a study backend needs at one spp: the renderer spec, which reads the
 // sets the jobs make. `spec` is "" when the scene cannot use the backend
 // (reason in `why`).
@@ -182,10 +173,7 @@ struct CellOutcome {
   ImageAttributes attributes;
 
   std::string bytes() const {
-    ByteWriter w;
-    w.put(row).put(refusal).put(image).put(std::uint64_t(attributes.size()));
-    for (const auto &[name, value] : attributes) w.put(name).put(value);
-    return w.take();
+    return ByteWriter().put(row).put(refusal).put(image).put(attributes).take();
   }
   static CellOutcome from(std::string_view bytes) {
     ByteReader r(bytes);
@@ -193,10 +181,7 @@ struct CellOutcome {
     r.get(c.row);
     r.get(c.refusal);
     r.get(c.image);
-    for (auto n = r.get<std::uint64_t>(); n > 0; --n) {
-      std::string name = r.get<std::string>();
-      c.attributes.emplace_back(std::move(name), r.get<std::string>());
-    }
+    r.get(c.attributes);
     return c;
   }
 };
@@ -398,33 +383,15 @@ RenderStudyResult runRenderStudy(const RenderStudySettings &s, const StudyProgre
     std::vector<SetsJob> jobs;
     for (const Pending &c : cells)
       for (SetsJob &job : planBackend(c.backend, loaded.scene, tables, sceneSlug, c.spp, s).sets)
-        if (!fs::exists(job.file) && std::none_of(jobs.begin(), jobs.end(), [&](const SetsJob &j) {
-              return j.file == job.file;
-            }))
-          jobs.push_back(std::move(job));
-    std::size_t jobsDone = 0;
-    runInRounds(
-        ranks, jobs.size(),
-        [&](std::size_t i) {
-          const SetsJob &job = jobs[i];
-          const std::string task = sceneSlug + ": optimize sets";
-          return ByteWriter()
-              .put(optimizeSets(*job.target, job.request, job.file,
-                                [&](int e, int n, double loss) {
-                                  if (progress && ranks.root())
-                                    progress(
-                                        task,
-                                        (double(jobsDone) + double(ranks.size()) * double(e) / n) /
-                                            double(jobs.size()),
-                                        job.task + ": loss " + formatNumber(loss));
-                                }))
-              .take();
-        },
-        [&](std::size_t i, const std::string &bytes) {
-          writeOptimizedSets(jobs[i].file, fromBytes<PointSet>(bytes));
-          ++jobsDone;
+        jobs.push_back(std::move(job));
+    makeMissingSets(
+        ranks, jobs,
+        [&](std::size_t done, std::size_t total, const SetsJob &job, int e, int n, double loss) {
+          if (progress)
+            progress(sceneSlug + ": optimize sets",
+                     (double(done) + double(ranks.size()) * double(e) / n) / double(total),
+                     job.label + ": loss " + formatNumber(loss));
         });
-    ranks.barrier();  // the sets are on disk before any rank reads them
 
     // Then the cells, rendered side by side, their rows added in cell order.
     double totalWork = 0, work = 0;
