@@ -4,7 +4,8 @@
 # sets, and nuld optimize's file; a multi-rank reference stopped by
 # --reference-stop-after or killed, and a stopped optimization, resume to
 # the same result; a rank given a bad input stops the
-# job with a message naming it. Measured times (the CSV's seconds columns,
+# job with a message naming it; a command that does not split runs on rank 0
+# alone. Measured times (the CSV's seconds columns,
 # the images' and sets' time attributes) are the only differences allowed.
 # Usage: mpi_test.sh NULD K
 set -uo pipefail
@@ -135,12 +136,15 @@ fi
 [[ -e "$dir/bad/render.csv" ]] && grep -q "optimized" "$dir/bad/render.csv" &&
   fail "the bad cell was written"
 
-# A command that does not split its work is refused rather than run whole
-# on every rank.
-"${mpi[@]}" "$nuld" generate --sequence sobol --n 4 -o "$dir/g.txt" >/dev/null 2>"$dir/g.err" &&
-  fail "generate ran under $ranks ranks"
-grep -q "'nuld generate' does not split its work" "$dir/g.err" || { fail "generate: no refusal"; cat "$dir/g.err"; }
-[[ -e "$dir/g.txt" ]] && fail "generate wrote its file under $ranks ranks"
+# A command that does not split its work runs unchanged on rank 0 alone:
+# the same file as one process, written once, and a note saying so.
+run generate1 "$nuld" generate --sequence sobol --n 4 --instances 3 -o "$dir/g1.txt"
+"${mpi[@]}" "$nuld" generate --sequence sobol --n 4 --instances 3 -o "$dir/g.txt" >/dev/null \
+  2>"$dir/g.err" || { fail "generate under $ranks ranks: exit $?"; cat "$dir/g.err"; }
+cmp -s "$dir/g1.txt" "$dir/g.txt" || fail "generate under $ranks ranks differs from one process"
+grep -q "'nuld generate' does not split its work; it runs on rank 0 alone" "$dir/g.err" ||
+  { fail "generate: no note about rank 0"; cat "$dir/g.err"; }
+[[ $(grep -c "does not split" "$dir/g.err") -eq 1 ]] || fail "generate: the note printed more than once"
 
 ((failures == 0)) && echo "mpi_test ($ranks ranks): all checks passed"
 exit $((failures > 0))

@@ -175,20 +175,20 @@ int main(int argc, char **argv) {
     std::cout << topic->get_formatter()->make_help(topic, path, CLI::AppFormatMode::Normal);
     return 0;
   }
-  // Only these split their work over the ranks of an MPI job; any other
-  // command would run whole on every rank, each writing the same files.
+  // Only these split their work over the ranks of an MPI job. Any other
+  // command runs unchanged on rank 0 alone, so that the job writes its files
+  // once; the other ranks end at once.
   if (ranks.distributed()) {
     std::string words;
     for (CLI::App *sub = &app; sub && sub->get_subcommands().size() == 1;
          sub = sub->get_subcommands()[0])
       words += (words.empty() ? "" : " ") + sub->get_subcommands()[0]->get_name();
     if (words != "optimize" && words != "study render" && words != "study integrate") {
-      if (ranks.root())
-        std::cerr << "nuld: error: 'nuld " << words << "' does not split its work over the "
-                  << ranks.size()
-                  << " ranks of an MPI job; run it as one process (without mpirun or srun). "
-                     "Those that do: optimize, study render, study integrate\n";
-      return 2;
+      if (!ranks.root()) return 0;
+      std::cerr << "nuld: note: 'nuld " << words << "' does not split its work; it runs on rank 0 "
+                << "alone (the other " << ranks.size() - 1
+                << " ranks have nothing to do). Those that split: optimize, study render, "
+                   "study integrate\n";
     }
   }
   try {
