@@ -358,6 +358,22 @@ TEST(IntegrationStudyRun, RerunResumesWithoutDuplicates) {
   for (const auto &r : t.rows()) keys.insert(r[0] + "|" + r[2] + "|" + r[3]);
   EXPECT_EQ(keys.size(), t.rows().size());
   EXPECT_EQ(t.rows().size(), 3u);
+
+  // Rows of other instance counts or seeds would stand beside these ones
+  // unmarked: such a rerun is refused, naming the options.
+  IntegrateOptions more = o;
+  more.instances = o.instances + 1;
+  more.ns = {128};
+  try {
+    runIntegrateStudy(more);
+    FAIL() << "a rerun with other --instances was accepted";
+  } catch (const std::runtime_error &e) {
+    EXPECT_NE(std::string(e.what()).find("--instances"), std::string::npos) << e.what();
+  }
+  IntegrateOptions reseeded = o;
+  reseeded.seed = o.seed + 1;
+  EXPECT_THROW(runIntegrateStudy(reseeded), std::runtime_error);
+  EXPECT_EQ(readCsv(o.outDir).rows().size(), 3u);
 }
 
 TEST(IntegrationStudyRun, TinyOptimizedRunWritesRowsAndCache) {

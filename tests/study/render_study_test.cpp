@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <regex>
 #include <sstream>
@@ -157,6 +158,23 @@ TEST_F(TinyStudy, RerunResumesWithoutDuplicates) {
   EXPECT_EQ(again.rows().back()[2], dropped[2]);
   for (std::size_t i = 0; i + 1 < again.rows().size(); ++i)
     EXPECT_EQ(again.rows()[i], t.rows()[i]) << "kept rows are not rewritten";
+
+  // Other repeats or another lobe mix would add rows unlike the kept ones:
+  // refused before anything renders, naming the option.
+  for (const auto &[option, edit] :
+       std::vector<std::pair<std::string, std::function<void(RenderStudySettings &)>>>{
+           {"--repeats", [](RenderStudySettings &s) { s.repeats += 1; }},
+           {"--lobe-mix", [](RenderStudySettings &s) { s.lobeMix = 0.5; }}}) {
+    RenderStudySettings s = tinyStudy(copy);
+    edit(s);
+    try {
+      runRenderStudy(s);
+      ADD_FAILURE() << "a rerun with other " << option << " was accepted";
+    } catch (const std::runtime_error &e) {
+      EXPECT_NE(std::string(e.what()).find(option), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_EQ(readTable(copy).rows(), again.rows());
   fs::remove_all(copy);
 }
 

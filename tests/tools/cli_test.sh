@@ -209,7 +209,8 @@ grep -q '^optimized-both  *2 ' "$dir/out" || { echo "FAIL: study render with lob
 fails_with "study unknown backend" "unknown backend 'sobel'" "$nuld" study render default --backends sobol,sobel -o "$dir/s2"
 fails_with "study bad spp" "spp" "$nuld" study render default --spp 4,x -o "$dir/s2"
 fails_with "study bad resolution" "expected W or WxH" "$nuld" study render default --res 12by4 -o "$dir/s2"
-fails_with "study reference of other settings" "reference.state" "$nuld" study render default --res 16x12 --spp 2 --reference-spp 32 --integrator direct --backends sobol -q -o "$dir/study"
+fails_with "study rerun with other options" "reference-spp 16 there, 32 now" "$nuld" study render default --res 16x12 --spp 2 --reference-spp 32 --integrator direct --backends sobol -q -o "$dir/study"
+fails_with "study rerun with other repeats" "repeats 1 there, 3 now" "$nuld" study render default --res 16x12 --spp 2 --reference-spp 16 --integrator direct --backends sobol --repeats 3 -q -o "$dir/study"
 fails_with "study report of an empty directory" "neither render.csv nor integrate.csv" "$nuld" study report "$dir/empty_study"
 
 # Integration study: the 2D integrands need no files.

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 #include "sampler/io/atomic_file.h"
 
@@ -26,6 +27,38 @@ std::vector<std::string> splitRow(const std::string &line) {
 std::string joinRow(const std::vector<std::string> &cells) {
   std::string out;
   for (std::size_t i = 0; i < cells.size(); ++i) out += (i ? "," : "") + cells[i];
+  return out;
+}
+
+// "a=1 b=2" -> {{"a", "1"}, {"b", "2"}}, in order.
+std::vector<std::pair<std::string, std::string>> optionWords(const std::string &text) {
+  std::vector<std::pair<std::string, std::string>> out;
+  std::istringstream in(text);
+  for (std::string word; in >> word;) {
+    const auto eq = word.find('=');
+    out.emplace_back(word.substr(0, eq), eq == std::string::npos ? "" : word.substr(eq + 1));
+  }
+  return out;
+}
+
+// "--repeats 1 there, 4 now; --seed ..." for the options that differ.
+std::string optionDifferences(const std::string &there, const std::string &now) {
+  const auto old = optionWords(there), cur = optionWords(now);
+  std::string out;
+  const auto add = [&](const std::string &name, const std::string &a, const std::string &b) {
+    out += (out.empty() ? "" : "; ") + std::string("--") + name + " " + a + " there, " + b + " now";
+  };
+  for (const auto &[name, value] : cur) {
+    std::string before = "(not recorded)";
+    for (const auto &[oldName, oldValue] : old)
+      if (oldName == name) before = oldValue;
+    if (before != value) add(name, before, value);
+  }
+  for (const auto &[name, value] : old) {
+    bool kept = false;
+    for (const auto &c : cur) kept = kept || c.first == name;
+    if (!kept) add(name, value, "(not an option now)");
+  }
   return out;
 }
 
@@ -60,6 +93,25 @@ std::size_t CsvTable::column(const std::string &name) const {
   for (std::size_t i = 0; i < columns_.size(); ++i)
     if (columns_[i] == name) return i;
   throw std::logic_error(path_.string() + ": no column '" + name + "'");
+}
+
+void CsvTable::requireOptions(const std::string &options, bool write) {
+  const std::filesystem::path file = path_.string() + ".options";
+  if (!rows_.empty() && std::filesystem::exists(file)) {
+    std::ifstream in(file);
+    std::string recorded;
+    if (!in || !std::getline(in, recorded))
+      throw std::runtime_error(file.string() + ": cannot be read (expected one line of options)");
+    if (const std::string diff = optionDifferences(recorded, options); !diff.empty())
+      throw std::runtime_error(path_.string() + " holds rows made with other options (" + diff +
+                               "; recorded in " + file.string() +
+                               "): pass the same options to add rows to it, or use another "
+                               "output directory");
+    return;
+  }
+  if (!write) return;
+  if (path_.has_parent_path()) std::filesystem::create_directories(path_.parent_path());
+  writeFileAtomically(file, options + "\n");
 }
 
 bool CsvTable::hasRow(const std::vector<std::string> &key) const {

@@ -18,6 +18,15 @@ class CsvTable {
   // std::runtime_error naming the file when its header differs.
   void loadExisting();
 
+  // The options the rows depend on beyond their key columns, as words
+  // "name=value" named like the command's options ("repeats=4 seed=1").
+  // They are kept beside the table in PATH.options: a rerun that asks for
+  // other values is refused with an error naming each option that differs,
+  // since its rows would stand next to rows made otherwise. A table with no
+  // rows takes the new values; one made before the file existed adopts them.
+  // `write` false (MPI ranks but the root) checks without writing.
+  void requireOptions(const std::string &options, bool write = true);
+
   // True when a row has these values in the first key.size() columns.
   bool hasRow(const std::vector<std::string> &key) const;
 

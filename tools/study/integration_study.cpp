@@ -412,6 +412,14 @@ std::vector<Task> planTasks(const IntegrateOptions &o, const std::vector<Integra
 
 }  // namespace
 
+std::string rowOptions(const IntegrateOptions &o) {
+  return "instances=" + std::to_string(o.instances) + " seed=" + std::to_string(o.seed) +
+         " optimized-instances=" + std::to_string(o.optimizedInstances) +
+         " opt-epochs=" + std::to_string(o.optEpochs) +
+         " opt-objective=" + (o.optObjective ? toString(*o.optObjective) : "preset") +
+         " opt-union-weight=" + formatNumber(o.optUnionWeight);
+}
+
 IntegrateSummary runIntegrateStudy(const IntegrateOptions &o, const IntegrateHooks &hooks) {
   validateOptions(o);
   IntegrateSummary summary;
@@ -427,6 +435,7 @@ IntegrateSummary runIntegrateStudy(const IntegrateOptions &o, const IntegrateHoo
   const std::vector<Task> tasks = planTasks(o, integrands, samplers, models);
   CsvTable table(integrateCsvPath(o.outDir), integrateColumns());
   table.loadExisting();
+  table.requireOptions(rowOptions(o), Ranks::world().root());
   runner.setTotal(long(tasks.size()));
   std::vector<const Task *> pending;
   for (const Task &t : tasks) {

@@ -56,6 +56,11 @@ struct IntegrateOptions {
   std::uint64_t seed = 0;
 };
 
+// What a row depends on beyond its integrand, sampler and N, as the
+// command's option names: a rerun asking for other values is refused
+// (CsvTable::requireOptions).
+std::string rowOptions(const IntegrateOptions &o);
+
 // "16,32,100": positive integers, comma-separated. Throws
 // std::invalid_argument naming --n and what was expected.
 std::vector<std::size_t> parseNList(const std::string &text);

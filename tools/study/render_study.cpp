@@ -291,6 +291,20 @@ void RenderStudySettings::validate() const {
       makeBackend(b, 0);
 }
 
+std::string RenderStudySettings::rowOptions() const {
+  std::ostringstream o;
+  o << "repeats=" << repeats << " seed=" << seed << " res="
+    << (width ? std::to_string(width) + "x" + std::to_string(height ? height : width) : "scene")
+    << " res-scale=" << formatNumber(resolutionScale)
+    << " integrator=" << (integrator ? toString(*integrator) : "scene")
+    << " max-depth=" << (maxDepth ? std::to_string(maxDepth) : "scene")
+    << " lobe-mix=" << (lobeMix ? formatNumber(*lobeMix) : "auto")
+    << " opt-instances=" << optimizedInstances << " opt-epochs=" << optimizedEpochs
+    << " opt-union-weight=" << formatNumber(lobeUnionWeight) << " reference-spp=" << reference.spp
+    << " reference-pass-spp=" << reference.passSpp << " reference-backend=" << reference.backend;
+  return o.str();
+}
+
 std::string sceneIdentity(const std::string &scenePath) {
   const std::string name = slug(scenePath);
   if (isBuiltInScene(scenePath)) return name;
@@ -323,6 +337,7 @@ RenderStudyResult runRenderStudy(const RenderStudySettings &s, const StudyProgre
   result.csv = s.out / "render.csv";
   CsvTable table(result.csv, renderStudyColumns());
   table.loadExisting();
+  table.requireOptions(s.rowOptions(), ranks.root());
   CsvTable refs(s.out / "references.csv",
                 {"scene", "backend", "spp", "resolution", "integrator", "seconds", "image"});
   refs.loadExisting();

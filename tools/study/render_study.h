@@ -65,6 +65,10 @@ struct RenderStudySettings {
 
   // Throws std::invalid_argument naming the bad option.
   void validate() const;
+  // What a row depends on beyond its scene, backend and spp, as the
+  // command's option names ("repeats=1 seed=1 ..."): a rerun asking for
+  // other values is refused (CsvTable::requireOptions).
+  std::string rowOptions() const;
 };
 
 // Progress of the study, for a progress bar: a task label ("default:
