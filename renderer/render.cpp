@@ -7,6 +7,7 @@
 #include <array>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <mutex>
 #include <optional>
 #include <stdexcept>
@@ -90,6 +91,21 @@ ImageAttributes renderAttributes(const std::string &scene, const RenderSettings 
           {"nuld:setup_seconds", formatRoundTrip(stats.setupSeconds)},
           {"nuld:renderer_revision", std::to_string(kRendererRevision)},
           {"nuld:version", NULD_VERSION}};
+}
+
+RenderSettings RenderOverrides::appliedTo(RenderSettings s) const {
+  if (spp) s.spp = *spp;
+  if (width) {
+    s.width = *width;
+    s.height = height ? *height : *width;
+  } else if (resolutionScale != 1) {
+    s.width = std::max(1, int(std::lround(s.width * resolutionScale)));
+    s.height = std::max(1, int(std::lround(s.height * resolutionScale)));
+  }
+  if (integrator) s.integrator = *integrator;
+  if (maxDepth) s.maxDepth = *maxDepth;
+  if (lobeMix) s.lobeTables.samplingMix = lobeMix;
+  return s;
 }
 
 LobeTableSettings lobeTablesFor(const RenderSettings &s) {

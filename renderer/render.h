@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 
 #include "renderer/path_integrator.h"
@@ -30,6 +31,21 @@ struct RenderSettings {
   // materials for each render, and only for such a backend); see
   // lobeTablesFor.
   LobeTableSettings lobeTables{};
+};
+
+// What a command changes of a scene's render settings (`nuld render`, the
+// render study, the Python module): an unset field keeps the scene's value.
+// The callers check the values and name them in their own terms (--max-depth,
+// max_depth).
+struct RenderOverrides {
+  std::optional<std::size_t> spp;
+  std::optional<int> width, height;  // height unset: width (a square image)
+  double resolutionScale = 1;        // of the scene's resolution, when width is unset
+  std::optional<IntegratorKind> integrator;
+  std::optional<int> maxDepth;
+  std::optional<double> lobeMix;  // LobeTableSettings::samplingMix
+
+  RenderSettings appliedTo(RenderSettings s) const;
 };
 
 // The lobe tables a render with `s` builds: s.lobeTables with the density

@@ -298,6 +298,14 @@ TEST(RenderStudy, BadInputGetsAClearError) {
   s.spp = {4, 0};
   EXPECT_THROW(runRenderStudy(s), std::invalid_argument);
   s = tinyStudy(tmp.path());
+  s.maxDepth = -2;
+  try {
+    runRenderStudy(s);
+    FAIL() << "a negative depth was accepted";
+  } catch (const std::invalid_argument &e) {
+    EXPECT_NE(std::string(e.what()).find("--max-depth"), std::string::npos) << e.what();
+  }
+  s = tinyStudy(tmp.path());
   s.scenes = {(tmp / "missing.json").string()};
   try {
     runRenderStudy(s);

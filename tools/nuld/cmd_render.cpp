@@ -59,21 +59,22 @@ Runner addRender(CLI::App &app) {
     checkRenderOutputs(o->output);
     checkAssets(app, o->assets, !isBuiltInScene(o->scene), kSceneFilesOnly);
     LoadedScene loaded = loadScene(o->scene, resolveAssetRoot(o->assets));
-    RenderSettings s = loaded.settings;
-    if (o->spp) s.spp = o->spp;
+    RenderOverrides change;
+    if (o->spp) change.spp = o->spp;
     if (!o->res.empty()) {
       const Resolution r = parseResolution(o->res);
-      s.width = r.width, s.height = r.height;
+      change.width = r.width, change.height = r.height;
     }
-    if (!o->integrator.empty()) s.integrator = parseIntegrator(o->integrator);
-    if (o->maxDepth) s.maxDepth = o->maxDepth;
+    if (!o->integrator.empty()) change.integrator = parseIntegrator(o->integrator);
+    if (o->maxDepth) change.maxDepth = o->maxDepth;
+    change.lobeMix = o->lobeMix;
+    const RenderSettings s = change.appliedTo(loaded.settings);
     onlyWhen(app, s.integrator == IntegratorKind::Path, {"--max-depth"}, "--integrator path");
     const std::uint64_t seed = o->seed >= 0 ? std::uint64_t(o->seed) : loaded.seed;
     const auto backend = makeBackend(o->backend.empty() ? loaded.backend : o->backend, seed);
     onlyWhen(app, backend->samplesLobes() && s.integrator != IntegratorKind::Light, {"--lobe-mix"},
              "a backend that samples lobe tables (sobol-tabulated, lobe banks) and an integrator "
              "other than light");
-    if (o->lobeMix) s.lobeTables.samplingMix = o->lobeMix;
 
     ProgressBar bar("render", 1000, 0, o->quiet);
     RenderStats stats;

@@ -49,23 +49,23 @@ void bindRender(py::module_ &m) {
          std::optional<double> lobeMix, bool stats) {
         const bool builtIn = isBuiltInScene(scene);
         LoadedScene loaded = loadScene(scene, builtIn ? std::string() : resolveAssetRoot(assets));
-        RenderSettings s = loaded.settings;
-        if (spp) {
-          if (*spp == 0) throw std::invalid_argument("render: spp must be at least 1");
-          s.spp = *spp;
-        }
+        RenderOverrides change;
+        if (spp && *spp == 0) throw std::invalid_argument("render: spp must be at least 1");
+        change.spp = spp;
         if (resolution) {
           if (resolution->first < 1 || resolution->second < 1)
             throw std::invalid_argument("render: resolution must be at least 1 x 1");
-          s.width = resolution->first, s.height = resolution->second;
+          change.width = resolution->first, change.height = resolution->second;
         }
-        if (integrator) s.integrator = parseIntegrator(*integrator);
-        if (maxDepth) s.maxDepth = *maxDepth;
-        if (lobeMix) {
-          if (!(*lobeMix >= 0 && *lobeMix <= 1))
-            throw std::invalid_argument("render: lobe_mix must be in [0, 1]");
-          s.lobeTables.samplingMix = *lobeMix;
-        }
+        if (integrator) change.integrator = parseIntegrator(*integrator);
+        if (maxDepth && (*maxDepth < 1 || *maxDepth > 1000))
+          throw std::invalid_argument("render: max_depth must be in [1, 1000] (got " +
+                                      std::to_string(*maxDepth) + ")");
+        change.maxDepth = maxDepth;
+        if (lobeMix && !(*lobeMix >= 0 && *lobeMix <= 1))
+          throw std::invalid_argument("render: lobe_mix must be in [0, 1]");
+        change.lobeMix = lobeMix;
+        const RenderSettings s = change.appliedTo(loaded.settings);
         const auto b = makeBackend(backend ? *backend : loaded.backend, seed ? *seed : loaded.seed);
         RenderStats st;
         Image img;

@@ -278,6 +278,10 @@ void RenderStudySettings::validate() const {
     if (n == 0) throw std::invalid_argument("--spp: counts must be positive");
   if (!(resolutionScale > 0 && resolutionScale <= 16))
     throw std::invalid_argument("--res-scale: expected a factor in (0, 16]");
+  if (width < 0 || height < 0 || (height > 0 && width == 0))
+    throw std::invalid_argument("--res: expected W or WxH with positive sizes");
+  if (maxDepth < 0 || maxDepth > 1000)
+    throw std::invalid_argument("--max-depth: expected 1 to 1000 (0: the scene's)");
   if (repeats == 0) throw std::invalid_argument("--repeats: must be at least 1");
   if (optimizedInstances == 0) throw std::invalid_argument("--opt-instances: must be at least 1");
   if (!(lobeUnionWeight >= 0) || !std::isfinite(lobeUnionWeight))
@@ -289,6 +293,17 @@ void RenderStudySettings::validate() const {
     if (!isStudyBackend(b) && b.rfind("optimized:", 0) != 0 && b.rfind("points:", 0) != 0 &&
         b.rfind("neural:", 0) != 0)
       makeBackend(b, 0);
+}
+
+RenderOverrides RenderStudySettings::overrides() const {
+  RenderOverrides o;
+  if (width) o.width = width;
+  if (height) o.height = height;
+  o.resolutionScale = resolutionScale;
+  o.integrator = integrator;
+  if (maxDepth) o.maxDepth = maxDepth;
+  o.lobeMix = lobeMix;
+  return o;
 }
 
 std::string RenderStudySettings::rowOptions() const {
@@ -348,16 +363,7 @@ RenderStudyResult runRenderStudy(const RenderStudySettings &s, const StudyProgre
   const std::string assets = resolveAssetRoot(s.assets);
   for (const std::string &scenePath : s.scenes) {
     LoadedScene loaded = loadScene(scenePath, assets);
-    RenderSettings rs = loaded.settings;
-    if (s.width) {
-      rs.width = s.width, rs.height = s.height ? s.height : s.width;
-    } else if (s.resolutionScale != 1) {
-      rs.width = std::max(1, int(std::lround(rs.width * s.resolutionScale)));
-      rs.height = std::max(1, int(std::lround(rs.height * s.resolutionScale)));
-    }
-    if (s.integrator) rs.integrator = *s.integrator;
-    if (s.maxDepth) rs.maxDepth = s.maxDepth;
-    if (s.lobeMix) rs.lobeTables.samplingMix = s.lobeMix;
+    const RenderSettings rs = s.overrides().appliedTo(loaded.settings);
     const std::string sceneSlug = slug(scenePath);
     const fs::path dir = s.out / sceneSlug;
 

@@ -65,6 +65,9 @@ struct RenderStudySettings {
 
   // Throws std::invalid_argument naming the bad option.
   void validate() const;
+  // The scene settings this study changes (resolution, integrator, depth,
+  // lobe mix), for every scene alike.
+  RenderOverrides overrides() const;
   // What a row depends on beyond its scene, backend and spp, as the
   // command's option names ("repeats=1 seed=1 ..."): a rerun asking for
   // other values is refused (CsvTable::requireOptions).
