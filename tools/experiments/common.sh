@@ -29,3 +29,34 @@ prepare_output() {
 
 # seconds_since START_NS (from date +%s%N) -> elapsed seconds, one decimal
 seconds_since() { awk -v ns=$(($(date +%s%N) - $1)) 'BEGIN {printf "%.1f", ns / 1e9}'; }
+
+# summarize_runs CSV KEYS -> per group of runs (rows with equal values in the
+# comma-separated columns KEYS, e.g. "run,binary"), in first-seen order: the
+# seeds, mean / min / max of seconds, the peak of peak_mb, and mean / min /
+# max of l2asd and dstar. CSV has a header naming those columns; rows whose
+# seed is "-" (a reference row, not a run) are left out.
+summarize_runs() {
+  awk -F, -v keys="$2" '
+    NR == 1 { for (i = 1; i <= NF; i++) col[$i] = i; nk = split(keys, kn, ","); next }
+    $col["seed"] == "-" { next }
+    {
+      k = ""; for (i = 1; i <= nk; i++) k = k (i > 1 ? " " : "") $col[kn[i]]
+      if (!(k in n)) order[++groups] = k
+      n[k]++
+      add(k, "s", $col["seconds"]); add(k, "l", $col["l2asd"]); add(k, "d", $col["dstar"])
+      if ($col["peak_mb"] > mem[k]) mem[k] = $col["peak_mb"]
+    }
+    function add(k, m, v) {
+      sum[k, m] += v
+      if (!((k, m) in lo) || v < lo[k, m]) lo[k, m] = v
+      if (!((k, m) in hi) || v > hi[k, m]) hi[k, m] = v
+    }
+    END {
+      gsub(",", " ", keys)
+      print keys ",seeds,mean_seconds,min_seconds,max_seconds,peak_mb,mean_l2asd,min_l2asd,max_l2asd,mean_dstar,min_dstar,max_dstar"
+      for (g = 1; g <= groups; g++) { k = order[g]
+        printf "%s,%d,%.1f,%.1f,%.1f,%d,%.3g,%.3g,%.3g,%.3g,%.3g,%.3g\n", k, n[k],
+          sum[k, "s"] / n[k], lo[k, "s"], hi[k, "s"], mem[k], sum[k, "l"] / n[k], lo[k, "l"],
+          hi[k, "l"], sum[k, "d"] / n[k], lo[k, "d"], hi[k, "d"] }
+    }' "$1"
+}

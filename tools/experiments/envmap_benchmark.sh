@@ -37,16 +37,6 @@ echo "sobol+icdf (16 instances),-,0,0,$(l2_dstar "$out/grace_sobol.ptsb" "envmap
 column -s, -t "$csv"
 # Per variant: mean and range over the seeds.
 summary="$out/envmap_benchmark_summary.csv"
-awk -F, 'NR > 1 && $2 != "-" {
-    k = $1; if (!(k in n)) order[++kinds] = k
-    n[k]++; t[k] += $3; mem[k] = ($4 > mem[k] ? $4 : mem[k]); l[k] += $5; d[k] += $6
-    if (!(k in lmin) || $5 < lmin[k]) lmin[k] = $5; if ($5 > lmax[k]) lmax[k] = $5
-    if (!(k in dmin) || $6 < dmin[k]) dmin[k] = $6; if ($6 > dmax[k]) dmax[k] = $6
-  } END {
-    print "mass,seeds,mean_seconds,peak_mb,mean_l2asd,min_l2asd,max_l2asd,mean_dstar,min_dstar,max_dstar"
-    for (i = 1; i <= kinds; i++) { k = order[i]
-      printf "%s,%d,%.1f,%d,%.3g,%.3g,%.3g,%.3g,%.3g,%.3g\n", k, n[k], t[k] / n[k], mem[k],
-        l[k] / n[k], lmin[k], lmax[k], d[k] / n[k], dmin[k], dmax[k] }
-  }' "$csv" >"$summary"
+summarize_runs "$csv" mass >"$summary"
 echo
 column -s, -t "$summary"

@@ -34,14 +34,4 @@ for seed in $seeds; do
 done
 column -s, -t "$csv"
 echo
-awk -F, 'NR > 1 {
-    k = $1 " " $2; if (!(k in n)) order[++kinds] = k
-    n[k]++; t[k] += $4; mem[k] = ($5 > mem[k] ? $5 : mem[k]); l[k] += $6; d[k] += $7
-    if (!(k in tmin) || $4 < tmin[k]) tmin[k] = $4; if ($4 > tmax[k]) tmax[k] = $4
-    if (!(k in lmin) || $6 < lmin[k]) lmin[k] = $6; if ($6 > lmax[k]) lmax[k] = $6
-  } END {
-    print "run binary,seeds,mean_seconds,min_seconds,max_seconds,peak_mb,mean_l2asd,min_l2asd,max_l2asd,mean_dstar"
-    for (i = 1; i <= kinds; i++) { k = order[i]
-      printf "%s,%d,%.1f,%.1f,%.1f,%d,%.3g,%.3g,%.3g,%.3g\n", k, n[k], t[k] / n[k], tmin[k], tmax[k],
-        mem[k], l[k] / n[k], lmin[k], lmax[k], d[k] / n[k] }
-  }' "$csv" | tee "$out/optimizer_speed_summary.csv" | column -s, -t
+summarize_runs "$csv" run,binary | tee "$out/optimizer_speed_summary.csv" | column -s, -t
