@@ -174,6 +174,38 @@ TEST(SoftBoxLoss, KernelsMatchTheReference) {
     }
 }
 
+// Points beyond the cutoff from every side get no gradient at all, whichever
+// kernel runs, and no box side at infinity (multiple-corner boxes) or far
+// away leaves a tiny slope: the factored kernel's products stay normal
+// numbers (subnormal ones cost x86 cores microcode assists).
+TEST(SoftBoxLoss, PointsBeyondTheCutoffHaveExactlyZeroGradient) {
+  const double alpha = 600, delta = 36 / alpha;
+  // Two points deep inside or outside every box: the boxes' finite sides
+  // stay more than delta from them.
+  const std::vector<Point2> pts = {{0.05, 0.05}, {0.95, 0.95}};
+  std::vector<Box2> boxes;
+  const double inf = std::numeric_limits<double>::infinity();
+  for (double c : {0.3, 0.5, 0.7}) {
+    boxes.push_back({{-inf, -inf}, {c, c}});
+    boxes.push_back({{c, -inf}, {inf, c + 0.05}});
+    boxes.push_back({{c, c}, {inf, inf}});
+  }
+  for (const Box2 &b : boxes)
+    for (const Point2 &p : pts)
+      for (double side : {b.lo.x - p.x, b.hi.x - p.x, b.lo.y - p.y, b.hi.y - p.y})
+        ASSERT_GT(std::abs(side), delta);
+  const std::vector<double> masses(boxes.size(), 0.3);
+  for (SoftBoxKernel kernel : {SoftBoxKernel::Direct, SoftBoxKernel::Factored}) {
+    std::vector<Point2> grad(pts.size(), Point2{1, 1});
+    const double loss = softBoxLoss(pts, boxes, masses, {alpha, 36, kernel}, grad);
+    EXPECT_NEAR(loss, softBoxLossReference(pts, boxes, masses, alpha), 1e-12 * loss);
+    for (const Point2 &g : grad) {
+      EXPECT_EQ(g.x, 0.0) << "kernel " << int(kernel);
+      EXPECT_EQ(g.y, 0.0) << "kernel " << int(kernel);
+    }
+  }
+}
+
 TEST(SoftBoxLoss, FactoredKernelRefusesWhatItCannotRepresent) {
   const UniformTarget u;
   const Problem pr = makeProblem(BoxKind::MultipleCorner, 10, u, 1);
