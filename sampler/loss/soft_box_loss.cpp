@@ -70,13 +70,18 @@ struct PointColumns {
 // sigma(alpha d) through one exp of -|alpha d| per pair. Reads x and y.
 class DirectKernel {
  public:
-  DirectKernel(const Box2 &A, double alpha, double cutoff)
+  // What every box of one call shares.
+  struct Scale {
+    double alpha, cutoff;
+  };
+
+  DirectKernel(const Box2 &A, const Scale &scale)
       : loX_(lanes::broadcast(A.lo.x)),
         hiX_(lanes::broadcast(A.hi.x)),
         loY_(lanes::broadcast(A.lo.y)),
         hiY_(lanes::broadcast(A.hi.y)),
-        alpha_(lanes::broadcast(alpha)),
-        cutoff_(lanes::broadcast(cutoff)) {}
+        alpha_(lanes::broadcast(scale.alpha)),
+        cutoff_(lanes::broadcast(scale.cutoff)) {}
 
   // Which of a vector of points lie in the band, and which deep inside.
   struct Classified {
@@ -151,11 +156,24 @@ class FactoredKernel {
   static int tileOf(double t) { return std::clamp(int(t * kTiles), 0, kTiles - 1); }
   static double tileCentre(int tile) { return (tile + 0.5) / kTiles; }
 
-  FactoredKernel(const Box2 &A, double alpha, double cutoff)
-      : bandLo_(lanes::broadcast(std::exp(-cutoff))), bandHi_(lanes::broadcast(std::exp(cutoff))) {
-    const double pointSpan = alpha / (2.0 * kTiles);
-    const double floorExponent = 2 * pointSpan - 707 <= -cutoff ? pointSpan - 707 : -700.0;
-    const lanes::Doubles a = lanes::broadcast(alpha), floor = lanes::broadcast(floorExponent);
+  // What every box of one call shares, computed once per call.
+  struct Scale {
+    double alpha;
+    double floorExponent;           // of the box factors (see above)
+    lanes::Doubles bandLo, bandHi;  // e^-cutoff, e^cutoff: E outside them has no slope
+
+    Scale(double alpha, double cutoff)
+        : alpha(alpha),
+          bandLo(lanes::broadcast(std::exp(-cutoff))),
+          bandHi(lanes::broadcast(std::exp(cutoff))) {
+      const double pointSpan = alpha / (2.0 * kTiles);
+      floorExponent = 2 * pointSpan - 707 <= -cutoff ? pointSpan - 707 : -700.0;
+    }
+  };
+
+  FactoredKernel(const Box2 &A, const Scale &scale) : scale_(scale) {
+    const lanes::Doubles a = lanes::broadcast(scale.alpha);
+    const lanes::Doubles floor = lanes::broadcast(scale.floorExponent);
     // exp(alpha (side - c)) or exp(alpha (c - side)) per tile; 0 for a side
     // that is not there.
     const auto factors = [&](double side, bool absent, double sign, double *out) {
@@ -189,7 +207,7 @@ class FactoredKernel {
     out.value = inv;
     if (!wantSlope) return out;
     const Doubles zero{};
-    const lanes::Mask band = e >= bandLo_ && e <= bandHi_;
+    const lanes::Mask band = e >= scale_.bandLo && e <= scale_.bandHi;
     const Doubles ds = band ? e * inv * inv : zero;
     // The nearest side has the largest exponential; ties as DirectKernel's.
     const lanes::Mask onX = eX >= eY;
@@ -201,7 +219,7 @@ class FactoredKernel {
  private:
   // Per tile: exp(alpha (lo.x - c)), exp(alpha (c - hi.x)), and in y.
   alignas(64) double loX_[kTiles], hiX_[kTiles], loY_[kTiles], hiY_[kTiles];
-  lanes::Doubles bandLo_, bandHi_;  // e^-cutoff, e^cutoff: E outside them has no slope
+  const Scale &scale_;
 };
 
 // One box's soft count over the points in its band, the cells its outer box
@@ -231,8 +249,7 @@ class BandScan {
       : grid_(grid),
         rowOrder_(rowOrder),
         columnOrder_(columnOrder),
-        alpha_(alpha),
-        cutoff_(cutoff),
+        scale_(alpha, cutoff),
         wantGrad_(wantGrad),
         slopeX_(wantGrad ? grid.size() + lanes::kWidth : 0),
         slopeY_(slopeX_.size()) {
@@ -251,7 +268,7 @@ class BandScan {
     used_ = 0;
     runs_.clear();
     if (touch.empty()) return 0;
-    const Kernel kernel(A, alpha_, cutoff_);
+    const Kernel kernel(A, scale_);
     // Whole rows of the touched range; rows spanning every column are one
     // contiguous run together.
     const bool fullWidth = touch.cx0 == 0 && touch.cx1 == grid_.resolution() - 1;
@@ -373,7 +390,7 @@ class BandScan {
 
   const PointGrid &grid_;
   const PointColumns rowOrder_, columnOrder_;
-  const double alpha_, cutoff_;
+  const typename Kernel::Scale scale_;
   const bool wantGrad_;
   std::vector<double> slopeX_, slopeY_;
   std::vector<ScannedRun> runs_;                  // FactoredKernel: the runs the slopes came from
