@@ -21,6 +21,9 @@ namespace nuld {
 // revision is refused rather than compared against.
 inline constexpr int kRendererRevision = 2;
 
+// The longest path a scene, a command or the Python module may ask for.
+inline constexpr int kMaxDepthLimit = 1000;
+
 struct RenderSettings {
   int width = 256, height = 256;
   std::size_t spp = 16;

@@ -141,7 +141,7 @@ void readRender(const JsonReader &r, LoadedScene &out) {
   if (r.has("integrator")) {
     out.settings.integrator = r["integrator"].oneOf(kIntegratorNames);
   }
-  if (r.has("max_depth")) out.settings.maxDepth = r["max_depth"].integer(1, 1000);
+  if (r.has("max_depth")) out.settings.maxDepth = r["max_depth"].integer(1, kMaxDepthLimit);
   out.backend = r.string("backend", out.backend);
   if (r.has("seed")) out.seed = std::uint64_t(r["seed"].integer(0, 2147483647));
 }

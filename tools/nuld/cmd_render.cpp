@@ -43,7 +43,7 @@ Runner addRender(CLI::App &app) {
                  "bounce, light sampling only) or bsdf (first bounce, BSDF sampling only)")
       ->check(oneOf(kIntegratorNames));
   app.add_option("--max-depth", o->maxDepth, "maximum path length in bounces")
-      ->check(wholeNumberIn(1, 1000));
+      ->check(wholeNumberIn(1, kMaxDepthLimit));
   app.add_option(
          "--lobe-mix", o->lobeMix,
          "density of the lobe tables that sobol-tabulated and lobe banks sample: 0 f cos, 1 the "

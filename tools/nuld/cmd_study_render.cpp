@@ -8,6 +8,7 @@
 #include <tuple>
 
 #include "renderer/path_integrator.h"
+#include "renderer/render.h"
 #include "scenes/scene_file.h"
 #include "tools/nuld/cli_util.h"
 #include "tools/nuld/commands.h"
@@ -147,7 +148,7 @@ Runner addStudyRender(CLI::App &app) {
                  "path, direct (MIS), light or bsdf (default: the scene's)")
       ->check(oneOf(kIntegratorNames));
   app.add_option("--max-depth", o->s.maxDepth, "maximum path length")
-      ->check(wholeNumberIn(1, 1000));
+      ->check(wholeNumberIn(1, kMaxDepthLimit));
   app.add_option("--repeats", o->s.repeats,
                  "renders per (backend, spp) with seeds seed, seed+1, ...; MSE is their mean")
       ->check(positiveNumber());

@@ -58,8 +58,9 @@ void bindRender(py::module_ &m) {
           change.width = resolution->first, change.height = resolution->second;
         }
         if (integrator) change.integrator = parseIntegrator(*integrator);
-        if (maxDepth && (*maxDepth < 1 || *maxDepth > 1000))
-          throw std::invalid_argument("render: max_depth must be in [1, 1000] (got " +
+        if (maxDepth && (*maxDepth < 1 || *maxDepth > kMaxDepthLimit))
+          throw std::invalid_argument("render: max_depth must be in [1, " +
+                                      std::to_string(kMaxDepthLimit) + "] (got " +
                                       std::to_string(*maxDepth) + ")");
         change.maxDepth = maxDepth;
         if (lobeMix && !(*lobeMix >= 0 && *lobeMix <= 1))

@@ -280,8 +280,9 @@ void RenderStudySettings::validate() const {
     throw std::invalid_argument("--res-scale: expected a factor in (0, 16]");
   if (width < 0 || height < 0 || (height > 0 && width == 0))
     throw std::invalid_argument("--res: expected W or WxH with positive sizes");
-  if (maxDepth < 0 || maxDepth > 1000)
-    throw std::invalid_argument("--max-depth: expected 1 to 1000 (0: the scene's)");
+  if (maxDepth < 0 || maxDepth > kMaxDepthLimit)
+    throw std::invalid_argument("--max-depth: expected 1 to " + std::to_string(kMaxDepthLimit) +
+                                " (0: the scene's)");
   if (repeats == 0) throw std::invalid_argument("--repeats: must be at least 1");
   if (optimizedInstances == 0) throw std::invalid_argument("--opt-instances: must be at least 1");
   if (!(lobeUnionWeight >= 0) || !std::isfinite(lobeUnionWeight))
