@@ -1,12 +1,16 @@
 #include "renderer/lobe_tables.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
 
 #include "materials/disney_target.h"
 #include "materials/sphere_map.h"
+#include "renderer/padding.h"
+#include "sampler/sequences/rng.h"
+#include "sampler/sequences/sequence.h"
 
 namespace nuld {
 
@@ -19,14 +23,97 @@ int binOf(double value, double range, int bins) {
 }
 double binCentre(int bin, double range, int bins) { return (bin + 0.5) * range / bins; }
 
+// The route measurement (renderer/README.md, "Lobe routes"): smooth lights in
+// the shading frame (a constant and two gradients), against which each route
+// estimates the reflected light with kMeasurePoints Owen-Sobol points,
+// kMeasureRepeats times, at views spread over the bin.
+constexpr int kLights = 3;
+constexpr std::size_t kMeasurePoints = 16, kMeasureRepeats = 32;
+double smoothLight(int k, Vec3 wi) {
+  switch (k) {
+    case 0: return 1;
+    case 1: return 1 + 0.8 * (0.6 * wi.x + 0.8 * wi.z);
+    default: return 1 + 0.8 * (-0.48 * wi.x + 0.6 * wi.y + 0.64 * wi.z);
+  }
+}
+
+// The relative variances (variance / mean^2, summed over the lights) of the
+// classic route (the material's sample()) and of `lobe`'s route, both fed
+// the same Owen-Sobol points as the sobol-tabulated backend feeds them.
+struct RouteVariances {
+  double classic = 0, table = 0;
+};
+RouteVariances measureAt(const DisneyBrdf &m, Vec3 wo, const LobeFrame &lobe, std::uint64_t seed) {
+  std::array<std::array<double, kMeasureRepeats>, kLights> classic{}, table{};
+  std::array<Point2, kMeasurePoints> u;
+  for (std::size_t r = 0; r < kMeasureRepeats; ++r) {
+    const std::uint64_t key = mix64(seed + r);
+    generateSet({SequenceKind::Sobol, Scramble::Owen, key}, 0, u, 0);
+    shufflePoints(u, key);
+    for (std::size_t i = 0; i < kMeasurePoints; ++i) {
+      const auto add = [&](const std::optional<BsdfSample> &s, double pdf, auto &sums) {
+        if (!s || !(pdf > 0)) return;
+        const double w = s->f.luminance() * s->wi.z / pdf / double(kMeasurePoints);
+        for (int k = 0; k < kLights; ++k) sums[k][r] += w * smoothLight(k, s->wi);
+      };
+      const auto c = m.sample(wo, u[i]);
+      add(c, c ? c->pdf : 0, classic);
+      const auto t = sampleLobeRoute(m, wo, lobe, lobe.table->invert(u[i]).x);
+      add(t, t ? t->pdf : 0, table);
+    }
+  }
+  const auto relativeVariance = [](const auto &sums) {
+    double total = 0;
+    for (const auto &e : sums) {
+      double mean = 0, ss = 0;
+      for (double v : e) mean += v / double(e.size());
+      for (double v : e) ss += (v - mean) * (v - mean);
+      if (mean > 0) total += ss / double(e.size() - 1) / (mean * mean);
+    }
+    return total;
+  };
+  return {relativeVariance(classic), relativeVariance(table)};
+}
+
 }  // namespace
+
+std::optional<BsdfSample> sampleLobeRoute(const Bsdf &bsdf, Vec3 wo, const LobeFrame &lobe,
+                                          Point2 x) {
+  BsdfSample s;
+  // The defensive split, in the table's primary space (its CDF map), where
+  // x's set is uniform: a strip of width d of the conditional coordinate
+  // goes to the material's sampler, the rest, stretched back to the whole
+  // square, to the table. The points of a set keep their stratification on
+  // both sides, which a random choice per sample would not.
+  const double d = lobe.defensive;
+  const Point2 u = d > 0 ? lobe.table->primaryOf(x) : x;
+  if (d > 0 && u.x < d) {
+    const auto own = bsdf.sample(wo, {u.x / d, u.y});
+    if (!own) return std::nullopt;
+    s = *own;
+    s.pdf = lobe.pdf(s.wi, own->pdf);
+  } else {
+    // The table's density from the cell the point lies in (no second
+    // lookup through the direction).
+    GridTarget::Cell cell;
+    const Point2 xt = d > 0 ? lobe.table->invert({(u.x - d) / (1 - d), u.y}, cell).x : x;
+    if (!(d > 0)) cell = lobe.table->locate(x);
+    s.wi = lobe.direction(xt);
+    if (!(s.wi.z > 0)) return std::nullopt;
+    const BsdfValue v = bsdf.evalWithPdf(wo, s.wi);
+    s.f = v.f;
+    s.pdf = (1 - d) * lobe.table->cellDensity(cell.i, cell.j) * kInvFourPi + d * v.pdf;
+  }
+  if (!(s.pdf > 0) || !std::isfinite(s.pdf) || !s.f.isFinite()) return std::nullopt;
+  return s;
+}
 
 Vec3 LobeFrame::direction(Point2 x) const {
   const Vec3 d = sphereDirection(x);
   return {flipX * (cosPhi * d.x - sinPhi * d.y), flipY * (sinPhi * d.x + cosPhi * d.y), d.z};
 }
 
-double LobeFrame::pdf(Vec3 wi) const {
+double LobeFrame::tablePdf(Vec3 wi) const {
   if (!(wi.z > 0)) return 0;
   const double x = flipX * wi.x, y = flipY * wi.y;
   const Vec3 local{cosPhi * x + sinPhi * y, -sinPhi * x + cosPhi * y, wi.z};
@@ -41,6 +128,10 @@ LobeTables::LobeTables(const std::vector<std::shared_ptr<const Bsdf>> &materials
         "lobe tables: theta and phi bins must be >= 1 and the resolution >= 2");
   if (!settings.samplingMix || !(*settings.samplingMix >= 0 && *settings.samplingMix <= 1))
     throw std::invalid_argument("lobe tables: the sampling mix must be given, in [0, 1]");
+  if (!(settings.defensive >= 0 && settings.defensive <= 1))
+    throw std::invalid_argument("lobe tables: the defensive share must be in [0, 1]");
+  if (settings.bounces < 0)
+    throw std::invalid_argument("lobe tables: the bounces must be >= 0 (0: every bounce)");
   for (const auto &m : materials) {
     const auto *disney = dynamic_cast<const DisneyBrdf *>(m.get());
     if (!disney || std::any_of(entries_.begin(), entries_.end(),
@@ -59,34 +150,96 @@ LobeTables::LobeTables(const std::vector<std::shared_ptr<const Bsdf>> &materials
         spec.samplingMix = *settings.samplingMix;
         e.tables.push_back(makeDisneyTarget(spec));
       }
+    e.serves.assign(e.tables.size(), true);
+    measureRoutes(e, entries_.size());
     entries_.push_back(std::move(e));
   }
+}
+
+// Decides each bin's route: the table serves where, over views spread
+// across the bin, its estimates vary no more than the material's own
+// sampler's (both fed the same kind of points). A bin whose views all lie
+// below a table's resolution (a narrow lobe, whose peak moves across the bin
+// with the view) keeps the material's sampler.
+void LobeTables::measureRoutes(Entry &e, std::size_t material) {
+  const int phiBins = e.anisotropic ? settings_.phiBins : 1;
+  for (std::size_t b = 0; b < e.tables.size(); ++b) {
+    const int t = int(b) / phiBins, p = int(b) % phiBins;
+    LobeBinRoute route{material, binCentre(t, 90, settings_.thetaBins),
+                       e.anisotropic ? binCentre(p, 90, phiBins) : 0};
+    if (settings_.routing == LobeRouting::Table) {  // nothing to decide
+      route.table = true;
+      routes_.push_back(route);
+      continue;
+    }
+    for (const double ft : {1.0 / 6, 0.5, 5.0 / 6})
+      for (const double fp : e.anisotropic ? std::vector{0.25, 0.75} : std::vector{0.4}) {
+        const double theta = (t + ft) * 90 / settings_.thetaBins / kDegrees;
+        // Isotropic: an azimuth away from the table's, so the rotation is
+        // part of what is measured.
+        const double phi = e.anisotropic ? (p + fp) * 90 / phiBins / kDegrees : fp;
+        const Vec3 wo{std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi),
+                      std::cos(theta)};
+        std::size_t index = 0;
+        const LobeFrame lobe = binFrame(e, wo, index);
+        const RouteVariances v = measureAt(*e.material, wo, lobe,
+                                           hashCombine(material * 1000 + b, std::uint64_t(ft * 6)));
+        route.classicVariance += v.classic;
+        route.tableVariance += v.table;
+      }
+    route.table = route.tableVariance <= route.classicVariance;
+    e.serves[b] = route.table;
+    routes_.push_back(route);
+  }
+}
+
+LobeFrame LobeTables::binFrame(const Entry &e, Vec3 wo, std::size_t &index) const {
+  const double r = std::hypot(wo.x, wo.y);
+  const int t = binOf(std::atan2(r, wo.z) * kDegrees, 90, settings_.thetaBins);
+  LobeFrame f;
+  f.defensive = settings_.defensive;
+  if (!e.anisotropic) {
+    index = std::size_t(t);
+    if (r > 0) f.cosPhi = wo.x / r, f.sinPhi = wo.y / r;
+  } else {
+    f.flipX = wo.x < 0 ? -1 : 1;
+    f.flipY = wo.y < 0 ? -1 : 1;
+    const int p =
+        binOf(std::atan2(std::abs(wo.y), std::abs(wo.x)) * kDegrees, 90, settings_.phiBins);
+    index = std::size_t(t) * settings_.phiBins + p;
+  }
+  f.table = e.tables[index].get();
+  return f;
 }
 
 std::optional<LobeFrame> LobeTables::frame(const Bsdf *material, Vec3 wo) const {
   const auto it = std::find_if(entries_.begin(), entries_.end(),
                                [&](const Entry &e) { return e.material == material; });
   if (it == entries_.end() || !(wo.z > 0)) return std::nullopt;
-  const double r = std::hypot(wo.x, wo.y);
-  const int t = binOf(std::atan2(r, wo.z) * kDegrees, 90, settings_.thetaBins);
-  LobeFrame f;
-  if (!it->anisotropic) {
-    f.table = it->tables[t].get();
-    if (r > 0) f.cosPhi = wo.x / r, f.sinPhi = wo.y / r;
-    return f;
-  }
-  f.flipX = wo.x < 0 ? -1 : 1;
-  f.flipY = wo.y < 0 ? -1 : 1;
-  const int p = binOf(std::atan2(std::abs(wo.y), std::abs(wo.x)) * kDegrees, 90, settings_.phiBins);
-  f.table = it->tables[std::size_t(t) * settings_.phiBins + p].get();
+  std::size_t index = 0;
+  const LobeFrame f = binFrame(*it, wo, index);
+  if (!it->serves[index]) return std::nullopt;  // the bin keeps the material's sampler
   return f;
 }
 
 std::vector<const Target *> LobeTables::targets() const {
   std::vector<const Target *> out;
   for (const Entry &e : entries_)
-    for (const auto &t : e.tables) out.push_back(t.get());
+    for (std::size_t b = 0; b < e.tables.size(); ++b)
+      if (e.serves[b]) out.push_back(e.tables[b].get());
   return out;
+}
+
+std::shared_ptr<const LobeTables> LobeTableCache::get(
+    const std::vector<std::shared_ptr<const Bsdf>> &materials, const LobeTableSettings &settings) {
+  std::vector<const Bsdf *> key;
+  for (const auto &m : materials) key.push_back(m.get());
+  const std::lock_guard lock(mutex_);
+  for (const Item &item : items_)
+    if (item.materials == key && item.settings == settings) return item.tables;
+  auto tables = std::make_shared<const LobeTables>(materials, settings);
+  items_.push_back({std::move(key), settings, tables});
+  return tables;
 }
 
 }  // namespace nuld

@@ -24,26 +24,65 @@
 // Any table is a valid importance density (positive wherever the lobe is,
 // f > 0 on the whole upper hemisphere), so sampling the bin's table instead of
 // the exact lobe at wo costs variance, never bias, provided the estimator
-// divides by the pdf of the table actually used (pdf() below).
+// divides by the pdf of the route actually used (LobeFrame::pdf).
+//
+// A table is not always the better route (renderer/README.md, "Lobe
+// routes"): a lobe narrower than the bin's sweep of its mirror direction
+// (a glossy metal) is mostly missed by the table of the bin's centre. So
+//  - each bin's route is measured when the tables are built: the table
+//    serves only where its estimates of smooth lights vary no more than the
+//    material's own sampler's; other bins keep the material's sampler and
+//    are no context for any backend;
+//  - a tabulated sample is a defensive mixture with the material's sampler,
+//    which bounds its weight f cos / p by 1 / defensive times the material's;
+//  - tables serve the first bounce only by default (`bounces`).
 
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <vector>
 
 #include "materials/bsdf.h"
 #include "materials/disney.h"
+#include "sampler/enum_names.h"
 #include "sampler/targets/grid_target.h"
 
 namespace nuld {
 
+// Which bins sample their table (renderer/README.md, "Lobe routes").
+enum class LobeRouting {
+  Measured,  // a bin's table serves only where it measured no worse than the material's sampler
+  Table,     // every bin's table serves (for comparisons: the route before measurement)
+};
+inline constexpr auto kLobeRoutingNames = enumTable<LobeRouting>(
+    "lobe routing", {{"measured", LobeRouting::Measured}, {"table", LobeRouting::Table}});
+constexpr const auto &enumNames(LobeRouting) { return kLobeRoutingNames; }
+
 struct LobeTableSettings {
-  int thetaBins = 9;   // over theta_o in [0, 90) degrees
-  int phiBins = 3;     // over folded phi_o in [0, 90] degrees; anisotropic materials only
-  int phiCells = 256;  // table resolution (rows = phiCells / 2), as the `disney` target's
+  int thetaBins = 9;  // over theta_o in [0, 90) degrees
+  int phiBins = 3;    // over folded phi_o in [0, 90] degrees; anisotropic materials only
+  // Table resolution (rows = phiCells / 2). The tables that serve are the
+  // broad lobes' (measured routes), which 64 x 32 cells hold: the dragon at
+  // 256 x 128 has 0.99x the MSE at 1.12x the render time (renderer/README.md,
+  // "Lobe routes").
+  int phiCells = 64;
   // The tables' density: 0 f cos, 1 the material's own sampling pdf
   // (`mix` of materials/disney_target.h); nullopt: chosen by the estimator
   // (lobeTablesFor in renderer/render.h).
   std::optional<double> samplingMix;
+  LobeRouting routing = LobeRouting::Measured;
+  // The defensive share d: a tabulated sample is drawn by the material's own
+  // sample() with probability d (sampleLobeRoute), and every estimator
+  // divides by the mixture (1 - d) table + d material, so a table's weight
+  // f cos / p is at most 1 / d times the material's own at that direction.
+  double defensive = 0.05;
+  // How many bounces, from the first, sample the tables (0: every bounce).
+  // Beyond the first, a pixel's samples scatter over materials and bins, so
+  // a set serves a context with one or two of its points, paying for all N
+  // (renderer/README.md, "Lobe routes", has the measurements).
+  int bounces = 1;
+
+  friend bool operator==(const LobeTableSettings &, const LobeTableSettings &) = default;
 };
 
 // One shading point's table and the map from the table's frame to the
@@ -52,12 +91,38 @@ struct LobeFrame {
   const GridTarget *table = nullptr;
   double cosPhi = 1, sinPhi = 0;  // isotropic: rotation by phi_o
   double flipX = 1, flipY = 1;    // anisotropic: the folds
+  double defensive = 0;           // LobeTableSettings::defensive
 
   // The direction (shading frame) that the table's point x stands for.
   Vec3 direction(Point2 x) const;
   // The density per unit solid angle with which direction(x) is drawn when x
   // follows the table; 0 below the surface.
-  double pdf(Vec3 wi) const;
+  double tablePdf(Vec3 wi) const;
+  // The route's density: the defensive mixture of the table's and the
+  // material's (`materialPdf`, the material's pdf at wi).
+  double pdf(Vec3 wi, double materialPdf) const {
+    return (1 - defensive) * tablePdf(wi) + defensive * materialPdf;
+  }
+};
+
+// The sample of the route `lobe` at wo for the table's point x: x's
+// primary point u (the table's CDF map) decides, a share `defensive` of the
+// square (u.x < defensive) going to the material's own sample() and the rest
+// to the table; f is the material's and pdf the route's mixture density
+// (LobeFrame::pdf). With x following the table, wi follows that mixture.
+// nullopt when no direction results.
+std::optional<BsdfSample> sampleLobeRoute(const Bsdf &bsdf, Vec3 wo, const LobeFrame &lobe,
+                                          Point2 x);
+
+// What the route measurement found for one bin (renderer/README.md, "Lobe
+// routes"): the relative variance of a 16-point Owen-Sobol estimate of the
+// reflected light under smooth lights, through the material's own sampler
+// and through the table, summed over views spread across the bin.
+struct LobeBinRoute {
+  std::size_t material = 0;                 // index among the tabulated materials
+  double thetaDegrees = 0, phiDegrees = 0;  // the bin's centre
+  double classicVariance = 0, tableVariance = 0;
+  bool table = false;  // whether the table serves the bin
 };
 
 class LobeTables {
@@ -72,8 +137,11 @@ class LobeTables {
   // material without tables.
   std::optional<LobeFrame> frame(const Bsdf *material, Vec3 wo) const;
 
-  // Every table, material by material and bin by bin.
+  // Every table that serves (its bin's route is the table), material by
+  // material and bin by bin: the contexts a backend is asked for.
   std::vector<const Target *> targets() const;
+  // Every bin's route and its measurement, in the order of the tables.
+  const std::vector<LobeBinRoute> &routes() const { return routes_; }
   std::size_t materials() const { return entries_.size(); }
   const LobeTableSettings &settings() const { return settings_; }
 
@@ -82,9 +150,33 @@ class LobeTables {
     const DisneyBrdf *material;
     bool anisotropic;
     std::vector<std::unique_ptr<GridTarget>> tables;  // theta-major, then phi
+    std::vector<bool> serves;                         // per table: its route is the table
   };
+  // Measures and sets the routes of e's bins (e is material `material`).
+  void measureRoutes(Entry &e, std::size_t material);
+  // The frame of bin `index` of `e` at wo, whatever its route.
+  LobeFrame binFrame(const Entry &e, Vec3 wo, std::size_t &index) const;
   LobeTableSettings settings_;
   std::vector<Entry> entries_;
+  std::vector<LobeBinRoute> routes_;
+};
+
+// The lobe tables a scene's renders share (Scene::lobeTables): built the
+// first time a render asks for given materials and settings, then reused by
+// every later render, repeat and study cell of the scene. Thread-safe.
+class LobeTableCache {
+ public:
+  std::shared_ptr<const LobeTables> get(const std::vector<std::shared_ptr<const Bsdf>> &materials,
+                                        const LobeTableSettings &settings);
+
+ private:
+  struct Item {
+    std::vector<const Bsdf *> materials;
+    LobeTableSettings settings;
+    std::shared_ptr<const LobeTables> tables;
+  };
+  std::mutex mutex_;
+  std::vector<Item> items_;
 };
 
 }  // namespace nuld

@@ -116,15 +116,6 @@ void lightSamples(const EnvironmentLight &light, std::span<PathIntegrator::PathS
   for (std::size_t q = 0; q < np; ++q) ls[primaryOf[q]] = out[q];
 }
 
-// The direction the table's point x stands for, with the table's density
-// there (the pdf of the strategy used, not the material's).
-std::optional<BsdfSample> sampleTable(const Bsdf &bsdf, Vec3 wo, const LobeFrame &lobe, Point2 x) {
-  const Vec3 wi = lobe.direction(x);
-  const double pdf = lobe.table->pdf(x) * kInvFourPi;
-  if (!(wi.z > 0) || !(pdf > 0)) return std::nullopt;
-  return BsdfSample{wi, bsdf.eval(wo, wi), pdf};
-}
-
 }  // namespace
 
 bool PathIntegrator::arrive(std::span<PathState> path,
@@ -185,7 +176,9 @@ void PathIntegrator::chooseBsdfStrategies(std::span<PathState> path, int depth,
   for (std::size_t k = 0; k < n; ++k) {
     PathState &p = path[k];
     p.lobe = {};
-    if (!p.alive || !lobes_) continue;
+    if (!p.alive || !lobes_ ||
+        (lobes_->settings().bounces > 0 && depth >= lobes_->settings().bounces))
+      continue;
     const auto frame = lobes_->frame(p.bsdf, p.wo);
     if (!frame) continue;
     if (const Point2 *x =
@@ -217,7 +210,7 @@ void PathIntegrator::addLightSamples(std::span<PathState> path, int depth,
       if (scene_.geometry.occluded(shadow)) continue;
       const auto [f, classicPdf] = p.bsdf->evalWithPdf(p.wo, wi);
       if (f.isBlack()) continue;
-      const double bsdfPdf = p.lobe.table ? p.lobe.pdf(wi) : classicPdf;
+      const double bsdfPdf = p.lobe.table ? p.lobe.pdf(wi, classicPdf) : classicPdf;
       const double w = lightOnly_ ? 1.0 : powerHeuristic(ls[k]->pdf, bsdfPdf);
       p.L += (w * wi.z / ls[k]->pdf) * p.beta * f * ls[k]->radiance;
     }
@@ -238,7 +231,7 @@ bool PathIntegrator::continuePaths(std::span<PathState> path, int depth,
     if (!p.alive) continue;
     p.alive = false;
     const auto bs =
-        p.lobe.table ? sampleTable(*p.bsdf, p.wo, p.lobe, p.lobePoint)
+        p.lobe.table ? sampleLobeRoute(*p.bsdf, p.wo, p.lobe, p.lobePoint)
                      : p.bsdf->sample(p.wo, p.samples->primary(SamplePairs::bsdf(depth), p.index));
     if (!bs || !(bs->pdf > 0)) continue;
     if (!(bs->wi.z > 0)) continue;  // below the shading hemisphere: f = 0

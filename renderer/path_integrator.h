@@ -12,9 +12,10 @@
 //
 // BSDF sampling at a Disney material samples its tabulated lobe
 // (renderer/lobe_tables.h) when the backend hands over points distributed by
-// the shading point's table, and the material's own lobe-selection mapping
-// otherwise; every estimator and MIS weight uses the pdf of the strategy the
-// sample actually used.
+// the shading point's table (in a defensive mixture with the material's own
+// sampler), and the material's own lobe-selection mapping otherwise (and in
+// the bins whose route is the material's); every estimator and MIS weight
+// uses the pdf of the strategy the sample actually used.
 
 #include <cstdint>
 #include <optional>
@@ -77,7 +78,7 @@ class PathIntegrator {
 
   int maxDepth() const { return maxDepth_; }
 
- // One path between bounces; defined (and used only) in path_integrator.cpp.
+  // One path between bounces; defined (and used only) in path_integrator.cpp.
   struct PathState;
 
  private:

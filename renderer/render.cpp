@@ -87,6 +87,9 @@ ImageAttributes renderAttributes(const std::string &scene, const RenderSettings 
           {"nuld:resolution", std::to_string(s.width) + "x" + std::to_string(s.height)},
           {"nuld:max_depth", std::to_string(s.maxDepth)},
           {"nuld:lobe_mix", formatRoundTrip(*lobes.samplingMix)},
+          {"nuld:lobe_routes", toString(lobes.routing)},
+          {"nuld:lobe_defensive", formatRoundTrip(lobes.defensive)},
+          {"nuld:lobe_bounces", std::to_string(lobes.bounces)},
           {"nuld:render_seconds", formatRoundTrip(stats.seconds)},
           {"nuld:setup_seconds", formatRoundTrip(stats.setupSeconds)},
           {"nuld:renderer_revision", std::to_string(kRendererRevision)},
@@ -105,6 +108,9 @@ RenderSettings RenderOverrides::appliedTo(RenderSettings s) const {
   if (integrator) s.integrator = *integrator;
   if (maxDepth) s.maxDepth = *maxDepth;
   if (lobeMix) s.lobeTables.samplingMix = lobeMix;
+  if (lobeRouting) s.lobeTables.routing = *lobeRouting;
+  if (lobeDefensive) s.lobeTables.defensive = *lobeDefensive;
+  if (lobeBounces) s.lobeTables.bounces = *lobeBounces;
   return s;
 }
 
@@ -123,17 +129,22 @@ Image render(const Scene &scene, const RenderSettings &s, SamplerBackend &backen
   const auto setupStart = std::chrono::steady_clock::now();
   SamplingTargets targets;
   targets.light = scene.environment ? scene.environment->target() : nullptr;
-  std::optional<LobeTables> lobes;
+  std::shared_ptr<const LobeTables> lobes;
   if (backend.samplesLobes() && s.integrator != IntegratorKind::Light) {
-    lobes.emplace(scene.materials, lobeTablesFor(s));
+    lobes = scene.lobeTables
+                ? scene.lobeTables->get(scene.materials, lobeTablesFor(s))
+                : std::make_shared<const LobeTables>(scene.materials, lobeTablesFor(s));
     targets.lobes = lobes->targets();
+    if (stats) {
+      stats->lobeBins = lobes->routes().size();
+      stats->lobeBinsTabulated = targets.lobes.size();
+    }
   }
   backend.prepare(s.spp, targets);
 
   const auto start = std::chrono::steady_clock::now();
   const PerspectiveCamera camera(scene.camera, s.width, s.height);
-  const PathIntegrator integrator(scene, s.integrator, s.maxDepth, lobes ? &*lobes : nullptr,
-                                  s.rouletteDepth);
+  const PathIntegrator integrator(scene, s.integrator, s.maxDepth, lobes.get(), s.rouletteDepth);
   Image image{s.width, s.height, 3, std::vector<float>(std::size_t(s.width) * s.height * 3)};
 
   const int tilesX = (s.width + kTile - 1) / kTile, tilesY = (s.height + kTile - 1) / kTile;

@@ -31,7 +31,7 @@ struct RenderSettings {
   int maxDepth = 5;
   int rouletteDepth = 2;  // the first hit (0-based) where Russian roulette may end a path
   // The lobe tables of a backend that samples lobes (built from the scene's
-  // materials for each render, and only for such a backend); see
+  // materials on the first such render and kept in Scene::lobeTables); see
   // lobeTablesFor.
   LobeTableSettings lobeTables{};
 };
@@ -47,6 +47,9 @@ struct RenderOverrides {
   std::optional<IntegratorKind> integrator;
   std::optional<int> maxDepth;
   std::optional<double> lobeMix;  // LobeTableSettings::samplingMix
+  std::optional<LobeRouting> lobeRouting;
+  std::optional<double> lobeDefensive;  // LobeTableSettings::defensive
+  std::optional<int> lobeBounces;       // LobeTableSettings::bounces
 
   RenderSettings appliedTo(RenderSettings s) const;
 };
@@ -58,11 +61,15 @@ struct RenderOverrides {
 LobeTableSettings lobeTablesFor(const RenderSettings &s);
 
 struct RenderStats {
-  double seconds = 0;       // the render, setup excluded
-  double setupSeconds = 0;  // building the lobe tables and preparing the backend
+  double seconds = 0;  // the render, setup excluded
+  double setupSeconds =
+      0;  // building the lobe tables (first render of a scene) and preparing the backend
   std::uint64_t rays = 0;
   std::uint64_t rejectedSamples = 0;   // non-finite values dropped
   std::uint64_t classicFallbacks = 0;  // first-bounce lobe contexts the backend declined
+  // The lobe tables' view bins, and those whose route is the table
+  // (LobeTables::routes); 0 when the backend samples no lobes.
+  std::size_t lobeBins = 0, lobeBinsTabulated = 0;
   double raysPerSecond() const { return seconds > 0 ? rays / seconds : 0; }
 };
 

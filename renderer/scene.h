@@ -11,6 +11,7 @@
 #include "renderer/camera.h"
 #include "renderer/embree_scene.h"
 #include "renderer/environment_light.h"
+#include "renderer/lobe_tables.h"
 
 namespace nuld {
 
@@ -19,6 +20,9 @@ struct Scene {
   std::vector<std::shared_ptr<const Bsdf>> materials;  // materials[i] shades mesh i
   std::optional<EnvironmentLight> environment;
   CameraSettings camera;
+  // The lobe tables its renders build, kept for the next render (only
+  // backends that sample lobes ask for them).
+  std::shared_ptr<LobeTableCache> lobeTables = std::make_shared<LobeTableCache>();
 };
 
 }  // namespace nuld

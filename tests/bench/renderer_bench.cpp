@@ -1,6 +1,12 @@
 // Renderer benchmarks (Google Benchmark; not timed tests):
 //  - PathTracer/SCENE/spp:N: the whole renderer at 512^2 and N spp per
 //    iteration, reported as traced rays per second;
+//  - Backend/SCENE/BACKEND: a 16-spp path render at the scene's resolution
+//    with sobol and with sobol-tabulated side by side (the lobe tables are
+//    built before timing: a scene builds them once);
+//  - BM_MaterialSample, BM_LobeRouteSample: one BSDF sample through the
+//    material's own sampler and through a tabulated route (table inverse CDF
+//    and the defensive split), at the dragon's material;
 //  - EmbreeRaw/SCENE/spp:N: the same rays, recorded from one such render,
 //    replayed through rtcIntersect1 alone with the same TBB parallelism.
 // Their ratio (renderer rays/s over raw rays/s) is what the renderer issue
@@ -16,7 +22,10 @@
 #include <filesystem>
 #include <memory>
 
+#include "materials/disney.h"
+#include "renderer/lobe_tables.h"
 #include "renderer/render.h"
+#include "sampler/sequences/rng.h"
 #include "scenes/scene_file.h"
 
 namespace nuld {
@@ -85,6 +94,69 @@ void EmbreeRaw(benchmark::State &state, const std::string &name, std::size_t spp
   state.counters["rays_per_second"] = benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
 }
 
+void Backend(benchmark::State &state, const std::string &name, const std::string &backendName) {
+  Fixture &f = fixture(name);
+  RenderSettings settings = f.scene.settings;
+  settings.spp = 16;
+  settings.integrator = IntegratorKind::Path;
+  {  // the scene's tables, built once as every render of the scene would
+    auto backend = makeBackend(backendName, 0);
+    if (backend->samplesLobes())
+      f.scene.scene.lobeTables->get(f.scene.scene.materials, lobeTablesFor(settings));
+  }
+  for (auto _ : state) {
+    auto backend = makeBackend(backendName, 0);
+    benchmark::DoNotOptimize(render(f.scene.scene, settings, *backend));
+  }
+}
+
+// The dragon's material (scenes/dragon.json) at a 45-degree view.
+DisneyParams dragonMaterial() {
+  DisneyParams p;
+  p.baseColor = {0.35, 0.65, 0.45};
+  p.subsurface = 1;
+  p.roughness = 0.45;
+  p.specular = 0.5;
+  p.sheen = 0.3;
+  return p;
+}
+const Vec3 kWo{0.7071067811865476, 0, 0.7071067811865476};
+
+std::vector<Point2> uniformPoints(int n) {
+  Rng rng(1);
+  std::vector<Point2> u(n);
+  for (Point2 &p : u) p = {rng.uniform(), rng.uniform()};
+  return u;
+}
+
+void BM_MaterialSample(benchmark::State &state) {
+  const DisneyBrdf brdf(dragonMaterial());
+  const auto us = uniformPoints(4096);
+  std::size_t k = 0;
+  for (auto _ : state) benchmark::DoNotOptimize(brdf.sample(kWo, us[k++ & 4095]));
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_MaterialSample);
+
+// Arg: the defensive share in percent. The table's point comes from its
+// inverse CDF, as sobol-tabulated's do.
+void BM_LobeRouteSample(benchmark::State &state) {
+  const auto brdf = std::make_shared<const DisneyBrdf>(dragonMaterial());
+  LobeTableSettings settings;
+  settings.samplingMix = 1.0;
+  settings.routing = LobeRouting::Table;
+  settings.defensive = double(state.range(0)) / 100;
+  const LobeTables tables({brdf}, settings);
+  const LobeFrame lobe = *tables.frame(brdf.get(), kWo);
+  const auto us = uniformPoints(4096);
+  std::size_t k = 0;
+  for (auto _ : state)
+    benchmark::DoNotOptimize(
+        sampleLobeRoute(*brdf, kWo, lobe, lobe.table->invert(us[k++ & 4095]).x));
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_LobeRouteSample)->Arg(0)->Arg(10);
+
 bool haveAssets() {
   return std::filesystem::exists(std::filesystem::path(resolveAssetRoot("")) / "lte_orb");
 }
@@ -104,6 +176,12 @@ const bool registered = [] {
           ->Unit(benchmark::kMillisecond)
           ->UseRealTime();
     }
+  if (haveAssets())
+    for (const char *b : {"sobol", "sobol-tabulated"})
+      benchmark::RegisterBenchmark((std::string("Backend/dragon/") + b).c_str(), Backend, "dragon",
+                                   b)
+          ->Unit(benchmark::kMillisecond)
+          ->UseRealTime();
   return true;
 }();
 

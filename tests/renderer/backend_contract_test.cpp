@@ -71,7 +71,9 @@ Scene contractScene() {
 
 TEST_P(BackendContract, PointsAreInTheUnitSquareAndAPureFunctionOfTheirArguments) {
   const Scene scene = contractScene();
-  const LobeTables lobes(scene.materials, lobeTablesFor(RenderSettings{}));
+  RenderSettings rs;
+  rs.lobeTables.routing = LobeRouting::Table;  // every bin a context
+  const LobeTables lobes(scene.materials, lobeTablesFor(rs));
   SamplingTargets targets{scene.environment->target(), lobes.targets()};
   auto a = makeBackend(spec(), 7), b = makeBackend(spec(), 7);
   a->prepare(kSpp, targets);

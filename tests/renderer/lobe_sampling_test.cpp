@@ -26,9 +26,12 @@ using test::constantMap;
 using test::sceneWith;
 
 constexpr double kPi = std::numbers::pi;
-// Density by estimator (for RenderSettings), and f cos (for LobeTables).
-const LobeTableSettings kSmallTables{4, 2, 64, std::nullopt};
-const LobeTableSettings kSmallProductTables{4, 2, 64, 0.0};
+// Density by estimator (for RenderSettings), and f cos (for LobeTables);
+// every bin served by its table (these tests are about the tables; the route
+// measurement has its own, lobe_routes_test.cpp). The render settings keep
+// the defensive mixture, the tables alone have none.
+const LobeTableSettings kSmallTables{4, 2, 64, std::nullopt, LobeRouting::Table};
+const LobeTableSettings kSmallProductTables{4, 2, 64, 0.0, LobeRouting::Table, 0.0};
 
 std::shared_ptr<const DisneyBrdf> disney(double anisotropic, double roughness = 0.4) {
   DisneyParams p;
@@ -80,9 +83,9 @@ TEST(LobeTables, PdfOfADrawnDirectionIsTheTablesDensityThere) {
         const Vec3 wi = f.direction(x);
         EXPECT_NEAR(length(wi), 1, 1e-12);
         const double expected = f.table->pdf(x) * kInvFourPi;
-        ASSERT_NEAR(f.pdf(wi), expected, 1e-9 * expected) << x.x << " " << x.y;
+        ASSERT_NEAR(f.tablePdf(wi), expected, 1e-9 * expected) << x.x << " " << x.y;
       }
-      EXPECT_EQ(f.pdf({0, 0, -1}), 0);
+      EXPECT_EQ(f.tablePdf({0, 0, -1}), 0);
     }
 }
 
@@ -121,7 +124,7 @@ TEST(LobeTables, DrawnDirectionsFollowTheFramesPdf) {
               const double phi = phiO + 2 * kPi * (bx + (sx + 0.5) / kSub) / kPhi;
               const double r = std::sqrt(1 - z * z);
               // d omega = d phi d z
-              expected[bz * kPhi + bx] += f.pdf({r * std::cos(phi), r * std::sin(phi), z}) *
+              expected[bz * kPhi + bx] += f.tablePdf({r * std::cos(phi), r * std::sin(phi), z}) *
                                           (2 * kPi / kPhi / kSub) * (1.0 / kZ / kSub) * kSamples;
             }
       const test::ChiSquare c = test::pooledChiSquare(observed, expected);

@@ -173,4 +173,25 @@ std::string targetOptionHelp(const std::string &what) {
   return what + ": " + list + " (nuld help targets)";
 }
 
+void addLobeRouteOptions(CLI::App &app, LobeRouteOptions &o) {
+  app.add_option("--lobe-routes", o.routes,
+                 "which view bins sample their lobe table: measured (those measured at least "
+                 "as good as the material's own sampler, the default) or table (every bin)")
+      ->check(oneOf(kLobeRoutingNames));
+  app.add_option("--lobe-defensive", o.defensive,
+                 "share of tabulated samples drawn by the material's own sampler; weights are "
+                 "then at most 1/share times the material's (default 0.05)")
+      ->check(numberIn(0, 1));
+  app.add_option("--lobe-bounces", o.bounces,
+                 "how many bounces, from the first, sample lobe tables (default 1; 0: every "
+                 "bounce)")
+      ->check(wholeNumberIn(0, kMaxDepthLimit));
+}
+
+void applyLobeRouteOptions(const LobeRouteOptions &o, RenderOverrides &change) {
+  if (!o.routes.empty()) change.lobeRouting = kLobeRoutingNames.parse(o.routes);
+  change.lobeDefensive = o.defensive;
+  change.lobeBounces = o.bounces;
+}
+
 }  // namespace nuld::cli

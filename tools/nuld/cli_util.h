@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "renderer/render.h"
 #include "sampler/enum_names.h"
 #include "sampler/optimize/resumable_run.h"
 #include "sampler/point.h"
@@ -76,6 +77,20 @@ CLI::Validator wholeNumberIn(std::int64_t lo, std::int64_t hi);
 CLI::Validator numberIn(double lo, double hi);
 CLI::Validator positiveNumber();
 CLI::Validator nonNegativeNumber();
+
+// --lobe-routes (measured or table), --lobe-defensive (the defensive share)
+// and --lobe-bounces (how many bounces sample tables), for the commands that
+// render (renderer/README.md, "Lobe routes");
+// the apply step copies what was given into the overrides.
+struct LobeRouteOptions {
+  std::string routes;
+  std::optional<double> defensive;
+  std::optional<int> bounces;
+};
+void addLobeRouteOptions(CLI::App &app, LobeRouteOptions &o);
+void applyLobeRouteOptions(const LobeRouteOptions &o, RenderOverrides &change);
+inline constexpr std::initializer_list<const char *> kLobeRouteOptionNames = {
+    "--lobe-routes", "--lobe-defensive", "--lobe-bounces"};
 
 // The name in `names` closest to `word` by edit distance, when it is close
 // enough to be a likely typo (at most a third of the word's letters wrong);

@@ -20,6 +20,7 @@ Runner addRender(CLI::App &app) {
     std::size_t spp = 0;
     int maxDepth = 0;
     std::optional<double> lobeMix;
+    LobeRouteOptions routes;
     std::int64_t seed = -1;
     bool quiet = false;
   };
@@ -50,6 +51,7 @@ Runner addRender(CLI::App &app) {
          "material's own sampling pdf, between a mixture (default: 0 for --integrator "
          "bsdf, 1 under MIS)")
       ->check(numberIn(0, 1));
+  addLobeRouteOptions(app, o->routes);
   app.add_option("--seed", o->seed, "seed of the backend's randomization")
       ->check(wholeNumberIn(0, std::int64_t(1) << 62));
   app.add_option("-o,--output", o->output, "output EXR (a tone-mapped PNG is written beside it)")
@@ -68,11 +70,13 @@ Runner addRender(CLI::App &app) {
     if (!o->integrator.empty()) change.integrator = parseIntegrator(o->integrator);
     if (o->maxDepth) change.maxDepth = o->maxDepth;
     change.lobeMix = o->lobeMix;
+    applyLobeRouteOptions(o->routes, change);
     const RenderSettings s = change.appliedTo(loaded.settings);
     onlyWhen(app, s.integrator == IntegratorKind::Path, {"--max-depth"}, "--integrator path");
     const std::uint64_t seed = o->seed >= 0 ? std::uint64_t(o->seed) : loaded.seed;
     const auto backend = makeBackend(o->backend.empty() ? loaded.backend : o->backend, seed);
-    onlyWhen(app, backend->samplesLobes() && s.integrator != IntegratorKind::Light, {"--lobe-mix"},
+    onlyWhen(app, backend->samplesLobes() && s.integrator != IntegratorKind::Light,
+             {"--lobe-mix", "--lobe-routes", "--lobe-defensive", "--lobe-bounces"},
              "a backend that samples lobe tables (sobol-tabulated, lobe banks) and an integrator "
              "other than light");
 
@@ -93,6 +97,9 @@ Runner addRender(CLI::App &app) {
     std::printf("rejected_samples %llu\nclassic_fallbacks %llu\n",
                 (unsigned long long)stats.rejectedSamples,
                 (unsigned long long)stats.classicFallbacks);
+    if (stats.lobeBins)
+      std::printf("lobe_bins %zu\nlobe_bins_tabulated %zu\n", stats.lobeBins,
+                  stats.lobeBinsTabulated);
     return 0;
   };
 }

@@ -114,6 +114,7 @@ Runner addStudyRender(CLI::App &app) {
   struct Options {
     study::RenderStudySettings s;
     std::string res, integrator, out;
+    LobeRouteOptions routes;
     bool noReport = false, quiet = false;
   };
   auto o = std::make_shared<Options>();
@@ -170,6 +171,7 @@ Runner addStudyRender(CLI::App &app) {
          "material's own sampling pdf, between a mixture (default: 0 for --integrator "
          "bsdf, 1 under MIS)")
       ->check(numberIn(0, 1));
+  addLobeRouteOptions(app, o->routes);
   app.add_option("--assets", o->s.assets,
                  "asset root (default: $NULD_ASSETS, else ../shared/assets)");
   app.add_option("-o,--output", o->out, "study directory (created; a rerun resumes it)")
@@ -184,6 +186,13 @@ Runner addStudyRender(CLI::App &app) {
   return [o, &app] {
     study::RenderStudySettings s = o->s;
     s.out = o->out;
+    {
+      RenderOverrides change;
+      applyLobeRouteOptions(o->routes, change);
+      s.lobeRouting = change.lobeRouting;
+      s.lobeDefensive = change.lobeDefensive;
+      s.lobeBounces = change.lobeBounces;
+    }
     if (s.scenes.empty()) s.scenes = {"default"};
     const auto anyBackend = [&](std::initializer_list<const char *> prefixes) {
       for (const std::string &b : s.backends)
@@ -206,7 +215,7 @@ Runner addStudyRender(CLI::App &app) {
                            return b.rfind("sobol-tabulated", 0) == 0 ||
                                   b.rfind("optimized-b", 0) == 0 || b.find(':') != b.npos;
                          }),
-             {"--lobe-mix"},
+             {"--lobe-mix", "--lobe-routes", "--lobe-defensive", "--lobe-bounces"},
              "backends that sample lobe tables (sobol-tabulated, optimized-bsdf, optimized-both, "
              "optimized:PATHS, shifted:PATHS, neural:MODEL)");
     onlyWhen(app, !app.count("--integrator") || o->integrator == "path", {"--max-depth"},

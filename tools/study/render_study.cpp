@@ -68,9 +68,9 @@ struct BackendPlan {
   std::string why;
 };
 
-BackendPlan planBackend(const std::string &backend, const Scene &scene,
-                        const std::optional<LobeTables> &tables, const std::string &sceneSlug,
-                        std::size_t spp, const RenderStudySettings &s) {
+BackendPlan planBackend(const std::string &backend, const Scene &scene, const LobeTables *tables,
+                        const std::string &sceneSlug, std::size_t spp,
+                        const RenderStudySettings &s) {
   if (!isStudyBackend(backend)) return {backend, {}, ""};
   if (hasShiftSuffix(backend)) {
     BackendPlan plan = planBackend(withoutShift(backend), scene, tables, sceneSlug, spp, s);
@@ -116,6 +116,14 @@ BackendPlan planBackend(const std::string &backend, const Scene &scene,
     request.objective = Objective::ExactL2asd;
     request.unionWeight = s.lobeUnionWeight;
     const auto targets = tables->targets();
+    // No bin whose route is the table: every BSDF sample keeps the
+    // material's sampler, and the bank backend's fallback is Owen-Sobol with
+    // the same seed, so the row is sobol's (or optimized's) bit for bit.
+    if (targets.empty()) {
+      if (paths.empty()) return {"sobol", {}, ""};
+      plan.spec = "optimized:" + paths[0];
+      return plan;
+    }
     // The directory is the bank the renderer loads whole, so its name carries
     // the settings: sets made with other settings never join it.
     char hash[17];
@@ -289,6 +297,10 @@ void RenderStudySettings::validate() const {
     throw std::invalid_argument("--opt-union-weight: expected a finite weight >= 0");
   if (lobeMix && !(*lobeMix >= 0 && *lobeMix <= 1))
     throw std::invalid_argument("--lobe-mix: expected a number in [0, 1]");
+  if (lobeBounces && *lobeBounces < 0)
+    throw std::invalid_argument("--lobe-bounces: expected a count >= 0 (0: every bounce)");
+  if (lobeDefensive && !(*lobeDefensive >= 0 && *lobeDefensive <= 1))
+    throw std::invalid_argument("--lobe-defensive: expected a number in [0, 1]");
   if (out.empty()) throw std::invalid_argument("study render: -o OUTDIR is required");
   for (const auto &b : backends)  // fail now, not after an hour of reference
     if (!isStudyBackend(b) && b.rfind("optimized:", 0) != 0 && b.rfind("points:", 0) != 0 &&
@@ -304,6 +316,9 @@ RenderOverrides RenderStudySettings::overrides() const {
   o.integrator = integrator;
   if (maxDepth) o.maxDepth = maxDepth;
   o.lobeMix = lobeMix;
+  o.lobeRouting = lobeRouting;
+  o.lobeDefensive = lobeDefensive;
+  o.lobeBounces = lobeBounces;
   return o;
 }
 
@@ -315,6 +330,9 @@ std::string RenderStudySettings::rowOptions() const {
     << " integrator=" << (integrator ? toString(*integrator) : "scene")
     << " max-depth=" << (maxDepth ? std::to_string(maxDepth) : "scene")
     << " lobe-mix=" << (lobeMix ? formatNumber(*lobeMix) : "auto")
+    << " lobe-routes=" << toString(lobeRouting.value_or(LobeRouting::Measured))
+    << " lobe-defensive=" << formatNumber(lobeDefensive.value_or(LobeTableSettings{}.defensive))
+    << " lobe-bounces=" << lobeBounces.value_or(LobeTableSettings{}.bounces)
     << " opt-instances=" << optimizedInstances << " opt-epochs=" << optimizedEpochs
     << " opt-union-weight=" << formatNumber(lobeUnionWeight) << " reference-spp=" << reference.spp
     << " reference-pass-spp=" << reference.passSpp << " reference-backend=" << reference.backend;
@@ -396,15 +414,29 @@ RenderStudyResult runRenderStudy(const RenderStudySettings &s, const StudyProgre
       for (const std::string &backend : s.backends)
         if (!table.hasRow({sceneSlug, backend, std::to_string(spp)}))
           cells.push_back({backend, spp});
-    std::optional<LobeTables> tables;
-    for (const Pending &c : cells)
-      if (!tables && withoutShift(c.backend).rfind("optimized-b", 0) == 0)
-        tables.emplace(loaded.scene.materials, lobeTablesFor(rs));
+    // The scene's lobe tables, built once before any cell when a backend
+    // samples lobes (the renders then reuse them), their time counted as
+    // setup of the cells that use them rather than as the first render's.
+    std::shared_ptr<const LobeTables> tables;
+    double tableSeconds = 0;
+    const auto samplesLobes = [](const std::string &backend) {
+      const std::string b = withoutShift(backend);
+      if (isStudyBackend(backend)) return b.rfind("optimized-b", 0) == 0;
+      return makeBackend(b, 0)->samplesLobes();
+    };
+    if (rs.integrator != IntegratorKind::Light)
+      for (const Pending &c : cells)
+        if (!tables && samplesLobes(c.backend)) {
+          const auto start = Clock::now();
+          tables = loaded.scene.lobeTables->get(loaded.scene.materials, lobeTablesFor(rs));
+          tableSeconds = secondsSince(start);
+        }
 
     // First the sets the cells need, each optimized once, on one rank.
     std::vector<SetsJob> jobs;
     for (const Pending &c : cells)
-      for (SetsJob &job : planBackend(c.backend, loaded.scene, tables, sceneSlug, c.spp, s).sets)
+      for (SetsJob &job :
+           planBackend(c.backend, loaded.scene, tables.get(), sceneSlug, c.spp, s).sets)
         jobs.push_back(std::move(job));
     makeMissingSets(
         ranks, jobs,
@@ -423,9 +455,9 @@ RenderStudyResult runRenderStudy(const RenderStudySettings &s, const StudyProgre
         [&](std::size_t i) {
           const Pending &pending = cells[i];
           const BackendPlan plan =
-              planBackend(pending.backend, loaded.scene, tables, sceneSlug, pending.spp, s);
+              planBackend(pending.backend, loaded.scene, tables.get(), sceneSlug, pending.spp, s);
           if (plan.spec.empty()) return ByteWriter().put(std::string("skip")).put(plan.why).take();
-          double setupSeconds = 0;
+          double setupSeconds = samplesLobes(pending.backend) ? tableSeconds : 0;
           for (const SetsJob &job : plan.sets)
             setupSeconds += optimizedSets(*job.target, job.request, job.file).seconds;
           RenderSettings settings = rs;

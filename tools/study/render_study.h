@@ -61,6 +61,9 @@ struct RenderStudySettings {
   // The lobe tables' density (LobeTableSettings::samplingMix); nullopt: by
   // the estimator (lobeTablesFor).
   std::optional<double> lobeMix;
+  std::optional<LobeRouting> lobeRouting;  // --lobe-routes (unset: measured)
+  std::optional<double> lobeDefensive;     // --lobe-defensive (unset: the default share)
+  std::optional<int> lobeBounces;          // --lobe-bounces (unset: the default)
   std::filesystem::path out;
 
   // Throws std::invalid_argument naming the bad option.
