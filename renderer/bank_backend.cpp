@@ -203,8 +203,9 @@ const std::vector<BackendDescription> &backendDescriptions() {
        "baseline)"},
       {"halton", "Owen-scrambled Halton, mapped as independent"},
       {"sobol-tabulated",
-       "sobol, with BSDF samples through the tabulated lobe's inverse CDF at "
-       "every bounce (the strongest classic baseline; --lobe-mix)"},
+       "sobol, with first-bounce BSDF samples through the tabulated lobe's "
+       "inverse CDF where the view bin's measured route is the table (the "
+       "strongest classic baseline; --lobe-mix, --lobe-routes)"},
       {"optimized:PATHS",
        "point-set files or directories (comma-separated): sets for the "
        "scene's map, lobe tables or the uniform target serve the first "

@@ -55,10 +55,13 @@ class SequenceBackend final : public SamplerBackend {
   // whose samples all sample one table, exactly Owen-Sobol through it.
   bool distributed(const Target &target, std::uint64_t pixel, std::uint32_t pair,
                    std::span<Point2> out) const override {
-    if (std::find(lobes_.begin(), lobes_.end(), &target) == lobes_.end()) return false;
+    if (!mapsPrimaryThrough(target)) return false;
     primary(pixel, pair, out);
     for (Point2 &p : out) p = target.invert(p).x;
     return true;
+  }
+  bool mapsPrimaryThrough(const Target &target) const override {
+    return std::find(lobes_.begin(), lobes_.end(), &target) != lobes_.end();
   }
 
  private:

@@ -18,9 +18,6 @@ namespace {
 
 constexpr double kDegrees = 180 / std::numbers::pi;
 
-int binOf(double value, double range, int bins) {
-  return std::clamp(int(value / range * bins), 0, bins - 1);
-}
 double binCentre(int bin, double range, int bins) { return (bin + 0.5) * range / bins; }
 
 // The route measurement (renderer/README.md, "Lobe routes"): smooth lights in
@@ -58,7 +55,7 @@ RouteVariances measureAt(const DisneyBrdf &m, Vec3 wo, const LobeFrame &lobe, st
       };
       const auto c = m.sample(wo, u[i]);
       add(c, c ? c->pdf : 0, classic);
-      const auto t = sampleLobeRoute(m, wo, lobe, lobe.table->invert(u[i]).x);
+      const auto t = sampleLobeRoute(m, wo, lobe, u[i]);
       add(t, t ? t->pdf : 0, table);
     }
   }
@@ -78,16 +75,16 @@ RouteVariances measureAt(const DisneyBrdf &m, Vec3 wo, const LobeFrame &lobe, st
 }  // namespace
 
 std::optional<BsdfSample> sampleLobeRoute(const Bsdf &bsdf, Vec3 wo, const LobeFrame &lobe,
-                                          Point2 x) {
+                                          Point2 u) {
   BsdfSample s;
-  // The defensive split, in the table's primary space (its CDF map), where
-  // x's set is uniform: a strip of width d of the conditional coordinate
-  // goes to the material's sampler, the rest, stretched back to the whole
-  // square, to the table. The points of a set keep their stratification on
-  // both sides, which a random choice per sample would not.
+  // The defensive split, in the table's primary space, where a set that
+  // follows the table is uniform: a strip of width d of the conditional
+  // coordinate goes to the material's sampler, the rest, stretched back to
+  // the whole square, to the table. The points of a set keep their
+  // stratification on both sides, which a random choice per sample would
+  // not.
   const double d = lobe.defensive;
-  const Point2 u = d > 0 ? lobe.table->primaryOf(x) : x;
-  if (d > 0 && u.x < d) {
+  if (u.x < d) {
     const auto own = bsdf.sample(wo, {u.x / d, u.y});
     if (!own) return std::nullopt;
     s = *own;
@@ -96,9 +93,7 @@ std::optional<BsdfSample> sampleLobeRoute(const Bsdf &bsdf, Vec3 wo, const LobeF
     // The table's density from the cell the point lies in (no second
     // lookup through the direction).
     GridTarget::Cell cell;
-    const Point2 xt = d > 0 ? lobe.table->invert({(u.x - d) / (1 - d), u.y}, cell).x : x;
-    if (!(d > 0)) cell = lobe.table->locate(x);
-    s.wi = lobe.direction(xt);
+    s.wi = lobe.direction(lobe.table->invert({(u.x - d) / (1 - d), u.y}, cell).x);
     if (!(s.wi.z > 0)) return std::nullopt;
     const BsdfValue v = bsdf.evalWithPdf(wo, s.wi);
     s.f = v.f;
@@ -132,12 +127,16 @@ LobeTables::LobeTables(const std::vector<std::shared_ptr<const Bsdf>> &materials
     throw std::invalid_argument("lobe tables: the defensive share must be in [0, 1]");
   if (settings.bounces < 0)
     throw std::invalid_argument("lobe tables: the bounces must be >= 0 (0: every bounce)");
+  for (int t = 1; t < settings.thetaBins; ++t)
+    cosThetaEdges_.push_back(std::cos(t * 90.0 / settings.thetaBins / kDegrees));
+  for (int p = 1; p < settings.phiBins; ++p)
+    tanPhiEdges_.push_back(std::tan(p * 90.0 / settings.phiBins / kDegrees));
   for (const auto &m : materials) {
     const auto *disney = dynamic_cast<const DisneyBrdf *>(m.get());
     if (!disney || std::any_of(entries_.begin(), entries_.end(),
                                [&](const Entry &e) { return e.material == disney; }))
       continue;
-    Entry e{disney, disney->params().anisotropic > 0, {}};
+    Entry e{disney, disney->params().anisotropic > 0, {}, {}};
     const int phiBins = e.anisotropic ? settings.phiBins : 1;
     for (int t = 0; t < settings.thetaBins; ++t)
       for (int p = 0; p < phiBins; ++p) {
@@ -194,18 +193,22 @@ void LobeTables::measureRoutes(Entry &e, std::size_t material) {
 }
 
 LobeFrame LobeTables::binFrame(const Entry &e, Vec3 wo, std::size_t &index) const {
-  const double r = std::hypot(wo.x, wo.y);
-  const int t = binOf(std::atan2(r, wo.z) * kDegrees, 90, settings_.thetaBins);
+  // The bins by comparisons with their edges' cosines and tangents (wo is a
+  // unit vector): no atan2 per shading point.
+  int t = 0;
+  while (t + 1 < settings_.thetaBins && wo.z <= cosThetaEdges_[t]) ++t;
   LobeFrame f;
   f.defensive = settings_.defensive;
   if (!e.anisotropic) {
     index = std::size_t(t);
+    const double r = std::sqrt(wo.x * wo.x + wo.y * wo.y);
     if (r > 0) f.cosPhi = wo.x / r, f.sinPhi = wo.y / r;
   } else {
     f.flipX = wo.x < 0 ? -1 : 1;
     f.flipY = wo.y < 0 ? -1 : 1;
-    const int p =
-        binOf(std::atan2(std::abs(wo.y), std::abs(wo.x)) * kDegrees, 90, settings_.phiBins);
+    const double x = std::abs(wo.x), y = std::abs(wo.y);
+    int p = 0;
+    while (p + 1 < settings_.phiBins && y > x * tanPhiEdges_[p]) ++p;
     index = std::size_t(t) * settings_.phiBins + p;
   }
   f.table = e.tables[index].get();

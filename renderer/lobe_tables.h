@@ -105,14 +105,15 @@ struct LobeFrame {
   }
 };
 
-// The sample of the route `lobe` at wo for the table's point x: x's
-// primary point u (the table's CDF map) decides, a share `defensive` of the
-// square (u.x < defensive) going to the material's own sample() and the rest
-// to the table; f is the material's and pdf the route's mixture density
-// (LobeFrame::pdf). With x following the table, wi follows that mixture.
-// nullopt when no direction results.
+// The sample of the route `lobe` at wo for the table's primary point u (a
+// point x that follows the table has u = table->primaryOf(x); the table
+// maps u back to x by its inverse CDF): a share `defensive` of the square
+// (u.x < defensive) goes to the material's own sample() and the rest,
+// stretched over the square, through the table. f is the material's and pdf
+// the route's mixture density (LobeFrame::pdf); with u uniform, wi follows
+// that mixture. nullopt when no direction results.
 std::optional<BsdfSample> sampleLobeRoute(const Bsdf &bsdf, Vec3 wo, const LobeFrame &lobe,
-                                          Point2 x);
+                                          Point2 u);
 
 // What the route measurement found for one bin (renderer/README.md, "Lobe
 // routes"): the relative variance of a 16-point Owen-Sobol estimate of the
@@ -157,6 +158,9 @@ class LobeTables {
   // The frame of bin `index` of `e` at wo, whatever its route.
   LobeFrame binFrame(const Entry &e, Vec3 wo, std::size_t &index) const;
   LobeTableSettings settings_;
+  // The inner edges of the theta bins as cosines and of the phi bins as
+  // tangents, in increasing angle.
+  std::vector<double> cosThetaEdges_, tanPhiEdges_;
   std::vector<Entry> entries_;
   std::vector<LobeBinRoute> routes_;
 };

@@ -82,7 +82,8 @@ struct PathIntegrator::PathState {
   Shading sh;
   Vec3 wo;
   // The BSDF strategy of this sample at the hit: the tabulated lobe `lobe`
-  // with the backend's point `lobePoint`, or (lobe.table null) the material's
+  // with the table's primary point `lobePoint` (GridTarget::primaryOf of the
+  // backend's point), or (lobe.table null) the material's
   // own sample().
   LobeFrame lobe;
   Point2 lobePoint;
@@ -181,10 +182,9 @@ void PathIntegrator::chooseBsdfStrategies(std::span<PathState> path, int depth,
       continue;
     const auto frame = lobes_->frame(p.bsdf, p.wo);
     if (!frame) continue;
-    if (const Point2 *x =
-            p.samples->distributed(*frame->table, SamplePairs::bsdf(depth), p.index)) {
+    if (const auto u = p.samples->tablePrimary(*frame->table, SamplePairs::bsdf(depth), p.index)) {
       p.lobe = *frame;
-      p.lobePoint = *x;
+      p.lobePoint = *u;
     } else if (depth == 0) {
       ++counters.classicFallbacks;
     }

@@ -10,9 +10,11 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "renderer/sampler_backend.h"
+#include "sampler/targets/grid_target.h"
 #include "sampler/targets/target.h"
 
 namespace nuld {
@@ -41,20 +43,26 @@ class PixelSamples {
   }
 
   // Point i of the pair already distributed by `target`, if the backend has
-  // such points (asked once per pixel, pair and target).
+  // such points (asked once per pixel, pair and target). The pointer is
+  // valid until the next call.
   const Point2 *distributed(const Target &target, std::uint32_t pair, std::size_t i) {
-    Pair &p = slot(pair);
-    const auto active = p.contexts.begin() + std::ptrdiff_t(p.activeContexts);
-    auto it = std::find_if(p.contexts.begin(), active,
-                           [&](const Context &c) { return c.target == &target; });
-    if (it == active) {
-      if (p.activeContexts == p.contexts.size()) p.contexts.emplace_back();
-      it = p.contexts.begin() + std::ptrdiff_t(p.activeContexts++);
-      it->target = &target;
-      it->points.resize(spp_);
-      it->served = backend_.distributed(target, pixel_, pair, it->points);
+    const Context &c = context(target, pair);
+    if (c.mapped) {  // the one point used, as distributed() would give it
+      mapped_ = target.invert(primary(pair, i)).x;
+      return &mapped_;
     }
-    return it->served ? &it->points[i] : nullptr;
+    return c.served ? &c.points[i] : nullptr;
+  }
+
+  // The table's primary point (its CDF map, GridTarget::primaryOf) of point
+  // i of the pair distributed by `table`, if the backend has such points:
+  // for a backend that maps primary points (mapsPrimaryThrough) the pair's
+  // primary point itself, with no inverse CDF taken.
+  std::optional<Point2> tablePrimary(const GridTarget &table, std::uint32_t pair, std::size_t i) {
+    const Context &c = context(table, pair);
+    if (c.mapped) return primary(pair, i);
+    if (!c.served) return std::nullopt;
+    return table.primaryOf(c.points[i]);
   }
 
  private:
@@ -62,6 +70,7 @@ class PixelSamples {
     const Target *target = nullptr;
     std::vector<Point2> points;
     bool served = false;
+    bool mapped = false;  // served point by point from primary() (mapsPrimaryThrough)
   };
   struct Pair {
     std::vector<Point2> primary;
@@ -69,6 +78,25 @@ class PixelSamples {
     std::vector<Context> contexts;  // the first activeContexts are this pixel's
     std::size_t activeContexts = 0;
   };
+  // The pair's context for `target`, asked of the backend the first time.
+  const Context &context(const Target &target, std::uint32_t pair) {
+    Pair &p = slot(pair);
+    const auto active = p.contexts.begin() + std::ptrdiff_t(p.activeContexts);
+    auto it = std::find_if(p.contexts.begin(), active,
+                           [&](const Context &c) { return c.target == &target; });
+    if (it != active) return *it;
+    if (p.activeContexts == p.contexts.size()) p.contexts.emplace_back();
+    Context &c = p.contexts[p.activeContexts++];
+    c.target = &target;
+    c.mapped = backend_.mapsPrimaryThrough(target);
+    if (c.mapped) {
+      c.served = true;
+    } else {
+      c.points.resize(spp_);
+      c.served = backend_.distributed(target, pixel_, pair, c.points);
+    }
+    return c;
+  }
   Pair &slot(std::uint32_t pair) {
     if (pair >= pairs_.size()) pairs_.resize(pair + 1);
     return pairs_[pair];
@@ -78,6 +106,7 @@ class PixelSamples {
   std::size_t spp_;
   std::uint64_t pixel_ = 0;
   std::vector<Pair> pairs_;
+  Point2 mapped_;
 };
 
 }  // namespace nuld

@@ -88,6 +88,12 @@ class SamplerBackend {
                            std::span<Point2> out) const {
     return false;
   }
+
+  // Whether distributed(target, ...) is exactly primary() mapped point by
+  // point through target.invert() (sobol-tabulated's lobes). The renderer
+  // then maps only the points it uses, from the pair's primary points it
+  // already holds, instead of asking for a whole set per context.
+  virtual bool mapsPrimaryThrough(const Target &target) const { return false; }
 };
 
 // The backends makeBackend knows, as (spelling, what it samples), in the

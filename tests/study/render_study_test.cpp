@@ -159,12 +159,15 @@ TEST_F(TinyStudy, RerunResumesWithoutDuplicates) {
   for (std::size_t i = 0; i + 1 < again.rows().size(); ++i)
     EXPECT_EQ(again.rows()[i], t.rows()[i]) << "kept rows are not rewritten";
 
-  // Other repeats or another lobe mix would add rows unlike the kept ones:
+  // Other repeats or other lobe options would add rows unlike the kept ones:
   // refused before anything renders, naming the option.
   for (const auto &[option, edit] :
        std::vector<std::pair<std::string, std::function<void(RenderStudySettings &)>>>{
            {"--repeats", [](RenderStudySettings &s) { s.repeats += 1; }},
-           {"--lobe-mix", [](RenderStudySettings &s) { s.lobeMix = 0.5; }}}) {
+           {"--lobe-mix", [](RenderStudySettings &s) { s.lobeMix = 0.5; }},
+           {"--lobe-routes", [](RenderStudySettings &s) { s.lobeRouting = LobeRouting::Table; }},
+           {"--lobe-defensive", [](RenderStudySettings &s) { s.lobeDefensive = 0.2; }},
+           {"--lobe-bounces", [](RenderStudySettings &s) { s.lobeBounces = 0; }}}) {
     RenderStudySettings s = tinyStudy(copy);
     edit(s);
     try {

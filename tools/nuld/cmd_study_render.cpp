@@ -2,6 +2,7 @@
 // nuld study report: the plots and the HTML page of a study directory.
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <map>
@@ -61,11 +62,14 @@ double number(const std::string &s) {
 void printTable(const study::CsvTable &table) {
   const auto col = [&](const char *name) { return table.column(name); };
   const std::size_t scene = col("scene"), backend = col("backend"), spp = col("spp"),
-                    mse = col("mse"), relmse = col("relmse"), secs = col("seconds"),
-                    setup = col("setup_seconds");
-  std::map<std::pair<std::string, std::string>, double> sobol;
+                    mse = col("mse"), mseErr = col("mse_stderr"), relmse = col("relmse"),
+                    secs = col("seconds"), setup = col("setup_seconds");
+  struct Sobol {
+    double mse, stderr_;
+  };
+  std::map<std::pair<std::string, std::string>, Sobol> sobol;
   for (const auto &r : table.rows())
-    if (r[backend] == "sobol") sobol[{r[scene], r[spp]}] = number(r[mse]);
+    if (r[backend] == "sobol") sobol[{r[scene], r[spp]}] = {number(r[mse]), number(r[mseErr])};
   // Rows are made spp by spp; the table reads backend by backend.
   std::map<std::string, std::size_t> sceneOrder, backendOrder;
   for (const auto &r : table.rows()) {
@@ -82,18 +86,29 @@ void printTable(const study::CsvTable &table) {
   for (const auto *row : rows) {
     const auto &r = *row;
     if (r[scene] != lastScene) {
-      std::printf("\n%s\n%-22s %6s %12s %12s %9s %9s %9s\n", r[scene].c_str(), "backend", "spp",
-                  "mse", "relmse", "mse/sobol", "seconds", "setup_s");
+      std::printf("\n%s\n%-22s %6s %12s %12s %15s %6s %9s %9s\n", r[scene].c_str(), "backend",
+                  "spp", "mse", "relmse", "mse/sobol", "vs", "seconds", "setup_s");
       lastScene = r[scene];
     }
     const auto it = sobol.find({r[scene], r[spp]});
-    char ratio[32] = "-";
-    if (it != sobol.end() && it->second > 0)
-      std::snprintf(ratio, sizeof ratio, "%.3f", number(r[mse]) / it->second);
+    char ratio[48] = "-";
+    const char *verdict = "-";
+    if (it != sobol.end() && it->second.mse > 0 && r[backend] != "sobol") {
+      // The ratio's standard error from the two means' relative ones; a
+      // verdict needs two of them between the ratio and 1.
+      const double q = number(r[mse]) / it->second.mse;
+      const double a = number(r[mseErr]) / number(r[mse]), b = it->second.stderr_ / it->second.mse;
+      const double se = q * std::sqrt((std::isfinite(a) ? a * a : 0) + b * b);
+      std::snprintf(ratio, sizeof ratio, "%.3f+-%.3f", q, se);
+      verdict = q + 2 * se < 1 ? "better" : q - 2 * se > 1 ? "worse" : "tie";
+    } else if (it != sobol.end()) {
+      std::snprintf(ratio, sizeof ratio, "1");
+    }
     std::string name = r[backend];
     if (name.size() > 22) name = "..." + name.substr(name.size() - 19);
-    std::printf("%-22s %6s %12.4e %12.4e %9s %9.3f %9.2f\n", name.c_str(), r[spp].c_str(),
-                number(r[mse]), number(r[relmse]), ratio, number(r[secs]), number(r[setup]));
+    std::printf("%-22s %6s %12.4e %12.4e %15s %6s %9.3f %9.2f\n", name.c_str(), r[spp].c_str(),
+                number(r[mse]), number(r[relmse]), ratio, verdict, number(r[secs]),
+                number(r[setup]));
   }
 }
 
@@ -246,9 +261,11 @@ Runner addStudyRender(CLI::App &app) {
     if (table.rows().empty()) return 0;
     printTable(table);
     std::printf(
-        "\n(MSE against the reference; mse/sobol < 1 beats Owen-Sobol at equal spp.\n"
-        " seconds: one render incl. the backend's sample generation; setup_s: one-off\n"
-        " optimization of the optimized sets. CSV: %s)\n",
+        "\n(MSE against the reference; mse/sobol < 1 beats Owen-Sobol at equal spp, +- its\n"
+        " standard error over the repeats; vs: better or worse than sobol by more than two\n"
+        " standard errors, else tie. seconds: one render incl. the backend's sample\n"
+        " generation; setup_s: one-off optimization of the optimized sets and the lobe\n"
+        " tables. CSV: %s)\n",
         result.csv.string().c_str());
     return o->noReport ? 0 : runReport(o->out);
   };
