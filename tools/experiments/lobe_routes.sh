@@ -13,7 +13,7 @@
 #   BACKENDS (default sobol,sobol-tabulated) are the backends compared;
 #   SCENES (default "default scenes/lte-orb.json scenes/dragon.json
 #   scenes/cup.json"), INTEGRATORS (default "direct path"), SPP (16,64).
-# Default variants: before (every bin tabulated, no defensive share, tables
+# Default variants: before (every bin tabulated, no defensive split, tables
 # at every bounce: the routes as they were) and after (the defaults).
 source "$(dirname "$0")/common.sh"
 out=${1:?usage: lobe_routes.sh OUT [VARIANT=FLAGS ...]}
