@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "renderer/backend_registry.h"
 #include "renderer/neural_backend.h"
 #include "renderer/padding.h"
 #include "sampler/enum_names.h"
@@ -63,8 +64,9 @@ BankBackend::BankBackend(std::string name, std::vector<SetBank> banks, std::uint
     : name_(std::move(name)),
       seed_(seed),
       salt_(salt),
-      fallback_(makeClassicBackend("sobol", seed)),
-      shifted_(shifted) {
+      fallback_(makeClassicBackend(BackendKind::Sobol, seed)),
+      shifted_(shifted),
+      bounces_(backendEntry(BackendKind::Optimized).bounces) {
   setBanks(std::move(banks));
 }
 
@@ -148,7 +150,8 @@ std::span<const Point2> BankBackend::pick(const SetBank &bank, std::uint64_t pix
 }
 
 void BankBackend::primary(std::uint64_t pixel, std::uint32_t pair, std::span<Point2> out) const {
-  if (!uniform_ || pair > SamplePairs::bsdf(0) || out.size() != n_) {
+  const int depth = SamplePairs::depthOf(pair);
+  if (!uniform_ || depth >= bounces_ || pair == SamplePairs::roulette(depth) || out.size() != n_) {
     fallback_->primary(pixel, pair, out);
     return;
   }
@@ -164,7 +167,10 @@ bool BankBackend::distributed(const Target &target, std::uint64_t pixel, std::ui
   const auto it = std::find_if(served_.begin(), served_.end(),
                                [&](const Served &s) { return s.target == &target; });
   if (it == served_.end() || out.size() != n_) return false;
-  if (pair != (&target == light_ ? SamplePairs::light(0) : SamplePairs::bsdf(0))) return false;
+  const int depth = SamplePairs::depthOf(pair);
+  if (depth >= bounces_ ||
+      pair != (&target == light_ ? SamplePairs::light(depth) : SamplePairs::bsdf(depth)))
+    return false;
   const auto points = pick(*it->bank, pixel, pair);
   const std::uint64_t shift = hash3(seed_, pixel, pair);
   if (shifted_) {
@@ -176,49 +182,6 @@ bool BankBackend::distributed(const Target &target, std::uint64_t pixel, std::ui
   }
   shufflePoints(out, shift);
   return true;
-}
-
-std::unique_ptr<SamplerBackend> makeBackend(const std::string &spec, std::uint64_t seed) {
-  if (auto classic = makeClassicBackend(spec, seed)) return classic;
-  for (const std::string prefix : {"optimized:", "points:", "shifted:"})
-    if (spec.rfind(prefix, 0) == 0 && spec.size() > prefix.size())
-      return std::make_unique<BankBackend>(spec, loadSetBanks(spec.substr(prefix.size())), seed,
-                                           0x6f7074696d697a65ull, prefix == "shifted:");
-  constexpr std::string_view kNeural = "neural:";
-  if (spec.rfind(kNeural, 0) == 0 && spec.size() > kNeural.size())
-    return std::make_unique<NeuralBackend>(spec, spec.substr(kNeural.size()), seed);
-  std::vector<std::string> names;
-  for (const BackendDescription &d : backendDescriptions()) names.push_back(d.spelling);
-  throw std::invalid_argument("unknown backend '" + spec + "': expected " +
-                              joinAlternatives(names) + " (nuld help backends)");
-}
-
-const std::vector<BackendDescription> &backendDescriptions() {
-  static const std::vector<BackendDescription> list{
-      {"independent",
-       "independent uniform points; the map's inverse CDF for light samples, the "
-       "material's lobe-selection mapping for BSDF samples"},
-      {"sobol",
-       "Owen-scrambled Sobol per pixel and pair, mapped as independent (the paper's "
-       "baseline)"},
-      {"halton", "Owen-scrambled Halton, mapped as independent"},
-      {"sobol-tabulated",
-       "sobol, with first-bounce BSDF samples through the tabulated lobe's "
-       "inverse CDF where the view bin's measured route is the table (the "
-       "strongest classic baseline; --lobe-mix, --lobe-routes)"},
-      {"optimized:PATHS",
-       "point-set files or directories (comma-separated): sets for the "
-       "scene's map, lobe tables or the uniform target serve the first "
-       "bounce; everything else is sobol"},
-      {"points:PATHS", "the same as optimized:PATHS"},
-      {"shifted:PATHS",
-       "optimized:PATHS with every set Cranley-Patterson shifted in primary "
-       "space per pixel and pair (unbiased)"},
-      {"neural:MODEL",
-       "sets a trained model (nuld train) generates for the map or, for a "
-       "family:disney model, for each lobe table"},
-  };
-  return list;
 }
 
 }  // namespace nuld

@@ -78,6 +78,9 @@ class BankBackend : public SamplerBackend {
   std::uint64_t seed_, salt_;
   std::unique_ptr<SamplerBackend> fallback_;
   bool shifted_;
+  // The bounces, from the first, its sets serve: the registry's declaration
+  // for banks (renderer/backend_registry.h).
+  int bounces_;
   // Set by prepare(): the served targets (by address), their banks and, when
   // shifted, the bank's points pulled back to primary space.
   struct Served {

@@ -11,8 +11,8 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "renderer/backend_registry.h"
 #include "renderer/padding.h"
-#include "renderer/sampler_backend.h"
 #include "sampler/sequences/rng.h"
 #include "sampler/sequences/sequence.h"
 
@@ -73,13 +73,15 @@ class SequenceBackend final : public SamplerBackend {
 
 }  // namespace
 
-std::unique_ptr<SamplerBackend> makeClassicBackend(const std::string &name, std::uint64_t seed) {
-  if (name == "independent" || name == "random") return std::make_unique<IndependentBackend>(seed);
-  if (name == "sobol") return std::make_unique<SequenceBackend>(SequenceKind::Sobol, seed);
-  if (name == "sobol-tabulated")
-    return std::make_unique<SequenceBackend>(SequenceKind::Sobol, seed, true);
-  if (name == "halton") return std::make_unique<SequenceBackend>(SequenceKind::Halton, seed);
-  return nullptr;
+std::unique_ptr<SamplerBackend> makeClassicBackend(BackendKind kind, std::uint64_t seed) {
+  switch (kind) {
+    case BackendKind::Independent: return std::make_unique<IndependentBackend>(seed);
+    case BackendKind::Sobol: return std::make_unique<SequenceBackend>(SequenceKind::Sobol, seed);
+    case BackendKind::SobolTabulated:
+      return std::make_unique<SequenceBackend>(SequenceKind::Sobol, seed, true);
+    case BackendKind::Halton: return std::make_unique<SequenceBackend>(SequenceKind::Halton, seed);
+    default: throw std::invalid_argument("makeClassicBackend: not a classic backend");
+  }
 }
 
 }  // namespace nuld

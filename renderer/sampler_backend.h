@@ -37,6 +37,9 @@ struct SamplePairs {
   static constexpr std::uint32_t light(int depth) { return 1 + 3 * std::uint32_t(depth); }
   static constexpr std::uint32_t bsdf(int depth) { return 2 + 3 * std::uint32_t(depth); }
   static constexpr std::uint32_t roulette(int depth) { return 3 + 3 * std::uint32_t(depth); }
+  // The bounce a light, BSDF or roulette pair belongs to (the camera pair:
+  // 0, with the first bounce).
+  static constexpr int depthOf(std::uint32_t pair) { return pair == 0 ? 0 : int(pair - 1) / 3; }
 };
 
 // Every target a render may ask a backend for: the context of the light pairs
@@ -95,23 +98,5 @@ class SamplerBackend {
   // already holds, instead of asking for a whole set per context.
   virtual bool mapsPrimaryThrough(const Target &target) const { return false; }
 };
-
-// The backends makeBackend knows, as (spelling, what it samples), in the
-// order `nuld help backends` lists them; the error for an unknown name and
-// the CLI's option help list the same spellings.
-struct BackendDescription {
-  const char *spelling, *description;
-};
-const std::vector<BackendDescription> &backendDescriptions();
-
-// independent | sobol | halton | sobol-tabulated (Owen-scrambled Sobol
-// through the inverse CDF of every lobe context); null for any other name.
-std::unique_ptr<SamplerBackend> makeClassicBackend(const std::string &name, std::uint64_t seed);
-
-// A classic backend, `optimized:PATHS` / `points:PATHS` (point-set files or
-// directories of them, comma-separated; see BankBackend) or `neural:MODEL`
-// (see NeuralBackend). Throws
-// std::invalid_argument listing the choices.
-std::unique_ptr<SamplerBackend> makeBackend(const std::string &spec, std::uint64_t seed);
 
 }  // namespace nuld

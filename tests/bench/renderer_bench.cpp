@@ -23,6 +23,7 @@
 #include <memory>
 
 #include "materials/disney.h"
+#include "renderer/backend_registry.h"
 #include "renderer/lobe_tables.h"
 #include "renderer/render.h"
 #include "sampler/sequences/rng.h"

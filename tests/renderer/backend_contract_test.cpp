@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "materials/disney.h"
+#include "renderer/backend_registry.h"
 #include "renderer/environment_light.h"
 #include "renderer/lobe_tables.h"
 #include "renderer/render.h"

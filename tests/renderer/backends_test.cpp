@@ -11,6 +11,7 @@
 #include <map>
 #include <tuple>
 
+#include "renderer/backend_registry.h"
 #include "renderer/bank_backend.h"
 #include "renderer/environment_light.h"
 #include "renderer/image_metrics.h"
@@ -128,8 +129,8 @@ TEST(Backends, UnknownNameListsTheChoices) {
     FAIL();
   } catch (const std::invalid_argument &e) {
     const std::string what = e.what();
-    for (const BackendDescription &d : backendDescriptions())
-      EXPECT_NE(what.find(d.spelling), std::string::npos) << d.spelling << " in " << what;
+    for (const BackendEntry &e : backendRegistry())
+      EXPECT_NE(what.find(e.spelling()), std::string::npos) << e.spelling() << " in " << what;
     EXPECT_NE(what.find("nuld help backends"), std::string::npos) << what;
   }
   EXPECT_THROW(makeBackend("optimized:/no/such/file.txt", 0), std::exception);
@@ -246,6 +247,50 @@ TEST(BankBackend, DistributedPointsRenderTheSameImage) {
   const double mseFile = compareImages(render(scene, settings, optimized), reference).mse;
   EXPECT_LT(mseFile, 3 * mseSobol);
   EXPECT_LT(mseSobol, 3 * mseFile);
+}
+
+}  // namespace
+}  // namespace nuld
+
+namespace nuld {
+namespace {
+
+// Every word the registry declares, its aliases included, parses to its
+// kind and prints back canonically; arguments are required exactly where
+// declared, and the help's spellings are the registry's.
+TEST(BackendRegistry, EveryWordParsesToItsKindAndBack) {
+  std::vector<BackendKind> kinds;
+  for (const BackendEntry &e : backendRegistry()) {
+    kinds.push_back(e.kind);
+    const std::string argument = e.argument.empty() ? "" : "some/file";
+    for (const std::string &word : [&] {
+           std::vector<std::string> w{e.name};
+           w.insert(w.end(), e.aliases.begin(), e.aliases.end());
+           return w;
+         }()) {
+      const std::string text = argument.empty() ? word : word + ":" + argument;
+      const BackendSpec spec = parseBackend(text);
+      EXPECT_EQ(spec.kind, e.kind) << text;
+      EXPECT_EQ(spec.argument, argument) << text;
+      EXPECT_EQ(spec.text(), argument.empty() ? e.name : e.name + ":" + argument) << text;
+      EXPECT_EQ(parseBackend(spec.text()), spec);
+      // An argument where none is declared, or none where one is.
+      EXPECT_THROW(parseBackend(argument.empty() ? word + ":x" : word), std::invalid_argument)
+          << word;
+    }
+    EXPECT_NE(backendSpellings().find(e.spelling()), std::string::npos) << e.spelling();
+    EXPECT_FALSE(e.help.empty()) << e.name;
+    EXPECT_EQ(&backendEntry(e.kind), &e);
+  }
+  EXPECT_EQ(kinds.size(), 7u);
+  // The classic words make their backends without files; the declared
+  // properties agree with what the backends report.
+  for (const char *word : {"independent", "random", "sobol", "halton", "sobol-tabulated"}) {
+    const BackendSpec spec = parseBackend(word);
+    const auto backend = makeBackend(spec, 1);
+    EXPECT_EQ(backend->samplesLobes(), spec.entry().lobes) << word;
+  }
+  EXPECT_EQ(makeBackend("random", 3)->name(), "independent");
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 
 #include "materials/disney.h"
 #include "materials/sphere_map.h"
+#include "renderer/backend_registry.h"
 #include "renderer/bank_backend.h"
 #include "renderer/lobe_tables.h"
 #include "renderer/render.h"

@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "materials/disney_target.h"
+#include "renderer/backend_registry.h"
 #include "renderer/environment_light.h"
 #include "renderer/lobe_tables.h"
 #include "renderer/render.h"

@@ -11,6 +11,7 @@
 #include <cstdio>
 
 #include "materials/disney.h"
+#include "renderer/backend_registry.h"
 #include "renderer/image_metrics.h"
 #include "renderer/path_integrator.h"
 #include "tests/renderer/test_scenes.h"

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <optional>
 
+#include "renderer/backend_registry.h"
 #include "renderer/image_metrics.h"
 #include "renderer/render.h"
 #include "scenes/scene_file.h"
@@ -28,11 +29,9 @@ Runner addRender(CLI::App &app) {
   app.add_option("scene", o->scene, "scene file (JSON) or 'default' (built in, needs no files)")
       ->required();
   app.add_option("--backend", o->backend,
-                 "sampler backend: independent, sobol, halton, sobol-tabulated (Sobol through "
-                 "the tabulated lobe's inverse CDF for BSDF sampling), optimized:PATHS (point-set "
-                 "files or directories, comma-separated), points:PATHS (the same), shifted:PATHS "
-                 "(each set shifted in primary space: unbiased), neural:MODEL (default: the "
-                 "scene's, else sobol; nuld help backends)");
+                 "sampler backend: " + backendSpellings() +
+                     " (default: the scene's, else sobol; nuld help backends says what each "
+                     "samples)");
   app.add_option("--spp", o->spp, "samples per pixel (default: the scene's)")
       ->check(wholeNumberIn(1, 1 << 24));
   app.add_option("--res", o->res, "resolution W or WxH (default: the scene's)");

@@ -136,11 +136,11 @@ Runner addStudyRender(CLI::App &app) {
   app.add_option("scenes", o->s.scenes, "scene files (JSON) or 'default' (default: default)");
   app.add_option(
          "--backends", o->s.backends,
-         "comma-separated: independent, sobol, halton, optimized (sets optimized for "
-         "the scene's environment map), optimized-uniform, optimized-bsdf (lobe banks for the "
-         "scene's Disney materials), optimized-both (each also with the suffix +shift: sets "
-         "randomized in primary space), sobol-tabulated, optimized:PATHS, shifted:PATHS, "
-         "neural:MODEL")
+         "comma-separated: the renderer's backends (" + backendSpellings() +
+             ") and the study's own sets: optimized (for the scene's environment map), "
+             "optimized-uniform, optimized-bsdf (lobe banks for the scene's Disney "
+             "materials), optimized-both (each also with the suffix +shift: sets randomized "
+             "in primary space); nuld help backends")
       ->delimiter(',');
   app.add_option("--spp", o->s.spp, "comma-separated samples per pixel (default 4,16,64)")
       ->delimiter(',');

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "materials/disney_target.h"
+#include "renderer/backend_registry.h"
 #include "renderer/sampler_backend.h"
 #include "sampler/diagnostics.h"
 #include "sampler/enum_names.h"
@@ -81,7 +82,16 @@ bool printTopic(const std::string &topic) {
   }
   if (topic == "backends") {
     std::cout << "Sampler backends (nuld render --backend; study render --backends):\n\n";
-    for (const auto &d : nuld::backendDescriptions()) printEntry(d.spelling, d.description);
+    for (const auto &e : nuld::backendRegistry()) {
+      std::string help = e.help;
+      if (!e.aliases.empty()) {
+        help += " (also:";
+        for (const auto &a : e.aliases)
+          help += " " + a + (e.argument.empty() ? "" : ":" + e.argument);
+        help += ")";
+      }
+      printEntry(e.spelling(), help);
+    }
     std::cout << "\nnuld study render also makes its own sets (docs/usage.md, \"Comparison "
                  "studies\"):\n\n";
     for (const auto &d : nuld::study::studyBackendDescriptions())

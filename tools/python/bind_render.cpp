@@ -7,6 +7,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include "renderer/backend_registry.h"
 #include "renderer/image_metrics.h"
 #include "renderer/render.h"
 #include "scenes/scene_file.h"

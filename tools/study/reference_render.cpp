@@ -6,6 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "renderer/backend_registry.h"
 #include "renderer/image_metrics.h"
 #include "renderer/sampler_backend.h"
 #include "sampler/io/atomic_file.h"

@@ -41,7 +41,7 @@ bool isStudyBackend(const std::string &b) {
   const std::string base = withoutShift(b);
   const auto &study = studyBackendDescriptions();
   return std::any_of(study.begin(), study.end(),
-                     [&](const BackendDescription &d) { return base == d.spelling; });
+                     [&](const StudyBackendDescription &d) { return base == d.spelling; });
 }
 
 // Mean and standard error of the mean.
@@ -249,8 +249,8 @@ CellOutcome renderCell(
 
 }  // namespace
 
-const std::vector<BackendDescription> &studyBackendDescriptions() {
-  static const std::vector<BackendDescription> list{
+const std::vector<StudyBackendDescription> &studyBackendDescriptions() {
+  static const std::vector<StudyBackendDescription> list{
       {"optimized", "sets optimized for the scene's environment map (light samples)"},
       {"optimized-uniform", "uniform sets for the periodic L2 discrepancy (primary samples)"},
       {"optimized-bsdf", "lobe banks for the scene's Disney materials (BSDF samples)"},
@@ -302,10 +302,8 @@ void RenderStudySettings::validate() const {
   if (lobeDefensive && !(*lobeDefensive >= 0 && *lobeDefensive <= 1))
     throw std::invalid_argument("--lobe-defensive: expected a number in [0, 1]");
   if (out.empty()) throw std::invalid_argument("study render: -o OUTDIR is required");
-  for (const auto &b : backends)  // fail now, not after an hour of reference
-    if (!isStudyBackend(b) && b.rfind("optimized:", 0) != 0 && b.rfind("points:", 0) != 0 &&
-        b.rfind("neural:", 0) != 0)
-      makeBackend(b, 0);
+  for (const auto &b : backends)              // fail now, not after an hour of reference
+    if (!isStudyBackend(b)) parseBackend(b);  // the word only: files are read per cell
 }
 
 RenderOverrides RenderStudySettings::overrides() const {

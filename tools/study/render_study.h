@@ -32,6 +32,7 @@
 #include <string>
 #include <vector>
 
+#include "renderer/backend_registry.h"
 #include "renderer/sampler_backend.h"
 #include "tools/study/optimized_sets.h"
 #include "tools/study/reference_render.h"
@@ -89,7 +90,10 @@ const std::vector<std::string> &renderStudyColumns();
 // The backends the render study makes its own sets for (optimized,
 // optimized-uniform, optimized-bsdf, optimized-both), each also with the
 // suffix +shift: the names `nuld help backends` lists.
-const std::vector<BackendDescription> &studyBackendDescriptions();
+struct StudyBackendDescription {
+  const char *spelling, *description;
+};
+const std::vector<StudyBackendDescription> &studyBackendDescriptions();
 
 struct RenderStudyResult {
   std::filesystem::path csv;                      // out/render.csv

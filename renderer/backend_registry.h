@@ -1,0 +1,70 @@
+#pragma once
+// The one catalogue of sampler backends (docs/architecture.md, "From a
+// backend word to samples"). Each kind is declared once: its word and
+// aliases, its argument, its help line and what it serves. A backend word is
+// parsed here, once, into a BackendSpec; makeBackend, `nuld help backends`,
+// the --backend option's help, the Python module and the studies read this
+// table rather than matching strings of their own.
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "renderer/sampler_backend.h"
+
+namespace nuld {
+
+enum class BackendKind { Independent, Sobol, Halton, SobolTabulated, Optimized, Shifted, Neural };
+
+struct BackendEntry {
+  BackendKind kind;
+  std::string name;                  // the canonical word
+  std::vector<std::string> aliases;  // other words for it
+  std::string argument;              // "" (none), else the argument's name: NAME:ARGUMENT
+  std::string help;
+  // What it serves beyond primary points: the environment map's light pairs
+  // and the lobe tables' BSDF pairs (banks and models: those their files or
+  // family match), and for how many bounces from the first (0: every; the
+  // pairs of deeper bounces get Owen-Sobol primary points). sobol-tabulated
+  // serves the bounces the lobe tables are set to (LobeTableSettings).
+  bool light = false, lobes = false;
+  int bounces = 0;
+
+  std::string spelling() const { return argument.empty() ? name : name + ":" + argument; }
+};
+
+// Every backend kind, in the order `nuld help backends` lists them.
+const std::vector<BackendEntry> &backendRegistry();
+const BackendEntry &backendEntry(BackendKind kind);
+
+// A backend word, parsed: the kind and its argument (point-set paths, a
+// model file).
+struct BackendSpec {
+  BackendKind kind = BackendKind::Sobol;
+  std::string argument;
+
+  const BackendEntry &entry() const { return backendEntry(kind); }
+  // The canonical word: NAME or NAME:ARGUMENT.
+  std::string text() const;
+  friend bool operator==(const BackendSpec &, const BackendSpec &) = default;
+};
+
+// independent | sobol | halton | sobol-tabulated: the classic backends (for
+// bank fallbacks; makeBackend for any kind).
+std::unique_ptr<SamplerBackend> makeClassicBackend(BackendKind kind, std::uint64_t seed);
+
+// Throws std::invalid_argument quoting the word and listing the spellings
+// (an alias parses to its kind; a kind with an argument needs a non-empty
+// one, one without takes none).
+BackendSpec parseBackend(const std::string &word);
+
+// The backend a spec names, seeded. Reads the files a bank or model names
+// (throwing naming the file when one cannot be read).
+std::unique_ptr<SamplerBackend> makeBackend(const BackendSpec &spec, std::uint64_t seed);
+std::unique_ptr<SamplerBackend> makeBackend(const std::string &word, std::uint64_t seed);
+
+// "independent, sobol, ..., neural:MODEL": every spelling, for option help.
+std::string backendSpellings();
+
+}  // namespace nuld
