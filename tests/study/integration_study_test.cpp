@@ -229,7 +229,7 @@ TEST(IntegrationStudyRun, IndependentEstimatesAreUnbiased) {
   runIntegrateStudy(o);
   const CsvTable t = readCsv(o.outDir);
   // 10 integrands (disney*cosines at 3 angles, disney*envmap at 3 views) +
-  // independent-lobes on the seven BRDF ones
+  // independent-tabulated on the seven BRDF ones
   ASSERT_EQ(t.rows().size(), 17u);
   for (const auto &r : t.rows()) {
     const double bias = value(t, r, "bias"), se = value(t, r, "bias_stderr");
@@ -251,7 +251,7 @@ TEST(IntegrationStudyRun, BuiltInSunMapGivesFiniteStatistics) {
   o.instances = 16;
   runIntegrateStudy(o);
   const CsvTable t = readCsv(o.outDir);
-  ASSERT_EQ(t.rows().size(), 12u);  // cos: 2 samplers; grazing: 4 (with -lobes); x 2 N
+  ASSERT_EQ(t.rows().size(), 12u);  // cos: 2 samplers; grazing: 4 (with -tabulated); x 2 N
   for (const auto &r : t.rows())
     for (const char *c : {"reference", "mean", "bias", "std", "rmse", "rel_rmse"})
       EXPECT_TRUE(std::isfinite(value(t, r, c))) << r[0] << " " << r[2] << " " << c;
@@ -426,7 +426,7 @@ TEST(IntegrationStudyRun, SphereIntegrandsUseTheMapAndSkipMissingOnes) {
   ASSERT_EQ(t.rows().size(), 3u);
   ASSERT_TRUE(findRow(t, "envmap:test*cos", "sobol", 64));
   ASSERT_TRUE(findRow(t, "disney*envmap:test", "sobol", 64));
-  ASSERT_TRUE(findRow(t, "disney*envmap:test", "sobol-lobes", 64));
+  ASSERT_TRUE(findRow(t, "disney*envmap:test", "sobol-tabulated", 64));
   EXPECT_EQ(field(t, *findRow(t, "envmap:test*cos", "sobol", 64)).at("domain"), "sphere");
   EXPECT_EQ(field(t, *findRow(t, "disney*envmap:test", "sobol", 64)).at("domain"), "hemisphere");
   // Importance sampling by the map leaves only the smooth cosine: small error.
@@ -464,6 +464,28 @@ TEST(IntegrationStudyRun, NeuralModelServesTheIntegrandOfItsTarget) {
     FAIL() << "expected an error";
   } catch (const std::invalid_argument &e) {
     EXPECT_NE(std::string(e.what()).find("matches none"), std::string::npos) << e.what();
+  }
+}
+
+// The words mean what they mean in nuld render: `sobol` is each sampler's
+// own mapping (the BRDF's sample() on a lobe integrand), `sobol-tabulated`
+// the tabulated lobe (made on lobe integrands only); the old -lobes words
+// are refused naming the new ones.
+TEST(IntegrationStudySamplers, WordsMeanWhatTheyMeanInRenders) {
+  const auto choices = parseSamplers({"sobol", "halton-tabulated"}, {});
+  ASSERT_EQ(choices.size(), 3u);
+  EXPECT_EQ(choices[0].name, "sobol");
+  EXPECT_FALSE(choices[0].tabulated);
+  EXPECT_EQ(choices[1].name, "sobol-tabulated");
+  EXPECT_TRUE(choices[1].tabulated);
+  EXPECT_EQ(choices[2].name, "halton-tabulated");
+  try {
+    parseSamplers({"sobol-lobes"}, {});
+    FAIL() << "sobol-lobes was accepted";
+  } catch (const std::invalid_argument &e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("is now 'sobol'"), std::string::npos) << what;
+    EXPECT_NE(what.find("'sobol-tabulated'"), std::string::npos) << what;
   }
 }
 

@@ -39,7 +39,7 @@ study() {  # DIR INTEGRANDS OBJECTIVE MODELS...
   local dir=$1 integrands=$2 objective=$3
   shift 3
   local samplers=sobol,optimized
-  [[ $integrands == disney* ]] && samplers+=",sobol-lobes"
+  [[ $integrands == disney* ]] && samplers+=",sobol-tabulated"
   for m in "$@"; do samplers+=",neural:$m"; done
   "$nuld" study integrate -o "$dir" --integrands "$integrands" --n "$n" --samplers "$samplers" \
     --optimized-instances 64 --opt-objective "$objective" --envmaps "$grace" --assets "$assets" \

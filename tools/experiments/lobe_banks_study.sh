@@ -4,8 +4,10 @@
 #  1. integration: the supplement's Disney lobe at theta_o = 20, 45, 70
 #     degrees against a smooth light (disney*cosines) and against HDR maps
 #     (disney*envmap at 45, disney-views*envmap at 20 and 70 degrees), N = 16
-#     and 64: Owen-Sobol through the tabulated inverse CDF (sobol), through
-#     the lobe-selection mapping (sobol-lobes, the paper's baseline) and
+#     and 64: Owen-Sobol through the tabulated inverse CDF (sobol-tabulated;
+#     `sobol` in the log, which predates the rename), through the
+#     lobe-selection mapping (sobol, the paper's baseline; `sobol-lobes` in
+#     the log) and
 #     direct-optimized sets (exact L2asd objective with the bank term, weight
 #     3: the studies' default), 128 instances each;
 #  2. renders: dragon and cup at 1/4 resolution, 16 and 64 spp, 8 repeats,
@@ -23,7 +25,7 @@ refspp=${2:-2048}
 repeats=${3:-8}
 mkdir -p "$out"
 "$nuld" study integrate --integrands 'disney*cosines,disney*envmap,disney-views*envmap' --envmaps grace,beach \
-  --samplers sobol,sobol-lobes,optimized --n 16,64 --opt-objective l2asd \
+  --samplers sobol,sobol-tabulated,optimized --n 16,64 --opt-objective l2asd \
   --optimized-instances 128 --no-plots -o "$out/integrate"
 for scene in dragon cup; do
   "$nuld" study render "$root/scenes/$scene.json" --res-scale 0.25 --spp 16,64 --repeats "$repeats" \

@@ -109,8 +109,10 @@ Runner addStudyIntegrate(CLI::App &app) {
                  "smooth light, at 20, 45 and 70 degrees); or a full name such as "
                  "envmap:grace*cos (default: all)");
   app.add_option("--samplers", o->samplers,
-                 "comma-separated: independent, sobol, halton (each with its -lobes variant "
-                 "on the BRDF integrand; or name e.g. sobol-lobes alone), optimized, the "
+                 "comma-separated: independent, sobol, halton (each in its own mapping: the "
+                 "BRDF's sample() on lobe integrands; each with its -tabulated variant there, "
+                 "the tabulated lobe's inverse CDF; or name e.g. sobol-tabulated alone), "
+                 "optimized, the "
                  "blue-noise baselines sot and gbn (sliced optimal transport, Gaussian blue "
                  "noise: optimized for the target) and sot-mapped, gbn-mapped (optimized "
                  "uniformly, then the inverse CDF; all four up to --optimized-max-n, "

@@ -42,7 +42,7 @@ struct Integrand {
   // between two quadrature resolutions otherwise.
   double referenceError = 0;
   std::string referenceMethod;
-  // The BRDF's own sampling (the `-lobes` samplers): u in [0,1)^2 -> g(w) /
+  // The BRDF's own sampling (the plain classic samplers on lobe integrands): u in [0,1)^2 -> g(w) /
   // pdf(w) for the direction w the BRDF's sample() makes of u, 0 when it
   // makes none. Empty for integrands without a BRDF.
   std::function<double(Point2)> lobeContribution;

@@ -72,17 +72,27 @@ std::vector<SamplerChoice> parseSamplers(const std::vector<std::string> &tokens,
     }
     out.push_back(std::move(c));
   };
+  // Each classic sampler in its own mapping (`sobol`: a lobe integrand's
+  // BRDF sample(), any other target's inverse CDF) and, on lobe integrands,
+  // through the tabulated lobe's inverse CDF (`sobol-tabulated`): the
+  // meanings `nuld render` gives the same words.
   const auto classic = [&](const std::string &base, K kind,
-                           int which) {  // 1 plain, 2 lobes, 3 both
+                           int which) {  // 1 own mapping, 2 tabulated, 3 both
     if (which & 1) add({base, kind, false, {}});
-    if (which & 2) add({base + "-lobes", kind, true, {}});
+    if (which & 2) add({base + "-tabulated", kind, true, {}});
   };
   std::vector<std::string> modelList;
   for (const std::string &t : tokens.empty() ? defaults : tokens) {
     std::string base = t;
     int which = 3;
-    if (base.ends_with("-lobes")) {
-      base.resize(base.size() - 6);
+    if (base.ends_with("-lobes"))
+      throw std::invalid_argument(
+          "--samplers: '" + t + "' is now '" + base.substr(0, base.size() - 6) +
+          "' (each sampler's own mapping: the BRDF's sample() on lobe integrands, as in nuld "
+          "render); the tabulated lobe's inverse CDF is '" +
+          base.substr(0, base.size() - 6) + "-tabulated'");
+    if (base.ends_with("-tabulated")) {
+      base.resize(base.size() - 10);
       which = 2;
     }
     if (base == "independent" || base == "random")
@@ -100,7 +110,8 @@ std::vector<SamplerChoice> parseSamplers(const std::vector<std::string> &tokens,
     else
       throw std::invalid_argument(
           "--samplers: unknown sampler '" + t +
-          "' (expected independent, sobol, halton, their -lobes variants such as sobol-lobes, "
+          "' (expected independent, sobol, halton, their -tabulated variants such as "
+          "sobol-tabulated, "
           "optimized, sot, sot-mapped, gbn, gbn-mapped, or neural:MODEL)");
   }
   modelList.insert(modelList.end(), models.begin(), models.end());

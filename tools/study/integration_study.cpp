@@ -169,9 +169,9 @@ class StudyRunner {
     for (std::size_t k = 0; k < o_.instances; ++k) {
       const auto start = Clock::now();
       generateSet(so, std::uint32_t(k), u);
-      if (s.lobes) {
+      if (!s.tabulated && in.lobeContribution) {
         // sample() makes the direction, f and the pdf in one call, so the
-        // time of a -lobes set covers its whole evaluation.
+        // time of such a set covers its whole evaluation.
         double sum = 0;
         for (const Point2 &ui : u) {
           const double v = in.lobeContribution(ui);
@@ -238,8 +238,17 @@ class StudyRunner {
   }
 
  private:
+  // Keyed by the estimator's name before the classic words changed meaning
+  // (then `sobol` was a lobe integrand's table and `sobol-lobes` its BRDF
+  // sample()), so every row keeps the numbers it had.
   std::uint64_t seedFor(const Integrand &in, const SamplerChoice &s, std::size_t n) const {
-    return hash3(o_.seed, hashString(in.name + "|" + s.name), n);
+    std::string key = s.name;
+    const bool classic = s.kind == SamplerChoice::Kind::Independent ||
+                         s.kind == SamplerChoice::Kind::Sobol ||
+                         s.kind == SamplerChoice::Kind::Halton;
+    if (classic && s.tabulated) key.resize(key.size() - std::string_view("-tabulated").size());
+    if (classic && !s.tabulated && in.lobeContribution) key += "-lobes";
+    return hash3(o_.seed, hashString(in.name + "|" + key), n);
   }
 
   OptimizedSetsRequest bankRequest(std::size_t n) const {
@@ -379,8 +388,8 @@ void validateOptions(const IntegrateOptions &o) {
   if (o.outDir.empty()) throw std::invalid_argument("-o: an output directory is required");
 }
 
-// The rows to make, in order: integrand, sampler, N. Lobe-selection samplers
-// only where the integrand has a lobe; optimized and blue-noise sets up to
+// The rows to make, in order: integrand, sampler, N. Tabulated samplers only
+// where the integrand has a lobe; optimized and blue-noise sets up to
 // optimizedMaxN; a neural model where it has a gamma for the integrand, at
 // every N (graph) or at its own (the supplement's network).
 std::vector<Task> planTasks(const IntegrateOptions &o, const std::vector<Integrand> &integrands,
@@ -389,7 +398,7 @@ std::vector<Task> planTasks(const IntegrateOptions &o, const std::vector<Integra
   std::vector<Task> tasks;
   for (const auto &in : integrands)
     for (const auto &s : samplers) {
-      if (s.lobes && !in.lobeContribution) continue;
+      if (s.tabulated && !in.lobeContribution) continue;
       if (s.kind == SamplerChoice::Kind::Neural) {
         const NeuralModel &m = models.at(s.name);
         // A graph model makes sets of every N asked for; the supplement's its own N.

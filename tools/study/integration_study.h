@@ -5,10 +5,12 @@
 //
 // Samplers (the CSV's `sampler` values):
 //   independent, sobol (Owen-scrambled), halton (Owen-scrambled digits):
-//       uniform points mapped by the target's inverse CDF;
-//   independent-lobes, sobol-lobes, halton-lobes: on integrands with a BRDF,
-//       the same points through the BRDF's own sample() (lobe picked by u.x,
-//       one-sample MIS over lobes: the supplement's baseline);
+//       uniform points in each sampler's own mapping, as in nuld render: on
+//       integrands with a BRDF its own sample() (lobe picked by u.x,
+//       one-sample MIS over lobes: the supplement's baseline), on the others
+//       the target's inverse CDF;
+//   independent-tabulated, sobol-tabulated, halton-tabulated: on integrands
+//       with a BRDF, the same points through the tabulated lobe's inverse CDF;
 //   optimized: Algorithm 1 at each N with the target's default preset, cached
 //       in OUTDIR/cache/ as point-set files keyed by target, N and settings;
 //   neural:NAME: a trained model (NAME = its file's stem) at its own N, on the
@@ -71,14 +73,15 @@ struct SamplerChoice {
   enum class Kind { Independent, Sobol, Halton, Optimized, Neural, BlueNoise };
   std::string name;  // the CSV value
   Kind kind = Kind::Sobol;
-  bool lobes = false;  // through the BRDF's sample() instead of the target
-  std::string model;   // Neural: the model file
+  bool tabulated = false;  // a lobe integrand's table, not the BRDF's own sample()
+  std::string model;       // Neural: the model file
 };
 
-// Tokens: independent|random, sobol, halton (each also enabling its -lobes
-// variant), independent-lobes, sobol-lobes, halton-lobes, optimized, and
-// neural:PATH (added to `models`). Throws std::invalid_argument naming
-// --samplers and the accepted names.
+// Tokens: independent|random, sobol, halton (each also enabling its
+// -tabulated variant), independent-tabulated, sobol-tabulated,
+// halton-tabulated, optimized, and neural:PATH (added to `models`). Throws
+// std::invalid_argument naming --samplers and the accepted names; the old
+// -lobes spellings are refused with their new names.
 std::vector<SamplerChoice> parseSamplers(const std::vector<std::string> &tokens,
                                          const std::vector<std::string> &models);
 

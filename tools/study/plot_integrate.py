@@ -29,8 +29,8 @@ except ImportError as e:  # the caller turns this into a warning
 # A fixed colour and marker per sampler, so a sampler looks the same everywhere.
 STYLES = {
     "independent": ("#7f7f7f", "o"), "sobol": ("#1f77b4", "s"), "halton": ("#2ca02c", "^"),
-    "independent-lobes": ("#bcbcbc", "o"), "sobol-lobes": ("#9ecae1", "s"),
-    "halton-lobes": ("#a1d99b", "^"), "optimized": ("#d62728", "D"),
+    "independent-tabulated": ("#bcbcbc", "o"), "sobol-tabulated": ("#9ecae1", "s"),
+    "halton-tabulated": ("#a1d99b", "^"), "optimized": ("#d62728", "D"),
 }
 EXTRA = ["#9467bd", "#8c564b", "#e377c2", "#17becf", "#bcbd22", "#ff7f0e"]
 
