@@ -69,6 +69,7 @@ class BankBackend : public SamplerBackend {
  protected:
   // For a backend that makes its banks in prepare() (NeuralBackend).
   void setBanks(std::vector<SetBank> banks);
+  std::uint64_t seed() const { return seed_; }
 
  private:
   std::span<const Point2> pick(const SetBank &bank, std::uint64_t pixel, std::uint32_t pair) const;

@@ -62,9 +62,9 @@ struct LobeTableSettings {
   int thetaBins = 9;  // over theta_o in [0, 90) degrees
   int phiBins = 3;    // over folded phi_o in [0, 90] degrees; anisotropic materials only
   // Table resolution (rows = phiCells / 2). The tables that serve are the
-  // broad lobes' (measured routes), which 64 x 32 cells hold: the dragon at
-  // 256 x 128 has 0.99x the MSE at 1.12x the render time (renderer/README.md,
-  // "Lobe routes").
+  // broad lobes' (measured routes), which 64 x 32 cells hold about as well
+  // as finer ones, and small tables stay in cache (renderer/README.md,
+  // "Lobe routes", has the measurements).
   int phiCells = 64;
   // The tables' density: 0 f cos, 1 the material's own sampling pdf
   // (`mix` of materials/disney_target.h); nullopt: chosen by the estimator

@@ -1,7 +1,6 @@
 #include "renderer/neural_backend.h"
 
 #include <algorithm>
-#include <chrono>
 #include <stdexcept>
 
 #include "materials/disney_target.h"
@@ -16,8 +15,7 @@ constexpr std::uint64_t kNeuralSalt = 0x6e657572616cull;
 NeuralBackend::NeuralBackend(std::string name, const std::string &modelPath, std::uint64_t seed)
     : BankBackend(std::move(name), {}, seed, kNeuralSalt),
       source_(modelPath),
-      generator_(NeuralGenerator::load(modelPath)),
-      seed_(seed) {
+      generator_(NeuralGenerator::load(modelPath)) {
   const std::string family = generator_.family().spec();
   lobeFamily_ = family.rfind("family:disney", 0) == 0;
   if (generator_.gammaDimension() > 0 && !lobeFamily_)
@@ -64,20 +62,17 @@ void NeuralBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
           " lobe tables (it serves a scene material with the family's parameters)");
   }
   if (specs != bankSpecs_ || n != bankN_) {
-    const auto start = std::chrono::steady_clock::now();
     const std::size_t total = std::clamp<std::size_t>((std::size_t(1) << 22) / n, 1, kMaxBankSets);
     const std::size_t each = std::max(total / specs.size(), std::min(total, kMinSetsPerGamma));
     std::vector<SetBank> banks;
     for (std::size_t k = 0; k < specs.size(); ++k) {
-      SetBank bank{generator_.generateSets(each, seed_ + k, gammas[k], n), source_};
+      SetBank bank{generator_.generateSets(each, seed() + k, gammas[k], n), source_};
       setMeta(bank.sets, meta::kTarget, specs[k]);
       banks.push_back(std::move(bank));
     }
     setBanks(std::move(banks));
     bankSpecs_ = specs;
     bankN_ = n;
-    generationSeconds_ =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
   BankBackend::prepare(spp, targets);
 }

@@ -38,17 +38,13 @@ class NeuralBackend final : public BankBackend {
   void prepare(std::size_t spp, const SamplingTargets &targets) override;
 
   std::size_t bankSets() const;
-  // Seconds prepare() spent generating the banks (the backend's own cost).
-  double generationSeconds() const { return generationSeconds_; }
 
  private:
   std::string source_;
   NeuralGenerator generator_;
-  std::uint64_t seed_;
   bool lobeFamily_ = false;
   std::vector<std::string> bankSpecs_;  // the targets of the banks made so far
   std::size_t bankN_ = 0;               // and their set size
-  double generationSeconds_ = 0;
 };
 
 }  // namespace nuld

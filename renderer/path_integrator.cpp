@@ -36,7 +36,6 @@ namespace {
 // replaced by the geometric one, which always faces wo.
 struct Shading {
   Frame frame;
-  Vec3 ng;
   Vec3 origin;  // where rays leave the surface (shadingAt)
 };
 
@@ -56,7 +55,7 @@ Shading shadingAt(const SurfaceHit &hit, Vec3 wo) {
   if (dot(wo, ns) <= 0) ns = ng;
   const Vec3 base =
       dot(hit.shadingOffset, ng) > 0 ? hit.position + hit.shadingOffset : hit.position;
-  return {Frame::fromNormal(ns), ng, offsetRayOrigin(base, ng, ng)};
+  return {Frame::fromNormal(ns), offsetRayOrigin(base, ng, ng)};
 }
 
 void record(PathCounters &c, const Ray &r) {
@@ -148,10 +147,8 @@ bool PathIntegrator::arrive(std::span<PathState> path,
     // on, 0-based) and before its next-event estimation: cutting a path
     // after its BSDF sample instead (pbrt-v4's place) also cuts the MIS
     // half of the previous hit's direct light. Survival sqrt(max beta)
-    // (Cycles' rule), not max beta: on a Lambertian sphere and floor under
-    // beach, 64 spp, max depth 5, the pixel variance is 0.48x that of
-    // pbrt-v4's rule and place at 1.04x the time (tools/experiments/README.md,
-    // "Path noise").
+    // (Cycles' rule), not max beta: it lowered the pixel variance for about
+    // the same time (measured in tools/experiments/README.md, "Path noise").
     if (depth >= rouletteDepth_ && p.beta.maxComponent() < 1) {
       const double q = std::max(0.0, 1 - std::sqrt(p.beta.maxComponent()));
       if (p.samples->primary(SamplePairs::roulette(depth), p.index).x < q) {

@@ -76,8 +76,6 @@ class PathIntegrator {
                 std::span<PixelSamples *const> samples, std::span<const std::size_t> indices,
                 std::span<Rgb> out, PathCounters &counters) const;
 
-  int maxDepth() const { return maxDepth_; }
-
   // One path between bounces; defined (and used only) in path_integrator.cpp.
   struct PathState;
 

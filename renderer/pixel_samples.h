@@ -6,7 +6,8 @@
 // Sample i uses point i of whichever set its own context selects, so the
 // samples of a pixel whose first hits share a context (the usual case) use
 // one set, and a sample with another context still gets a point of a
-// properly randomized set. One object per worker, reused across pixels.
+// properly randomized set. A tile's task holds one per pixel it renders at
+// once (up to 16 at low spp), each reused across pixels.
 
 #include <algorithm>
 #include <cstdint>

@@ -259,8 +259,7 @@ double DirectOptimizer::unionLoss(int epoch, std::span<const Point2> x,
   std::vector<std::size_t> order(K);
   for (std::size_t k = 0; k < K; ++k) order[k] = k;
   Rng rng(hashCombine(s.seed, 0x756e696f6eull), std::uint64_t(epoch));
-  for (std::size_t i = K - 1; i > 0; --i)
-    std::swap(order[i], order[rng.uniformInt(std::uint32_t(i + 1))]);
+  shuffle(std::span(order), rng);
   const std::size_t groups = (K + group - 1) / group;
   std::vector<double> losses(groups, 0.0);
   tbb::parallel_for(std::size_t(0), groups, [&](std::size_t g) {

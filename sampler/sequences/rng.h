@@ -3,7 +3,10 @@
 // (seed, stream, index), so any sample can be regenerated independently,
 // in any order and on any thread, and runs are reproducible by construction.
 
+#include <cstddef>
 #include <cstdint>
+#include <span>
+#include <utility>
 
 namespace nuld {
 
@@ -30,8 +33,9 @@ constexpr double toUnitDouble(std::uint64_t bits) {
   return static_cast<double>(bits >> 11) * 0x1.0p-53;
 }
 
-// A sequential stream over the counter-based generator: value k of stream
-// (seed, stream) is hash3(seed, stream, k). Cheap to copy and to skip ahead.
+// A sequential stream over a counter-based generator: value k (from 1) of
+// stream (seed, stream) is mix64(key + k * 0x9e3779b97f4a7c15), the key
+// being hashCombine(mix64(seed), stream). Cheap to copy and to skip ahead.
 class Rng {
  public:
   explicit Rng(std::uint64_t seed = 0, std::uint64_t stream = 0)
@@ -50,6 +54,15 @@ class Rng {
   std::uint64_t key_;
   std::uint64_t counter_ = 0;
 };
+
+// Fisher-Yates: a uniformly random permutation of `v`, one draw per swap.
+// (The renderer's per-pixel shuffle, shufflePoints in renderer/padding.h,
+// spends one 64-bit draw on two swaps: it runs for every pixel and pair.)
+template <class T>
+void shuffle(std::span<T> v, Rng &rng) {
+  for (std::size_t i = v.size(); i > 1; --i)
+    std::swap(v[i - 1], v[rng.uniformInt(std::uint32_t(i))]);
+}
 
 // Independent uniform samples addressed by (seed, index, dimension).
 inline double independentSample(std::uint64_t seed, std::uint64_t index, std::uint32_t dim) {

@@ -38,7 +38,7 @@ std::uint32_t permuteDigit(std::uint32_t digit, std::uint32_t base, std::uint64_
   std::array<std::uint16_t, kMaxBase> perm;
   std::iota(perm.begin(), perm.begin() + base, 0);
   Rng rng(key);
-  for (std::uint32_t i = base - 1; i > 0; --i) std::swap(perm[i], perm[rng.uniformInt(i + 1)]);
+  shuffle(std::span(perm.data(), base), rng);
   return perm[digit];
 }
 

@@ -173,7 +173,12 @@ std::string targetOptionHelp(const std::string &what) {
   return what + ": " + list + " (nuld help targets)";
 }
 
-void addLobeRouteOptions(CLI::App &app, LobeRouteOptions &o) {
+void addLobeOptions(CLI::App &app, LobeOptions &o) {
+  app.add_option("--lobe-mix", o.mix,
+                 "density of the lobe tables that sobol-tabulated and lobe banks sample: 0 f "
+                 "cos, 1 the material's own sampling pdf, between a mixture (default: 0 for "
+                 "--integrator bsdf, 1 under MIS)")
+      ->check(numberIn(0, 1));
   app.add_option("--lobe-routes", o.routes,
                  "which view bins sample their lobe table: measured (those measured at least "
                  "as good as the material's own sampler, the default) or table (every bin)")
@@ -188,7 +193,8 @@ void addLobeRouteOptions(CLI::App &app, LobeRouteOptions &o) {
       ->check(wholeNumberIn(0, kMaxDepthLimit));
 }
 
-void applyLobeRouteOptions(const LobeRouteOptions &o, RenderOverrides &change) {
+void applyLobeOptions(const LobeOptions &o, RenderOverrides &change) {
+  change.lobeMix = o.mix;
   if (!o.routes.empty()) change.lobeRouting = kLobeRoutingNames.parse(o.routes);
   change.lobeDefensive = o.defensive;
   change.lobeBounces = o.bounces;

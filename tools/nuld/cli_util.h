@@ -78,19 +78,21 @@ CLI::Validator numberIn(double lo, double hi);
 CLI::Validator positiveNumber();
 CLI::Validator nonNegativeNumber();
 
+// The lobe options of the commands that render (renderer/README.md,
+// "Sampling contexts" and "Lobe routes"): --lobe-mix (the tables' density),
 // --lobe-routes (measured or table), --lobe-defensive (the defensive share)
-// and --lobe-bounces (how many bounces sample tables), for the commands that
-// render (renderer/README.md, "Lobe routes");
-// the apply step copies what was given into the overrides.
-struct LobeRouteOptions {
+// and --lobe-bounces (how many bounces sample tables); the apply step copies
+// what was given into the overrides.
+struct LobeOptions {
+  std::optional<double> mix;
   std::string routes;
   std::optional<double> defensive;
   std::optional<int> bounces;
 };
-void addLobeRouteOptions(CLI::App &app, LobeRouteOptions &o);
-void applyLobeRouteOptions(const LobeRouteOptions &o, RenderOverrides &change);
-inline constexpr std::initializer_list<const char *> kLobeRouteOptionNames = {
-    "--lobe-routes", "--lobe-defensive", "--lobe-bounces"};
+void addLobeOptions(CLI::App &app, LobeOptions &o);
+void applyLobeOptions(const LobeOptions &o, RenderOverrides &change);
+inline constexpr std::initializer_list<const char *> kLobeOptionNames = {
+    "--lobe-mix", "--lobe-routes", "--lobe-defensive", "--lobe-bounces"};
 
 // The name in `names` closest to `word` by edit distance, when it is close
 // enough to be a likely typo (at most a third of the word's letters wrong);

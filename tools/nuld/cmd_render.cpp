@@ -20,8 +20,7 @@ Runner addRender(CLI::App &app) {
     std::string scene, backend, res, assets, integrator, output;
     std::size_t spp = 0;
     int maxDepth = 0;
-    std::optional<double> lobeMix;
-    LobeRouteOptions routes;
+    LobeOptions lobes;
     std::int64_t seed = -1;
     bool quiet = false;
   };
@@ -44,13 +43,7 @@ Runner addRender(CLI::App &app) {
       ->check(oneOf(kIntegratorNames));
   app.add_option("--max-depth", o->maxDepth, "maximum path length in bounces")
       ->check(wholeNumberIn(1, kMaxDepthLimit));
-  app.add_option(
-         "--lobe-mix", o->lobeMix,
-         "density of the lobe tables that sobol-tabulated and lobe banks sample: 0 f cos, 1 the "
-         "material's own sampling pdf, between a mixture (default: 0 for --integrator "
-         "bsdf, 1 under MIS)")
-      ->check(numberIn(0, 1));
-  addLobeRouteOptions(app, o->routes);
+  addLobeOptions(app, o->lobes);
   app.add_option("--seed", o->seed, "seed of the backend's randomization")
       ->check(wholeNumberIn(0, std::int64_t(1) << 62));
   app.add_option("-o,--output", o->output, "output EXR (a tone-mapped PNG is written beside it)")
@@ -68,14 +61,13 @@ Runner addRender(CLI::App &app) {
     }
     if (!o->integrator.empty()) change.integrator = parseIntegrator(o->integrator);
     if (o->maxDepth) change.maxDepth = o->maxDepth;
-    change.lobeMix = o->lobeMix;
-    applyLobeRouteOptions(o->routes, change);
+    applyLobeOptions(o->lobes, change);
     const RenderSettings s = change.appliedTo(loaded.settings);
     onlyWhen(app, s.integrator == IntegratorKind::Path, {"--max-depth"}, "--integrator path");
     const std::uint64_t seed = o->seed >= 0 ? std::uint64_t(o->seed) : loaded.seed;
     const auto backend = makeBackend(o->backend.empty() ? loaded.backend : o->backend, seed);
     onlyWhen(app, backend->samplesLobes() && s.integrator != IntegratorKind::Light,
-             {"--lobe-mix", "--lobe-routes", "--lobe-defensive", "--lobe-bounces"},
+             kLobeOptionNames,
              "a backend that samples lobe tables (sobol-tabulated, lobe banks) and an integrator "
              "other than light");
 

@@ -129,7 +129,7 @@ Runner addStudyRender(CLI::App &app) {
   struct Options {
     study::RenderStudySettings s;
     std::string res, integrator, out;
-    LobeRouteOptions routes;
+    LobeOptions lobes;
     bool noReport = false, quiet = false;
   };
   auto o = std::make_shared<Options>();
@@ -180,13 +180,7 @@ Runner addStudyRender(CLI::App &app) {
                  "keeps a glossy lobe's instances from converging to one set (default 3; 0: "
                  "instances optimized apart)")
       ->check(nonNegativeNumber());
-  app.add_option(
-         "--lobe-mix", o->s.lobeMix,
-         "density of the lobe tables that sobol-tabulated and lobe banks sample: 0 f cos, 1 the "
-         "material's own sampling pdf, between a mixture (default: 0 for --integrator "
-         "bsdf, 1 under MIS)")
-      ->check(numberIn(0, 1));
-  addLobeRouteOptions(app, o->routes);
+  addLobeOptions(app, o->lobes);
   app.add_option("--assets", o->s.assets,
                  "asset root (default: $NULD_ASSETS, else ../shared/assets)");
   app.add_option("-o,--output", o->out, "study directory (created; a rerun resumes it)")
@@ -203,7 +197,8 @@ Runner addStudyRender(CLI::App &app) {
     s.out = o->out;
     {
       RenderOverrides change;
-      applyLobeRouteOptions(o->routes, change);
+      applyLobeOptions(o->lobes, change);
+      s.lobeMix = change.lobeMix;
       s.lobeRouting = change.lobeRouting;
       s.lobeDefensive = change.lobeDefensive;
       s.lobeBounces = change.lobeBounces;
@@ -230,7 +225,7 @@ Runner addStudyRender(CLI::App &app) {
                            return b.rfind("sobol-tabulated", 0) == 0 ||
                                   b.rfind("optimized-b", 0) == 0 || b.find(':') != b.npos;
                          }),
-             {"--lobe-mix", "--lobe-routes", "--lobe-defensive", "--lobe-bounces"},
+             kLobeOptionNames,
              "backends that sample lobe tables (sobol-tabulated, optimized-bsdf, optimized-both, "
              "optimized:PATHS, shifted:PATHS, neural:MODEL)");
     onlyWhen(app, !app.count("--integrator") || o->integrator == "path", {"--max-depth"},

@@ -3,8 +3,10 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <vector>
 
 #include "tools/study/integration_study.h"
+#include "tools/study/statistics.h"
 
 namespace nuld::study {
 
@@ -24,27 +26,20 @@ double importanceEstimate(const Integrand &in, std::span<const Point2> points,
 }
 
 EstimateStats summarize(std::span<const double> e, double reference) {
-  const double K = double(e.size());
   if (e.size() < 2) throw std::invalid_argument("summarize: need at least 2 estimates");
-  EstimateStats s;
-  for (double v : e) s.mean += v / K;
-  double var = 0, mse = 0;
-  for (double v : e) {
-    var += (v - s.mean) * (v - s.mean);
-    mse += (v - reference) * (v - reference);
-  }
-  s.std = std::sqrt(var / (K - 1));
-  s.bias = s.mean - reference;
-  s.biasStderr = s.std / std::sqrt(K);
-  s.rmse = std::sqrt(mse / K);
+  const MeanAndError estimates = meanAndError(e);
   // The MSE is itself a mean over the instances: its standard error decides
   // whether two samplers' MSEs differ (heavy-tailed on HDR integrands).
-  double sqVar = 0;
-  for (double v : e) {
-    const double d = (v - reference) * (v - reference) - mse / K;
-    sqVar += d * d;
-  }
-  s.mseStderr = std::sqrt(sqVar / (K - 1) / K);
+  std::vector<double> squaredErrors;
+  for (double v : e) squaredErrors.push_back((v - reference) * (v - reference));
+  const MeanAndError mse = meanAndError(squaredErrors);
+  EstimateStats s;
+  s.mean = estimates.mean;
+  s.std = estimates.std;
+  s.bias = s.mean - reference;
+  s.biasStderr = estimates.stderr_;
+  s.rmse = std::sqrt(mse.mean);
+  s.mseStderr = mse.stderr_;
   s.relRmse = reference != 0 ? s.rmse / std::abs(reference) : NAN;
   return s;
 }

@@ -22,8 +22,8 @@ OptimizerSettings optimizerSettings(const Target &target, const OptimizedSetsReq
   if (r.objective) s.objective = *r.objective;
   if (s.objective == Objective::ExactL2asd && s.instances > 1) s.unionWeight = r.unionWeight;
   // The periodic objective is defined on the torus: points wrap. Its best
-  // schedule measured at N = 64 starts 10x higher than the uniform preset's
-  // (periodic L2 0.0124 against 0.0135; tools/experiments/graph_generator_log.md).
+  // measured schedule starts higher than the uniform preset's
+  // (tools/experiments/graph_generator_log.md has the sweep).
   if (s.objective == Objective::PeriodicL2) {
     s.mapping = Mapping::Toroidal;
     s.lrStart = 1e-2;

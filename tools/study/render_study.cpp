@@ -19,6 +19,7 @@
 #include "tools/study/csv_table.h"
 #include "tools/study/optimized_sets.h"
 #include "tools/study/ranks.h"
+#include "tools/study/statistics.h"
 #include "tools/study/stopwatch.h"
 
 namespace nuld::study {
@@ -42,21 +43,6 @@ bool isStudyBackend(const std::string &b) {
   const auto &study = studyBackendDescriptions();
   return std::any_of(study.begin(), study.end(),
                      [&](const StudyBackendDescription &d) { return base == d.spelling; });
-}
-
-// Mean and standard error of the mean.
-struct Summary {
-  double mean = 0, stderr_ = 0;
-};
-Summary summarize(const std::vector<double> &v) {
-  Summary s;
-  for (double x : v) s.mean += x / double(v.size());
-  if (v.size() > 1) {
-    double ss = 0;
-    for (double x : v) ss += (x - s.mean) * (x - s.mean);
-    s.stderr_ = std::sqrt(ss / double(v.size() - 1) / double(v.size()));
-  }
-  return s;
 }
 
 // What a study backend needs at one spp: the renderer spec, which reads the
@@ -227,8 +213,8 @@ CellOutcome renderCell(
       out.image = std::move(img);
     }
   }
-  const Summary m = summarize(mse), rm = summarize(relmse), t = summarize(seconds),
-                rps = summarize(raysPerSecond);
+  const MeanAndError m = meanAndError(mse), rm = meanAndError(relmse), t = meanAndError(seconds),
+                     rps = meanAndError(raysPerSecond);
   out.row = {c.sceneSlug,
              c.backend,
              std::to_string(c.settings.spp),
