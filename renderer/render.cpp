@@ -96,7 +96,45 @@ ImageAttributes renderAttributes(const std::string &scene, const RenderSettings 
           {"nuld:version", NULD_VERSION}};
 }
 
-RenderSettings RenderOverrides::appliedTo(RenderSettings s) const {
+OverrideNames OverrideNames::options() {
+  return {"",
+          "--spp",
+          "--res",
+          "--res-scale",
+          "--max-depth",
+          "--lobe-mix",
+          "--lobe-defensive",
+          "--lobe-bounces"};
+}
+
+OverrideNames OverrideNames::python() {
+  return {"render: ",  "spp",      "resolution",     "resolution_scale",
+          "max_depth", "lobe_mix", "lobe_defensive", "lobe_bounces"};
+}
+
+void RenderOverrides::check(const OverrideNames &names) const {
+  const auto fail = [&](const std::string &name, const std::string &expected, double got) {
+    throw std::invalid_argument(names.prefix + name + ": expected " + expected + " (got " +
+                                formatRoundTrip(got) + ")");
+  };
+  if (spp && *spp == 0) fail(names.spp, "at least 1 sample per pixel", 0);
+  if (width && *width < 1) fail(names.resolution, "sides of at least 1 pixel", *width);
+  if (height && *height < 1) fail(names.resolution, "sides of at least 1 pixel", *height);
+  if (!(resolutionScale > 0 && resolutionScale <= 16))
+    fail(names.resolutionScale, "a factor in (0, 16]", resolutionScale);
+  if (maxDepth && (*maxDepth < 1 || *maxDepth > kMaxDepthLimit))
+    fail(names.maxDepth, "a whole number from 1 to " + std::to_string(kMaxDepthLimit), *maxDepth);
+  if (lobeMix && !(*lobeMix >= 0 && *lobeMix <= 1))
+    fail(names.lobeMix, "a number in [0, 1]", *lobeMix);
+  if (lobeDefensive && !(*lobeDefensive >= 0 && *lobeDefensive <= 1))
+    fail(names.lobeDefensive, "a number in [0, 1]", *lobeDefensive);
+  if (lobeBounces && (*lobeBounces < 0 || *lobeBounces > kMaxDepthLimit))
+    fail(names.lobeBounces,
+         "a whole number from 0 (every bounce) to " + std::to_string(kMaxDepthLimit), *lobeBounces);
+}
+
+RenderSettings RenderOverrides::appliedTo(RenderSettings s, const OverrideNames &names) const {
+  check(names);
   if (spp) s.spp = *spp;
   if (width) {
     s.width = *width;

@@ -36,10 +36,19 @@ struct RenderSettings {
   LobeTableSettings lobeTables{};
 };
 
+// How a front end names the settings it overrides, for the messages of
+// RenderOverrides::check: the command line's options, or the Python module's
+// keyword arguments.
+struct OverrideNames {
+  std::string prefix, spp, resolution, resolutionScale, maxDepth, lobeMix, lobeDefensive,
+      lobeBounces;
+  static OverrideNames options();  // --spp, --res, --res-scale, --max-depth, --lobe-*
+  static OverrideNames python();   // render: spp, resolution, max_depth, lobe_mix, ...
+};
+
 // What a command changes of a scene's render settings (`nuld render`, the
 // render study, the Python module): an unset field keeps the scene's value.
-// The callers check the values and name them in their own terms (--max-depth,
-// max_depth).
+// The values are checked here, once, and named in the caller's terms.
 struct RenderOverrides {
   std::optional<std::size_t> spp;
   std::optional<int> width, height;  // height unset: width (a square image)
@@ -51,7 +60,12 @@ struct RenderOverrides {
   std::optional<double> lobeDefensive;  // LobeTableSettings::defensive
   std::optional<int> lobeBounces;       // LobeTableSettings::bounces
 
-  RenderSettings appliedTo(RenderSettings s) const;
+  // Throws std::invalid_argument "NAME: expected ... (got V)" for the first
+  // value out of range.
+  void check(const OverrideNames &names) const;
+  // The settings with the overrides applied, after check(names).
+  RenderSettings appliedTo(RenderSettings s,
+                           const OverrideNames &names = OverrideNames::options()) const;
 };
 
 // The lobe tables a render with `s` builds: s.lobeTables with the density

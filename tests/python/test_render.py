@@ -45,7 +45,7 @@ def test_bad_render_arguments():
         nuld.render("default", integrator="photon", resolution=(4, 4))
     with pytest.raises(ValueError, match="spp"):
         nuld.render("default", spp=0)
-    with pytest.raises(ValueError, match=r"max_depth must be in \[1, 1000\] \(got 0\)"):
+    with pytest.raises(ValueError, match=r"render: max_depth: expected a whole number from 1 to 1000 \(got 0\)"):
         nuld.render("default", max_depth=0, resolution=(4, 4))
     with pytest.raises(ValueError, match="lobe_mix"):
         nuld.render("default", lobe_mix=1.5, resolution=(4, 4))

@@ -51,23 +51,12 @@ void bindRender(py::module_ &m) {
         const bool builtIn = isBuiltInScene(scene);
         LoadedScene loaded = loadScene(scene, builtIn ? std::string() : resolveAssetRoot(assets));
         RenderOverrides change;
-        if (spp && *spp == 0) throw std::invalid_argument("render: spp must be at least 1");
         change.spp = spp;
-        if (resolution) {
-          if (resolution->first < 1 || resolution->second < 1)
-            throw std::invalid_argument("render: resolution must be at least 1 x 1");
-          change.width = resolution->first, change.height = resolution->second;
-        }
+        if (resolution) change.width = resolution->first, change.height = resolution->second;
         if (integrator) change.integrator = parseIntegrator(*integrator);
-        if (maxDepth && (*maxDepth < 1 || *maxDepth > kMaxDepthLimit))
-          throw std::invalid_argument("render: max_depth must be in [1, " +
-                                      std::to_string(kMaxDepthLimit) + "] (got " +
-                                      std::to_string(*maxDepth) + ")");
         change.maxDepth = maxDepth;
-        if (lobeMix && !(*lobeMix >= 0 && *lobeMix <= 1))
-          throw std::invalid_argument("render: lobe_mix must be in [0, 1]");
         change.lobeMix = lobeMix;
-        const RenderSettings s = change.appliedTo(loaded.settings);
+        const RenderSettings s = change.appliedTo(loaded.settings, OverrideNames::python());
         const auto b = makeBackend(backend ? *backend : loaded.backend, seed ? *seed : loaded.seed);
         RenderStats st;
         Image img;

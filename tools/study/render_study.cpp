@@ -270,23 +270,13 @@ void RenderStudySettings::validate() const {
   if (spp.empty()) throw std::invalid_argument("--spp: no sample count given");
   for (std::size_t n : spp)
     if (n == 0) throw std::invalid_argument("--spp: counts must be positive");
-  if (!(resolutionScale > 0 && resolutionScale <= 16))
-    throw std::invalid_argument("--res-scale: expected a factor in (0, 16]");
   if (width < 0 || height < 0 || (height > 0 && width == 0))
     throw std::invalid_argument("--res: expected W or WxH with positive sizes");
-  if (maxDepth < 0 || maxDepth > kMaxDepthLimit)
-    throw std::invalid_argument("--max-depth: expected 1 to " + std::to_string(kMaxDepthLimit) +
-                                " (0: the scene's)");
   if (repeats == 0) throw std::invalid_argument("--repeats: must be at least 1");
   if (optimizedInstances == 0) throw std::invalid_argument("--opt-instances: must be at least 1");
   if (!(lobeUnionWeight >= 0) || !std::isfinite(lobeUnionWeight))
     throw std::invalid_argument("--opt-union-weight: expected a finite weight >= 0");
-  if (lobeMix && !(*lobeMix >= 0 && *lobeMix <= 1))
-    throw std::invalid_argument("--lobe-mix: expected a number in [0, 1]");
-  if (lobeBounces && *lobeBounces < 0)
-    throw std::invalid_argument("--lobe-bounces: expected a count >= 0 (0: every bounce)");
-  if (lobeDefensive && !(*lobeDefensive >= 0 && *lobeDefensive <= 1))
-    throw std::invalid_argument("--lobe-defensive: expected a number in [0, 1]");
+  overrides().check(OverrideNames::options());  // the render settings, as every render checks
   if (out.empty()) throw std::invalid_argument("study render: -o OUTDIR is required");
   for (const auto &b : backends)              // fail now, not after an hour of reference
     if (!isStudyBackend(b)) parseBackend(b);  // the word only: files are read per cell
