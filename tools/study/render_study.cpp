@@ -28,52 +28,38 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// A study backend may carry the suffix "+shift": its non-uniform sets are
-// then randomized in primary space (the renderer's shifted:PATHS).
-constexpr std::string_view kShiftSuffix = "+shift";
-bool hasShiftSuffix(const std::string &b) {
-  return b.size() > kShiftSuffix.size() && b.ends_with(kShiftSuffix);
-}
-std::string withoutShift(const std::string &b) {
-  return hasShiftSuffix(b) ? b.substr(0, b.size() - kShiftSuffix.size()) : b;
-}
-
-bool isStudyBackend(const std::string &b) {
-  const std::string base = withoutShift(b);
-  const auto &study = studyBackendDescriptions();
-  return std::any_of(study.begin(), study.end(),
-                     [&](const StudyBackendDescription &d) { return base == d.spelling; });
-}
-
-// What a study backend needs at one spp: the renderer spec, which reads the
-// sets the jobs make. `spec` is "" when the scene cannot use the backend
+// What a study backend needs at one spp: the renderer's backend, which reads
+// the sets the jobs make. No spec when the scene cannot use the backend
 // (reason in `why`).
 struct BackendPlan {
-  std::string spec;
+  std::optional<BackendSpec> spec;
   std::vector<SetsJob> sets;
   std::string why;
 };
 
-BackendPlan planBackend(const std::string &backend, const Scene &scene, const LobeTables *tables,
+BackendPlan planBackend(const StudyBackend &backend, const Scene &scene, const LobeTables *tables,
                         const std::string &sceneSlug, std::size_t spp,
                         const RenderStudySettings &s) {
-  if (!isStudyBackend(backend)) return {backend, {}, ""};
-  if (hasShiftSuffix(backend)) {
-    BackendPlan plan = planBackend(withoutShift(backend), scene, tables, sceneSlug, spp, s);
-    if (plan.spec.rfind("optimized:", 0) == 0) plan.spec = "shifted:" + plan.spec.substr(10);
-    return plan;
-  }
+  using Sets = StudyBackend::Sets;
+  if (backend.sets == Sets::None) return {backend.renderer, {}, ""};
   OptimizedSetsRequest request;
   request.n = spp;
   request.instances = s.optimizedInstances;
   request.epochs = s.optimizedEpochs;
   request.seed = s.seed;
-  const std::string task = sceneSlug + ": " + backend + " N=" + std::to_string(spp);
+  const std::string task = sceneSlug + ": " + backend.word + " N=" + std::to_string(spp);
   const fs::path cache = s.out / "cache";
   std::vector<std::string> paths;
   BackendPlan plan;
+  // The sets' backend: every file and directory of `paths`, shifted in
+  // primary space for a +shift word.
+  const auto banks = [&] {
+    std::string argument;
+    for (std::size_t i = 0; i < paths.size(); ++i) argument += (i ? "," : "") + paths[i];
+    return BackendSpec{backend.shifted ? BackendKind::Shifted : BackendKind::Optimized, argument};
+  };
 
-  if (backend == "optimized-uniform") {
+  if (backend.sets == Sets::Uniform) {
     // Sets for the periodic L2 discrepancy: a Cranley-Patterson shift, which
     // the backend applies per pixel and pair, leaves it unchanged, so every
     // shifted set is as good as the optimized one (sets for the plain L2
@@ -82,32 +68,32 @@ BackendPlan planBackend(const std::string &backend, const Scene &scene, const Lo
     request.objective = Objective::PeriodicL2;
     const fs::path file = cachedSetsPath(cache, *uniform, optimizerSettings(*uniform, request));
     plan.sets.push_back({uniform.get(), request, file, task});
-    plan.spec = "optimized:" + file.string();
+    paths.push_back(file.string());
+    plan.spec = banks();
     return plan;
   }
-  if (backend == "optimized" || backend == "optimized-both") {
+  if (backend.sets == Sets::EnvMap || backend.sets == Sets::EnvMapAndLobes) {
     if (!scene.environment || !scene.environment->target())
-      return {"", {}, "the scene has no (non-black) environment map to optimize for"};
+      return {std::nullopt, {}, "the scene has no (non-black) environment map to optimize for"};
     const fs::path file = cache / (sceneSlug + "_envmap_n" + std::to_string(spp) + ".ptsb");
     plan.sets.push_back({scene.environment->target(), request, file, task});
     paths.push_back(file.string());
   }
-  if (backend == "optimized-bsdf" || backend == "optimized-both") {
+  if (backend.makesLobeSets()) {
     // A bank per lobe table the renderer will build for this scene (the same
     // settings give the same specs), optimized for the exact L2asd
     // objective: as good as the sphere preset's soft boxes for these targets
     // at 1/30 to 1/100 of the time (tools/experiments/lobe_banks_log.md).
     if (!tables || tables->materials() == 0)
-      return {"", {}, "the scene has no Disney material to optimize lobe sets for"};
+      return {std::nullopt, {}, "the scene has no Disney material to optimize lobe sets for"};
     request.objective = Objective::ExactL2asd;
     request.unionWeight = s.lobeUnionWeight;
     const auto targets = tables->targets();
     // No bin whose route is the table: every BSDF sample keeps the
     // material's sampler, and the bank backend's fallback is Owen-Sobol with
-    // the same seed, so the row is sobol's (or optimized's) bit for bit.
+    // the same seed, so the row is sobol's (or the map sets') bit for bit.
     if (targets.empty()) {
-      if (paths.empty()) return {"sobol", {}, ""};
-      plan.spec = "optimized:" + paths[0];
+      plan.spec = paths.empty() ? BackendSpec{BackendKind::Sobol, ""} : banks();
       return plan;
     }
     // The directory is the bank the renderer loads whole, so its name carries
@@ -124,8 +110,7 @@ BackendPlan planBackend(const std::string &backend, const Scene &scene, const Lo
            task + " lobe " + std::to_string(k + 1) + "/" + std::to_string(targets.size())});
     paths.push_back(dir.string());
   }
-  plan.spec = "optimized:";
-  for (std::size_t i = 0; i < paths.size(); ++i) plan.spec += (i ? "," : "") + paths[i];
+  plan.spec = banks();
   return plan;
 }
 
@@ -143,19 +128,28 @@ void appendReferenceRow(CsvTable &refs, const std::string &scene, const Referenc
                toString(r.render.integrator), formatNumber(result.totalSeconds), image.string()});
 }
 
+// Where a cell's first render and its error map go.
+struct CellFiles {
+  fs::path image, errorMap;
+  CellFiles(const fs::path &dir, const std::string &backend, std::size_t spp) {
+    const std::string stem = slug(backend) + "_spp" + std::to_string(spp);
+    image = dir / (stem + ".exr");
+    errorMap = dir / (stem + "_error.png");
+  }
+};
+
 // One cell of the table: `repeats` renders of one backend at one spp,
 // scored against the reference.
 struct Cell {
   const Scene &scene;
   RenderSettings settings;  // spp set
-  std::string sceneSlug, backend, spec;
+  std::string sceneSlug, backend;
+  BackendSpec spec;
   double setupSeconds = 0;
   const Image &reference;
   fs::path dir;
 
-  std::string stem() const { return slug(backend) + "_spp" + std::to_string(settings.spp); }
-  fs::path image() const { return dir / (stem() + ".exr"); }
-  fs::path errorMap() const { return dir / (stem() + "_error.png"); }
+  CellFiles files() const { return {dir, backend, settings.spp}; }
 };
 
 // What a cell sends to rank 0: its row, or the backend's refusal, and its
@@ -228,21 +222,47 @@ CellOutcome renderCell(
              formatNumber(rps.mean),
              std::to_string(nonFinite),
              std::to_string(rejected),
-             fs::relative(c.image(), s.out).string(),
-             fs::relative(c.errorMap(), s.out).string()};
+             fs::relative(c.files().image, s.out).string(),
+             fs::relative(c.files().errorMap, s.out).string()};
   return out;
 }
 
 }  // namespace
 
 const std::vector<StudyBackendDescription> &studyBackendDescriptions() {
+  using Sets = StudyBackend::Sets;
   static const std::vector<StudyBackendDescription> list{
-      {"optimized", "sets optimized for the scene's environment map (light samples)"},
-      {"optimized-uniform", "uniform sets for the periodic L2 discrepancy (primary samples)"},
-      {"optimized-bsdf", "lobe banks for the scene's Disney materials (BSDF samples)"},
-      {"optimized-both", "optimized and optimized-bsdf together"},
+      {"optimized", "sets optimized for the scene's environment map (light samples)", Sets::EnvMap},
+      {"optimized-uniform", "uniform sets for the periodic L2 discrepancy (primary samples)",
+       Sets::Uniform},
+      {"optimized-bsdf", "lobe banks for the scene's Disney materials (BSDF samples)", Sets::Lobes},
+      {"optimized-both", "optimized and optimized-bsdf together", Sets::EnvMapAndLobes},
   };
   return list;
+}
+
+StudyBackend parseStudyBackend(const std::string &word) {
+  // A study word may carry the suffix "+shift": its non-uniform sets are
+  // then randomized in primary space (the renderer's shifted:PATHS).
+  constexpr std::string_view kShift = "+shift";
+  StudyBackend b;
+  b.word = word;
+  std::string base = word;
+  if (base.size() > kShift.size() && base.ends_with(kShift)) {
+    base.resize(base.size() - kShift.size());
+    b.shifted = true;
+  }
+  for (const StudyBackendDescription &d : studyBackendDescriptions())
+    if (base == d.spelling) {
+      b.sets = d.sets;
+      return b;
+    }
+  if (b.shifted)
+    throw std::invalid_argument("--backends: '" + word +
+                                "': +shift applies to the study's own sets (optimized, "
+                                "optimized-uniform, optimized-bsdf, optimized-both) only");
+  b.renderer = parseBackend(word);
+  return b;
 }
 
 const std::vector<std::string> &renderStudyColumns() {
@@ -278,8 +298,8 @@ void RenderStudySettings::validate() const {
     throw std::invalid_argument("--opt-union-weight: expected a finite weight >= 0");
   overrides().check(OverrideNames::options());  // the render settings, as every render checks
   if (out.empty()) throw std::invalid_argument("study render: -o OUTDIR is required");
-  for (const auto &b : backends)              // fail now, not after an hour of reference
-    if (!isStudyBackend(b)) parseBackend(b);  // the word only: files are read per cell
+  for (const auto &b : backends)  // fail now, not after an hour of reference
+    parseStudyBackend(b);         // the word only: files are read per cell
 }
 
 RenderOverrides RenderStudySettings::overrides() const {
@@ -380,23 +400,23 @@ RenderStudyResult runRenderStudy(const RenderStudySettings &s, const StudyProgre
     // The cells to render, spp by spp: cells of one round then cost about
     // the same (render time grows with spp).
     struct Pending {
-      std::string backend;
+      StudyBackend backend;
       std::size_t spp;
     };
     std::vector<Pending> cells;
     for (std::size_t spp : s.spp)
       for (const std::string &backend : s.backends)
         if (!table.hasRow({sceneSlug, backend, std::to_string(spp)}))
-          cells.push_back({backend, spp});
+          cells.push_back({parseStudyBackend(backend), spp});
     // The scene's lobe tables, built once before any cell when a backend
     // samples lobes (the renders then reuse them), their time counted as
     // setup of the cells that use them rather than as the first render's.
     std::shared_ptr<const LobeTables> tables;
     double tableSeconds = 0;
-    const auto samplesLobes = [](const std::string &backend) {
-      const std::string b = withoutShift(backend);
-      if (isStudyBackend(backend)) return b.rfind("optimized-b", 0) == 0;
-      return makeBackend(b, 0)->samplesLobes();
+    const auto samplesLobes = [](const StudyBackend &b) {
+      if (b.sets != StudyBackend::Sets::None) return b.makesLobeSets();
+      // A file's banks or a model may or may not sample lobes: asked.
+      return b.renderer.entry().lobes && makeBackend(b.renderer, 0)->samplesLobes();
     };
     if (rs.integrator != IntegratorKind::Light)
       for (const Pending &c : cells)
@@ -430,14 +450,14 @@ RenderStudyResult runRenderStudy(const RenderStudySettings &s, const StudyProgre
           const Pending &pending = cells[i];
           const BackendPlan plan =
               planBackend(pending.backend, loaded.scene, tables.get(), sceneSlug, pending.spp, s);
-          if (plan.spec.empty()) return ByteWriter().put(std::string("skip")).put(plan.why).take();
+          if (!plan.spec) return ByteWriter().put(std::string("skip")).put(plan.why).take();
           double setupSeconds = samplesLobes(pending.backend) ? tableSeconds : 0;
           for (const SetsJob &job : plan.sets)
             setupSeconds += optimizedSets(*job.target, job.request, job.file).seconds;
           RenderSettings settings = rs;
           settings.spp = pending.spp;
-          const Cell cell{loaded.scene, settings,     sceneSlug, pending.backend,
-                          plan.spec,    setupSeconds, ref.image, dir};
+          const Cell cell{loaded.scene, settings,     sceneSlug, pending.backend.word,
+                          *plan.spec,   setupSeconds, ref.image, dir};
           const double cellWork = double(pending.spp) * double(s.repeats);
           const CellOutcome outcome =
               renderCell(cell, s, [&](std::size_t r, std::size_t d, std::size_t n) {
@@ -446,7 +466,7 @@ RenderStudyResult runRenderStudy(const RenderStudySettings &s, const StudyProgre
                            (work + double(ranks.size()) * cellWork / double(s.repeats) *
                                        (double(r) + double(d) / double(n))) /
                                totalWork,
-                           pending.backend + " spp " + std::to_string(pending.spp));
+                           pending.backend.word + " spp " + std::to_string(pending.spp));
               });
           return ByteWriter().put(std::string("cell")).put(outcome.bytes()).take();
         },
@@ -454,7 +474,7 @@ RenderStudyResult runRenderStudy(const RenderStudySettings &s, const StudyProgre
           const Pending &pending = cells[i];
           work += double(pending.spp) * double(s.repeats);
           const std::string what =
-              sceneSlug + " " + pending.backend + " " + std::to_string(pending.spp) + ": ";
+              sceneSlug + " " + pending.backend.word + " " + std::to_string(pending.spp) + ": ";
           ByteReader r(bytes);
           if (r.get<std::string>() == "skip") {
             result.skipped.push_back(what + r.get<std::string>());
@@ -465,12 +485,9 @@ RenderStudyResult runRenderStudy(const RenderStudySettings &s, const StudyProgre
             result.skipped.push_back(what + outcome.refusal);
             return;
           }
-          RenderSettings settings = rs;
-          settings.spp = pending.spp;
-          const Cell cell{loaded.scene, settings, sceneSlug, pending.backend,
-                          "",           0,        ref.image, dir};
-          writeRender(cell.image().string(), outcome.image, outcome.attributes);
-          writeImage(cell.errorMap().string(), errorMap(outcome.image, ref.image));
+          const CellFiles files(dir, pending.backend.word, pending.spp);
+          writeRender(files.image.string(), outcome.image, outcome.attributes);
+          writeImage(files.errorMap.string(), errorMap(outcome.image, ref.image));
           table.addRow(outcome.row);
         });
     ranks.barrier();

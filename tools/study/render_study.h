@@ -87,11 +87,25 @@ using StudyProgress =
 // The CSV's columns, in order (render.csv); units: seconds of wall time.
 const std::vector<std::string> &renderStudyColumns();
 
-// The backends the render study makes its own sets for (optimized,
-// optimized-uniform, optimized-bsdf, optimized-both), each also with the
-// suffix +shift: the names `nuld help backends` lists.
+// A --backends word, parsed once: one of the study's own sets (optimized,
+// optimized-uniform, optimized-bsdf, optimized-both, each maybe with +shift)
+// or a renderer backend (renderer/backend_registry.h).
+struct StudyBackend {
+  enum class Sets { None, EnvMap, Uniform, Lobes, EnvMapAndLobes };
+  std::string word;        // as given: the CSV's backend column
+  Sets sets = Sets::None;  // None: `renderer` is the backend
+  bool shifted = false;    // +shift: the sets randomized in primary space
+  BackendSpec renderer;    // for Sets::None
+  bool makesLobeSets() const { return sets == Sets::Lobes || sets == Sets::EnvMapAndLobes; }
+};
+// Throws std::invalid_argument naming the word and the choices.
+StudyBackend parseStudyBackend(const std::string &word);
+
+// The words of the study's own sets, each also with the suffix +shift: the
+// names `nuld help backends` lists and parseStudyBackend knows.
 struct StudyBackendDescription {
   const char *spelling, *description;
+  StudyBackend::Sets sets;
 };
 const std::vector<StudyBackendDescription> &studyBackendDescriptions();
 
