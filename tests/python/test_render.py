@@ -8,6 +8,28 @@ import pytest
 import nuld
 
 
+def test_every_backend_word_renders(tmp_path, nuld_bin):
+    # The words `nuld help backends` prints (the registry's), aliases included.
+    text = subprocess.run([nuld_bin, "help", "backends"], check=True, capture_output=True,
+                          text=True).stdout.split("nuld study render")[0]
+    words = [line.split()[0] for line in text.splitlines() if line.startswith("  ")
+             and line[2].isalpha()]
+    flat = " ".join(text.split())
+    words += [w.rstrip(")") for part in flat.split("(also: ")[1:] for w in [part.split(")")[0]]]
+    sets = str(tmp_path / "u4.txt")
+    subprocess.run([nuld_bin, "generate", "--sequence", "sobol", "--n", "4", "-o", sets],
+                   check=True, capture_output=True)
+    model = str(tmp_path / "u4.nuldnet")
+    subprocess.run([nuld_bin, "train", "--target", "uniform", "--n", "4", "--hidden", "8",
+                    "--steps", "2", "--batch", "2", "--boxes", "64", "-q", "-o", model],
+                   check=True, capture_output=True)
+    assert len(words) >= 9, words
+    for word in words:
+        backend = word.replace("PATHS", sets).replace("MODEL", model)
+        img = nuld.render("default", backend=backend, spp=4, resolution=(8, 6))
+        assert np.all(np.isfinite(img)), word
+
+
 def test_render_is_the_clis_image(tmp_path, nuld_bin):
     img, stats = nuld.render("default", backend="sobol", spp=2, resolution=(24, 16), seed=3,
                              integrator="direct", stats=True)

@@ -122,6 +122,21 @@ grep -q '^mse [0-9.e+-]*$' "$dir/out" && grep -q '^relmse [0-9.e+-]*$' "$dir/out
 ok "generate disney target" "$nuld" generate --n 16 --target disney:roughness=0.3 -o "$dir/d.txt"
 "$nuld" generate --sequence sobol --n 4 --instances 2 -o "$dir/u4.txt" >/dev/null 2>&1
 ok "render optimized:FILE" "$nuld" render default --backend optimized:"$dir/u4.txt" --spp 4 --res 8 -q -o "$dir/c.exr"
+# Every word `nuld help backends` prints, its aliases included, renders and
+# joins a render study (PATHS: a point-set file, MODEL: a tiny uniform model).
+"$nuld" train --target uniform --n 4 --hidden 8 --steps 2 --batch 2 --boxes 64 -q -o "$dir/u4.nuldnet" >/dev/null 2>&1
+"$nuld" help backends >"$dir/backends.txt"
+words=$( (sed -n '/^nuld study render/q;/^  [a-z]/p' "$dir/backends.txt" | awk '{print $1}'
+  tr '\n' ' ' <"$dir/backends.txt" | grep -o 'also: [^)]*' | cut -d' ' -f2-) |
+  sed -e "s|PATHS|$dir/u4.txt|" -e "s|MODEL|$dir/u4.nuldnet|" | tr ' ' '\n' | grep -v '^$')
+[[ $(echo "$words" | wc -l) -ge 9 ]] || { echo "FAIL: help backends lists the registry's words"; echo "$words"; failures=$((failures + 1)); }
+for word in $words; do
+  ok "render --backend $word" "$nuld" render default --backend "$word" --spp 4 --res 8 -q -o "$dir/w.exr"
+done
+ok "study render every backend word" "$nuld" study render default --backends "$(echo $words | tr ' ' ',')" \
+  --spp 4 --res 8 --repeats 1 --reference-spp 16 --no-report -q -o "$dir/words.study"
+[[ $(tail -n +2 "$dir/words.study/render.csv" | wc -l) -eq $(echo "$words" | wc -l) ]] ||
+  { echo "FAIL: the study has a row per backend word"; cat "$dir/words.study/render.csv"; failures=$((failures + 1)); }
 
 fails_with "render spp mismatch" "use --spp 4" "$nuld" render default --backend optimized:"$dir/u4.txt" --spp 8 --res 8 -q -o "$dir/x.exr"
 fails_with "render unknown backend" "unknown backend 'sobel'" "$nuld" render default --backend sobel -q -o "$dir/x.exr"
