@@ -152,14 +152,21 @@ struct Cell {
   CellFiles files() const { return {dir, backend, settings.spp}; }
 };
 
-// What a cell sends to rank 0: its row, or the backend's refusal, and its
-// first render (written beside the reference with its error map).
+// What a cell sends to rank 0: its row, or why it has none (the backend's
+// refusal, or the scene's lack of what the backend needs), and its first
+// render (written beside the reference with its error map).
 struct CellOutcome {
   std::vector<std::string> row;  // empty when refused
   std::string refusal;
   Image image;
   ImageAttributes attributes;
 
+  // A cell the scene cannot serve (no map, no Disney material): no row.
+  static CellOutcome skipped(const std::string &why) {
+    CellOutcome c;
+    c.refusal = why;
+    return c;
+  }
   std::string bytes() const {
     return ByteWriter().put(row).put(refusal).put(image).put(attributes).take();
   }
@@ -357,6 +364,130 @@ std::string slug(const std::string &name) {
   return base;
 }
 
+namespace {
+
+// The pipeline of one scene: its reference, then the plan of the cells still
+// missing from the table, then their sets, then the cells. Every rank runs
+// every stage on the same values (MPI: tools/study/ranks.h); the sets and
+// the cells are split over the ranks.
+
+// One scene as the stages see it.
+struct SceneStudy {
+  LoadedScene loaded;
+  RenderSettings settings;  // the study's overrides applied
+  std::string slug;
+  fs::path dir;
+};
+
+// A cell still to render and what its backend needs at its spp.
+struct PlannedCell {
+  StudyBackend backend;
+  std::size_t spp;
+  BackendPlan plan;
+};
+
+struct ScenePlan {
+  std::shared_ptr<const LobeTables> tables;  // null when no backend samples lobes
+  double tableSeconds = 0;                   // building them: setup of the cells that use them
+  std::vector<PlannedCell> cells;            // spp by spp (a round's cells cost about the same)
+};
+
+// Whether a backend samples the scene's lobe tables.
+bool samplesLobes(const StudyBackend &b) {
+  if (b.sets != StudyBackend::Sets::None) return b.makesLobeSets();
+  // A file's banks or a model may or may not sample lobes: asked.
+  return b.renderer.entry().lobes && makeBackend(b.renderer, 0)->samplesLobes();
+}
+
+ScenePlan planScene(const SceneStudy &scene, const CsvTable &table, const RenderStudySettings &s) {
+  ScenePlan plan;
+  std::vector<std::pair<StudyBackend, std::size_t>> missing;
+  for (std::size_t spp : s.spp)
+    for (const std::string &backend : s.backends)
+      if (!table.hasRow({scene.slug, backend, std::to_string(spp)}))
+        missing.push_back({parseStudyBackend(backend), spp});
+  // The lobe tables, built once before any cell (the renders then reuse
+  // them through the scene's cache).
+  if (scene.settings.integrator != IntegratorKind::Light)
+    for (const auto &[backend, spp] : missing)
+      if (!plan.tables && samplesLobes(backend)) {
+        const auto start = Clock::now();
+        plan.tables = scene.loaded.scene.lobeTables->get(scene.loaded.scene.materials,
+                                                         lobeTablesFor(scene.settings));
+        plan.tableSeconds = secondsSince(start);
+      }
+  for (auto &[backend, spp] : missing) {
+    BackendPlan p = planBackend(backend, scene.loaded.scene, plan.tables.get(), scene.slug, spp, s);
+    plan.cells.push_back({std::move(backend), spp, std::move(p)});
+  }
+  return plan;
+}
+
+// Every set the cells need, each optimized once, on one rank.
+void makeSceneSets(const Ranks &ranks, const SceneStudy &scene, const ScenePlan &plan,
+                   const StudyProgress &progress) {
+  std::vector<SetsJob> jobs;
+  for (const PlannedCell &c : plan.cells)
+    jobs.insert(jobs.end(), c.plan.sets.begin(), c.plan.sets.end());
+  makeMissingSets(
+      ranks, jobs,
+      [&](std::size_t done, std::size_t total, const SetsJob &job, int e, int n, double loss) {
+        if (progress)
+          progress(scene.slug + ": optimize sets",
+                   (double(done) + double(ranks.size()) * double(e) / n) / double(total),
+                   job.label + ": loss " + formatNumber(loss));
+      });
+}
+
+// The cells, rendered side by side; rank 0 writes their images and adds
+// their rows in cell order, or notes why a cell was skipped.
+void renderCells(const Ranks &ranks, const SceneStudy &scene, const ScenePlan &plan,
+                 const Image &reference, const RenderStudySettings &s, CsvTable &table,
+                 RenderStudyResult &result, const StudyProgress &progress) {
+  double totalWork = 0, work = 0;
+  for (const PlannedCell &c : plan.cells) totalWork += double(c.spp) * double(s.repeats);
+  runInRounds(
+      ranks, plan.cells.size(),
+      [&](std::size_t i) {
+        const PlannedCell &c = plan.cells[i];
+        if (!c.plan.spec) return CellOutcome::skipped(c.plan.why).bytes();
+        double setupSeconds = samplesLobes(c.backend) ? plan.tableSeconds : 0;
+        for (const SetsJob &job : c.plan.sets)
+          setupSeconds += optimizedSets(*job.target, job.request, job.file).seconds;
+        RenderSettings settings = scene.settings;
+        settings.spp = c.spp;
+        const Cell cell{scene.loaded.scene, settings,     scene.slug, c.backend.word,
+                        *c.plan.spec,       setupSeconds, reference,  scene.dir};
+        const double cellWork = double(c.spp) * double(s.repeats);
+        return renderCell(cell, s,
+                          [&](std::size_t r, std::size_t d, std::size_t n) {
+                            if (progress && ranks.root())
+                              progress(scene.slug + ": renders",
+                                       (work + double(ranks.size()) * cellWork / double(s.repeats) *
+                                                   (double(r) + double(d) / double(n))) /
+                                           totalWork,
+                                       c.backend.word + " spp " + std::to_string(c.spp));
+                          })
+            .bytes();
+      },
+      [&](std::size_t i, const std::string &bytes) {
+        const PlannedCell &c = plan.cells[i];
+        work += double(c.spp) * double(s.repeats);
+        const CellOutcome outcome = CellOutcome::from(bytes);
+        if (outcome.row.empty()) {
+          result.skipped.push_back(scene.slug + " " + c.backend.word + " " + std::to_string(c.spp) +
+                                   ": " + outcome.refusal);
+          return;
+        }
+        const CellFiles files(scene.dir, c.backend.word, c.spp);
+        writeRender(files.image.string(), outcome.image, outcome.attributes);
+        writeImage(files.errorMap.string(), errorMap(outcome.image, reference));
+        table.addRow(outcome.row);
+      });
+}
+
+}  // namespace
+
 RenderStudyResult runRenderStudy(const RenderStudySettings &s, const StudyProgress &progress) {
   s.validate();
   const Ranks &ranks = Ranks::world();
@@ -375,121 +506,30 @@ RenderStudyResult runRenderStudy(const RenderStudySettings &s, const StudyProgre
 
   const std::string assets = resolveAssetRoot(s.assets);
   for (const std::string &scenePath : s.scenes) {
-    LoadedScene loaded = loadScene(scenePath, assets);
-    const RenderSettings rs = s.overrides().appliedTo(loaded.settings);
-    const std::string sceneSlug = slug(scenePath);
-    const fs::path dir = s.out / sceneSlug;
+    SceneStudy scene{loadScene(scenePath, assets), {}, slug(scenePath), {}};
+    scene.settings = s.overrides().appliedTo(scene.loaded.settings);
+    scene.dir = s.out / scene.slug;
 
-    const ReferenceSettings refSettings = referenceFor(s, rs);
+    const ReferenceSettings refSettings = referenceFor(s, scene.settings);
     const ReferenceResult ref = renderReference(
-        loaded.scene, sceneIdentity(scenePath), refSettings, dir,
+        scene.loaded.scene, sceneIdentity(scenePath), refSettings, scene.dir,
         [&](const ReferenceProgress &p) {
           if (progress)
-            progress(sceneSlug + ": reference", p.fraction,
+            progress(scene.slug + ": reference", p.fraction,
                      "pass " + std::to_string(p.passesDone) + "/" + std::to_string(p.passes));
         },
         s.referenceStopAfter);
     if (!ref.complete) {
-      result.referencesIncomplete.push_back(sceneSlug);
+      result.referencesIncomplete.push_back(scene.slug);
       continue;
     }
     if (ranks.root())
-      appendReferenceRow(refs, sceneSlug, refSettings, ref,
-                         fs::relative(dir / "reference.exr", s.out));
+      appendReferenceRow(refs, scene.slug, refSettings, ref,
+                         fs::relative(scene.dir / "reference.exr", s.out));
 
-    // The cells to render, spp by spp: cells of one round then cost about
-    // the same (render time grows with spp).
-    struct Pending {
-      StudyBackend backend;
-      std::size_t spp;
-    };
-    std::vector<Pending> cells;
-    for (std::size_t spp : s.spp)
-      for (const std::string &backend : s.backends)
-        if (!table.hasRow({sceneSlug, backend, std::to_string(spp)}))
-          cells.push_back({parseStudyBackend(backend), spp});
-    // The scene's lobe tables, built once before any cell when a backend
-    // samples lobes (the renders then reuse them), their time counted as
-    // setup of the cells that use them rather than as the first render's.
-    std::shared_ptr<const LobeTables> tables;
-    double tableSeconds = 0;
-    const auto samplesLobes = [](const StudyBackend &b) {
-      if (b.sets != StudyBackend::Sets::None) return b.makesLobeSets();
-      // A file's banks or a model may or may not sample lobes: asked.
-      return b.renderer.entry().lobes && makeBackend(b.renderer, 0)->samplesLobes();
-    };
-    if (rs.integrator != IntegratorKind::Light)
-      for (const Pending &c : cells)
-        if (!tables && samplesLobes(c.backend)) {
-          const auto start = Clock::now();
-          tables = loaded.scene.lobeTables->get(loaded.scene.materials, lobeTablesFor(rs));
-          tableSeconds = secondsSince(start);
-        }
-
-    // First the sets the cells need, each optimized once, on one rank.
-    std::vector<SetsJob> jobs;
-    for (const Pending &c : cells)
-      for (SetsJob &job :
-           planBackend(c.backend, loaded.scene, tables.get(), sceneSlug, c.spp, s).sets)
-        jobs.push_back(std::move(job));
-    makeMissingSets(
-        ranks, jobs,
-        [&](std::size_t done, std::size_t total, const SetsJob &job, int e, int n, double loss) {
-          if (progress)
-            progress(sceneSlug + ": optimize sets",
-                     (double(done) + double(ranks.size()) * double(e) / n) / double(total),
-                     job.label + ": loss " + formatNumber(loss));
-        });
-
-    // Then the cells, rendered side by side, their rows added in cell order.
-    double totalWork = 0, work = 0;
-    for (const Pending &c : cells) totalWork += double(c.spp) * double(s.repeats);
-    runInRounds(
-        ranks, cells.size(),
-        [&](std::size_t i) {
-          const Pending &pending = cells[i];
-          const BackendPlan plan =
-              planBackend(pending.backend, loaded.scene, tables.get(), sceneSlug, pending.spp, s);
-          if (!plan.spec) return ByteWriter().put(std::string("skip")).put(plan.why).take();
-          double setupSeconds = samplesLobes(pending.backend) ? tableSeconds : 0;
-          for (const SetsJob &job : plan.sets)
-            setupSeconds += optimizedSets(*job.target, job.request, job.file).seconds;
-          RenderSettings settings = rs;
-          settings.spp = pending.spp;
-          const Cell cell{loaded.scene, settings,     sceneSlug, pending.backend.word,
-                          *plan.spec,   setupSeconds, ref.image, dir};
-          const double cellWork = double(pending.spp) * double(s.repeats);
-          const CellOutcome outcome =
-              renderCell(cell, s, [&](std::size_t r, std::size_t d, std::size_t n) {
-                if (progress && ranks.root())
-                  progress(sceneSlug + ": renders",
-                           (work + double(ranks.size()) * cellWork / double(s.repeats) *
-                                       (double(r) + double(d) / double(n))) /
-                               totalWork,
-                           pending.backend.word + " spp " + std::to_string(pending.spp));
-              });
-          return ByteWriter().put(std::string("cell")).put(outcome.bytes()).take();
-        },
-        [&](std::size_t i, const std::string &bytes) {
-          const Pending &pending = cells[i];
-          work += double(pending.spp) * double(s.repeats);
-          const std::string what =
-              sceneSlug + " " + pending.backend.word + " " + std::to_string(pending.spp) + ": ";
-          ByteReader r(bytes);
-          if (r.get<std::string>() == "skip") {
-            result.skipped.push_back(what + r.get<std::string>());
-            return;
-          }
-          const CellOutcome outcome = CellOutcome::from(r.get<std::string>());
-          if (outcome.row.empty()) {
-            result.skipped.push_back(what + outcome.refusal);
-            return;
-          }
-          const CellFiles files(dir, pending.backend.word, pending.spp);
-          writeRender(files.image.string(), outcome.image, outcome.attributes);
-          writeImage(files.errorMap.string(), errorMap(outcome.image, ref.image));
-          table.addRow(outcome.row);
-        });
+    const ScenePlan plan = planScene(scene, table, s);
+    makeSceneSets(ranks, scene, plan, progress);
+    renderCells(ranks, scene, plan, ref.image, s, table, result, progress);
     ranks.barrier();
   }
   return result;
