@@ -6,17 +6,12 @@
 
 #include "materials/disney.h"
 #include "materials/disney_target.h"
-#include "sampler/sequences/rng.h"
+#include "tests/bench/bench_points.h"
 
 namespace nuld {
 namespace {
 
-std::vector<Point2> uniformPoints(int n) {
-  Rng rng(1);
-  std::vector<Point2> u(n);
-  for (Point2 &p : u) p = {rng.uniform(), rng.uniform()};
-  return u;
-}
+using bench::uniformPoints;
 
 void BM_DisneySample(benchmark::State &state) {
   const DisneyBrdf brdf(supplementDisneyParams());

@@ -26,8 +26,8 @@
 #include "renderer/backend_registry.h"
 #include "renderer/lobe_tables.h"
 #include "renderer/render.h"
-#include "sampler/sequences/rng.h"
 #include "scenes/scene_file.h"
+#include "tests/bench/bench_points.h"
 
 namespace nuld {
 namespace {
@@ -123,12 +123,7 @@ DisneyParams dragonMaterial() {
 }
 const Vec3 kWo{0.7071067811865476, 0, 0.7071067811865476};
 
-std::vector<Point2> uniformPoints(int n) {
-  Rng rng(1);
-  std::vector<Point2> u(n);
-  for (Point2 &p : u) p = {rng.uniform(), rng.uniform()};
-  return u;
-}
+using bench::uniformPoints;
 
 void BM_MaterialSample(benchmark::State &state) {
   const DisneyBrdf brdf(dragonMaterial());
