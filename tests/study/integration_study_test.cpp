@@ -15,7 +15,10 @@
 
 #include "materials/sphere_map.h"
 #include "sampler/io/image_io.h"
+#include "sampler/io/pointset_io.h"
 #include "sampler/neural/neural_generator.h"
+#include "sampler/sequences/sequence.h"
+#include "sampler/targets/target_spec.h"
 #include "tests/common/temp_dir.h"
 #include "tools/study/csv_table.h"
 #include "tools/study/integrands.h"
@@ -487,6 +490,45 @@ TEST(IntegrationStudySamplers, WordsMeanWhatTheyMeanInRenders) {
     EXPECT_NE(what.find("is now 'sobol'"), std::string::npos) << what;
     EXPECT_NE(what.find("'sobol-tabulated'"), std::string::npos) << what;
   }
+}
+
+// The renderer's bank words take sets from files: sets for an integrand's
+// own target serve that integrand (one estimate per instance, or shifted in
+// primary space through its CDF map); uniform sets serve every integrand,
+// shifted per instance and mapped by its inverse CDF. Rows are named by the
+// files' stems, at the files' N; shifted estimates are unbiased.
+TEST(IntegrationStudyRun, BankWordsTakeSetsFromFiles) {
+  registerMaterialTargets();
+  TempDir dir;
+  const auto lobe = makeTarget("disney:theta=20");
+  PointSet own = generatePointSet({SequenceKind::Sobol, Scramble::Owen, 4}, 16, 4);
+  for (Point2 &p : own.points) p = lobe->invert(p).x;
+  own.metadata["target"] = lobe->spec();
+  writePointSet((dir / "lobe20.txt").string(), own);
+  writePointSet((dir / "uniform.txt").string(),
+                generatePointSet({SequenceKind::Sobol, Scramble::Owen, 5}, 32, 4));
+  IntegrateOptions o = quickOptions(dir / "out");
+  o.integrands = {"disney*cosines", "quarterdisc*bilinear"};
+  o.samplers = {"optimized:" + (dir / "lobe20.txt").string(),
+                "shifted:" + (dir / "lobe20.txt").string(),
+                "points:" + (dir / "uniform.txt").string()};
+  o.optimizedInstances = 64;
+  runIntegrateStudy(o);
+  const CsvTable t = readCsv(o.outDir);
+  // lobe20 at theta 20 only (twice: plain and shifted); uniform on all four.
+  ASSERT_EQ(t.rows().size(), 2u + 4u);
+  const auto *plain = findRow(t, "disney*cosines:theta=20", "optimized:lobe20", 16);
+  const auto *shifted = findRow(t, "disney*cosines:theta=20", "shifted:lobe20", 16);
+  ASSERT_TRUE(plain && shifted);
+  EXPECT_EQ(field(t, *plain).at("instances"), "4");
+  EXPECT_EQ(field(t, *shifted).at("instances"), "64");
+  EXPECT_FALSE(findRow(t, "disney*cosines:theta=45", "optimized:lobe20", 16));
+  for (const char *in : {"disney*cosines:theta=20", "disney*cosines:theta=45",
+                         "disney*cosines:theta=70", "quarterdisc*bilinear"})
+    EXPECT_TRUE(findRow(t, in, "optimized:uniform", 32)) << in;
+  for (const auto &r : t.rows())
+    if (field(t, r).at("instances") == "64")
+      EXPECT_LT(std::abs(value(t, r, "bias")), 4 * value(t, r, "bias_stderr")) << r[0] << r[2];
 }
 
 TEST(IntegrationStudyRun, BadInputIsAClearError) {

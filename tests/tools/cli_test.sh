@@ -123,7 +123,7 @@ ok "generate disney target" "$nuld" generate --n 16 --target disney:roughness=0.
 "$nuld" generate --sequence sobol --n 4 --instances 2 -o "$dir/u4.txt" >/dev/null 2>&1
 ok "render optimized:FILE" "$nuld" render default --backend optimized:"$dir/u4.txt" --spp 4 --res 8 -q -o "$dir/c.exr"
 # Every word `nuld help backends` prints, its aliases included, renders and
-# joins a render study (PATHS: a point-set file, MODEL: a tiny uniform model).
+# joins both studies (PATHS: a point-set file, MODEL: a tiny uniform model).
 "$nuld" train --target uniform --n 4 --hidden 8 --steps 2 --batch 2 --boxes 64 -q -o "$dir/u4.nuldnet" >/dev/null 2>&1
 "$nuld" help backends >"$dir/backends.txt"
 words=$( (sed -n '/^nuld study render/q;/^  [a-z]/p' "$dir/backends.txt" | awk '{print $1}'
@@ -137,6 +137,12 @@ ok "study render every backend word" "$nuld" study render default --backends "$(
   --spp 4 --res 8 --repeats 1 --reference-spp 16 --no-report -q -o "$dir/words.study"
 [[ $(tail -n +2 "$dir/words.study/render.csv" | wc -l) -eq $(echo "$words" | wc -l) ]] ||
   { echo "FAIL: the study has a row per backend word"; cat "$dir/words.study/render.csv"; failures=$((failures + 1)); }
+# The integration study refuses a model of no integrand's target: there a
+# quarterdisc model stands for MODEL.
+"$nuld" train --target quarterdisc --n 4 --hidden 8 --steps 2 --batch 2 --boxes 64 -q -o "$dir/q4.nuldnet" >/dev/null 2>&1
+ok "study integrate every backend word" "$nuld" study integrate --integrands 'quarterdisc*bilinear' \
+  --samplers "$(echo $words | sed "s|$dir/u4.nuldnet|$dir/q4.nuldnet|" | tr ' ' ',')" --n 4 \
+  --instances 4 --optimized-instances 4 --no-plots -q -o "$dir/words.integrate"
 
 fails_with "render spp mismatch" "use --spp 4" "$nuld" render default --backend optimized:"$dir/u4.txt" --spp 8 --res 8 -q -o "$dir/x.exr"
 fails_with "render unknown backend" "unknown backend 'sobel'" "$nuld" render default --backend sobel -q -o "$dir/x.exr"

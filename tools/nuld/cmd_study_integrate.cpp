@@ -116,7 +116,8 @@ Runner addStudyIntegrate(CLI::App &app) {
                  "blue-noise baselines sot and gbn (sliced optimal transport, Gaussian blue "
                  "noise: optimized for the target) and sot-mapped, gbn-mapped (optimized "
                  "uniformly, then the inverse CDF; all four up to --optimized-max-n, "
-                 "--optimized-instances sets), neural:MODEL (default: "
+                 "--optimized-instances sets), the renderer's bank words optimized:PATHS, "
+                 "points:PATHS, shifted:PATHS (sets from files), neural:MODEL (default: "
                  "independent,sobol,halton,optimized)");
   app.add_option("--n", o->ns, "comma-separated N (default 16,32,...,4096; any N >= 1)");
   app.add_option("--instances", o->instances,

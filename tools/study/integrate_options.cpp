@@ -8,6 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "renderer/backend_registry.h"
 #include "sampler/bluenoise/blue_noise_sets.h"
 #include "sampler/targets/target_spec.h"
 #include "scenes/default_scene.h"
@@ -56,6 +57,22 @@ std::vector<std::string> splitList(const std::string &text) {
 }
 
 std::vector<std::size_t> parseNList(const std::string &text) { return parseSizeList("--n", text); }
+
+namespace {
+
+// The renderer's bank words (optimized:PATHS, points:PATHS, shifted:PATHS),
+// parsed by its registry; nullopt for any other word.
+std::optional<BackendSpec> bankWord(const std::string &word) {
+  if (word.find(':') == std::string::npos) return std::nullopt;
+  try {
+    const BackendSpec spec = parseBackend(word);
+    if (spec.kind == BackendKind::Optimized || spec.kind == BackendKind::Shifted) return spec;
+  } catch (const std::invalid_argument &) {
+  }
+  return std::nullopt;
+}
+
+}  // namespace
 
 std::vector<SamplerChoice> parseSamplers(const std::vector<std::string> &tokens,
                                          const std::vector<std::string> &models) {
@@ -107,12 +124,23 @@ std::vector<SamplerChoice> parseSamplers(const std::vector<std::string> &tokens,
       add({t, K::BlueNoise, false, {}});
     else if (t.rfind("neural:", 0) == 0 && t.size() > 7)
       modelList.push_back(t.substr(7));
-    else
+    else if (const auto bank = bankWord(t)) {
+      // Named by the files' stems, as neural models are: the CSV does not
+      // carry this machine's paths.
+      std::string name = bank->entry().name + ":";
+      std::stringstream paths(bank->argument);
+      for (std::string path; std::getline(paths, path, ',');)
+        name += (name.back() == ':' ? "" : ",") + fs::path(path).stem().string();
+      SamplerChoice c{name, K::Bank, false, {}};
+      c.paths = bank->argument;
+      c.shifted = bank->kind == BackendKind::Shifted;
+      add(std::move(c));
+    } else
       throw std::invalid_argument(
           "--samplers: unknown sampler '" + t +
           "' (expected independent, sobol, halton, their -tabulated variants such as "
-          "sobol-tabulated, "
-          "optimized, sot, sot-mapped, gbn, gbn-mapped, or neural:MODEL)");
+          "sobol-tabulated, optimized, optimized:PATHS, shifted:PATHS, sot, sot-mapped, gbn, "
+          "gbn-mapped, or neural:MODEL)");
   }
   modelList.insert(modelList.end(), models.begin(), models.end());
   for (const auto &m : modelList) {

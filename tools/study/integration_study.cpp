@@ -10,14 +10,18 @@
 #include <cstdio>
 #include <map>
 #include <memory>
+#include <set>
 #include <stdexcept>
 
+#include "renderer/bank_backend.h"
 #include "sampler/bluenoise/blue_noise_sets.h"
 #include "sampler/io/pointset_io.h"
 #include "sampler/neural/neural_generator.h"
 #include "sampler/optimize/optimizer.h"
 #include "sampler/sequences/rng.h"
+#include "sampler/sequences/scrambling.h"
 #include "sampler/sequences/sequence.h"
+#include "sampler/targets/grid_target.h"
 #include "sampler/targets/target_spec.h"
 #include "tools/study/integrate_internal.h"
 #include "tools/study/optimized_sets.h"
@@ -127,6 +131,34 @@ struct Task {
   std::size_t n;
 };
 
+// The banks of each bank word (optimized:PATHS, shifted:PATHS), by name.
+using FileBanks = std::map<std::string, std::vector<SetBank>>;
+
+// Whether `bank` serves integrand `in` as the renderer would deal it out:
+// sets for the integrand's own target (shifted: through its CDF map, which
+// grid targets have; unshifted: two instances at least, one estimate each),
+// or uniform sets, shifted per instance and mapped by the inverse CDF.
+bool bankServes(const SetBank &bank, const Integrand &in, bool shifted) {
+  const std::string spec = bank.targetSpec();
+  if (spec == "uniform") return true;
+  if (spec != in.target->spec()) return false;
+  return shifted ? dynamic_cast<const GridTarget *>(in.target.get()) != nullptr
+                 : bank.sets.instances() >= 2;
+}
+
+// The bank a row of `s` at N = n uses: the integrand's own target first.
+const SetBank &fileBankFor(const std::vector<SetBank> &banks, const Integrand &in,
+                           const SamplerChoice &s, std::size_t n) {
+  const SetBank *uniform = nullptr;
+  for (const SetBank &b : banks) {
+    if (b.sets.n != n || !bankServes(b, in, s.shifted)) continue;
+    if (b.targetSpec() != "uniform") return b;
+    if (!uniform) uniform = &b;
+  }
+  if (!uniform) throw std::logic_error("study integrate: a bank row without its bank");
+  return *uniform;
+}
+
 // A measured row as it travels to rank 0: the CSV values, the notes it
 // raised and how many of its sets came from the cache.
 struct RowResult {
@@ -224,6 +256,37 @@ class StudyRunner {
     return m;
   }
 
+  // Sets from files: the integrand's own target's unshifted, one estimate
+  // per instance; shifted or uniform ones, `optimizedInstances` estimates
+  // cycling through the instances, each under its own Cranley-Patterson
+  // shift in primary space (uniform sets are primary points; a target's sets
+  // are pulled back through its CDF map) and mapped by the inverse CDF.
+  Measurement fromFiles(const Integrand &in, const SamplerChoice &s, const SetBank &bank,
+                        std::size_t n) const {
+    const bool uniform = bank.targetSpec() == "uniform";
+    const std::size_t count = bank.sets.instances();
+    Measurement m;
+    std::vector<Point2> x(n);
+    const bool shift = uniform || s.shifted;
+    const std::size_t K = shift ? o_.optimizedInstances : count;
+    const auto *grid = dynamic_cast<const GridTarget *>(in.target.get());
+    for (std::size_t k = 0; k < K; ++k) {
+      const auto start = Clock::now();
+      const auto set = bank.sets.instance(k % count);
+      const std::uint64_t key = hash3(seedFor(in, s, n), k, 0);
+      for (std::size_t i = 0; i < n; ++i)
+        x[i] = !shift
+                   ? set[i]
+                   : in.target
+                         ->invert(cranleyPatterson(uniform ? set[i] : grid->primaryOf(set[i]), key))
+                         .x;
+      m.genSeconds += secondsSince(start);
+      m.estimates.push_back(importanceEstimate(in, x, m.zeroPdf));
+    }
+    m.genSeconds /= double(K);
+    return m;
+  }
+
   Measurement neural(const Integrand &in, const SamplerChoice &s, const NeuralModel &model,
                      std::size_t n) const {
     const std::size_t K = o_.optimizedInstances;
@@ -311,7 +374,7 @@ class StudyRunner {
   // One row of the table, measured; its notes and cache count go with it to
   // rank 0. `madeNow`: the banks makeBanks made (not counted as cached).
   RowResult measureRow(const Task &t, const std::map<std::string, NeuralModel> &models,
-                       const std::vector<fs::path> &madeNow) {
+                       const FileBanks &fileBanks, const std::vector<fs::path> &madeNow) {
     const std::string domain = toString(t.in->domain()), n = std::to_string(t.n);
     const std::string row = t.in->name + " " + t.s->name + " N=" + n;
     RowResult result;
@@ -333,6 +396,10 @@ class StudyRunner {
       case SamplerChoice::Kind::BlueNoise:
         m = blueNoise(*t.in, *t.s, t.n);
         K = o_.optimizedInstances;
+        break;
+      case SamplerChoice::Kind::Bank:
+        m = fromFiles(*t.in, *t.s, fileBankFor(fileBanks.at(t.s->name), *t.in, *t.s, t.n), t.n);
+        K = m.estimates.size();
         break;
       default: m = classic(*t.in, *t.s, t.n);
     }
@@ -394,11 +461,19 @@ void validateOptions(const IntegrateOptions &o) {
 // every N (graph) or at its own (the supplement's network).
 std::vector<Task> planTasks(const IntegrateOptions &o, const std::vector<Integrand> &integrands,
                             const std::vector<SamplerChoice> &samplers,
-                            const std::map<std::string, NeuralModel> &models) {
+                            const std::map<std::string, NeuralModel> &models,
+                            const FileBanks &fileBanks) {
   std::vector<Task> tasks;
   for (const auto &in : integrands)
     for (const auto &s : samplers) {
       if (s.tabulated && !in.lobeContribution) continue;
+      if (s.kind == SamplerChoice::Kind::Bank) {  // at the N of the banks that serve it
+        std::set<std::size_t> ns;
+        for (const SetBank &b : fileBanks.at(s.name))
+          if (bankServes(b, in, s.shifted)) ns.insert(b.sets.n);
+        for (std::size_t n : ns) tasks.push_back({&in, &s, n});
+        continue;
+      }
       if (s.kind == SamplerChoice::Kind::Neural) {
         const NeuralModel &m = models.at(s.name);
         // A graph model makes sets of every N asked for; the supplement's its own N.
@@ -438,10 +513,19 @@ IntegrateSummary runIntegrateStudy(const IntegrateOptions &o, const IntegrateHoo
   const auto integrands = selectIntegrands(o, notes);
   for (const auto &n : notes) runner.note(n);
   std::map<std::string, NeuralModel> models;
-  for (const auto &s : samplers)
+  FileBanks fileBanks;
+  for (const auto &s : samplers) {
     if (s.kind == SamplerChoice::Kind::Neural) models.emplace(s.name, loadModel(s, integrands));
+    if (s.kind == SamplerChoice::Kind::Bank) fileBanks.emplace(s.name, loadSetBanks(s.paths));
+  }
 
-  const std::vector<Task> tasks = planTasks(o, integrands, samplers, models);
+  const std::vector<Task> tasks = planTasks(o, integrands, samplers, models, fileBanks);
+  for (const auto &s : samplers)
+    if (s.kind == SamplerChoice::Kind::Bank &&
+        std::none_of(tasks.begin(), tasks.end(), [&](const Task &t) { return t.s == &s; }))
+      runner.note(s.name + ": no set of '" + s.paths + "' follows an integrand's target" +
+                  (s.shifted ? " with a CDF map (image, envmap, disney)" : "") +
+                  " or the uniform target; no rows");
   CsvTable table(integrateCsvPath(o.outDir), integrateColumns());
   table.loadExisting();
   table.requireOptions(rowOptions(o), Ranks::world().root());
@@ -470,7 +554,9 @@ IntegrateSummary runIntegrateStudy(const IntegrateOptions &o, const IntegrateHoo
 
   runInRounds(
       ranks, pending.size(),
-      [&](std::size_t i) { return runner.measureRow(*pending[i], models, banks).bytes(); },
+      [&](std::size_t i) {
+        return runner.measureRow(*pending[i], models, fileBanks, banks).bytes();
+      },
       [&](std::size_t i, const std::string &bytes) {
         const Task &t = *pending[i];
         const RowResult r = RowResult::from(bytes);

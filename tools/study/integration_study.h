@@ -14,7 +14,9 @@
 //   optimized: Algorithm 1 at each N with the target's default preset, cached
 //       in OUTDIR/cache/ as point-set files keyed by target, N and settings;
 //   neural:NAME: a trained model (NAME = its file's stem) at its own N, on the
-//       integrands whose target it was trained for, fresh z per instance.
+//       integrands whose target it was trained for, fresh z per instance;
+//   optimized:PATHS, shifted:PATHS: the sets of point-set files, as nuld
+//       render deals them out (renderer/backend_registry.h), at their own N.
 // Conventional samplers average `instances` instances, optimized and neural
 // ones `optimizedInstances` (the supplement's 128 and 16).
 
@@ -70,16 +72,23 @@ std::vector<std::size_t> parseNList(const std::string &text);
 std::vector<std::string> splitList(const std::string &text);
 
 struct SamplerChoice {
-  enum class Kind { Independent, Sobol, Halton, Optimized, Neural, BlueNoise };
+  enum class Kind { Independent, Sobol, Halton, Optimized, Neural, BlueNoise, Bank };
   std::string name;  // the CSV value
   Kind kind = Kind::Sobol;
   bool tabulated = false;  // a lobe integrand's table, not the BRDF's own sample()
   std::string model;       // Neural: the model file
+  // Bank: the renderer's optimized:PATHS / points:PATHS / shifted:PATHS, the
+  // point-set files or directories, and whether sets are shifted.
+  std::string paths;
+  bool shifted = false;
 };
 
 // Tokens: independent|random, sobol, halton (each also enabling its
 // -tabulated variant), independent-tabulated, sobol-tabulated,
-// halton-tabulated, optimized, and neural:PATH (added to `models`). Throws
+// halton-tabulated, optimized, the renderer's bank words optimized:PATHS,
+// points:PATHS and shifted:PATHS (sets from files, on the integrands whose
+// target they follow; uniform sets on every integrand, shifted per instance
+// and mapped by its inverse CDF), and neural:PATH (added to `models`). Throws
 // std::invalid_argument naming --samplers and the accepted names; the old
 // -lobes spellings are refused with their new names.
 std::vector<SamplerChoice> parseSamplers(const std::vector<std::string> &tokens,
