@@ -97,7 +97,7 @@ std::optional<BsdfSample> sampleLobeRoute(const Bsdf &bsdf, Vec3 wo, const LobeF
     if (!(s.wi.z > 0)) return std::nullopt;
     const BsdfValue v = bsdf.evalWithPdf(wo, s.wi);
     s.f = v.f;
-    s.pdf = (1 - d) * lobe.table->cellDensity(cell.i, cell.j) * kInvFourPi + d * v.pdf;
+    s.pdf = lobe.mixture(lobe.table->cellDensity(cell.i, cell.j) * kInvFourPi, v.pdf);
   }
   if (!(s.pdf > 0) || !std::isfinite(s.pdf) || !s.f.isFinite()) return std::nullopt;
   return s;
@@ -136,7 +136,7 @@ LobeTables::LobeTables(const std::vector<std::shared_ptr<const Bsdf>> &materials
     if (!disney || std::any_of(entries_.begin(), entries_.end(),
                                [&](const Entry &e) { return e.material == disney; }))
       continue;
-    Entry e{disney, disney->params().anisotropic > 0, {}, {}};
+    Entry e{disney, disney->params().anisotropic > 0, {}, routes_.size()};
     const int phiBins = e.anisotropic ? settings.phiBins : 1;
     for (int t = 0; t < settings.thetaBins; ++t)
       for (int p = 0; p < phiBins; ++p) {
@@ -149,7 +149,6 @@ LobeTables::LobeTables(const std::vector<std::shared_ptr<const Bsdf>> &materials
         spec.samplingMix = *settings.samplingMix;
         e.tables.push_back(makeDisneyTarget(spec));
       }
-    e.serves.assign(e.tables.size(), true);
     measureRoutes(e, entries_.size());
     entries_.push_back(std::move(e));
   }
@@ -160,7 +159,7 @@ LobeTables::LobeTables(const std::vector<std::shared_ptr<const Bsdf>> &materials
 // sampler's (both fed the same kind of points). A bin whose views all lie
 // below a table's resolution (a narrow lobe, whose peak moves across the bin
 // with the view) keeps the material's sampler.
-void LobeTables::measureRoutes(Entry &e, std::size_t material) {
+void LobeTables::measureRoutes(const Entry &e, std::size_t material) {
   const int phiBins = e.anisotropic ? settings_.phiBins : 1;
   for (std::size_t b = 0; b < e.tables.size(); ++b) {
     const int t = int(b) / phiBins, p = int(b) % phiBins;
@@ -187,7 +186,6 @@ void LobeTables::measureRoutes(Entry &e, std::size_t material) {
         route.tableVariance += v.table;
       }
     route.table = route.tableVariance <= route.classicVariance;
-    e.serves[b] = route.table;
     routes_.push_back(route);
   }
 }
@@ -221,7 +219,7 @@ std::optional<LobeFrame> LobeTables::frame(const Bsdf *material, Vec3 wo) const 
   if (it == entries_.end() || !(wo.z > 0)) return std::nullopt;
   std::size_t index = 0;
   const LobeFrame f = binFrame(*it, wo, index);
-  if (!it->serves[index]) return std::nullopt;  // the bin keeps the material's sampler
+  if (!serves(*it, index)) return std::nullopt;  // the bin keeps the material's sampler
   return f;
 }
 
@@ -229,7 +227,7 @@ std::vector<const Target *> LobeTables::targets() const {
   std::vector<const Target *> out;
   for (const Entry &e : entries_)
     for (std::size_t b = 0; b < e.tables.size(); ++b)
-      if (e.serves[b]) out.push_back(e.tables[b].get());
+      if (serves(e, b)) out.push_back(e.tables[b].get());
   return out;
 }
 

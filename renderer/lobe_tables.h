@@ -78,8 +78,8 @@ struct LobeTableSettings {
   double defensive = 0.05;
   // How many bounces, from the first, sample the tables (0: every bounce).
   // Beyond the first, a pixel's samples scatter over materials and bins, so
-  // a set serves a context with one or two of its points, paying for all N
-  // (renderer/README.md, "Lobe routes", has the measurements).
+  // a table serves one or two of a pixel's points there: no gain measured,
+  // for the lookups' time (renderer/README.md, "Lobe routes").
   int bounces = 1;
 
   friend bool operator==(const LobeTableSettings &, const LobeTableSettings &) = default;
@@ -100,8 +100,10 @@ struct LobeFrame {
   double tablePdf(Vec3 wi) const;
   // The route's density: the defensive mixture of the table's and the
   // material's (`materialPdf`, the material's pdf at wi).
-  double pdf(Vec3 wi, double materialPdf) const {
-    return (1 - defensive) * tablePdf(wi) + defensive * materialPdf;
+  double pdf(Vec3 wi, double materialPdf) const { return mixture(tablePdf(wi), materialPdf); }
+  // The same from the two densities per unit solid angle.
+  double mixture(double tableDensity, double materialPdf) const {
+    return (1 - defensive) * tableDensity + defensive * materialPdf;
   }
 };
 
@@ -151,10 +153,13 @@ class LobeTables {
     const DisneyBrdf *material;
     bool anisotropic;
     std::vector<std::unique_ptr<GridTarget>> tables;  // theta-major, then phi
-    std::vector<bool> serves;                         // per table: its route is the table
+    std::size_t firstRoute;                           // its tables' routes in routes_
   };
+  bool serves(const Entry &e, std::size_t index) const {
+    return routes_[e.firstRoute + index].table;
+  }
   // Measures and sets the routes of e's bins (e is material `material`).
-  void measureRoutes(Entry &e, std::size_t material);
+  void measureRoutes(const Entry &e, std::size_t material);
   // The frame of bin `index` of `e` at wo, whatever its route.
   LobeFrame binFrame(const Entry &e, Vec3 wo, std::size_t &index) const;
   LobeTableSettings settings_;

@@ -95,8 +95,8 @@ std::vector<SamplerChoice> parseSamplers(const std::vector<std::string> &tokens,
   // meanings `nuld render` gives the same words.
   const auto classic = [&](const std::string &base, K kind,
                            int which) {  // 1 own mapping, 2 tabulated, 3 both
-    if (which & 1) add({base, kind, false, {}});
-    if (which & 2) add({base + "-tabulated", kind, true, {}});
+    if (which & 1) add({base, kind, false, {}, {}, false});
+    if (which & 2) add({base + "-tabulated", kind, true, {}, {}, false});
   };
   std::vector<std::string> modelList;
   for (const std::string &t : tokens.empty() ? defaults : tokens) {
@@ -119,9 +119,9 @@ std::vector<SamplerChoice> parseSamplers(const std::vector<std::string> &tokens,
     else if (base == "halton")
       classic("halton", K::Halton, which);
     else if (t == "optimized")
-      add({"optimized", K::Optimized, false, {}});
+      add({"optimized", K::Optimized, false, {}, {}, false});
     else if (kBlueNoiseNames.find(t))
-      add({t, K::BlueNoise, false, {}});
+      add({t, K::BlueNoise, false, {}, {}, false});
     else if (t.rfind("neural:", 0) == 0 && t.size() > 7)
       modelList.push_back(t.substr(7));
     else if (const auto bank = bankWord(t)) {
@@ -129,12 +129,11 @@ std::vector<SamplerChoice> parseSamplers(const std::vector<std::string> &tokens,
       // carry this machine's paths.
       std::string name = bank->entry().name + ":";
       std::stringstream paths(bank->argument);
-      for (std::string path; std::getline(paths, path, ',');)
-        name += (name.back() == ':' ? "" : ",") + fs::path(path).stem().string();
-      SamplerChoice c{name, K::Bank, false, {}};
-      c.paths = bank->argument;
-      c.shifted = bank->kind == BackendKind::Shifted;
-      add(std::move(c));
+      for (std::string path; std::getline(paths, path, ',');) {
+        if (name.back() != ':') name += ',';
+        name += fs::path(path).stem().string();
+      }
+      add({name, K::Bank, false, {}, bank->argument, bank->kind == BackendKind::Shifted});
     } else
       throw std::invalid_argument(
           "--samplers: unknown sampler '" + t +
@@ -145,7 +144,7 @@ std::vector<SamplerChoice> parseSamplers(const std::vector<std::string> &tokens,
   modelList.insert(modelList.end(), models.begin(), models.end());
   for (const auto &m : modelList) {
     if (m.empty()) throw std::invalid_argument("--neural: empty model path");
-    add({"neural:" + fs::path(m).stem().string(), K::Neural, false, m});
+    add({"neural:" + fs::path(m).stem().string(), K::Neural, false, m, {}, false});
   }
   return out;
 }

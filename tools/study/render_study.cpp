@@ -384,6 +384,7 @@ struct PlannedCell {
   StudyBackend backend;
   std::size_t spp;
   BackendPlan plan;
+  bool samplesLobes;  // its setup includes the lobe tables'
 };
 
 struct ScenePlan {
@@ -401,25 +402,25 @@ bool samplesLobes(const StudyBackend &b) {
 
 ScenePlan planScene(const SceneStudy &scene, const CsvTable &table, const RenderStudySettings &s) {
   ScenePlan plan;
-  std::vector<std::pair<StudyBackend, std::size_t>> missing;
+  const bool lobeIntegrator = scene.settings.integrator != IntegratorKind::Light;
   for (std::size_t spp : s.spp)
-    for (const std::string &backend : s.backends)
-      if (!table.hasRow({scene.slug, backend, std::to_string(spp)}))
-        missing.push_back({parseStudyBackend(backend), spp});
+    for (const std::string &word : s.backends)
+      if (!table.hasRow({scene.slug, word, std::to_string(spp)})) {
+        StudyBackend backend = parseStudyBackend(word);
+        const bool lobes = lobeIntegrator && samplesLobes(backend);
+        plan.cells.push_back({std::move(backend), spp, {}, lobes});
+      }
   // The lobe tables, built once before any cell (the renders then reuse
   // them through the scene's cache).
-  if (scene.settings.integrator != IntegratorKind::Light)
-    for (const auto &[backend, spp] : missing)
-      if (!plan.tables && samplesLobes(backend)) {
-        const auto start = Clock::now();
-        plan.tables = scene.loaded.scene.lobeTables->get(scene.loaded.scene.materials,
-                                                         lobeTablesFor(scene.settings));
-        plan.tableSeconds = secondsSince(start);
-      }
-  for (auto &[backend, spp] : missing) {
-    BackendPlan p = planBackend(backend, scene.loaded.scene, plan.tables.get(), scene.slug, spp, s);
-    plan.cells.push_back({std::move(backend), spp, std::move(p)});
+  if (std::any_of(plan.cells.begin(), plan.cells.end(),
+                  [](const PlannedCell &c) { return c.samplesLobes; })) {
+    const auto start = Clock::now();
+    plan.tables = scene.loaded.scene.lobeTables->get(scene.loaded.scene.materials,
+                                                     lobeTablesFor(scene.settings));
+    plan.tableSeconds = secondsSince(start);
   }
+  for (PlannedCell &c : plan.cells)
+    c.plan = planBackend(c.backend, scene.loaded.scene, plan.tables.get(), scene.slug, c.spp, s);
   return plan;
 }
 
@@ -451,7 +452,7 @@ void renderCells(const Ranks &ranks, const SceneStudy &scene, const ScenePlan &p
       [&](std::size_t i) {
         const PlannedCell &c = plan.cells[i];
         if (!c.plan.spec) return CellOutcome::skipped(c.plan.why).bytes();
-        double setupSeconds = samplesLobes(c.backend) ? plan.tableSeconds : 0;
+        double setupSeconds = c.samplesLobes ? plan.tableSeconds : 0;
         for (const SetsJob &job : c.plan.sets)
           setupSeconds += optimizedSets(*job.target, job.request, job.file).seconds;
         RenderSettings settings = scene.settings;
