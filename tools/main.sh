@@ -9,7 +9,9 @@
 # serves sets optimized by Algorithm 1 for the sky's own map as distributed
 # light samples, `optimized-uniform` sets optimized for the uniform target as
 # primary samples; their optimization is paid once (setup_s) and reused by
-# every render. The study directory (CSV, images, plots, index.html) is left
+# every render. The table ends with the equal-time verdict per spp: the
+# backend with the lowest MSE x (render seconds + setup), ties within two
+# standard errors named as ties. The study directory (CSV, images, plots, index.html) is left
 # in BUILD/study-default; `nuld study render --help` lists the knobs of the
 # full studies (docs/usage.md: "Comparison studies").
 set -euo pipefail

@@ -89,5 +89,34 @@ TEST(CsvTableOptions, CheckingWithoutWritingLeavesNoFile) {
   EXPECT_FALSE(fs::exists(dir / "t.csv.options"));
 }
 
+// A table written before its derived columns existed loads with them empty
+// (then filled by setColumn); any other header is refused naming the file.
+TEST(CsvTableDerived, AnOlderFileWithoutDerivedColumnsLoadsAndFills) {
+  TempDir dir;
+  const fs::path csv = dir / "t.csv";
+  {
+    std::ofstream out(csv);
+    out << "key,value,file\na,1,x.exr\nb,2,y.exr\n";
+  }
+  CsvTable t(csv, {"key", "value", "ratio", "file"}, {"ratio"});
+  t.loadExisting();
+  ASSERT_EQ(t.rows().size(), 2u);
+  EXPECT_EQ(t.rows()[0], (std::vector<std::string>{"a", "1", "", "x.exr"}));
+  t.setColumn("ratio", {"0.5", "2"});
+  EXPECT_EQ(readLine(csv), "key,value,ratio,file");
+  CsvTable again(csv, {"key", "value", "ratio", "file"}, {"ratio"});
+  again.loadExisting();
+  EXPECT_EQ(again.rows()[1], (std::vector<std::string>{"b", "2", "2", "y.exr"}));
+  EXPECT_THROW(t.setColumn("ratio", {"1"}), std::logic_error);
+
+  CsvTable other(csv, {"key", "value", "file"}, {"ratio"});
+  try {
+    other.loadExisting();
+    ADD_FAILURE() << "a header with a column this table lacks was accepted";
+  } catch (const std::runtime_error &e) {
+    EXPECT_NE(std::string(e.what()).find(csv.string()), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace nuld::study

@@ -526,9 +526,11 @@ TEST(IntegrationStudyRun, BankWordsTakeSetsFromFiles) {
   for (const char *in : {"disney*cosines:theta=20", "disney*cosines:theta=45",
                          "disney*cosines:theta=70", "quarterdisc*bilinear"})
     EXPECT_TRUE(findRow(t, in, "optimized:uniform", 32)) << in;
-  for (const auto &r : t.rows())
-    if (field(t, r).at("instances") == "64")
+  for (const auto &r : t.rows()) {
+    if (field(t, r).at("instances") == "64") {
       EXPECT_LT(std::abs(value(t, r, "bias")), 4 * value(t, r, "bias_stderr")) << r[0] << r[2];
+    }
+  }
 }
 
 TEST(IntegrationStudyRun, BadInputIsAClearError) {

@@ -24,6 +24,7 @@
 #include "tests/common/chi_square.h"
 #include "tests/common/temp_dir.h"
 #include "tools/study/csv_table.h"
+#include "tools/study/equal_time.h"
 #include "tools/study/optimized_sets.h"
 #include "tools/study/reference_render.h"
 #include "tools/study/report_script.h"
@@ -58,7 +59,7 @@ std::map<std::string, std::string> asMap(const std::vector<std::string> &columns
 }
 
 CsvTable readTable(const fs::path &dir) {
-  CsvTable t(dir / "render.csv", renderStudyColumns());
+  CsvTable t(dir / "render.csv", renderStudyColumns(), equalTimeColumns());
   t.loadExisting();
   return t;
 }
@@ -89,7 +90,8 @@ TEST_F(TinyStudy, CsvHasItsColumnsAndUnits) {
   std::getline(in, header);
   EXPECT_EQ(header,
             "scene,backend,spp,repeats,mse,mse_stderr,relmse,relmse_stderr,seconds,"
-            "setup_seconds,rays_per_second,nonfinite_pixels,rejected_samples,image,error_map");
+            "setup_seconds,total_seconds,equal_time_ratio,equal_time_ratio_stderr,amortize,"
+            "rays_per_second,nonfinite_pixels,rejected_samples,image,error_map");
   const CsvTable t = readTable(*dir_);
   ASSERT_EQ(t.rows().size(), 10u) << "5 backends x 2 spp";
   EXPECT_TRUE(result_->skipped.empty());
@@ -178,6 +180,50 @@ TEST_F(TinyStudy, RerunResumesWithoutDuplicates) {
     }
   }
   EXPECT_EQ(readTable(copy).rows(), again.rows());
+  fs::remove_all(copy);
+}
+
+// total_seconds and equal_time_ratio recomputed by hand from the CSV's own
+// strings, at the study's K = 1 and after a rerun that asks for K = 4 (which
+// renders nothing and rescores every row).
+TEST_F(TinyStudy, EqualTimeRatioIsMseTimesTotalSecondsOverSobols) {
+  const fs::path copy = *dir_ / ".." / ("nuld_render_study_k4_" + std::to_string(::getpid()));
+  fs::remove_all(copy);
+  fs::copy(*dir_, copy, fs::copy_options::recursive);
+  RenderStudySettings k4 = tinyStudy(copy);
+  k4.amortize = 4;
+  runRenderStudy(k4);
+  for (const auto &[dir, k] : {std::pair{*dir_, 1.0}, std::pair{copy, 4.0}}) {
+    const CsvTable t = readTable(dir);
+    std::map<std::string, double> sobolProduct;  // by spp
+    for (const auto &row : t.rows()) {
+      auto r = asMap(t.columns(), row);
+      if (r["backend"] == "sobol")
+        sobolProduct[r["spp"]] =
+            std::stod(r["mse"]) * (std::stod(r["seconds"]) + std::stod(r["setup_seconds"]) / k);
+    }
+    ASSERT_EQ(sobolProduct.size(), 2u);
+    int amortized = 0;
+    for (const auto &row : t.rows()) {
+      auto r = asMap(t.columns(), row);
+      const double setup = std::stod(r["setup_seconds"]);
+      const double total = std::stod(r["seconds"]) + setup / k;
+      EXPECT_NEAR(std::stod(r["total_seconds"]), total, 1e-5 * total) << r["backend"];
+      const double ratio = std::stod(r["mse"]) * total / sobolProduct[r["spp"]];
+      EXPECT_NEAR(std::stod(r["equal_time_ratio"]), ratio, 1e-5 * ratio) << r["backend"];
+      EXPECT_EQ(std::stod(r["amortize"]), k);
+      amortized += setup > 0 && k > 1;
+    }
+    if (k > 1) {
+      EXPECT_GT(amortized, 0) << "the optimized rows carry setup";
+    }
+    // The verdicts name, per spp, a backend of the table.
+    CsvTable verdicts(dir / "verdicts.csv", {"scene", "spp", "best", "tied", "runner_up",
+                                             "separation", "separation_stderr", "equal_time_ratio",
+                                             "equal_time_ratio_stderr", "amortize"});
+    verdicts.loadExisting();
+    EXPECT_EQ(verdicts.rows().size(), 2u);
+  }
   fs::remove_all(copy);
 }
 

@@ -15,6 +15,7 @@
 #include "tools/nuld/commands.h"
 #include "tools/nuld/progress.h"
 #include "tools/study/csv_table.h"
+#include "tools/study/equal_time.h"
 #include "tools/study/ranks.h"
 #include "tools/study/render_study.h"
 #include "tools/study/report_script.h"
@@ -57,59 +58,71 @@ double number(const std::string &s) {
   }
 }
 
+// Better, worse or a tie against 1 at two standard errors.
+const char *verdictOf(double q, double se) {
+  return q + 2 * se < 1 ? "better" : q - 2 * se > 1 ? "worse" : "tie";
+}
+
 // MSE per (scene, backend, spp), with the ratio to sobol at the same spp,
-// the comparison the studies are about.
-void printTable(const study::CsvTable &table) {
-  const auto col = [&](const char *name) { return table.column(name); };
-  const std::size_t scene = col("scene"), backend = col("backend"), spp = col("spp"),
-                    mse = col("mse"), mseErr = col("mse_stderr"), relmse = col("relmse"),
-                    secs = col("seconds"), setup = col("setup_seconds");
-  struct Sobol {
-    double mse, stderr_;
-  };
-  std::map<std::pair<std::string, std::string>, Sobol> sobol;
-  for (const auto &r : table.rows())
-    if (r[backend] == "sobol") sobol[{r[scene], r[spp]}] = {number(r[mse]), number(r[mseErr])};
+// the comparison the studies are about, and at equal time (MSE x total
+// seconds, setup amortized: tools/study/equal_time.h); then, per scene and
+// spp, the backend with the lowest error for the time.
+void printTable(const study::CsvTable &table, double amortize) {
+  const std::vector<study::TimedRow> rows = study::timedRows(table);
+  const std::vector<study::EqualTime> times = study::equalTime(rows, amortize);
+  const std::size_t relmse = table.column("relmse");
+  std::map<std::pair<std::string, std::size_t>, const study::TimedRow *> sobol;
+  for (const auto &r : rows)
+    if (r.backend == "sobol") sobol[{r.scene, r.spp}] = &r;
   // Rows are made spp by spp; the table reads backend by backend.
   std::map<std::string, std::size_t> sceneOrder, backendOrder;
-  for (const auto &r : table.rows()) {
-    sceneOrder.emplace(r[scene], sceneOrder.size());
-    backendOrder.emplace(r[backend], backendOrder.size());
+  for (const auto &r : rows) {
+    sceneOrder.emplace(r.scene, sceneOrder.size());
+    backendOrder.emplace(r.backend, backendOrder.size());
   }
-  std::vector<const std::vector<std::string> *> rows;
-  for (const auto &r : table.rows()) rows.push_back(&r);
-  std::stable_sort(rows.begin(), rows.end(), [&](const auto *a, const auto *b) {
-    return std::tuple(sceneOrder[(*a)[scene]], backendOrder[(*a)[backend]], number((*a)[spp])) <
-           std::tuple(sceneOrder[(*b)[scene]], backendOrder[(*b)[backend]], number((*b)[spp]));
+  std::vector<std::size_t> order(rows.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return std::tuple(sceneOrder[rows[a].scene], backendOrder[rows[a].backend], rows[a].spp) <
+           std::tuple(sceneOrder[rows[b].scene], backendOrder[rows[b].backend], rows[b].spp);
   });
   std::string lastScene;
-  for (const auto *row : rows) {
-    const auto &r = *row;
-    if (r[scene] != lastScene) {
-      std::printf("\n%s\n%-22s %6s %12s %12s %15s %6s %9s %9s\n", r[scene].c_str(), "backend",
-                  "spp", "mse", "relmse", "mse/sobol", "vs", "seconds", "setup_s");
-      lastScene = r[scene];
+  for (const std::size_t i : order) {
+    const study::TimedRow &r = rows[i];
+    if (r.scene != lastScene) {
+      std::printf("\n%s\n%-22s %5s %11s %11s %13s %6s %8s %8s %8s %13s %6s\n", r.scene.c_str(),
+                  "backend", "spp", "mse", "relmse", "mse/sobol", "vs", "seconds", "setup_s",
+                  "total_s", "time/sobol", "vs");
+      lastScene = r.scene;
     }
-    const auto it = sobol.find({r[scene], r[spp]});
-    char ratio[48] = "-";
-    const char *verdict = "-";
-    if (it != sobol.end() && it->second.mse > 0 && r[backend] != "sobol") {
+    const auto it = sobol.find({r.scene, r.spp});
+    char ratio[48] = "-", timeRatio[48] = "-";
+    const char *verdict = "-", *timeVerdict = "-";
+    if (it != sobol.end() && it->second->mse > 0 && r.backend != "sobol") {
       // The ratio's standard error from the two means' relative ones; a
       // verdict needs two of them between the ratio and 1.
-      const double q = number(r[mse]) / it->second.mse;
-      const double a = number(r[mseErr]) / number(r[mse]), b = it->second.stderr_ / it->second.mse;
+      const double q = r.mse / it->second->mse;
+      const double a = r.mseStderr / r.mse, b = it->second->mseStderr / it->second->mse;
       const double se = q * std::sqrt((std::isfinite(a) ? a * a : 0) + b * b);
       std::snprintf(ratio, sizeof ratio, "%.3f+-%.3f", q, se);
-      verdict = q + 2 * se < 1 ? "better" : q - 2 * se > 1 ? "worse" : "tie";
+      verdict = verdictOf(q, se);
+      std::snprintf(timeRatio, sizeof timeRatio, "%.3f+-%.3f", times[i].ratio,
+                    times[i].ratioStderr);
+      timeVerdict = verdictOf(times[i].ratio, times[i].ratioStderr);
     } else if (it != sobol.end()) {
       std::snprintf(ratio, sizeof ratio, "1");
+      std::snprintf(timeRatio, sizeof timeRatio, "1");
     }
-    std::string name = r[backend];
+    std::string name = r.backend;
     if (name.size() > 22) name = "..." + name.substr(name.size() - 19);
-    std::printf("%-22s %6s %12.4e %12.4e %15s %6s %9.3f %9.2f\n", name.c_str(), r[spp].c_str(),
-                number(r[mse]), number(r[relmse]), ratio, verdict, number(r[secs]),
-                number(r[setup]));
+    std::printf("%-22s %5zu %11.4e %11.4e %13s %6s %8.3f %8.2f %8.3f %13s %6s\n", name.c_str(),
+                r.spp, r.mse, number(table.rows()[i][relmse]), ratio, verdict, r.seconds,
+                r.setupSeconds, times[i].totalSeconds, timeRatio, timeVerdict);
   }
+  std::printf("\nLowest error for the time (MSE x total seconds, setup over %s render%s):\n",
+              study::formatNumber(amortize).c_str(), amortize == 1 ? "" : "s");
+  for (const study::TimeVerdict &v : study::timeVerdicts(rows, amortize))
+    std::printf("  %s\n", study::describe(v).c_str());
 }
 
 int runReport(const std::string &dir) {
@@ -169,6 +182,11 @@ Runner addStudyRender(CLI::App &app) {
                  "renders per (backend, spp) with seeds seed, seed+1, ...; MSE is their mean")
       ->check(positiveNumber());
   app.add_option("--seed", o->s.seed, "seed of the backends (default 1)")->check(wholeNumber());
+  app.add_option("--amortize", o->s.amortize,
+                 "renders the setup of a backend's sets is spread over in total_seconds and "
+                 "equal_time_ratio (default 1: every render pays it all; pass the number of "
+                 "frames or views you will render with the same sets)")
+      ->check(CLI::Range(1.0, 1e12));
   app.add_option("--opt-instances", o->s.optimizedInstances,
                  "instances of the optimized backends' sets (default 16, as the paper)")
       ->check(positiveNumber());
@@ -251,16 +269,17 @@ Runner addStudyRender(CLI::App &app) {
     for (const auto &scene : result.referencesIncomplete)
       std::cerr << "note: " << scene << ": the reference stopped after --reference-stop-after "
                 << s.referenceStopAfter << " passes; run the same command again to continue it\n";
-    study::CsvTable table(result.csv, study::renderStudyColumns());
+    study::CsvTable table(result.csv, study::renderStudyColumns(), study::equalTimeColumns());
     table.loadExisting();
     if (table.rows().empty()) return 0;
-    printTable(table);
+    printTable(table, s.amortize);
     std::printf(
         "\n(MSE against the reference; mse/sobol < 1 beats Owen-Sobol at equal spp, +- its\n"
         " standard error over the repeats; vs: better or worse than sobol by more than two\n"
         " standard errors, else tie. seconds: one render incl. the backend's sample\n"
-        " generation; setup_s: one-off optimization of the optimized sets and the lobe\n"
-        " tables. CSV: %s)\n",
+        " generation; setup_s: making this row's sets and lobe tables in this run (0 when\n"
+        " cached); total_s: seconds + setup_s / --amortize; time/sobol: MSE x total_s over\n"
+        " sobol's, below 1 reaching sobol's error sooner. CSV: %s)\n",
         result.csv.string().c_str());
     return o->noReport ? 0 : runReport(o->out);
   };

@@ -1,5 +1,6 @@
 #include "tools/study/csv_table.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -64,15 +65,24 @@ std::string optionDifferences(const std::string &there, const std::string &now) 
 
 }  // namespace
 
-CsvTable::CsvTable(std::filesystem::path path, std::vector<std::string> columns)
-    : path_(std::move(path)), columns_(std::move(columns)) {}
+CsvTable::CsvTable(std::filesystem::path path, std::vector<std::string> columns,
+                   std::vector<std::string> derived)
+    : path_(std::move(path)), columns_(std::move(columns)), derived_(std::move(derived)) {}
 
 void CsvTable::loadExisting() {
   std::ifstream in(path_);
   if (!in) return;
   std::string line;
   if (!std::getline(in, line)) return;
-  if (splitRow(line) != columns_)
+  // The file's columns: ours, or ours without the derived ones (an older
+  // file), whose values are then left empty.
+  const std::vector<std::string> header = splitRow(line);
+  std::vector<std::string> withoutDerived;
+  for (const auto &c : columns_)
+    if (std::find(derived_.begin(), derived_.end(), c) == derived_.end())
+      withoutDerived.push_back(c);
+  const bool older = header != columns_ && !derived_.empty() && header == withoutDerived;
+  if (header != columns_ && !older)
     throw std::runtime_error(path_.string() + ": header '" + line + "' differs from '" +
                              joinRow(columns_) +
                              "' (a study of another kind or version; use a new directory)");
@@ -81,10 +91,18 @@ void CsvTable::loadExisting() {
     ++lineNo;
     if (line.empty()) continue;
     auto row = splitRow(line);
-    if (row.size() != columns_.size())
+    if (row.size() != header.size())
       throw std::runtime_error(path_.string() + ":" + std::to_string(lineNo) + ": " +
                                std::to_string(row.size()) + " values, expected " +
-                               std::to_string(columns_.size()));
+                               std::to_string(header.size()));
+    if (older) {
+      std::vector<std::string> full;
+      for (std::size_t c = 0, k = 0; c < columns_.size(); ++c)
+        full.push_back(k < withoutDerived.size() && columns_[c] == withoutDerived[k]
+                           ? std::move(row[k++])
+                           : std::string());
+      row = std::move(full);
+    }
     rows_.push_back(std::move(row));
   }
 }
@@ -131,6 +149,15 @@ void CsvTable::addRow(std::vector<std::string> values) {
     if (v.find_first_of(",\n\"") != std::string::npos)
       throw std::invalid_argument("CSV value '" + v + "' contains a comma, quote or newline");
   rows_.push_back(std::move(values));
+  write();
+}
+
+void CsvTable::setColumn(const std::string &name, const std::vector<std::string> &values) {
+  if (values.size() != rows_.size())
+    throw std::logic_error("CsvTable::setColumn: " + std::to_string(values.size()) +
+                           " values for " + std::to_string(rows_.size()) + " rows");
+  const std::size_t c = column(name);
+  for (std::size_t i = 0; i < rows_.size(); ++i) rows_[i][c] = values[i];
   write();
 }
 

@@ -12,10 +12,14 @@ namespace nuld::study {
 
 class CsvTable {
  public:
-  CsvTable(std::filesystem::path path, std::vector<std::string> columns);
+  // `derived`: columns computed from the others (setColumn), which a file
+  // written before they existed may lack; loadExisting leaves them empty.
+  CsvTable(std::filesystem::path path, std::vector<std::string> columns,
+           std::vector<std::string> derived = {});
 
-  // Reads the rows of an existing file with the same columns (resume); throws
-  // std::runtime_error naming the file when its header differs.
+  // Reads the rows of an existing file with the same columns, or with the
+  // same but for derived ones (resume); throws std::runtime_error naming the
+  // file when its header differs otherwise.
   void loadExisting();
 
   // The options the rows depend on beyond their key columns, as words
@@ -33,6 +37,10 @@ class CsvTable {
   // Appends a row (as many values as columns, or throws) and rewrites the file.
   void addRow(std::vector<std::string> values);
 
+  // Sets a column's value in every row (as many values as rows, or throws)
+  // and rewrites the file.
+  void setColumn(const std::string &name, const std::vector<std::string> &values);
+
   const std::vector<std::string> &columns() const { return columns_; }
   // The index of a column; throws std::logic_error for a name it lacks.
   std::size_t column(const std::string &name) const;
@@ -43,7 +51,7 @@ class CsvTable {
   void write() const;
 
   std::filesystem::path path_;
-  std::vector<std::string> columns_;
+  std::vector<std::string> columns_, derived_;
   std::vector<std::vector<std::string>> rows_;
 };
 

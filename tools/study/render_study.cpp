@@ -7,6 +7,7 @@
 #include <fstream>
 #include <functional>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
@@ -17,6 +18,7 @@
 #include "sampler/targets/target_spec.h"
 #include "scenes/scene_file.h"
 #include "tools/study/csv_table.h"
+#include "tools/study/equal_time.h"
 #include "tools/study/optimized_sets.h"
 #include "tools/study/ranks.h"
 #include "tools/study/statistics.h"
@@ -226,6 +228,10 @@ CellOutcome renderCell(
              formatNumber(rm.stderr_),
              formatNumber(t.mean),
              formatNumber(c.setupSeconds),
+             "",  // total_seconds .. amortize: fillEqualTime, over the whole table
+             "",
+             "",
+             "",
              formatNumber(rps.mean),
              std::to_string(nonFinite),
              std::to_string(rejected),
@@ -283,6 +289,10 @@ const std::vector<std::string> &renderStudyColumns() {
                                                 "relmse_stderr",
                                                 "seconds",
                                                 "setup_seconds",
+                                                "total_seconds",
+                                                "equal_time_ratio",
+                                                "equal_time_ratio_stderr",
+                                                "amortize",
                                                 "rays_per_second",
                                                 "nonfinite_pixels",
                                                 "rejected_samples",
@@ -300,6 +310,8 @@ void RenderStudySettings::validate() const {
   if (width < 0 || height < 0 || (height > 0 && width == 0))
     throw std::invalid_argument("--res: expected W or WxH with positive sizes");
   if (repeats == 0) throw std::invalid_argument("--repeats: must be at least 1");
+  if (!(amortize >= 1) || !std::isfinite(amortize))
+    throw std::invalid_argument("--amortize: expected a number of renders >= 1");
   if (optimizedInstances == 0) throw std::invalid_argument("--opt-instances: must be at least 1");
   if (!(lobeUnionWeight >= 0) || !std::isfinite(lobeUnionWeight))
     throw std::invalid_argument("--opt-union-weight: expected a finite weight >= 0");
@@ -424,27 +436,32 @@ ScenePlan planScene(const SceneStudy &scene, const CsvTable &table, const Render
   return plan;
 }
 
-// Every set the cells need, each optimized once, on one rank.
-void makeSceneSets(const Ranks &ranks, const SceneStudy &scene, const ScenePlan &plan,
-                   const StudyProgress &progress) {
+// Every set the cells need, each optimized once, on one rank; returns the
+// files made now (a file found made costs its cells no setup).
+std::set<fs::path> makeSceneSets(const Ranks &ranks, const SceneStudy &scene, const ScenePlan &plan,
+                                 const StudyProgress &progress) {
   std::vector<SetsJob> jobs;
   for (const PlannedCell &c : plan.cells)
     jobs.insert(jobs.end(), c.plan.sets.begin(), c.plan.sets.end());
-  makeMissingSets(
-      ranks, jobs,
-      [&](std::size_t done, std::size_t total, const SetsJob &job, int e, int n, double loss) {
-        if (progress)
-          progress(scene.slug + ": optimize sets",
-                   (double(done) + double(ranks.size()) * double(e) / n) / double(total),
-                   job.label + ": loss " + formatNumber(loss));
-      });
+  std::set<fs::path> made;
+  for (const SetsJob &madeJob : makeMissingSets(
+           ranks, jobs,
+           [&](std::size_t done, std::size_t total, const SetsJob &job, int e, int n, double loss) {
+             if (progress)
+               progress(scene.slug + ": optimize sets",
+                        (double(done) + double(ranks.size()) * double(e) / n) / double(total),
+                        job.label + ": loss " + formatNumber(loss));
+           }))
+    made.insert(madeJob.file);
+  return made;
 }
 
 // The cells, rendered side by side; rank 0 writes their images and adds
 // their rows in cell order, or notes why a cell was skipped.
 void renderCells(const Ranks &ranks, const SceneStudy &scene, const ScenePlan &plan,
-                 const Image &reference, const RenderStudySettings &s, CsvTable &table,
-                 RenderStudyResult &result, const StudyProgress &progress) {
+                 const std::set<fs::path> &madeNow, const Image &reference,
+                 const RenderStudySettings &s, CsvTable &table, RenderStudyResult &result,
+                 const StudyProgress &progress) {
   double totalWork = 0, work = 0;
   for (const PlannedCell &c : plan.cells) totalWork += double(c.spp) * double(s.repeats);
   runInRounds(
@@ -454,7 +471,8 @@ void renderCells(const Ranks &ranks, const SceneStudy &scene, const ScenePlan &p
         if (!c.plan.spec) return CellOutcome::skipped(c.plan.why).bytes();
         double setupSeconds = c.samplesLobes ? plan.tableSeconds : 0;
         for (const SetsJob &job : c.plan.sets)
-          setupSeconds += optimizedSets(*job.target, job.request, job.file).seconds;
+          if (madeNow.contains(job.file))
+            setupSeconds += optimizedSets(*job.target, job.request, job.file).seconds;
         RenderSettings settings = scene.settings;
         settings.spp = c.spp;
         const Cell cell{scene.loaded.scene, settings,     scene.slug, c.backend.word,
@@ -484,6 +502,7 @@ void renderCells(const Ranks &ranks, const SceneStudy &scene, const ScenePlan &p
         writeRender(files.image.string(), outcome.image, outcome.attributes);
         writeImage(files.errorMap.string(), errorMap(outcome.image, reference));
         table.addRow(outcome.row);
+        fillEqualTime(table, s.amortize);
       });
 }
 
@@ -495,7 +514,7 @@ RenderStudyResult runRenderStudy(const RenderStudySettings &s, const StudyProgre
   if (ranks.root()) fs::create_directories(s.out);
   RenderStudyResult result;
   result.csv = s.out / "render.csv";
-  CsvTable table(result.csv, renderStudyColumns());
+  CsvTable table(result.csv, renderStudyColumns(), equalTimeColumns());
   table.loadExisting();
   table.requireOptions(s.rowOptions(), ranks.root());
   CsvTable refs(s.out / "references.csv",
@@ -529,10 +548,12 @@ RenderStudyResult runRenderStudy(const RenderStudySettings &s, const StudyProgre
                          fs::relative(scene.dir / "reference.exr", s.out));
 
     const ScenePlan plan = planScene(scene, table, s);
-    makeSceneSets(ranks, scene, plan, progress);
-    renderCells(ranks, scene, plan, ref.image, s, table, result, progress);
+    const std::set<fs::path> madeNow = makeSceneSets(ranks, scene, plan, progress);
+    renderCells(ranks, scene, plan, madeNow, ref.image, s, table, result, progress);
     ranks.barrier();
   }
+  // Rows kept from an earlier run take this run's K too.
+  if (ranks.root() && !table.rows().empty()) fillEqualTime(table, s.amortize);
   return result;
 }
 

@@ -50,6 +50,9 @@ struct RenderStudySettings {
   int maxDepth = 0;  // 0: the scene's
   std::size_t repeats = 1;
   std::uint64_t seed = 1;
+  // Renders over which a row's setup is spread in total_seconds and
+  // equal_time_ratio (tools/study/equal_time.h); changes no render.
+  double amortize = 1;
   ReferenceSettings reference;  // its render settings are filled per scene
   // Stop each reference after this many passes in this run (0: no limit); a
   // scene whose reference is not complete renders no cells.

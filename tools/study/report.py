@@ -58,6 +58,19 @@ def backend_label(name):
     return name
 
 
+def ratio_to_sobol(row, sobol_row):
+    """MSE over sobol's with its standard error from the two relative ones."""
+    if not sobol_row or not num(sobol_row["mse"]) > 0:
+        return math.nan, math.nan
+    q = num(row["mse"]) / num(sobol_row["mse"])
+    if row is sobol_row:
+        return 1.0, 0.0
+    a = num(row["mse_stderr"]) / num(row["mse"]) if num(row["mse"]) > 0 else 0
+    b = num(sobol_row["mse_stderr"]) / num(sobol_row["mse"])
+    a = a if math.isfinite(a) else 0
+    return q, q * math.sqrt(a * a + b * b)
+
+
 def loglog_panel(ax, series, xlabel, ylabel, guide=None):
     for label, xs, ys, errs in series:
         pts = [(x, y, e) for x, y, e in zip(xs, ys, errs) if x > 0 and y > 0]
@@ -100,8 +113,22 @@ def render_plots(scene, rows, plots_dir):
                  guide=[(-1, "--"), (-1.5, ":")])
     loglog_panel(axes[1], series("spp", "relmse", "relmse_stderr"), "samples per pixel",
                  "relMSE", guide=[(-1, "--"), (-1.5, ":")])
-    loglog_panel(axes[2], series("seconds", "mse", "mse_stderr"),
-                 "seconds per render (incl. sample generation)", "MSE")
+    # Error against time with setup on the axis: the line at the study's
+    # --amortize K (total_seconds), hollow markers where every render pays
+    # its whole setup (K = 1).
+    amortize = num(rows[0].get("amortize")) if rows else math.nan
+    has_total = all(math.isfinite(num(r.get("total_seconds"))) for r in rows)
+    xkey = "total_seconds" if has_total else "seconds"
+    loglog_panel(axes[2], series(xkey, "mse", "mse_stderr"),
+                 (f"seconds per render + setup / {amortize:g}" if has_total else
+                  "seconds per render (incl. sample generation)"), "MSE")
+    if has_total and amortize != 1:
+        for i, (b, rs) in enumerate(groups.items()):
+            xs = [num(r["seconds"]) + num(r["setup_seconds"]) for r in rs]
+            ys = [num(r["mse"]) for r in rs]
+            axes[2].plot(xs, ys, "o", mfc="none", ms=5, color=f"C{i % 10}",
+                         label="K = 1" if i == 0 else None)
+        axes[2].legend(fontsize=7)
     fig.suptitle(f"{scene}: error against a reference")
     fig.tight_layout()
     name = f"render_{scene}.png"
@@ -170,6 +197,13 @@ def render_section(root, scene, rows, ref, plots_dir, scale):
         out.append(f"<p>Reference: {html.escape(ref['backend'])}, {ref['spp']} spp, "
                    f"{ref['resolution']}, {ref['integrator']} integrator, "
                    f"{num(ref['seconds']):.1f} s of rendering.</p>")
+        # A reference's own noise adds about max spp / reference spp to every
+        # MSE ratio's denominator: below 16x it blurs the comparison.
+        top = max(int(num(r["spp"])) for r in rows)
+        if num(ref["spp"]) < 16 * top:
+            out.append(f"<p class='bad'>Weak reference: {ref['spp']} spp is less than 16× the "
+                       f"largest spp rendered ({top}); its own noise is a noticeable part of "
+                       "every MSE at that spp.</p>")
     nonfinite = sum(int(num(r["nonfinite_pixels"])) for r in rows)
     rejected = sum(int(num(r.get("rejected_samples", 0))) for r in rows)
     out.append(f"<p class='{'bad' if nonfinite or rejected else 'note'}'>Stability: "
@@ -181,7 +215,7 @@ def render_section(root, scene, rows, ref, plots_dir, scale):
     spps = sorted({int(r["spp"]) for r in rows})
     backends = list(dict.fromkeys(r["backend"] for r in rows))
     cell = {(r["backend"], int(r["spp"])): r for r in rows}
-    sobol = {s: num(cell[("sobol", s)]["mse"]) for s in spps if ("sobol", s) in cell}
+    sobol = {s: cell[("sobol", s)] for s in spps if ("sobol", s) in cell}
     out.append("<table><tr><th>backend</th>" +
                "".join(f"<th>spp {s}</th>" for s in spps) + "<th>setup s</th></tr>")
     for b in backends:
@@ -191,18 +225,46 @@ def render_section(root, scene, rows, ref, plots_dir, scale):
             if not r:
                 tds.append("<td>–</td>")
                 continue
-            ratio = num(r["mse"]) / sobol[s] if sobol.get(s, 0) > 0 else math.nan
-            cls = "win" if ratio < 1 else ""
+            ratio, se = ratio_to_sobol(r, sobol.get(s))
+            # A win is a ratio two standard errors below 1, not one below 1
+            # by noise; a loss, two above.
+            cls = ("win" if ratio + 2 * se < 1 else "loss" if ratio - 2 * se > 1 else "")
             tip = (f"relMSE {fmt(r['relmse'])}, {num(r['seconds']):.3f} s, "
                    f"{int(num(r['repeats']))} repeat(s)")
+            eq = num(r.get("equal_time_ratio"))
             tds.append(f'<td class="{cls}" title="{html.escape(tip)}">{fmt(r["mse"])}'
-                       + (f"<br><small>×{ratio:.2f} sobol</small>" if math.isfinite(ratio) else "")
+                       + (f"<br><small>×{ratio:.2f}±{se:.2f} sobol</small>"
+                          if math.isfinite(ratio) else "")
+                       + (f"<br><small>×{eq:.2f} at equal time</small>"
+                          if math.isfinite(eq) and b != "sobol" else "")
                        + "</td>")
         setup = max(num(cell[(b, s)]["setup_seconds"]) for s in spps if (b, s) in cell)
         out.append(f"<tr><th>{html.escape(backend_label(b))}</th>{''.join(tds)}"
                    f"<td>{setup:.1f}</td></tr>")
+    amortize = num(rows[0].get("amortize")) if rows else math.nan
     out.append("</table><p class='note'>MSE against the reference (hover for relMSE, seconds "
-               "and repeats); green where it beats Owen-Sobol at the same spp.</p>")
+               "and repeats) and its ratio to Owen-Sobol's at the same spp with its standard "
+               "error: green where it beats Owen-Sobol by two standard errors, red where it "
+               "loses by two; 'at equal time': MSE × (seconds + setup / "
+               f"{amortize:g}) over Owen-Sobol's.</p>")
+    verdicts = [v for v in read_csv(os.path.join(root, "verdicts.csv")) if v["scene"] == scene]
+    if verdicts:
+        out.append("<p><b>Lowest error for the time</b> (MSE × total seconds, setup spread "
+                   f"over {amortize:g} render(s)):</p><ul>")
+        for v in verdicts:
+            names = [v["best"]] + v["tied"].split()
+            who = (html.escape(names[0]) if len(names) == 1 else
+                   "a tie between " + ", ".join(html.escape(n) for n in names) +
+                   " (within two standard errors)")
+            line = f"<li>{v['spp']} spp: {who}"
+            if math.isfinite(num(v["equal_time_ratio"])):
+                line += (f", ×{num(v['equal_time_ratio']):.2f}±"
+                         f"{num(v['equal_time_ratio_stderr']):.2f} of sobol's")
+            if v["runner_up"]:
+                line += (f"; ahead of {html.escape(v['runner_up'])} at ×"
+                         f"{num(v['separation']):.2f}±{num(v['separation_stderr']):.2f}")
+            out.append(line + "</li>")
+        out.append("</ul>")
 
     # Images at the smallest and largest spp: full frame, zoomed crop, error map.
     ref_png = os.path.join(root, scene, "reference.png")
@@ -284,6 +346,7 @@ body { font-family: sans-serif; margin: 1em 2em; max-width: 1400px; }
 table { border-collapse: collapse; margin: 0.5em 0; font-size: 0.9em; }
 td, th { border: 1px solid #ccc; padding: 3px 8px; text-align: right; }
 td.win { background: #dff5df; }
+td.loss { background: #f8e0e0; }
 .row { display: flex; flex-wrap: wrap; gap: 10px; }
 figure { margin: 0; }
 figcaption { font-size: 0.8em; max-width: 260px; }
@@ -322,7 +385,8 @@ def main():
     toc = " · ".join([f'<a href="#{html.escape(s)}">{html.escape(s)}</a>' for s in scenes] +
                      (['<a href="#integrate">integration</a>'] if integrate_rows else []))
     data = " · ".join(f'<a href="{name}">{name}</a>'
-                      for name in ("render.csv", "references.csv", "integrate.csv")
+                      for name in ("render.csv", "verdicts.csv", "references.csv",
+                                   "integrate.csv")
                       if os.path.exists(os.path.join(root, name)))
     # No absolute path on the page: it is meant to be copied and shared.
     page = (f"<!DOCTYPE html><html><head><meta charset='utf-8'>"
