@@ -103,10 +103,18 @@ void BankBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
                          " points, but the render asks for " + std::to_string(spp) +
                          " samples per pixel (use --spp " + n + ")");
   }
+  // A bank serves a target by spec, or by content (the same map under
+  // another path or asset root: target_spec.h, followsTarget).
+  // The hash reads the whole density (a large map's takes tens of ms), so
+  // it is asked only when no spec matches.
   const auto bankFor = [&](const Target *t) -> const SetBank * {
     if (!t) return nullptr;
+    const std::string spec = t->spec();
     for (const SetBank *b : sized)
-      if (sameTarget(b->targetSpec(), t->spec())) return b;
+      if (followsTarget(b->sets, spec, "")) return b;
+    const std::string hash = t->contentHash();
+    for (const SetBank *b : sized)
+      if (followsTarget(b->sets, spec, hash)) return b;
     return nullptr;
   };
   for (const SetBank *b : sized)

@@ -5,6 +5,7 @@
 #include "sampler/io/pointset_metadata.h"
 #include "sampler/sequences/rng.h"
 #include "sampler/targets/basic_targets.h"
+#include "sampler/targets/target_spec.h"
 
 namespace nuld {
 
@@ -68,8 +69,7 @@ PointSet blueNoiseSets(const BlueNoiseRequest &request, const Target &target, st
   if (!optimizeFor.isUniform())
     setMeta(set, meta::kTargetSamples,
             std::to_string(sliced ? sot.samplesFor(n) : gbn.samplesFor(n)));
-  setMeta(set, meta::kTarget, target.spec());
-  setMeta(set, meta::kDomain, toString(target.domain()));
+  recordTarget(set, target);
   if (request.mapped) setMeta(set, meta::kMapping, std::string(meta::kInverseCdf));
   return set;
 }

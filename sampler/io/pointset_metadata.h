@@ -20,6 +20,9 @@ inline constexpr std::string_view kInstances = "instances";
 // What the points follow: a target SPEC ("uniform" when absent), its domain,
 // and how uniform points were carried to it.
 inline constexpr std::string_view kTarget = "target";
+// Target::contentHash of the target: matches the set to the same density
+// under another path (target_spec.h, followsTarget).
+inline constexpr std::string_view kTargetHash = "target_hash";
 inline constexpr std::string_view kDomain = "domain";
 inline constexpr std::string_view kMapping = "mapping";
 inline constexpr std::string_view kInverseCdf = "inverse-cdf";  // kMapping's value

@@ -21,6 +21,7 @@
 #include "sampler/sequences/rng.h"
 #include "sampler/sequences/sequence.h"
 #include "sampler/targets/grid_target.h"
+#include "sampler/targets/target_spec.h"
 
 namespace nuld {
 namespace {
@@ -304,8 +305,7 @@ PointSet DirectOptimizer::points(const OptimizerState &state) const {
   set.points = state.params;
   if (settings_.mapping == Mapping::Mapped && !target_.isUniform())
     for (Point2 &p : set.points) p = target_.invert(p).x;
-  setMeta(set, meta::kTarget, target_.spec());
-  setMeta(set, meta::kDomain, toString(target_.domain()));
+  recordTarget(set, target_);
   setMeta(set, meta::kGenerator, "optimized");
   setMeta(set, meta::kSettings, settings_.describe());
   setMeta(set, meta::kEpochsDone, std::to_string(state.epoch));

@@ -58,6 +58,17 @@ std::vector<double> GridTarget::uniformEdges(int cells) {
   return e;
 }
 
+std::string GridTarget::contentHash() const {
+  return ContentHash()
+      .add("grid:")
+      .add(std::string_view(spec_).substr(0, spec_.find(':')))
+      .add(std::uint64_t(domain_))
+      .add(std::span<const double>(xEdges_))
+      .add(std::span<const double>(yEdges_))
+      .add(std::span<const double>(density_))
+      .hex();
+}
+
 GridTarget::GridTarget(std::vector<double> xEdges, std::vector<double> yEdges,
                        const std::vector<double> &density, std::string spec, Domain domain,
                        const std::string &source)

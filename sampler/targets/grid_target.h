@@ -40,6 +40,9 @@ class GridTarget final : public Target {
   static std::vector<double> uniformEdges(int cells);
 
   std::string spec() const override { return spec_; }
+  // The spec's family (the part before ':', naming e.g. the map's pixel
+  // weight), the domain, the edges and the normalized densities.
+  std::string contentHash() const override;
   Domain domain() const override { return domain_; }
   double pdf(Point2 p) const override;
   double mass(const Box2 &b) const override;

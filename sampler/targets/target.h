@@ -12,6 +12,7 @@
 #include <memory>
 #include <string>
 
+#include "sampler/io/content_hash.h"
 #include "sampler/point.h"
 
 namespace nuld {
@@ -37,6 +38,11 @@ class Target {
 
   // The SPEC string that rebuilds this target (see makeTarget).
   virtual std::string spec() const = 0;
+  // What the density is, as a stable hash (sampler/io/content_hash.h): two
+  // targets with the same hash have the same density, wherever their data
+  // came from (the same map under another path or asset root). By default
+  // the spec's; targets made from data hash the data.
+  virtual std::string contentHash() const { return ContentHash().add("spec:").add(spec()).hex(); }
   virtual Domain domain() const { return Domain::Square; }
   virtual bool isUniform() const { return false; }
 

@@ -10,6 +10,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "sampler/enum_names.h"
+#include "sampler/io/pointset_metadata.h"
 #include "sampler/targets/basic_targets.h"
 #include "sampler/targets/image_targets.h"
 
@@ -196,6 +198,19 @@ bool sameTarget(const std::string &a, const std::string &b) {
   std::error_code ec;
   const std::filesystem::path pa = a.substr(colonA + 1), pb = b.substr(colonB + 1);
   return std::filesystem::equivalent(pa, pb, ec) && !ec;
+}
+
+void recordTarget(PointSet &set, const Target &target) {
+  setMeta(set, meta::kTarget, target.spec());
+  setMeta(set, meta::kTargetHash, target.contentHash());
+  setMeta(set, meta::kDomain, toString(target.domain()));
+}
+
+bool followsTarget(const PointSet &set, const std::string &spec, const std::string &contentHash) {
+  const std::string recorded = metaOr(set, meta::kTarget, "uniform");
+  if (sameTarget(recorded, spec)) return true;
+  const std::string *hash = findMeta(set, meta::kTargetHash);
+  return hash && !contentHash.empty() && *hash == contentHash;
 }
 
 }  // namespace nuld

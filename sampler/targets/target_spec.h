@@ -45,6 +45,15 @@ std::vector<double> parseNumberList(const std::string &spec, const std::string &
 // paths.
 bool sameTarget(const std::string &specA, const std::string &specB);
 
+// Records what a set's points follow in its metadata: the target's spec
+// (readable, and what rebuilds it), its content hash (Target::contentHash:
+// what matches the set to the same target on another machine or under
+// another asset root) and its domain.
+void recordTarget(PointSet &set, const Target &target);
+// Whether a set's recorded target is the target with this spec and content
+// hash: the same spec (sameTarget), or the same recorded content hash.
+bool followsTarget(const PointSet &set, const std::string &spec, const std::string &contentHash);
+
 // Parses set sizes "16,32,64" (positive, at most 9 digits each, duplicates
 // dropped, order kept); throws std::invalid_argument starting with `what`
 // (an option or a file's field) and saying what was expected.

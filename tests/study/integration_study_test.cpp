@@ -87,6 +87,7 @@ void expectMatchesThetaPhi(const Integrand &in, const StudyEnvmap &map,
 IntegrateOptions quickOptions(const fs::path &out) {
   IntegrateOptions o;
   o.outDir = out;
+  o.cacheDir = out / "cache";  // not the user's cache: each test makes its own sets
   o.envmaps = {};
   o.instances = 16;
   o.optimizedInstances = 2;
@@ -396,7 +397,7 @@ TEST(IntegrationStudyRun, TinyOptimizedRunWritesRowsAndCache) {
   EXPECT_EQ(f.at("instances"), "2");
   EXPECT_GT(value(t, t.rows()[0], "setup_seconds_per_set"), 0);
   int cached = 0;
-  for (const auto &e : fs::directory_iterator(o.outDir / "cache"))
+  for (const auto &e : fs::directory_iterator(o.cacheDir / "sets"))
     cached += e.path().extension() == ".ptsb";
   EXPECT_EQ(cached, 1);
   // Without the CSV the row is measured again, from the cached sets.

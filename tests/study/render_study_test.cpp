@@ -48,6 +48,7 @@ RenderStudySettings tinyStudy(const fs::path &out) {
   s.optimizedInstances = 4;
   s.optimizedEpochs = 50;
   s.out = out;
+  s.cacheDir = out / "cache";  // not the user's cache: each study makes its own sets
   return s;
 }
 
@@ -114,11 +115,16 @@ TEST_F(TinyStudy, CsvHasItsColumnsAndUnits) {
     EXPECT_TRUE(fs::exists(*dir_ / r["error_map"])) << r["error_map"];
   }
   EXPECT_TRUE(fs::exists(*dir_ / "default" / "reference.exr"));
-  EXPECT_TRUE(fs::exists(*dir_ / "cache" / "default_envmap_n64.ptsb"));
-  bool uniformSets = false;  // named by target, N and a hash of the settings
-  for (const auto &e : fs::directory_iterator(*dir_ / "cache"))
-    uniformSets |= e.path().filename().string().rfind("optimized_uniform_n4_", 0) == 0;
-  EXPECT_TRUE(uniformSets);
+  // Entries named by target and N, ending in their content key.
+  int envSets = 0, uniformSets = 0;
+  for (const auto &e : fs::directory_iterator(*dir_ / "cache" / "sets")) {
+    const std::string name = e.path().filename().string();
+    envSets += name.starts_with("envmap_procedural-sky_n64_") ||
+               name.starts_with("envmap_procedural-sky_n4_");
+    uniformSets += name.starts_with("uniform_n4_") || name.starts_with("uniform_n64_");
+  }
+  EXPECT_EQ(envSets, 2);
+  EXPECT_EQ(uniformSets, 2);
 }
 
 TEST_F(TinyStudy, MseFallsWithSppForEveryBackend) {

@@ -7,6 +7,7 @@ nuld=$1
 data=$(cd "$(dirname "$0")/../data/bad_inputs" && pwd)
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
+export NULD_CACHE="$out/set-cache"  # not the user's cache
 mkfifo "$out/pipe"
 failures=0 cases=0
 declare -A perCommand

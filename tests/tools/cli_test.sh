@@ -5,6 +5,7 @@ set -uo pipefail
 nuld=$1
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
+export NULD_CACHE="$dir/set-cache"  # the studies here make their own sets, not the user's
 failures=0
 
 ok() { # ok DESCRIPTION COMMAND...

@@ -13,6 +13,9 @@ nuld=$1
 ranks=$2
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
+# Every study keeps its sets in its own cache (OUT/cache), so that each job
+# makes them and they are compared file by file.
+export NULD_CACHE="$dir/set-cache"
 failures=0
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
 
@@ -59,32 +62,33 @@ PY
 # backends at two spp.
 study=(study render --backends sobol,independent,optimized,optimized-bsdf --spp 2,4 --res 24
   --reference-spp 48 --reference-pass-spp 8 --opt-instances 3 --opt-epochs 20 --no-report -q)
-run render1 "$nuld" "${study[@]}" -o "$dir/one"
-run renderK "${mpi[@]}" "$nuld" "${study[@]}" -o "$dir/many"
-# render.csv columns 9-11: seconds, setup_seconds, rays_per_second.
-cmp -s <(csv_without "$dir/one/render.csv" 9,10,11) <(csv_without "$dir/many/render.csv" 9,10,11) ||
+run render1 env NULD_CACHE="$dir/one/cache" "$nuld" "${study[@]}" -o "$dir/one"
+run renderK env NULD_CACHE="$dir/many/cache" "${mpi[@]}" "$nuld" "${study[@]}" -o "$dir/many"
+# render.csv columns 9-13 and 15: seconds, setup_seconds, total_seconds,
+# equal_time_ratio and its error (from the times), rays_per_second.
+cmp -s <(csv_without "$dir/one/render.csv" 9,10,11,12,13,15) <(csv_without "$dir/many/render.csv" 9,10,11,12,13,15) ||
   fail "render.csv differs from the single process's"
 [[ $(wc -l <"$dir/one/render.csv") -eq 9 ]] || fail "render.csv: expected 8 rows"
 same_outputs "$dir/one" "$dir/many" "study render"
 
 # An interrupted multi-rank reference resumes, also with another rank count.
-run stop1 "${mpi[@]}" "$nuld" "${study[@]}" -o "$dir/resumed" --reference-stop-after 1
+run stop1 env NULD_CACHE="$dir/resumed/cache" "${mpi[@]}" "$nuld" "${study[@]}" -o "$dir/resumed" --reference-stop-after 1
 grep -q "passes_done=1" "$dir/resumed/default/reference.state" || fail "the first run did not stop after 1 pass"
 [[ -e "$dir/resumed/render.csv" ]] && fail "a study with an incomplete reference rendered cells"
-run stop2 "${launch[@]}" -np 2 "$nuld" "${study[@]}" -o "$dir/resumed" --reference-stop-after 3
+run stop2 env NULD_CACHE="$dir/resumed/cache" "${launch[@]}" -np 2 "$nuld" "${study[@]}" -o "$dir/resumed" --reference-stop-after 3
 grep -q "passes_done=4" "$dir/resumed/default/reference.state" || fail "the second run did not stop after 4 passes"
-run finish "${mpi[@]}" "$nuld" "${study[@]}" -o "$dir/resumed"
+run finish env NULD_CACHE="$dir/resumed/cache" "${mpi[@]}" "$nuld" "${study[@]}" -o "$dir/resumed"
 idiff -q -fail 0 -warn 0 "$dir/one/default/reference.exr" "$dir/resumed/default/reference.exr" \
   >/dev/null 2>&1 || fail "the resumed reference differs from the single process's"
-cmp -s <(csv_without "$dir/one/render.csv" 9,10,11) <(csv_without "$dir/resumed/render.csv" 9,10,11) ||
+cmp -s <(csv_without "$dir/one/render.csv" 9,10,11,12,13,15) <(csv_without "$dir/resumed/render.csv" 9,10,11,12,13,15) ||
   fail "the resumed study's render.csv differs"
 
 # A reference killed mid-job (SIGTERM to mpirun once a round is saved)
 # resumes to the single process's image.
 killed=(study render --backends sobol --spp 2 --res 96 --reference-spp 384 --reference-pass-spp 8
   --no-report -q)
-run killed1 "$nuld" "${killed[@]}" -o "$dir/killed1"
-"${mpi[@]}" "$nuld" "${killed[@]}" -o "$dir/killed" >/dev/null 2>&1 &
+run killed1 env NULD_CACHE="$dir/killed1/cache" "$nuld" "${killed[@]}" -o "$dir/killed1"
+env NULD_CACHE="$dir/killed/cache" "${mpi[@]}" "$nuld" "${killed[@]}" -o "$dir/killed" >/dev/null 2>&1 &
 job=$!
 for _ in $(seq 600); do
   grep -qs "passes_done=[1-9]" "$dir/killed/default/reference.state" && break
@@ -97,15 +101,15 @@ if grep -qs "passes_done=48" "$dir/killed/default/reference.state"; then
 elif ! grep -qs "passes_done=[1-9]" "$dir/killed/default/reference.state"; then
   fail "no reference round was saved before the kill"
 fi
-run killedResume "${mpi[@]}" "$nuld" "${killed[@]}" -o "$dir/killed"
+run killedResume env NULD_CACHE="$dir/killed/cache" "${mpi[@]}" "$nuld" "${killed[@]}" -o "$dir/killed"
 idiff -q -fail 0 -warn 0 "$dir/killed1/default/reference.exr" "$dir/killed/default/reference.exr" \
   >/dev/null 2>&1 || fail "the reference resumed after a kill differs from the single process's"
 
 # The integration study, its banks included.
 integrate=(study integrate --integrands gaussian*step,envmap*cos --samplers independent,sobol,optimized
   --n 8,16 --instances 4 --optimized-instances 3 --opt-epochs 20 --no-plots -q)
-run integrate1 "$nuld" "${integrate[@]}" -o "$dir/int1"
-run integrateK "${mpi[@]}" "$nuld" "${integrate[@]}" -o "$dir/intK"
+run integrate1 env NULD_CACHE="$dir/int1/cache" "$nuld" "${integrate[@]}" -o "$dir/int1"
+run integrateK env NULD_CACHE="$dir/intK/cache" "${mpi[@]}" "$nuld" "${integrate[@]}" -o "$dir/intK"
 # integrate.csv columns 14-15: gen_seconds_per_set, setup_seconds_per_set.
 cmp -s <(csv_without "$dir/int1/integrate.csv" 14,15) <(csv_without "$dir/intK/integrate.csv" 14,15) ||
   fail "integrate.csv differs from the single process's"

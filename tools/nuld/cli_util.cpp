@@ -10,6 +10,7 @@
 #include <regex>
 #include <stdexcept>
 
+#include "sampler/diagnostics.h"
 #include "sampler/io/pointset_metadata.h"
 #include "sampler/io/round_trip.h"
 #include "sampler/targets/basic_targets.h"
@@ -17,10 +18,31 @@
 
 namespace nuld::cli {
 
-std::unique_ptr<Target> targetFor(const std::string &spec, const PointSet &set) {
-  if (!spec.empty()) return makeTarget(spec);
-  if (const std::string *target = findMeta(set, meta::kTarget)) return makeTarget(*target);
-  return std::make_unique<UniformTarget>();
+std::unique_ptr<Target> targetFor(const std::string &spec, const PointSet &set,
+                                  const std::string &file) {
+  const std::string *recorded = findMeta(set, meta::kTarget);
+  const std::string *hash = findMeta(set, meta::kTargetHash);
+  if (!spec.empty()) {
+    auto target = makeTarget(spec);
+    // The recorded map under another path: said, so a mismatch is not
+    // taken for the set's quality.
+    if (recorded && hash && !followsTarget(set, target->spec(), target->contentHash()))
+      warning(file + ": its points were made for '" + *recorded + "' (content " + *hash +
+              "), which is not the density of --target '" + spec + "' (content " +
+              target->contentHash() + ")");
+    return target;
+  }
+  if (!recorded) return std::make_unique<UniformTarget>();
+  try {
+    return makeTarget(*recorded);
+  } catch (const std::runtime_error &e) {
+    // A set made on another machine or under another asset root names a
+    // path that is not here; its content hash still identifies the map.
+    throw std::runtime_error(file + ": its target '" + *recorded + "' cannot be opened here (" +
+                             e.what() + "); pass --target naming the same map under this " +
+                             "machine's asset root" +
+                             (hash ? " (checked by its content hash " + *hash + ")" : ""));
+  }
 }
 
 void mapByInverseCdf(PointSet &set, const Target &target) {
@@ -28,8 +50,7 @@ void mapByInverseCdf(PointSet &set, const Target &target) {
     throw std::invalid_argument("target '" + target.spec() +
                                 "' has no inverse CDF to map points with");
   for (Point2 &p : set.points) p = target.invert(p).x;
-  setMeta(set, meta::kTarget, target.spec());
-  setMeta(set, meta::kDomain, toString(target.domain()));
+  recordTarget(set, target);
   setMeta(set, meta::kMapping, std::string(meta::kInverseCdf));
 }
 

@@ -16,8 +16,11 @@
 namespace nuld::cli {
 
 // The target named on the command line, else the one recorded in the file's
-// metadata, else uniform.
-std::unique_ptr<Target> targetFor(const std::string &spec, const PointSet &set);
+// metadata, else uniform. A recorded target that cannot be opened here (a
+// map under another asset root) is an error naming `file` and what to pass;
+// a --target whose content differs from the recorded one is warned about.
+std::unique_ptr<Target> targetFor(const std::string &spec, const PointSet &set,
+                                  const std::string &file);
 
 // Maps every point of `set` through the target's inverse CDF.
 void mapByInverseCdf(PointSet &set, const Target &target);

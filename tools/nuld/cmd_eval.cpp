@@ -45,7 +45,7 @@ Runner addEval(CLI::App &app) {
       "non-uniform one l2star and l2asd integrate on a grid. dstar is exact either way.");
   return [o] {
     const PointSet set = readPointSet(o->file);
-    const auto target = targetFor(o->target, set);
+    const auto target = targetFor(o->target, set, o->file);
     const bool uniform = target->isUniform();
     if (o->zeroDensity) {
       std::size_t zero = 0;

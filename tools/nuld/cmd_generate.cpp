@@ -43,7 +43,7 @@ int generateFromModel(const Options &o) {
                                 std::to_string(gamma.size()));
   PointSet set = gen.generateSets(o.instances, o.seed, gamma, n);
   setMeta(set, meta::kGenerator, "neural:" + o.model);
-  setMeta(set, meta::kTarget, gen.family().target(gamma)->spec());
+  recordTarget(set, *gen.family().target(gamma));
   setMeta(set, meta::kDomain, toString(gen.domain()));
   if (!o.gamma.empty()) setMeta(set, meta::kGamma, o.gamma);
   if (const std::string why = gen.notRandomizedReason(); !why.empty()) {

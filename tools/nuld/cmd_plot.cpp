@@ -38,7 +38,7 @@ Runner addPlot(CLI::App &app) {
       throw std::invalid_argument(o->file + ": has " + std::to_string(set.instances()) +
                                   " sets; --instance " + std::to_string(o->instance) +
                                   " is out of range");
-    const auto target = targetFor(o->target, set);
+    const auto target = targetFor(o->target, set, o->file);
     const int S = o->size;
     // Lat-long convention on the sphere: zenith (v = 0) at the top; the square upright (y up).
     const bool vDown = target->domain() != Domain::Square;

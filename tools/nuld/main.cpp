@@ -115,6 +115,7 @@ int main(int argc, char **argv) {
   CLI::App app{"nuld: optimize, evaluate and render with non-uniform low-discrepancy point sets"};
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Print help for every subcommand");
+  app.set_version_flag("--version", NULD_VERSION);
 
   std::map<CLI::App *, nuld::cli::Runner> runners;
   auto add = [&](const char *name, const char *description, auto adder) {
@@ -140,6 +141,7 @@ int main(int argc, char **argv) {
       nuld::cli::addCompare);
   add("study", "Comparison studies: integration error, renders against references, reports",
       nuld::cli::addStudy);
+  add("cache", "The shared cache of optimized sets: list, clear, path", nuld::cli::addCache);
   CLI::App *help = app.add_subcommand(
       "help",
       "Show this help, a subcommand's (help SUB [SUB]), or the grammar of --target "

@@ -159,9 +159,8 @@ void fillEqualTime(CsvTable &table, double amortize) {
   table.setColumn(names[3], k);
 
   CsvTable verdicts(table.path().parent_path() / "verdicts.csv",
-                    {"scene", "spp", "best", "tied", "runner_up", "separation",
-                     "separation_stderr", "equal_time_ratio", "equal_time_ratio_stderr",
-                     "amortize"});
+                    {"scene", "spp", "best", "tied", "runner_up", "separation", "separation_stderr",
+                     "equal_time_ratio", "equal_time_ratio_stderr", "amortize"});
   for (const TimeVerdict &v : timeVerdicts(timedRows(table), amortize)) {
     std::string tied;
     for (std::size_t i = 1; i < v.best.size(); ++i) tied += (i > 1 ? " " : "") + v.best[i];

@@ -26,6 +26,7 @@
 #include "tools/study/integrate_internal.h"
 #include "tools/study/optimized_sets.h"
 #include "tools/study/ranks.h"
+#include "tools/study/set_cache.h"
 #include "tools/study/stopwatch.h"
 
 namespace nuld::study {
@@ -325,7 +326,9 @@ class StudyRunner {
     return request;
   }
   fs::path bankPath(const Target &target, const OptimizedSetsRequest &request) const {
-    return cachedSetsPath(o_.outDir / "cache", target, optimizerSettings(target, request));
+    const SetCache cache =
+        o_.cacheDir.empty() ? SetCache::fromEnvironment() : SetCache(o_.cacheDir);
+    return cache.entry(target, optimizerSettings(target, request));
   }
 
   // K optimized sets of N points for the target, from the cache (makeBanks

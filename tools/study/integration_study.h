@@ -12,7 +12,8 @@
 //   independent-tabulated, sobol-tabulated, halton-tabulated: on integrands
 //       with a BRDF, the same points through the tabulated lobe's inverse CDF;
 //   optimized: Algorithm 1 at each N with the target's default preset, cached
-//       in OUTDIR/cache/ as point-set files keyed by target, N and settings;
+//       in the shared set cache (tools/study/set_cache.h), keyed by the
+//       target's content and the settings;
 //   neural:NAME: a trained model (NAME = its file's stem) at its own N, on the
 //       integrands whose target it was trained for, fresh z per instance;
 //   optimized:PATHS, shifted:PATHS: the sets of point-set files, as nuld
@@ -58,6 +59,8 @@ struct IntegrateOptions {
   std::string assetRoot;  // resolved; maps are looked up in ASSETROOT/envmaps
   std::vector<std::string> envmaps{"grace"};
   std::uint64_t seed = 0;
+  // The set cache's directory (set_cache.h); empty: SetCache::fromEnvironment.
+  std::filesystem::path cacheDir;
 };
 
 // What a row depends on beyond its integrand, sampler and N, as the

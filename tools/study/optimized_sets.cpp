@@ -9,6 +9,7 @@
 #include "sampler/io/pointset_io.h"
 #include "sampler/io/pointset_metadata.h"
 #include "sampler/optimize/optimizer.h"
+#include "sampler/targets/target_spec.h"
 
 namespace nuld::study {
 
@@ -32,29 +33,11 @@ OptimizerSettings optimizerSettings(const Target &target, const OptimizedSetsReq
   return s;
 }
 
-std::uint64_t hashString(const std::string &s) {
-  std::uint64_t h = 1469598103934665603ull;  // FNV-1a
-  for (unsigned char c : s) h = (h ^ c) * 1099511628211ull;
-  return h;
-}
-
 std::string shortSpec(const std::string &spec) {
   const auto colon = spec.find(':');
   if (colon == std::string::npos || (spec.rfind("envmap:", 0) != 0 && spec.rfind("image:", 0) != 0))
     return spec;
   return spec.substr(0, colon + 1) + fs::path(spec.substr(colon + 1)).stem().string();
-}
-
-fs::path cachedSetsPath(const fs::path &dir, const Target &target, const OptimizerSettings &s) {
-  const std::string spec = target.spec();
-  std::string slug = shortSpec(spec);
-  for (char &c : slug)
-    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '-') c = '_';
-  if (slug.size() > 48) slug.resize(48);
-  char hash[17];
-  std::snprintf(hash, sizeof hash, "%016llx",
-                static_cast<unsigned long long>(hashString(spec + "|" + s.describe())));
-  return dir / ("optimized_" + slug + "_n" + std::to_string(s.n) + "_" + hash + ".ptsb");
 }
 
 namespace {
@@ -78,7 +61,8 @@ OptimizedSets optimizedSets(const Target &target, const OptimizedSetsRequest &re
     const PointSet cached = readPointSet(path.string());
     const std::string cachedSettings = metaOr(cached, meta::kSettings, ""),
                       cachedTarget = metaOr(cached, meta::kTarget, "");
-    if (cachedSettings != settings.describe() || cachedTarget != target.spec())
+    if (cachedSettings != settings.describe() ||
+        !followsTarget(cached, target.spec(), target.contentHash()))
       throw std::runtime_error(path.string() + ": cached sets were optimized with '" +
                                cachedSettings + "' for '" + cachedTarget +
                                "', but this study asks for '" + settings.describe() + "' for '" +

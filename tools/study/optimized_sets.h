@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "sampler/io/content_hash.h"
 #include "sampler/optimize/optimizer.h"
 #include "sampler/point.h"
 #include "sampler/targets/target.h"
@@ -39,14 +40,6 @@ struct OptimizedSetsRequest {
 // the request's overrides (the periodic objective implies toroidal mapping).
 OptimizerSettings optimizerSettings(const Target &target, const OptimizedSetsRequest &request);
 
-// A cache file name in `dir` for sets of the target made with `settings`:
-// readable (target and N) and unique (a hash of the full spec and settings).
-std::filesystem::path cachedSetsPath(const std::filesystem::path &dir, const Target &target,
-                                     const OptimizerSettings &settings);
-
-// FNV-1a of the string: the studies' stable hash for names and seeds.
-std::uint64_t hashString(const std::string &s);
-
 // envmap:/long/path/grace_latlong.exr -> envmap:grace_latlong, for names.
 std::string shortSpec(const std::string &spec);
 
@@ -57,7 +50,8 @@ struct OptimizedSets {
 };
 
 // Returns the file `path`, optimizing it first unless it exists with the same
-// settings; a file made with other settings is refused (naming it).
+// settings for the same target (by spec or content hash); a file made
+// otherwise is refused (naming it).
 // `progress(epoch, epochs, loss)` is called during the optimization.
 OptimizedSets optimizedSets(const Target &target, const OptimizedSetsRequest &request,
                             const std::filesystem::path &path,

@@ -21,6 +21,7 @@
 #include "tools/study/equal_time.h"
 #include "tools/study/optimized_sets.h"
 #include "tools/study/ranks.h"
+#include "tools/study/set_cache.h"
 #include "tools/study/statistics.h"
 #include "tools/study/stopwatch.h"
 
@@ -50,7 +51,7 @@ BackendPlan planBackend(const StudyBackend &backend, const Scene &scene, const L
   request.epochs = s.optimizedEpochs;
   request.seed = s.seed;
   const std::string task = sceneSlug + ": " + backend.word + " N=" + std::to_string(spp);
-  const fs::path cache = s.out / "cache";
+  const SetCache cache = s.cacheDir.empty() ? SetCache::fromEnvironment() : SetCache(s.cacheDir);
   std::vector<std::string> paths;
   BackendPlan plan;
   // The sets' backend: every file and directory of `paths`, shifted in
@@ -68,7 +69,7 @@ BackendPlan planBackend(const StudyBackend &backend, const Scene &scene, const L
     // discrepancy lose their quality under the shift).
     static const auto uniform = makeTarget("uniform");
     request.objective = Objective::PeriodicL2;
-    const fs::path file = cachedSetsPath(cache, *uniform, optimizerSettings(*uniform, request));
+    const fs::path file = cache.entry(*uniform, optimizerSettings(*uniform, request));
     plan.sets.push_back({uniform.get(), request, file, task});
     paths.push_back(file.string());
     plan.spec = banks();
@@ -77,8 +78,9 @@ BackendPlan planBackend(const StudyBackend &backend, const Scene &scene, const L
   if (backend.sets == Sets::EnvMap || backend.sets == Sets::EnvMapAndLobes) {
     if (!scene.environment || !scene.environment->target())
       return {std::nullopt, {}, "the scene has no (non-black) environment map to optimize for"};
-    const fs::path file = cache / (sceneSlug + "_envmap_n" + std::to_string(spp) + ".ptsb");
-    plan.sets.push_back({scene.environment->target(), request, file, task});
+    const Target &map = *scene.environment->target();
+    const fs::path file = cache.entry(map, optimizerSettings(map, request));
+    plan.sets.push_back({&map, request, file, task});
     paths.push_back(file.string());
   }
   if (backend.makesLobeSets()) {
@@ -98,19 +100,14 @@ BackendPlan planBackend(const StudyBackend &backend, const Scene &scene, const L
       plan.spec = paths.empty() ? BackendSpec{BackendKind::Sobol, ""} : banks();
       return plan;
     }
-    // The directory is the bank the renderer loads whole, so its name carries
-    // the settings: sets made with other settings never join it.
-    char hash[17];
-    std::snprintf(hash, sizeof hash, "%08llx",
-                  static_cast<unsigned long long>(
-                      hashString(optimizerSettings(*targets[0], request).describe()) >> 32));
-    const fs::path dir = cache / (sceneSlug + "_lobes_n" + std::to_string(spp) + "_" + hash);
-    for (std::size_t k = 0; k < targets.size(); ++k)
+    // One entry per lobe table, each named to the backend.
+    for (std::size_t k = 0; k < targets.size(); ++k) {
+      const fs::path file = cache.entry(*targets[k], optimizerSettings(*targets[k], request));
       plan.sets.push_back(
-          {targets[k], request,
-           cachedSetsPath(dir, *targets[k], optimizerSettings(*targets[k], request)),
+          {targets[k], request, file,
            task + " lobe " + std::to_string(k + 1) + "/" + std::to_string(targets.size())});
-    paths.push_back(dir.string());
+      paths.push_back(file.string());
+    }
   }
   plan.spec = banks();
   return plan;

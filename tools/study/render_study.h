@@ -20,6 +20,8 @@
 //                      (renderer/lobe_tables.h), optimized for the exact L2asd
 //                      objective, for the first bounce's BSDF pair
 //   optimized-both     optimized and optimized-bsdf together
+// Their sets live in the shared set cache (tools/study/set_cache.h), keyed
+// by content: another study, directory or asset root reuses them.
 // Each of these with the suffix `+shift` renders its sets through
 // `shifted:PATHS` (randomized in primary space: unbiased).
 // A backend that cannot serve a spp (a neural model or a file of another N)
@@ -69,6 +71,9 @@ struct RenderStudySettings {
   std::optional<double> lobeDefensive;     // --lobe-defensive (unset: the default share)
   std::optional<int> lobeBounces;          // --lobe-bounces (unset: the default)
   std::filesystem::path out;
+  // The set cache's directory (tools/study/set_cache.h); empty:
+  // SetCache::fromEnvironment ($NULD_CACHE, ...).
+  std::filesystem::path cacheDir;
 
   // Throws std::invalid_argument naming the bad option.
   void validate() const;

@@ -1,0 +1,70 @@
+#pragma once
+// The cache of optimized sets that every command shares: the studies,
+// `nuld render` and the Python module read and write one directory,
+// $NULD_CACHE (else $XDG_CACHE_HOME/nuld, else ~/.cache/nuld).
+//
+// An entry is keyed by what its sets depend on, never by a path: the
+// target's content (Target::contentHash: a map's pixels and pixel weight, a
+// lobe table's material and view bin), the optimizer's settings (N,
+// instances, objective, epochs, seed, ...) and the cache's format version.
+// The same map under two asset roots or study directories finds the same
+// entry; one changed pixel, weighting or setting misses it.
+//
+// Entries are written atomically (a hidden temporary file renamed over the
+// entry), so concurrent writers (MPI ranks, two studies at once) and a
+// writer killed mid-write never leave a torn entry: readers see the whole
+// file or none. Two writers of the same entry both optimize it (the same
+// deterministic sets) and the last rename wins.
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "sampler/optimize/optimizer.h"
+#include "sampler/targets/target.h"
+
+namespace nuld::study {
+
+// Bumped when an entry's content changes meaning for the same key.
+inline constexpr int kSetCacheVersion = 1;
+
+class SetCache {
+ public:
+  // The directory's entries live in DIR/sets (created on the first write).
+  explicit SetCache(std::filesystem::path root) : root_(std::move(root)) {}
+  // $NULD_CACHE, else $XDG_CACHE_HOME/nuld, else $HOME/.cache/nuld.
+  static SetCache fromEnvironment();
+
+  const std::filesystem::path &root() const { return root_; }
+  std::filesystem::path setsDir() const { return root_ / "sets"; }
+
+  // The entry for sets of `target` made with `settings`: the file holding
+  // its key if there is one (whatever its readable part), else a new name,
+  // readable (target and N) and ending in the key.
+  std::filesystem::path entry(const Target &target, const OptimizerSettings &settings) const;
+
+  struct Entry {
+    std::filesystem::path file;
+    std::uintmax_t bytes = 0;
+    std::string target;  // the recorded spec, shortened for reading
+    std::size_t n = 0, instances = 0;
+    double optimizeSeconds = 0;
+  };
+  // Complete entries in name order (not temporary files or checkpoints); an
+  // unreadable file is listed with n = 0.
+  std::vector<Entry> list() const;
+  // Bytes of everything under the cache's sets directory (checkpoints and
+  // temporaries included).
+  std::uintmax_t bytes() const;
+  // Removes every entry, checkpoint and temporary file; returns the bytes freed.
+  std::uintmax_t clear() const;
+
+ private:
+  std::filesystem::path root_;
+};
+
+// The key of an entry (16 hex digits): target content, settings, version.
+std::string setCacheKey(const Target &target, const OptimizerSettings &settings);
+
+}  // namespace nuld::study
