@@ -1,11 +1,14 @@
 # The scipy.stats.qmc engines over nuld's banks: the QMCEngine contract
 # (random, reset, fast_forward, num_generated) and scipy's own functions
 # working on them unchanged.
+import warnings
+
 import numpy as np
 import pytest
 from scipy.stats import qmc
 
 import nuld
+import nuld.qmc
 from nuld.qmc import OptimizedEngine, PointSetEngine
 
 
@@ -62,3 +65,84 @@ def test_neural_engine_serves_a_models_sets(tmp_path, nuld_bin):
     assert e.target_spec == "uniform" and np.array_equal(e.random(16), points[0])
     with pytest.raises(ValueError, match="gamma"):
         nuld.generate_neural(model, gamma=[0.5])
+
+
+# As scipy tests its own engines (scipy/stats/tests/test_qmc.py): every
+# engine built as E(d=2, seed=...), reset and fast_forward reproduce the
+# stream, random_base2, a bad d or seed refused, a partial set warned about.
+ENGINES = [
+    ("sobol", lambda **kw: nuld.qmc.Sobol(**kw)),
+    ("halton", lambda **kw: nuld.qmc.Halton(**kw)),
+    ("optimized", lambda **kw: OptimizedEngine(epochs=40, **kw)),
+]
+
+
+@pytest.mark.parametrize("name,make", ENGINES)
+@pytest.mark.parametrize("seed", [None, 7, "generator"])
+def test_engines_are_built_and_replayed_as_scipys(name, make, seed):
+    if seed == "generator":
+        seed = np.random.default_rng(3)
+    engine = make(d=2, seed=seed)
+    assert isinstance(engine, qmc.QMCEngine) and engine.d == 2
+    ref = engine.random(n=8)
+    assert ref.shape == (8, 2) and np.all((ref >= 0) & (ref < 1))
+    engine.reset()
+    assert np.array_equal(engine.random(n=8), ref)
+    engine.reset()
+    engine.fast_forward(4)
+    # A partial set of an optimized engine warns; the points are the same.
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert np.array_equal(engine.random(n=4), ref[4:8])
+    assert engine.num_generated == 8
+    engine.reset()
+    assert engine.random_base2(3).shape == (8, 2)
+
+
+def test_scipy_snippet_runs_unchanged_over_nulds_engines():
+    rows = []
+    for E in [qmc.Sobol, qmc.Halton, nuld.qmc.Sobol, nuld.qmc.Halton, nuld.qmc.OptimizedEngine]:
+        for s in range(2):
+            rows.append((E.__name__, qmc.discrepancy(E(d=2, seed=s).random(16))))
+    assert len(rows) == 10 and all(np.isfinite(d) and d > 0 for _, d in rows)
+
+
+def test_nulds_sequences_continue_and_match_the_renderers():
+    e = nuld.qmc.Sobol(d=2, seed=5)
+    assert np.array_equal(np.concatenate([e.random(16), e.random(16)]),
+                          nuld.sequence(32, kind="sobol", seed=5))
+    h = nuld.qmc.Halton(d=2, seed=5)
+    assert np.array_equal(np.concatenate([h.random(3), h.random(9)]),
+                          nuld.sequence(12, kind="halton", seed=5))
+
+
+@pytest.mark.parametrize("make", [nuld.qmc.Sobol, nuld.qmc.Halton, OptimizedEngine])
+def test_other_dimensions_and_bad_seeds_are_refused(make):
+    for d in (1, 3, 2.0, True):
+        with pytest.raises(ValueError, match="2-dimensional"):
+            make(d=d)
+    for seed in (-1, 1.5, "s"):
+        with pytest.raises(ValueError, match="seed must be None, a non-negative int"):
+            make(d=2, seed=seed)
+
+
+def test_partial_sets_warn_as_scipys_sobol_does():
+    with pytest.warns(UserWarning, match="power of 2"):
+        qmc.Sobol(d=2, seed=1).random(6)
+    with pytest.warns(UserWarning, match="power of 2"):
+        nuld.qmc.Sobol(d=2, seed=1).random(6)
+    e = OptimizedEngine(d=2, seed=1, epochs=40)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        e.random(8)  # whole sets: silent
+        e.random(8)  # the next set, optimized on demand
+    assert e.bank.shape == (2, 8, 2)
+    with pytest.warns(UserWarning, match="partial set"):
+        e.random(3)
+    with pytest.raises(ValueError, match="not a power of 2"):
+        nuld.qmc.Sobol(d=2, seed=1).fast_forward(3).random_base2(2)
+
+
+def test_the_module_has_a_version_as_the_cli():
+    import re
+    assert re.fullmatch(r"\d+\.\d+\.\d+", nuld.__version__)

@@ -10,4 +10,5 @@ PYBIND11_MODULE(_nuld, m) {
   nuld::registerMaterialTargets();  // `disney:...` target specs, as the CLI has them
   nuld::python::bindPoints(m);
   nuld::python::bindRender(m);
+  m.attr("__version__") = NULD_VERSION;  // the project's (CMakeLists.txt), as `nuld --version`
 }

@@ -22,8 +22,10 @@ from ._nuld import (  # noqa: F401 (re-exported)
 )
 from .progress import TextProgress
 
+__version__ = _nuld.__version__
+
 __all__ = [
-    "Target", "TextProgress", "compare", "discrepancy", "generate_neural", "optimize",
+    "Target", "TextProgress", "__version__", "compare", "discrepancy", "generate_neural", "optimize",
     "read_image", "read_image_attributes", "read_points", "render", "sequence", "write_image",
     "write_points",
 ]

@@ -49,6 +49,10 @@ class PointSetEngine(qmc.QMCEngine):
                                                   self.n))
         return self._stream[start:start + n].copy()
 
+    def random_base2(self, m):
+        """2^m points, as scipy's Sobol.random_base2."""
+        return self.random(2**int(m))
+
     def reset(self):
         super().__init__(d=2, seed=self.rng_seed)
         return self
@@ -61,24 +65,178 @@ class PointSetEngine(qmc.QMCEngine):
         return self
 
 
-class OptimizedEngine(PointSetEngine):
-    """K sets of N points optimized for `target` (nuld.optimize with the
-    same settings), served as a PointSetEngine. seed seeds the optimizer's
-    Sobol starts (an int)."""
+def _seed_int(seed, engine):
+    """scipy's seed conventions as the int nuld's generators take: None
+    (fresh entropy), a non-negative int, or a numpy Generator (one draw)."""
+    if seed is None:
+        return int(np.random.default_rng().integers(2**63))
+    if isinstance(seed, np.random.Generator):
+        return int(seed.integers(2**63))
+    if isinstance(seed, (int, np.integer)) and not isinstance(seed, bool) and seed >= 0:
+        return int(seed)
+    raise ValueError("%s: seed must be None, a non-negative int or a numpy.random.Generator, "
+                     "got %r" % (engine, seed))
 
-    def __init__(self, target="uniform", n=64, instances=1, *, seed=0, preset=None,
+
+def _check_d(d, engine):
+    if isinstance(d, bool) or not isinstance(d, (int, np.integer)) or d != 2:
+        raise ValueError("%s: nuld's point sets are 2-dimensional; d=%r is not supported (use "
+                         "d=2, or scipy's engines for other dimensions)" % (engine, d))
+
+
+def _warn_partial(engine, n, start, size):
+    """Like scipy's warning when Sobol' points are drawn in a count that is
+    not a power of 2: a request that is not whole sets loses the sets'
+    balance."""
+    if n % size or start % size:
+        import warnings
+        warnings.warn("%s: the points were made as sets of %d; drawing %d from point %d takes "
+                      "a partial set, which does not keep their balance properties"
+                      % (engine, size, n, start), UserWarning, stacklevel=3)
+
+
+class OptimizedEngine(PointSetEngine):
+    """Sets optimized for `target` (nuld.optimize with the same settings),
+    served as a PointSetEngine, constructed as scipy's engines are:
+    OptimizedEngine(d=2, seed=...) with seed None, an int or a numpy
+    Generator (it seeds the optimizer's Sobol starts).
+
+    With n given, `instances` sets of n points are made at once. Without it
+    the engine makes its sets as they are asked for: random(m) optimizes sets
+    of m points, and asking past them optimizes `instances` more (the next
+    seeds), so the stream does not end. A request that is not whole sets
+    warns, as scipy's Sobol does for a count that is not a power of 2.
+
+    The first positional argument may also be the target (the older form
+    OptimizedEngine("uniform", n=16))."""
+
+    def __init__(self, d=2, *, target="uniform", n=None, instances=1, seed=None, preset=None,
                  progress=None, **settings):
-        from . import optimize
+        if isinstance(d, (str, _nuld.Target)):
+            target, d = d, 2
+        _check_d(d, "OptimizedEngine")
         self.target = target if isinstance(target, _nuld.Target) else _nuld.Target(target)
-        points = optimize(self.target, n, instances, preset=preset, progress=progress, seed=seed,
-                          **settings)
-        super().__init__(points, seed=seed)
+        self._seed = _seed_int(seed, "OptimizedEngine")
+        self._instances = int(instances)
+        self._options = dict(preset=preset, progress=progress, **settings)
+        self._made = 0  # batches of `instances` sets made so far
+        if n is not None:
+            points = self._optimize(int(n))
+        else:
+            points = np.zeros((0, 1, 2))  # made on the first request
+        self._lazy = n is None
+        self._init_bank(points, seed)
+
+    def _init_bank(self, points, seed):
+        qmc.QMCEngine.__init__(self, d=2, seed=seed)
+        self.bank = np.asarray(points, dtype=float)
+        self.metadata = {}
+        self._stream = self.bank.reshape(-1, 2)
+
+    def _optimize(self, n):
+        from . import optimize
+        batch = optimize(self.target, n, self._instances, seed=self._seed + self._made,
+                         **self._options)
+        self._made += 1
+        return batch
+
+    @property
+    def n(self):
+        return self.bank.shape[1] if len(self.bank) else None
+
+    def _random(self, n=1, *, workers=1):
+        start = self.num_generated
+        if self._lazy:
+            if not len(self.bank):
+                self.bank = self._optimize(n)
+            while start + n > len(self.bank) * self.bank.shape[1]:
+                self.bank = np.concatenate([self.bank, self._optimize(self.bank.shape[1])])
+            self._stream = self.bank.reshape(-1, 2)
+        _warn_partial("OptimizedEngine", n, start, self.bank.shape[1])
+        return super()._random(n, workers=workers)
+
+    def reset(self):
+        qmc.QMCEngine.__init__(self, d=2, seed=self.rng_seed)
+        return self
+
+    def fast_forward(self, n):
+        if self._lazy and len(self.bank):
+            while self.num_generated + n > len(self._stream):
+                self.bank = np.concatenate([self.bank, self._optimize(self.bank.shape[1])])
+                self._stream = self.bank.reshape(-1, 2)
+        return super().fast_forward(n)
+
+
+class _SequenceEngine(qmc.QMCEngine):
+    """nuld's own scrambled sequences as an extensible engine: random(n)
+    continues the sequence (the points num_generated .. num_generated+n of
+    one scrambling, fixed by the seed)."""
+
+    kind = None
+    name = None
+
+    def __init__(self, d=2, *, scramble=True, seed=None):
+        _check_d(d, self.name)
+        self._seed = _seed_int(seed, self.name)  # before scipy's own check: nuld's message
+        super().__init__(d=2, seed=seed)
+        self._scramble = "owen" if scramble else "none"
+
+    def _random(self, n=1, *, workers=1):
+        start = self.num_generated
+        points = _nuld.sequence(start + n, kind=self.kind, scramble=self._scramble,
+                                seed=self._seed)
+        return np.asarray(points, dtype=float)[start:start + n]
+
+    def random_base2(self, m):
+        """2^m points; for Sobol, as scipy's, only where the points drawn
+        then total a power of 2 (their balance)."""
+        n = 2**int(m)
+        total = self.num_generated + n
+        if self.kind == "sobol" and total & (total - 1):
+            raise ValueError("%s: random_base2(%d) after %d points would total %d, not a power of "
+                             "2; use random(%d) to draw them anyway"
+                             % (self.name, m, self.num_generated, total, n))
+        return self.random(n)
+
+    def reset(self):
+        super().__init__(d=2, seed=self.rng_seed)
+        return self
+
+    def fast_forward(self, n):
+        self.num_generated += n
+        return self
+
+
+class Sobol(_SequenceEngine):
+    """nuld's Owen-scrambled Sobol' points in 2D (the renderer's `sobol`),
+    as scipy's qmc.Sobol(d=2, scramble=..., seed=...)."""
+
+    kind = "sobol"
+    name = "nuld.qmc.Sobol"
+
+    def random(self, n=1, *, workers=1):
+        # The same advice scipy's Sobol gives: its balance needs 2^m points.
+        if n & (n - 1):
+            import warnings
+            warnings.warn("nuld.qmc.Sobol: the balance properties of Sobol' points need n to be "
+                          "a power of 2", UserWarning, stacklevel=2)
+        return super().random(n, workers=workers)
+
+
+class Halton(_SequenceEngine):
+    """nuld's Owen-scrambled Halton points in 2D (bases 2 and 3), as
+    scipy's qmc.Halton(d=2, scramble=..., seed=...)."""
+
+    kind = "halton"
+    name = "nuld.qmc.Halton"
 
 
 class NeuralEngine(PointSetEngine):
     """K sets a trained model (nuld train) generates from offsets drawn with
-    `seed` (an int), at `gamma` for a model of a target family."""
+    `seed` (None, an int or a numpy Generator), at `gamma` for a model of a
+    target family."""
 
     def __init__(self, model, instances=1, *, seed=0, gamma=(), n=None):
-        points, self.target_spec = _nuld.generate_neural(model, instances, seed, list(gamma), n)
+        points, self.target_spec = _nuld.generate_neural(
+            model, instances, _seed_int(seed, "NeuralEngine"), list(gamma), n)
         super().__init__(points, seed=seed)
