@@ -21,6 +21,8 @@ namespace fs = std::filesystem;
 
 std::string SetBank::targetSpec() const { return metaOr(sets, meta::kTarget, "uniform"); }
 
+bool SetBank::nested() const { return findMeta(sets, meta::kPrefixes) != nullptr; }
+
 namespace {
 
 // Sets for a tabulated lobe (what BSDF pairs are asked for), not a map.
@@ -94,13 +96,18 @@ void BankBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
   light_ = targets.light;
   n_ = spp;
   if (banks_.empty()) throw std::invalid_argument(name_ + ": the backend has no point sets");
+  // Sets of exactly spp points first; then nested sets (optimized prefix by
+  // prefix) of more, whose first spp points serve.
   std::vector<const SetBank *> sized;
   for (const SetBank &b : banks_)
     if (b.sets.n == spp) sized.push_back(&b);
+  for (const SetBank &b : banks_)
+    if (b.nested() && b.sets.n > spp) sized.push_back(&b);
   if (sized.empty()) {
     const std::string n = std::to_string(banks_.front().sets.n);
-    throw BackendRefusal(banks_.front().source + ": the file holds sets of " + n +
-                         " points, but the render asks for " + std::to_string(spp) +
+    throw BackendRefusal(banks_.front().source + ": the file holds sets of " + n + " points" +
+                         (banks_.front().nested() ? " (nested: any spp up to " + n + ")" : "") +
+                         ", but the render asks for " + std::to_string(spp) +
                          " samples per pixel (use --spp " + n + ")");
   }
   // A bank serves a target by spec, or by content (the same map under
@@ -118,7 +125,7 @@ void BankBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
     return nullptr;
   };
   for (const SetBank *b : sized)
-    if (b->targetSpec() == "uniform") uniform_ = b;
+    if (!uniform_ && b->targetSpec() == "uniform") uniform_ = b;
   const auto serve = [&](const Target *t) {
     const SetBank *b = bankFor(t);
     if (!b) return;
@@ -186,7 +193,7 @@ bool BankBackend::distributed(const Target &target, std::uint64_t pixel, std::ui
     for (std::size_t i = 0; i < out.size(); ++i)
       out[i] = target.invert(cranleyPatterson(it->primaries[first + i], shift)).x;
   } else {
-    std::copy(points.begin(), points.end(), out.begin());
+    std::copy_n(points.begin(), out.size(), out.begin());  // a nested bank's prefix
   }
   shufflePoints(out, shift);
   return true;

@@ -42,6 +42,9 @@ struct SetBank {
 
   // The metadata's `target`, or "uniform" without one.
   std::string targetSpec() const;
+  // Optimized as nested sets (metadata `prefixes`): its instances' first m
+  // points serve a render of m spp, for any m up to N.
+  bool nested() const;
 };
 
 // The banks of PATHS: point-set files or directories of them (every regular

@@ -41,6 +41,10 @@ inline constexpr std::string_view kRandomization = "randomization";
 // The direct optimizer's settings (OptimizerSettings::describe()), epochs
 // run, final metrics (nuld optimize) and wall time (the studies' cache).
 inline constexpr std::string_view kSettings = "settings";
+// Nested sets (OptimizerSettings::nestedFrom): the prefix sizes optimized as
+// sets of their own, "4,8,16,32,64"; a bank with them serves any sample
+// count up to its N by prefixes.
+inline constexpr std::string_view kPrefixes = "prefixes";
 inline constexpr std::string_view kEpochsDone = "epochs_done";
 inline constexpr std::string_view kFinalMetrics = "final_metrics";
 inline constexpr std::string_view kOptimizeSeconds = "optimize_seconds";

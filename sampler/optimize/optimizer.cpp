@@ -43,7 +43,24 @@ std::string OptimizerSettings::describe() const {
   // existed keep their fingerprints.
   if (unionWeight > 0) s << " union=" << r(unionWeight) << "/" << unionGroupSize();
   if (firstInstance > 0) s << " first_instance=" << firstInstance;
+  if (!nestedSizes.empty()) {
+    s << " nested=";
+    for (std::size_t i = 0; i < nestedSizes.size(); ++i) s << (i ? "," : "") << nestedSizes[i];
+    s << "^" << r(nestedPower);
+  }
   return s.str();
+}
+
+std::vector<std::size_t> OptimizerSettings::prefixSizes() const {
+  std::vector<std::size_t> sizes = nestedSizes;
+  sizes.push_back(n);
+  return sizes;
+}
+
+std::vector<std::size_t> nestedChain(std::size_t from, std::size_t n) {
+  std::vector<std::size_t> sizes;
+  for (std::size_t m = std::max<std::size_t>(from, 1); m < n; m *= 2) sizes.push_back(m);
+  return sizes;
 }
 
 void OptimizerSettings::validate() const {
@@ -66,6 +83,12 @@ void OptimizerSettings::validate() const {
   if (unionWeight > 0 && instances < 2) bad("the union term needs >= 2 instances");
   if (unionWeight > 0 && objective != Objective::ExactL2asd)
     bad("the union term is defined for the l2asd objective only");
+  for (std::size_t i = 0; i < nestedSizes.size(); ++i)
+    if (nestedSizes[i] < 1 || nestedSizes[i] >= n ||
+        (i > 0 && nestedSizes[i] <= nestedSizes[i - 1]))
+      bad("nested prefix sizes must ascend, each >= 1 and below n = " + std::to_string(n));
+  if (!(nestedPower >= 0) || !std::isfinite(nestedPower))
+    bad("the nested prefixes' weight power must be finite and >= 0");
   if (unionWeight > 0 && firstInstance > 0)
     bad("the union term couples all instances: they cannot be optimized in parts");
 }
@@ -237,6 +260,25 @@ void DirectOptimizer::mapToTarget(std::span<const Point2> params, std::span<Poin
 double DirectOptimizer::instanceLoss(std::size_t k, int epoch, std::span<const Point2> x,
                                      std::span<Point2> grad) const {
   const OptimizerSettings &s = settings_;
+  double loss = setLoss(k, epoch, x, grad);
+  if (s.nestedSizes.empty()) return loss;
+  // Each prefix as a set of its own, weighted (m / n)^power, in a fixed
+  // order (resumes stay bit-identical).
+  std::vector<Point2> g(s.n);
+  for (const std::size_t m : s.prefixSizes()) {
+    if (m == s.n) break;
+    const double w = std::pow(double(m) / double(s.n), s.nestedPower);
+    const auto gm = std::span(g).first(m);
+    std::fill(gm.begin(), gm.end(), Point2{});
+    loss += w * setLoss(k, epoch, x.first(m), gm);
+    for (std::size_t i = 0; i < m; ++i) grad[i] = grad[i] + w * gm[i];
+  }
+  return loss;
+}
+
+double DirectOptimizer::setLoss(std::size_t k, int epoch, std::span<const Point2> x,
+                                std::span<Point2> grad) const {
+  const OptimizerSettings &s = settings_;
   if (s.objective == Objective::ExactL2asd) return exactObjective_->squared(x, grad);
   if (s.objective == Objective::PeriodicL2) return periodicL2Squared(x, grad);
   Rng rng(hashCombine(s.seed, s.firstInstance + k), std::uint64_t(epoch));
@@ -309,6 +351,12 @@ PointSet DirectOptimizer::points(const OptimizerState &state) const {
   setMeta(set, meta::kGenerator, "optimized");
   setMeta(set, meta::kSettings, settings_.describe());
   setMeta(set, meta::kEpochsDone, std::to_string(state.epoch));
+  if (!settings_.nestedSizes.empty()) {
+    std::string sizes;
+    for (const std::size_t m : settings_.prefixSizes())
+      sizes += (sizes.empty() ? "" : ",") + std::to_string(m);
+    setMeta(set, meta::kPrefixes, sizes);
+  }
   return set;
 }
 

@@ -82,6 +82,16 @@ struct OptimizerSettings {
   // makes the same sets as one run. Not with the bank term, which couples
   // the instances.
   std::size_t firstInstance = 0;
+  // Nested sets: each instance's first m points are optimized as an m-point
+  // set too, for every m in nestedSizes (ascending, each below n): the loss
+  // is the full set's plus (m / n)^nestedPower times each prefix's, so one
+  // bank serves every sample count up to n (a render at m spp takes the
+  // first m points). The prefixes share the epoch's boxes. Empty (the
+  // default): the full set only. nestedChain(4, 64) = 4, 8, 16, 32.
+  std::vector<std::size_t> nestedSizes;
+  double nestedPower = 1;
+  // The prefix sizes the loss covers, ascending, n last ({n} when not nested).
+  std::vector<std::size_t> prefixSizes() const;
   std::size_t unionGroupSize() const {
     if (unionGroup) return unionGroup;
     return std::min(instances, std::max<std::size_t>(2, 256 / std::max<std::size_t>(n, 1)));
@@ -92,6 +102,9 @@ struct OptimizerSettings {
   // Throws std::invalid_argument naming the bad setting.
   void validate() const;
 };
+
+// Powers of 2 times `from` below n: the prefixes of a fully nested set.
+std::vector<std::size_t> nestedChain(std::size_t from, std::size_t n);
 
 // The supplement's settings (§2, §3):
 //   uniform      2000 epochs, lr 1e-3 -> 1e-7, alpha 20 -> 2000, 8K boxes
@@ -141,9 +154,12 @@ class DirectOptimizer {
   // and pulls their sum back once.
   void mapToTarget(std::span<const Point2> params, std::span<Point2> x,
                    std::span<Jacobian2> jac) const;
-  // Instance k's own loss at its points x; writes its gradient in `grad`.
+  // Instance k's own loss at its points x (with its prefixes' when nested);
+  // writes its gradient in `grad`.
   double instanceLoss(std::size_t k, int epoch, std::span<const Point2> x,
                       std::span<Point2> grad) const;
+  // The objective of one set of points (a whole instance or a prefix).
+  double setLoss(std::size_t k, int epoch, std::span<const Point2> x, std::span<Point2> grad) const;
   // The bank term at all instances' points x; adds its gradient to `grad`
   // and returns its value per instance.
   double unionLoss(int epoch, std::span<const Point2> x, std::span<Point2> grad) const;

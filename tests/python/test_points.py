@@ -114,3 +114,20 @@ def test_long_work_releases_the_gil():
         time.sleep(0.001)
     t.join()
     assert len(ticks) > 20  # the main thread ran while the optimizer did
+
+
+def test_nested_prefixes_against_scipys_l2_star(tmp_path, nuld_bin):
+    # Every prefix of a nested bank, as nuld eval prints it (METRIC@M),
+    # against scipy's independent L2-star of the same first M points.
+    import subprocess
+    from scipy.stats import qmc
+    bank = nuld.optimize("uniform", 32, 3, epochs=150, nested=4, nested_power=2, seed=2)
+    path = str(tmp_path / "nested.ptsb")
+    nuld.write_points(path, bank, {"prefixes": "4,8,16,32"})
+    out = subprocess.run([nuld_bin, "eval", path, "--metric", "l2star"], check=True,
+                         capture_output=True, text=True).stdout
+    values = dict(line.split() for line in out.splitlines())
+    for m in (4, 8, 16):
+        ours = float(values["l2star@%d" % m])
+        theirs = np.mean([qmc.discrepancy(s[:m], method="L2-star") for s in bank])
+        assert ours == pytest.approx(theirs, rel=1e-6), m

@@ -18,7 +18,9 @@
 #include "renderer/padding.h"
 #include "renderer/render.h"
 #include "sampler/io/pointset_io.h"
+#include "sampler/io/pointset_metadata.h"
 #include "sampler/sequences/rng.h"
+#include "sampler/targets/target_spec.h"
 #include "tests/common/chi_square.h"
 #include "tests/common/temp_dir.h"
 #include "tests/renderer/test_scenes.h"
@@ -212,6 +214,46 @@ TEST(BankBackend, DistributedSetsServeOnlyTheirTargetAtTheFirstBounce) {
   EXPECT_NE(message(8, light.target()).find("--spp 4"), std::string::npos);
   EXPECT_NE(message(4, nullptr).find("no environment map"), std::string::npos);
   EXPECT_NE(message(4, other.target()).find("other.exr"), std::string::npos);
+}
+
+// A nested bank (metadata `prefixes`) serves any spp up to its N by the
+// first spp points of an instance; the same map copied under another path
+// is matched by its content hash; a plain bank of another N is refused.
+TEST(BankBackend, NestedBanksServePrefixesAndMapsMatchByContent) {
+  const test::TempDir dir;
+  const std::string mapPath = (dir / "map.exr").string(), copyPath = (dir / "copy.exr").string();
+  test::writeHotPixelMap(mapPath);
+  fs::copy_file(mapPath, copyPath);
+  const EnvironmentLight light(readImage(mapPath), 1.0, 0.0, mapPath);
+  const EnvironmentLight copy(readImage(copyPath), 1.0, 0.0, copyPath);
+
+  PointSet set;
+  set.n = 8;
+  for (int i = 0; i < 2 * 8; ++i) set.points.push_back({0.05 * i + 0.01, 0.03 * i + 0.02});
+  recordTarget(set, *light.target());
+  setMeta(set, meta::kPrefixes, "2,4,8");
+  BankBackend nested("optimized:n", {{set, "n.ptsb"}}, 0);
+  for (std::size_t spp : {2, 4, 5, 8}) {
+    ASSERT_NO_THROW(nested.prepare(spp, {copy.target()})) << spp;
+    std::vector<Point2> out(spp);
+    ASSERT_TRUE(nested.distributed(*copy.target(), 9, SamplePairs::light(0), out)) << spp;
+    std::vector<Point2> sorted(out), first0, first1;
+    const auto byX = [](Point2 a, Point2 b) { return a.x < b.x; };
+    std::sort(sorted.begin(), sorted.end(), byX);
+    for (std::size_t i = 0; i < spp; ++i) {
+      first0.push_back(set.instance(0)[i]);
+      first1.push_back(set.instance(1)[i]);
+    }
+    std::sort(first0.begin(), first0.end(), byX);
+    std::sort(first1.begin(), first1.end(), byX);
+    EXPECT_TRUE(sorted == first0 || sorted == first1) << "the first " << spp << " points";
+  }
+  EXPECT_THROW(nested.prepare(16, {light.target()}), std::invalid_argument);
+
+  set.metadata.erase(std::string(meta::kPrefixes));
+  BankBackend plain("optimized:p", {{set, "p.ptsb"}}, 0);
+  EXPECT_NO_THROW(plain.prepare(8, {copy.target()}));
+  EXPECT_THROW(plain.prepare(4, {copy.target()}), std::invalid_argument);
 }
 
 // A file of inverse-CDF-mapped Owen-Sobol sets, served as distributed points,

@@ -233,6 +233,49 @@ TEST_F(TinyStudy, EqualTimeRatioIsMseTimesTotalSecondsOverSobols) {
   fs::remove_all(copy);
 }
 
+// --opt-nested: one bank per target at the largest spp serves every spp;
+// a second study in another directory, at an spp up to the bank's size and
+// with the same cache, makes no set (setup 0), and renders the same pixels
+// as the first where the spp is the same.
+TEST(RenderStudy, NestedBanksServeEverySppAndAreReusedByAnotherStudy) {
+  TempDir tmp;
+  RenderStudySettings first = tinyStudy(tmp / "first");
+  first.backends = {"sobol", "optimized"};
+  first.spp = {4, 16};
+  first.repeats = 2;
+  first.optimizedNested = true;
+  first.cacheDir = tmp / "cache";
+  runRenderStudy(first);
+  int entries = 0;
+  for (const auto &e : fs::directory_iterator(tmp / "cache" / "sets"))
+    entries += e.path().extension() == ".ptsb";
+  EXPECT_EQ(entries, 1) << "one nested bank of 16 serves 4 and 16";
+  const CsvTable a = readTable(tmp / "first");
+  for (const auto &row : a.rows()) {
+    auto r = asMap(a.columns(), row);
+    if (r["backend"] == "optimized") EXPECT_GT(std::stod(r["setup_seconds"]), 0);
+  }
+
+  RenderStudySettings second = first;
+  second.out = tmp / "second";
+  second.spp = {4, 8};
+  runRenderStudy(second);
+  const CsvTable b = readTable(tmp / "second");
+  ASSERT_EQ(b.rows().size(), 4u);
+  for (const auto &row : b.rows()) {
+    auto r = asMap(b.columns(), row);
+    EXPECT_EQ(std::stod(r["setup_seconds"]), 0) << r["backend"] << " " << r["spp"];
+    if (r["spp"] == "4")
+      for (const auto &rowA : a.rows())
+        if (rowA[1] == r["backend"] && rowA[2] == "4")
+          EXPECT_EQ(asMap(a.columns(), rowA)["mse"], r["mse"]) << r["backend"];
+  }
+  entries = 0;
+  for (const auto &e : fs::directory_iterator(tmp / "cache" / "sets"))
+    entries += e.path().extension() == ".ptsb";
+  EXPECT_EQ(entries, 1) << "the second study made no set";
+}
+
 TEST_F(TinyStudy, ReportLinksOnlyFilesThatExist) {
   std::string why;
   ASSERT_EQ(runStudyScript("report.py", *dir_, &why), 0) << why;

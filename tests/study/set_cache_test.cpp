@@ -140,6 +140,26 @@ TEST(SetCache, KilledAndConcurrentWritersLeaveNoTornEntry) {
   EXPECT_EQ(cache.bytes(), 0u);
 }
 
+// A nested entry serves any spp up to its N for the same target and
+// settings but for N; not another target, other settings or a larger spp.
+TEST(SetCache, NestedEntriesServeSmallerSpp) {
+  TempDir dir;
+  const SetCache cache(dir / "cache");
+  const auto t = makeTarget("gaussian:0.5,0.5,0.2"), other = makeTarget("gaussian:0.4,0.5,0.2");
+  OptimizedSetsRequest r;
+  r.n = 16, r.instances = 2, r.epochs = 10, r.nested = {4, 8};
+  const fs::path made = cache.entry(*t, optimizerSettings(*t, r));
+  optimizedSets(*t, r, made);
+  OptimizedSetsRequest at8 = r;
+  at8.n = 8, at8.nested = {4};
+  EXPECT_EQ(cache.findNested(*t, optimizerSettings(*t, at8), 8), made);
+  EXPECT_EQ(cache.findNested(*t, optimizerSettings(*t, at8), 5), made);
+  EXPECT_TRUE(cache.findNested(*t, optimizerSettings(*t, at8), 32).empty()) << "too small";
+  EXPECT_TRUE(cache.findNested(*other, optimizerSettings(*other, at8), 8).empty());
+  at8.epochs = 11;
+  EXPECT_TRUE(cache.findNested(*t, optimizerSettings(*t, at8), 8).empty()) << "other epochs";
+}
+
 TEST(SetCache, EnvironmentChoosesTheDirectory) {
   const char *saved = std::getenv("NULD_CACHE");
   const std::string keep = saved ? saved : "";

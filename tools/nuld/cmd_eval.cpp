@@ -3,9 +3,11 @@
 #include <vector>
 
 #include "sampler/io/pointset_io.h"
+#include "sampler/io/pointset_metadata.h"
 #include "sampler/metrics/discrepancy.h"
 #include "sampler/metrics/integration.h"
 #include "sampler/metrics/set_distance.h"
+#include "sampler/targets/target_spec.h"
 #include "tools/nuld/cli_util.h"
 #include "tools/nuld/commands.h"
 
@@ -15,7 +17,7 @@ Runner addEval(CLI::App &app) {
   struct Options {
     std::string file, target, metric = "all", integrand;
     int grid = 256;
-    bool perInstance = false, zeroDensity = false, setDistance = false;
+    bool perInstance = false, zeroDensity = false, setDistance = false, prefixes = false;
   };
   auto o = std::make_shared<Options>();
   app.add_option("file", o->file, "point-set file")->required();
@@ -30,6 +32,9 @@ Runner addEval(CLI::App &app) {
       ->check(wholeNumberIn(1, 4096))
       ->capture_default_str();
   app.add_flag("--per-instance", o->perInstance, "also print each instance's values");
+  app.add_flag("--prefixes", o->prefixes,
+               "also print each metric of the instances' first M points as METRIC@M, for M = "
+               "1, 2, 4, ... below N (nested files: their prefix sizes, always printed)");
   app.add_flag(
       "--zero-density", o->zeroDensity,
       "print only zero_density_fraction: the share of points where the target's density is 0");
@@ -65,6 +70,13 @@ Runner addEval(CLI::App &app) {
                                   ": --metric l2per measures uniform sets on the torus; "
                                   "the target is '" +
                                   target->spec() + "'");
+    // Prefix sizes: a nested file's own, or powers of 2 when asked.
+    std::vector<std::size_t> prefixes;
+    if (const std::string *listed = findMeta(set, meta::kPrefixes))
+      prefixes = parseSizeList(o->file + ": metadata 'prefixes'", *listed);
+    else if (o->prefixes)
+      for (std::size_t m = 1; m < set.n; m *= 2) prefixes.push_back(m);
+    std::erase_if(prefixes, [&](std::size_t m) { return m >= set.n; });
     for (const std::string &m : metrics) {
       double sum = 0;
       for (std::size_t k = 0; k < set.instances(); ++k) {
@@ -74,6 +86,12 @@ Runner addEval(CLI::App &app) {
         sum += v;
       }
       std::printf("%s %.9g\n", m.c_str(), sum / double(set.instances()));
+      for (const std::size_t size : prefixes) {
+        double prefixSum = 0;
+        for (std::size_t k = 0; k < set.instances(); ++k)
+          prefixSum += discrepancyByName(m, set.instance(k).first(size), *target, o->grid);
+        std::printf("%s@%zu %.9g\n", m.c_str(), size, prefixSum / double(set.instances()));
+      }
     }
     if (o->setDistance) std::printf("set_distance %.9g\n", meanSetDistance(set));
     if (!o->integrand.empty()) {

@@ -35,6 +35,8 @@ struct OptimizeOptions {
   std::optional<double> lr, lrEnd, alpha, alphaEnd, ramp;
   double unionWeight = 0;
   long unionGroup = 0;
+  std::string nested;
+  double nestedPower = 1;
   std::uint64_t seed = 0;
   RunFlags run;
 };
@@ -73,6 +75,16 @@ OptimizerSettings settingsFrom(const OptimizeOptions &o, const Target &target) {
   if (o.ramp) s.rampFraction = *o.ramp;
   s.unionWeight = o.unionWeight;
   s.unionGroup = std::size_t(o.unionGroup);
+  if (!o.nested.empty()) {
+    const std::vector<std::size_t> sizes = parseSizeList("--nested", o.nested);
+    // One size: the chain M, 2M, 4M ... below N; several: those prefixes.
+    s.nestedSizes = sizes.size() == 1 ? nestedChain(sizes[0], s.n) : sizes;
+    std::sort(s.nestedSizes.begin(), s.nestedSizes.end());
+    if (s.nestedSizes.empty() || s.nestedSizes.back() >= s.n)
+      throw std::invalid_argument("--nested '" + o.nested + "': prefix sizes must be below --n " +
+                                  std::to_string(s.n));
+  }
+  s.nestedPower = o.nestedPower;
   return s;
 }
 
@@ -297,6 +309,14 @@ Runner addOptimize(CLI::App &app) {
                  "instances per group of the bank term, regrouped every epoch (default: "
                  "about 256 points, at least 2 instances)")
       ->check(wholeNumberIn(2, 1 << 20));
+  app.add_option("--nested", o->nested,
+                 "nested sets: also optimize each instance's first M points as a set, for M = "
+                 "the given size, twice it, ... below --n (one size), or for the listed sizes "
+                 "(M1,M2,...), so that one file serves renders at any spp up to N by prefixes "
+                 "(default: off)");
+  app.add_option("--nested-power", o->nestedPower,
+                 "weight (M / N)^power of a prefix's loss beside the full set's (default 1)")
+      ->check(nonNegativeNumber());
   app.add_option("--seed", o->seed, "seed of the Sobol start and of the boxes")
       ->check(wholeNumber());
   addRunFlags(app, o->run, "epoch");
@@ -311,6 +331,7 @@ Runner addOptimize(CLI::App &app) {
                                       : "--objective soft (the preset for this target uses " +
                                             toString(s.objective) + ")");
     onlyWhen(app, s.unionWeight > 0, {"--union-group"}, "--union-weight > 0");
+    onlyWhen(app, !s.nestedSizes.empty(), {"--nested-power"}, "--nested M");
     return runOptimize(*o, *target, s);
   };
 }

@@ -193,6 +193,10 @@ Runner addStudyRender(CLI::App &app) {
   app.add_option("--opt-epochs", o->s.optimizedEpochs,
                  "epochs of their optimization (default: the preset's, e.g. 5000 on the sphere)")
       ->check(positiveNumber());
+  app.add_flag("--opt-nested", o->s.optimizedNested,
+               "one nested bank per target at the largest --spp whose prefixes serve the "
+               "smaller spp (nuld optimize --nested), instead of a bank per spp; a nested bank "
+               "in the set cache that holds a cell's spp serves it with no setup");
   app.add_option("--opt-union-weight", o->s.lobeUnionWeight,
                  "weight of the lobe banks' bank term (nuld optimize --union-weight), which "
                  "keeps a glossy lobe's instances from converging to one set (default 3; 0: "
@@ -232,7 +236,7 @@ Runner addStudyRender(CLI::App &app) {
                 kSceneFilesOnly);
     onlyWhen(app, o->res.empty(), {"--res-scale"},
              "renders at the scenes' own resolution (no --res)");
-    onlyWhen(app, anyBackend({"optimized"}), {"--opt-instances", "--opt-epochs"},
+    onlyWhen(app, anyBackend({"optimized"}), {"--opt-instances", "--opt-epochs", "--opt-nested"},
              "the sets the study optimizes (backends optimized, optimized-uniform, "
              "optimized-bsdf, optimized-both)");
     onlyWhen(app, anyBackend({"optimized-bsdf", "optimized-both"}), {"--opt-union-weight"},

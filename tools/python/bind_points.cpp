@@ -102,11 +102,16 @@ OptimizerSettings optimizerSettingsFor(const Target &target, std::size_t n, std:
       s.unionWeight = value.cast<double>();
     else if (k == "union_group")
       s.unionGroup = value.cast<std::size_t>();
+    else if (k == "nested")  // one size: the chain m, 2m, ... below n; a list: those
+      s.nestedSizes = py::isinstance<py::int_>(value) ? nestedChain(value.cast<std::size_t>(), s.n)
+                                                      : value.cast<std::vector<std::size_t>>();
+    else if (k == "nested_power")
+      s.nestedPower = value.cast<double>();
     else
       throw std::invalid_argument(
           "optimize: unknown setting '" + k +
           "' (expected epochs, boxes, box_kind, mc_samples, mapping, objective, lr, alpha, "
-          "ramp_fraction, cutoff, seed, union_weight, union_group)");
+          "ramp_fraction, cutoff, seed, union_weight, union_group, nested, nested_power)");
   }
   s.validate();
   return s;
@@ -198,7 +203,8 @@ none); `instances` independent scramblings as (K, N, 2); mapped through
       R"(Optimizes `instances` sets of `n` points for `target` (nuld optimize):
 the preset's settings (default: the target's preset), then any of epochs,
 boxes, box_kind, mc_samples, mapping, objective, lr=(start, end),
-alpha=(start, end), ramp_fraction, cutoff, seed, union_weight, union_group.
+alpha=(start, end), ramp_fraction, cutoff, seed, union_weight, union_group, nested (the
+first prefix size of nested sets), nested_power.
 `progress(dict)` is called after each epoch (epoch, epochs, loss, alpha, lr);
 returning False stops there. Returns (K, N, 2).)");
 

@@ -22,6 +22,11 @@ OptimizerSettings optimizerSettings(const Target &target, const OptimizedSetsReq
   if (r.epochs > 0) s.epochs = r.epochs;
   if (r.objective) s.objective = *r.objective;
   if (s.objective == Objective::ExactL2asd && s.instances > 1) s.unionWeight = r.unionWeight;
+  s.nestedSizes = r.nested;
+  // Nested prefixes weigh (m / n)^2: each prefix's squared discrepancy, which
+  // falls about as 1/m^2, counts about as much as the full set's
+  // (tools/experiments/README.md, "Nested sets").
+  if (!r.nested.empty()) s.nestedPower = 2;
   // The periodic objective is defined on the torus: points wrap. Its best
   // measured schedule starts higher than the uniform preset's
   // (tools/experiments/graph_generator_log.md has the sweep).

@@ -34,6 +34,7 @@ struct OptimizedSetsRequest {
   std::uint64_t seed = 1;
   std::optional<Objective> objective;  // nullopt: the preset's
   double unionWeight = 0;              // the bank term (optimizer.h); l2asd only
+  std::vector<std::size_t> nested;     // prefix sizes below n (OptimizerSettings::nestedSizes)
 };
 
 // The optimizer settings a request stands for: the target's preset, with

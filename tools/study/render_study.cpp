@@ -50,7 +50,8 @@ BackendPlan planBackend(const StudyBackend &backend, const Scene &scene, const L
   request.instances = s.optimizedInstances;
   request.epochs = s.optimizedEpochs;
   request.seed = s.seed;
-  const std::string task = sceneSlug + ": " + backend.word + " N=" + std::to_string(spp);
+  const std::string task = sceneSlug + ": " + backend.word + " N=" + std::to_string(spp) +
+                           (s.optimizedNested ? " (nested)" : "");
   const SetCache cache = s.cacheDir.empty() ? SetCache::fromEnvironment() : SetCache(s.cacheDir);
   std::vector<std::string> paths;
   BackendPlan plan;
@@ -61,6 +62,28 @@ BackendPlan planBackend(const StudyBackend &backend, const Scene &scene, const L
     for (std::size_t i = 0; i < paths.size(); ++i) argument += (i ? "," : "") + paths[i];
     return BackendSpec{backend.shifted ? BackendKind::Shifted : BackendKind::Optimized, argument};
   };
+  // The sets of one target: with --opt-nested one nested bank of the
+  // largest spp whose prefixes are the other spp (or any nested bank in the
+  // cache that holds at least this spp: no set to make); else a bank of spp
+  // points.
+  const std::size_t largest = *std::max_element(s.spp.begin(), s.spp.end());
+  const auto addSets = [&](const Target &target, OptimizedSetsRequest r, const std::string &label) {
+    if (s.optimizedNested) {
+      r.n = largest;
+      for (std::size_t m : s.spp)
+        if (m < largest) r.nested.push_back(m);
+      std::sort(r.nested.begin(), r.nested.end());
+      r.nested.erase(std::unique(r.nested.begin(), r.nested.end()), r.nested.end());
+      if (const fs::path found = cache.findNested(target, optimizerSettings(target, r), spp);
+          !found.empty()) {
+        paths.push_back(found.string());
+        return;
+      }
+    }
+    const fs::path file = cache.entry(target, optimizerSettings(target, r));
+    plan.sets.push_back({&target, r, file, label});
+    paths.push_back(file.string());
+  };
 
   if (backend.sets == Sets::Uniform) {
     // Sets for the periodic L2 discrepancy: a Cranley-Patterson shift, which
@@ -69,19 +92,14 @@ BackendPlan planBackend(const StudyBackend &backend, const Scene &scene, const L
     // discrepancy lose their quality under the shift).
     static const auto uniform = makeTarget("uniform");
     request.objective = Objective::PeriodicL2;
-    const fs::path file = cache.entry(*uniform, optimizerSettings(*uniform, request));
-    plan.sets.push_back({uniform.get(), request, file, task});
-    paths.push_back(file.string());
+    addSets(*uniform, request, task);
     plan.spec = banks();
     return plan;
   }
   if (backend.sets == Sets::EnvMap || backend.sets == Sets::EnvMapAndLobes) {
     if (!scene.environment || !scene.environment->target())
       return {std::nullopt, {}, "the scene has no (non-black) environment map to optimize for"};
-    const Target &map = *scene.environment->target();
-    const fs::path file = cache.entry(map, optimizerSettings(map, request));
-    plan.sets.push_back({&map, request, file, task});
-    paths.push_back(file.string());
+    addSets(*scene.environment->target(), request, task);
   }
   if (backend.makesLobeSets()) {
     // A bank per lobe table the renderer will build for this scene (the same
@@ -101,13 +119,9 @@ BackendPlan planBackend(const StudyBackend &backend, const Scene &scene, const L
       return plan;
     }
     // One entry per lobe table, each named to the backend.
-    for (std::size_t k = 0; k < targets.size(); ++k) {
-      const fs::path file = cache.entry(*targets[k], optimizerSettings(*targets[k], request));
-      plan.sets.push_back(
-          {targets[k], request, file,
-           task + " lobe " + std::to_string(k + 1) + "/" + std::to_string(targets.size())});
-      paths.push_back(file.string());
-    }
+    for (std::size_t k = 0; k < targets.size(); ++k)
+      addSets(*targets[k], request,
+              task + " lobe " + std::to_string(k + 1) + "/" + std::to_string(targets.size()));
   }
   plan.spec = banks();
   return plan;
@@ -344,7 +358,8 @@ std::string RenderStudySettings::rowOptions() const {
     << " lobe-defensive=" << formatNumber(lobeDefensive.value_or(LobeTableSettings{}.defensive))
     << " lobe-bounces=" << lobeBounces.value_or(LobeTableSettings{}.bounces)
     << " opt-instances=" << optimizedInstances << " opt-epochs=" << optimizedEpochs
-    << " opt-union-weight=" << formatNumber(lobeUnionWeight) << " reference-spp=" << reference.spp
+    << " opt-union-weight=" << formatNumber(lobeUnionWeight)
+    << (optimizedNested ? " opt-nested=on" : "") << " reference-spp=" << reference.spp
     << " reference-pass-spp=" << reference.passSpp << " reference-backend=" << reference.backend;
   return o.str();
 }

@@ -60,6 +60,10 @@ struct RenderStudySettings {
   // scene whose reference is not complete renders no cells.
   std::size_t referenceStopAfter = 0;
   std::size_t optimizedInstances = 16;
+  // --opt-nested: one nested bank per target at the largest spp, whose
+  // prefixes serve the smaller ones (optimizer.h, nestedSizes); a nested
+  // bank already in the cache that holds a cell's spp serves it.
+  bool optimizedNested = false;
   int optimizedEpochs = 0;  // 0: the preset's
   // The lobe banks' bank term (optimizer.h, unionWeight): without it the
   // instances of a glossy lobe's bank converge to nearly one set.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdlib>
+#include <sstream>
 
 #include "sampler/io/content_hash.h"
 #include "sampler/io/pointset_io.h"
@@ -65,6 +66,46 @@ bool isEntry(const fs::directory_entry &e) {
 }
 
 }  // namespace
+
+namespace {
+
+// A settings description without what a nested entry may differ in: N, the
+// prefix sizes and the bank term's group size (which follows N).
+std::string withoutSize(const std::string &describe) {
+  std::istringstream in(describe);
+  std::string word, out;
+  while (in >> word) {
+    if (word.starts_with("n=") || word.starts_with("nested=")) continue;
+    if (word.starts_with("union=")) word = word.substr(0, word.find('/'));
+    out += (out.empty() ? "" : " ") + word;
+  }
+  return out;
+}
+
+}  // namespace
+
+fs::path SetCache::findNested(const Target &target, const OptimizerSettings &settings,
+                              std::size_t spp) const {
+  const std::string want = withoutSize(settings.describe()), hash = target.contentHash();
+  fs::path best;
+  std::size_t bestN = 0;
+  std::error_code ec;
+  if (!fs::is_directory(setsDir(), ec)) return best;
+  for (const auto &e : fs::directory_iterator(setsDir(), ec)) {
+    if (!isEntry(e)) continue;
+    try {
+      const PointSet set = readPointSet(e.path().string());
+      if (!findMeta(set, meta::kPrefixes) || set.n < spp || (bestN && set.n >= bestN)) continue;
+      if (metaOr(set, meta::kTargetHash, "") != hash) continue;
+      if (withoutSize(metaOr(set, meta::kSettings, "")) != want) continue;
+      best = e.path();
+      bestN = set.n;
+    } catch (const std::exception &) {
+      // An unreadable entry serves nothing (nuld cache list shows it).
+    }
+  }
+  return best;
+}
 
 std::vector<SetCache::Entry> SetCache::list() const {
   std::vector<Entry> out;

@@ -51,6 +51,13 @@ class SetCache {
     std::size_t n = 0, instances = 0;
     double optimizeSeconds = 0;
   };
+  // A nested entry (metadata `prefixes`) for `target` made with `settings`
+  // but for N and the prefix sizes, of at least `spp` points: it serves a
+  // render or estimate of `spp` samples by prefixes. The smallest such; an
+  // empty path when there is none.
+  std::filesystem::path findNested(const Target &target, const OptimizerSettings &settings,
+                                   std::size_t spp) const;
+
   // Complete entries in name order (not temporary files or checkpoints); an
   // unreadable file is listed with n = 0.
   std::vector<Entry> list() const;

@@ -36,7 +36,8 @@ def optimize(target, n, instances=1, preset=None, progress=None, **settings):
     SPEC string), as `nuld optimize`: the preset's settings (default: the
     target's own preset), then any of epochs, boxes, box_kind, mc_samples,
     mapping, objective, lr=(start, end), alpha=(start, end), ramp_fraction,
-    cutoff, seed, union_weight, union_group.
+    cutoff, seed, union_weight, union_group, nested (nested sets: every
+    power-of-2 prefix from this size on is optimized as a set too), nested_power.
 
     progress: None, True (a text bar on stderr with ETA and loss) or a
     callable taking a dict (epoch, epochs, loss, alpha, lr) after each epoch;
