@@ -18,6 +18,7 @@
 // uses the pdf of the strategy the sample actually used.
 
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <span>
 #include <string>
@@ -53,6 +54,17 @@ struct PathCounters {
   std::uint64_t classicFallbacks = 0;            // first-bounce lobe contexts the backend declined
   std::vector<RecordedRay> *recorder = nullptr;  // when set, every ray is appended
 };
+
+// How many camera rays' first hits each serving lobe table takes (its bin of
+// its material), over a raysPerSide x raysPerSide grid in every pixel of a
+// width x height render: the tables a render's first bounce actually asks
+// for, found by tracing primary rays only. Tables no ray reaches are absent.
+struct LobeVisits {
+  std::map<const Target *, std::size_t> rays;  // per table
+  std::size_t total = 0;                       // camera rays traced
+};
+LobeVisits lobeTableVisits(const Scene &scene, const LobeTables &tables, int width, int height,
+                           int raysPerSide = 2);
 
 class PathIntegrator {
  public:

@@ -34,10 +34,10 @@ for integrator in $integrators; do
     name=${v%%=*} flags=${v#*=}
     dir="$out/$name/$integrator"
     mkdir -p "$dir"
-    # The lobe banks depend on the tables, not on the integrator (both weigh
-    # BSDF samples by MIS): one cache per variant.
-    mkdir -p "$out/$name/cache"
-    [[ -e "$dir/cache" ]] || ln -s ../cache "$dir/cache"
+    # The sets depend on the tables, not on the integrator (both weigh BSDF
+    # samples by MIS): one set cache per variant, empty at its start, so
+    # each variant's setup_seconds is what it costs from nothing.
+    export NULD_CACHE="$out/$name/set-cache"
     for scene in $scenes; do
       slug=$(basename "$scene" .json)
       if [[ -f "$refs/$slug/reference.exr" && ! -f "$dir/$slug/reference.exr" ]]; then
@@ -85,11 +85,12 @@ for csv_path in sorted(glob.glob(os.path.join(out, "*", "*", "render.csv"))):
         peak = brightest(os.path.join(base, r["image"])) / brightest(os.path.join(base, s["image"]))
         rows.append([r["scene"], integrator, variant, r["backend"], r["spp"], f"{ratio:.3f}",
                      f"{se:.3f}", f"{float(r['seconds']) / float(s['seconds']):.2f}",
-                     f"{peak:.2f}", r["setup_seconds"]])
+                     f"{peak:.2f}", r["setup_seconds"], r.get("equal_time_ratio", "")])
 with open(os.path.join(out, "summary.csv"), "w", newline="") as f:
     w = csv.writer(f)
     w.writerow(["scene", "integrator", "variant", "backend", "spp", "mse_ratio",
-                "mse_ratio_stderr", "seconds_ratio", "brightest_ratio", "setup_seconds"])
+                "mse_ratio_stderr", "seconds_ratio", "brightest_ratio", "setup_seconds",
+                "equal_time_ratio"])
     w.writerows(rows)
 for r in rows:
     print(" ".join(f"{c:>14}" for c in r))

@@ -193,6 +193,9 @@ Runner addStudyRender(CLI::App &app) {
   app.add_option("--opt-epochs", o->s.optimizedEpochs,
                  "epochs of their optimization (default: the preset's, e.g. 5000 on the sphere)")
       ->check(positiveNumber());
+  app.add_option("--opt-lobe-epochs", o->s.lobeEpochs,
+                 "epochs of the lobe banks alone (default: --opt-epochs, else the preset's)")
+      ->check(positiveNumber());
   app.add_flag("--opt-nested", o->s.optimizedNested,
                "one nested bank per target at the largest --spp whose prefixes serve the "
                "smaller spp (nuld optimize --nested), instead of a bank per spp; a nested bank "
@@ -239,7 +242,8 @@ Runner addStudyRender(CLI::App &app) {
     onlyWhen(app, anyBackend({"optimized"}), {"--opt-instances", "--opt-epochs", "--opt-nested"},
              "the sets the study optimizes (backends optimized, optimized-uniform, "
              "optimized-bsdf, optimized-both)");
-    onlyWhen(app, anyBackend({"optimized-bsdf", "optimized-both"}), {"--opt-union-weight"},
+    onlyWhen(app, anyBackend({"optimized-bsdf", "optimized-both"}),
+             {"--opt-union-weight", "--opt-lobe-epochs"},
              "the lobe banks (backends optimized-bsdf, optimized-both)");
     onlyWhen(app,
              std::any_of(s.backends.begin(), s.backends.end(),
@@ -270,6 +274,7 @@ Runner addStudyRender(CLI::App &app) {
     }
     if (!ranks.root()) return 0;
     for (const auto &skip : result.skipped) std::cerr << "skipped " << skip << "\n";
+    for (const auto &note : result.notes) std::cerr << "note: " << note << "\n";
     for (const auto &scene : result.referencesIncomplete)
       std::cerr << "note: " << scene << ": the reference stopped after --reference-stop-after "
                 << s.referenceStopAfter << " passes; run the same command again to continue it\n";

@@ -41,6 +41,7 @@ struct BackendPlan {
 };
 
 BackendPlan planBackend(const StudyBackend &backend, const Scene &scene, const LobeTables *tables,
+                        const std::vector<const Target *> &lobeTargets,
                         const std::string &sceneSlug, std::size_t spp,
                         const RenderStudySettings &s) {
   using Sets = StudyBackend::Sets;
@@ -110,7 +111,8 @@ BackendPlan planBackend(const StudyBackend &backend, const Scene &scene, const L
       return {std::nullopt, {}, "the scene has no Disney material to optimize lobe sets for"};
     request.objective = Objective::ExactL2asd;
     request.unionWeight = s.lobeUnionWeight;
-    const auto targets = tables->targets();
+    if (s.lobeEpochs > 0) request.epochs = s.lobeEpochs;
+    const auto &targets = lobeTargets;  // the tabulated bins first hits take
     // No bin whose route is the table: every BSDF sample keeps the
     // material's sampler, and the bank backend's fallback is Owen-Sobol with
     // the same seed, so the row is sobol's (or the map sets') bit for bit.
@@ -358,6 +360,7 @@ std::string RenderStudySettings::rowOptions() const {
     << " lobe-defensive=" << formatNumber(lobeDefensive.value_or(LobeTableSettings{}.defensive))
     << " lobe-bounces=" << lobeBounces.value_or(LobeTableSettings{}.bounces)
     << " opt-instances=" << optimizedInstances << " opt-epochs=" << optimizedEpochs
+    << (lobeEpochs ? " opt-lobe-epochs=" + std::to_string(lobeEpochs) : "")
     << " opt-union-weight=" << formatNumber(lobeUnionWeight)
     << (optimizedNested ? " opt-nested=on" : "") << " reference-spp=" << reference.spp
     << " reference-pass-spp=" << reference.passSpp << " reference-backend=" << reference.backend;
@@ -414,7 +417,11 @@ struct PlannedCell {
 struct ScenePlan {
   std::shared_ptr<const LobeTables> tables;  // null when no backend samples lobes
   double tableSeconds = 0;                   // building them: setup of the cells that use them
-  std::vector<PlannedCell> cells;            // spp by spp (a round's cells cost about the same)
+  // The serving tables that enough first hits take to deserve a bank, and
+  // what was said about the others.
+  std::vector<const Target *> lobeTargets;
+  std::string lobeNote;
+  std::vector<PlannedCell> cells;  // spp by spp (a round's cells cost about the same)
 };
 
 // Whether a backend samples the scene's lobe tables.
@@ -422,6 +429,48 @@ bool samplesLobes(const StudyBackend &b) {
   if (b.sets != StudyBackend::Sets::None) return b.makesLobeSets();
   // A file's banks or a model may or may not sample lobes: asked.
   return b.renderer.entry().lobes && makeBackend(b.renderer, 0)->samplesLobes();
+}
+
+// A bank costs seconds of optimization; a bin that fewer than this share of
+// camera rays' first hits take adds too little to the image's error to
+// deserve one (its samples fall back to Owen-Sobol through the table).
+constexpr double kMinBinShare = 1e-3;
+
+// The tabulated bins whose lobes get banks: those that at least kMinBinShare
+// of the camera rays' first hits take (a 2 x 2 grid per pixel at the study's
+// resolution; primary rays only, a fraction of a render's time). The time
+// counts with the tables'.
+void chooseVisitedBins(const SceneStudy &scene, const LobeTables &tables, ScenePlan &plan) {
+  const auto start = Clock::now();
+  const LobeVisits visits =
+      lobeTableVisits(scene.loaded.scene, tables, scene.settings.width, scene.settings.height);
+  const std::vector<const Target *> all = tables.targets();
+  std::vector<const LobeBinRoute *> served;  // the routes of `all`, in order
+  for (const LobeBinRoute &r : tables.routes())
+    if (r.table) served.push_back(&r);
+  std::string skipped;
+  std::size_t unseen = 0, rare = 0;
+  for (std::size_t k = 0; k < all.size(); ++k) {
+    const auto it = visits.rays.find(all[k]);
+    const std::size_t rays = it == visits.rays.end() ? 0 : it->second;
+    if (double(rays) >= kMinBinShare * double(visits.total)) {
+      plan.lobeTargets.push_back(all[k]);
+      continue;
+    }
+    ++(rays ? rare : unseen);
+    char bin[96];
+    std::snprintf(bin, sizeof bin, "%smaterial %zu at %.0f/%.0f deg (%zu rays)",
+                  skipped.empty() ? "" : ", ", served[k]->material, served[k]->thetaDegrees,
+                  served[k]->phiDegrees, rays);
+    skipped += bin;
+  }
+  plan.tableSeconds += secondsSince(start);
+  if (unseen + rare > 0)
+    plan.lobeNote = scene.slug + ": lobe banks for " + std::to_string(plan.lobeTargets.size()) +
+                    " of " + std::to_string(all.size()) + " tabulated bins; " +
+                    std::to_string(unseen) + " no camera ray's first hit takes and " +
+                    std::to_string(rare) + " fewer than 0.1 % of " + std::to_string(visits.total) +
+                    " do (" + skipped + "): they sample Owen-Sobol through the table";
 }
 
 ScenePlan planScene(const SceneStudy &scene, const CsvTable &table, const RenderStudySettings &s) {
@@ -442,9 +491,13 @@ ScenePlan planScene(const SceneStudy &scene, const CsvTable &table, const Render
     plan.tables = scene.loaded.scene.lobeTables->get(scene.loaded.scene.materials,
                                                      lobeTablesFor(scene.settings));
     plan.tableSeconds = secondsSince(start);
+    if (std::any_of(plan.cells.begin(), plan.cells.end(),
+                    [](const PlannedCell &c) { return c.backend.makesLobeSets(); }))
+      chooseVisitedBins(scene, *plan.tables, plan);
   }
   for (PlannedCell &c : plan.cells)
-    c.plan = planBackend(c.backend, scene.loaded.scene, plan.tables.get(), scene.slug, c.spp, s);
+    c.plan = planBackend(c.backend, scene.loaded.scene, plan.tables.get(), plan.lobeTargets,
+                         scene.slug, c.spp, s);
   return plan;
 }
 
@@ -560,6 +613,7 @@ RenderStudyResult runRenderStudy(const RenderStudySettings &s, const StudyProgre
                          fs::relative(scene.dir / "reference.exr", s.out));
 
     const ScenePlan plan = planScene(scene, table, s);
+    if (!plan.lobeNote.empty()) result.notes.push_back(plan.lobeNote);
     const std::set<fs::path> madeNow = makeSceneSets(ranks, scene, plan, progress);
     renderCells(ranks, scene, plan, madeNow, ref.image, s, table, result, progress);
     ranks.barrier();

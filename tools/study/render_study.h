@@ -65,6 +65,8 @@ struct RenderStudySettings {
   // bank already in the cache that holds a cell's spp serves it.
   bool optimizedNested = false;
   int optimizedEpochs = 0;  // 0: the preset's
+  // Epochs of the lobe banks (0: optimizedEpochs, else the preset's).
+  int lobeEpochs = 0;
   // The lobe banks' bank term (optimizer.h, unionWeight): without it the
   // instances of a glossy lobe's bank converge to nearly one set.
   double lobeUnionWeight = kBankUnionWeight;
@@ -124,6 +126,7 @@ const std::vector<StudyBackendDescription> &studyBackendDescriptions();
 struct RenderStudyResult {
   std::filesystem::path csv;                      // out/render.csv
   std::vector<std::string> skipped;               // "scene backend spp: reason"
+  std::vector<std::string> notes;                 // e.g. the lobe bins left without banks
   std::vector<std::string> referencesIncomplete;  // scenes stopped by referenceStopAfter
 };
 
