@@ -110,8 +110,13 @@ BackendSpec parseBackend(const std::string &word) {
                                   " (nuld help backends)");
     return {e.kind, argument};
   }
-  throw std::invalid_argument("unknown backend '" + word + "': expected " + backendSpellings() +
-                              " (nuld help backends)");
+  std::vector<std::string> names;
+  for (const BackendEntry &e : backendRegistry()) {
+    names.push_back(e.name);
+    names.insert(names.end(), e.aliases.begin(), e.aliases.end());
+  }
+  throw std::invalid_argument("unknown backend '" + word + "'" + didYouMean(name, names) +
+                              ": expected " + backendSpellings() + " (nuld help backends)");
 }
 
 std::unique_ptr<SamplerBackend> makeBackend(const BackendSpec &spec, std::uint64_t seed) {

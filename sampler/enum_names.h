@@ -22,6 +22,13 @@ namespace nuld {
 // "a", "a or b", "a, b or c".
 std::string joinAlternatives(const std::vector<std::string> &names);
 
+// The name in `names` closest to `word` by edit distance, when it is close
+// enough to be a likely typo (at most a third of the word's letters wrong);
+// else "".
+std::string closestName(const std::string &word, const std::vector<std::string> &names);
+// " (did you mean 'NAME'?)" for closestName's answer, else "".
+std::string didYouMean(const std::string &word, const std::vector<std::string> &names);
+
 template <class E>
 struct EnumEntry {
   std::string_view name;
@@ -42,8 +49,9 @@ struct EnumTable {
   // Throws std::invalid_argument naming `what`, the text and the names.
   E parse(std::string_view text) const {
     if (const auto v = find(text)) return *v;
-    throw std::invalid_argument("unknown " + std::string(what) + " '" + std::string(text) +
-                                "' (expected " + expected() + ")");
+    throw std::invalid_argument("unknown " + std::string(what) + " '" + std::string(text) + "'" +
+                                didYouMean(std::string(text), names()) + " (expected " +
+                                expected() + ")");
   }
   constexpr std::string_view name(E value) const {
     for (const Entry &e : entries)

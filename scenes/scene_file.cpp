@@ -69,7 +69,7 @@ std::string describe(Vec3 p) {
 void checkGeometry(const TriangleMesh &mesh, const JsonReader &entry, const std::string &from) {
   for (const Vec3 &p : mesh.positions)
     if (!withinLimit(p))
-      entry.refuse("mesh '" + mesh.name + "'" + from + " has a vertex at " + describe(p) +
+      entry.refuse("mesh " + quotedInput(mesh.name) + from + " has a vertex at " + describe(p) +
                    ", outside +-1e7 on some axis (check the transform and the file's units)");
   if (from.empty()) return;
   std::size_t degenerate = 0;
@@ -78,8 +78,8 @@ void checkGeometry(const TriangleMesh &mesh, const JsonReader &entry, const std:
     degenerate += !(length(cross(b - a, c - a)) > 0);
   }
   if (degenerate > 0)
-    warning(entry.file() + ": mesh '" + mesh.name + "'" + from + ": " + std::to_string(degenerate) +
-            " of " + std::to_string(mesh.triangles.size()) +
+    warning(entry.file() + ": mesh " + quotedInput(mesh.name) + from + ": " +
+            std::to_string(degenerate) + " of " + std::to_string(mesh.triangles.size()) +
             " triangles have zero area (they are never hit)");
 }
 
@@ -216,7 +216,7 @@ LoadedScene loadScene(const std::string &path, const std::string &assetRoot) {
                                     "set \"material\" in its 'meshes' entry");
       if (!built.count(name)) built[name] = makeMaterial(materials[name]);
       if (entry.has("transform")) applyTransform(mesh, entry["transform"]);
-      checkGeometry(mesh, entry, file.empty() ? "" : " from '" + file + "'");
+      checkGeometry(mesh, entry, file.empty() ? "" : " from " + quotedInput(file));
       out.scene.materials.push_back(built[name]);
       meshes.push_back(std::move(mesh));
     }

@@ -19,4 +19,12 @@ void requireInputFile(const std::string &path, const std::string &what) {
   if (reason) throw std::runtime_error(path + ": cannot open " + what + ": " + reason);
 }
 
+std::string quotedInput(std::string_view text, std::size_t maxChars) {
+  for (const char c : text)
+    if (!(c == '\t' || (c >= 0x20 && c < 0x7f)))
+      return "<" + std::to_string(text.size()) + " bytes of binary data>";
+  if (text.size() <= maxChars) return "'" + std::string(text) + "'";
+  return "'" + std::string(text.substr(0, maxChars)) + "...'";
+}
+
 }  // namespace nuld

@@ -5,6 +5,7 @@
 // forever; a directory reads as nothing.
 
 #include <string>
+#include <string_view>
 
 namespace nuld {
 
@@ -12,5 +13,11 @@ namespace nuld {
 // file, a directory, not a regular file (a device, pipe or socket)). `what`
 // names the kind of file expected, e.g. "point-set file". Links are followed.
 void requireInputFile(const std::string &path, const std::string &what);
+
+// A piece of a file's text for an error message: 'TEXT' when it is printable
+// ASCII (cut to `maxChars` with "..."), else "<N bytes of binary data>": a
+// message never echoes a file's raw bytes (a binary file given as text
+// would put control codes on the user's terminal).
+std::string quotedInput(std::string_view text, std::size_t maxChars = 60);
 
 }  // namespace nuld

@@ -88,7 +88,7 @@ PointSet readText(const std::string &path, std::istream &in) {
       if (count == 3) break;
       const auto [next, ec] = std::from_chars(p, end, v[count]);
       if (ec != std::errc() || (next < end && *next != ' ' && *next != '\t' && *next != ','))
-        fail(path, lineNo, "'" + t + "' is not a list of numbers");
+        fail(path, lineNo, quotedInput(t) + " is not a list of numbers");
       if (!std::isfinite(v[count])) fail(path, lineNo, "coordinate is not finite");
       ++count;
       p = next;

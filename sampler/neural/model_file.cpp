@@ -129,7 +129,7 @@ ModelFile readModelFile(const std::string &path) {
   std::istringstream meta(std::string(r.take(metaBytes, "the metadata"), metaBytes));
   for (std::string line; std::getline(meta, line);) {
     const std::size_t eq = line.find('=');
-    if (eq == std::string::npos) r.fail("metadata line '" + line + "' is not key=value");
+    if (eq == std::string::npos) r.fail("metadata line " + quotedInput(line) + " is not key=value");
     model.metadata[line.substr(0, eq)] = line.substr(eq + 1);
   }
   const auto count = r.get<std::uint32_t>("the tensor count");
@@ -139,11 +139,11 @@ ModelFile readModelFile(const std::string &path) {
     const auto nameBytes = r.get<std::uint32_t>("a tensor name size");
     if (nameBytes > 256) r.fail("implausible tensor name size");
     t.name.assign(r.take(nameBytes, "a tensor name"), nameBytes);
-    const auto rank = r.get<std::uint32_t>("the rank of '" + t.name + "'");
+    const auto rank = r.get<std::uint32_t>("the rank of " + quotedInput(t.name));
     if (rank > kMaxRank) r.fail("tensor '" + t.name + "' has implausible rank");
     std::int64_t elements = 1;
     for (std::uint32_t d = 0; d < rank; ++d) {
-      const auto dim = r.get<std::int64_t>("a dimension of '" + t.name + "'");
+      const auto dim = r.get<std::int64_t>("a dimension of " + quotedInput(t.name));
       if (dim < 0 || dim > kMaxElements || elements * std::max<std::int64_t>(dim, 1) > kMaxElements)
         r.fail("tensor '" + t.name + "' has an implausible shape");
       elements *= dim;
@@ -151,7 +151,7 @@ ModelFile readModelFile(const std::string &path) {
     }
     // Taken before allocating: a header may declare far more than the file holds.
     const auto *data =
-        r.take(std::size_t(elements) * sizeof(float), "the data of '" + t.name + "'");
+        r.take(std::size_t(elements) * sizeof(float), "the data of " + quotedInput(t.name));
     t.data.resize(std::size_t(elements));
     // An empty tensor has no storage: memcpy to its null data() is undefined
     // even for 0 bytes (UBSan, tools/sanitize.sh).

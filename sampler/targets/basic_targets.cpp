@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 
@@ -43,16 +44,26 @@ double UniformTarget::pdf(Point2 p) const { return inUnitSquare(p) ? 1.0 : 0.0; 
 // ---------------------------------------------------------------- bilinear
 
 BilinearTarget::BilinearTarget(double w00, double w10, double w01, double w11)
-    : w_{w00, w10, w01, w11} {
+    : spec_{w00, w10, w01, w11}, w_{w00, w10, w01, w11} {
   for (double w : w_)
     if (!(w >= 0) || !std::isfinite(w))
       throw std::invalid_argument("bilinear target: weights must be finite and >= 0");
-  norm_ = 0.25 * (w00 + w10 + w01 + w11);
-  if (norm_ <= 0) throw std::invalid_argument("bilinear target: all weights are zero");
+  const double largest = *std::max_element(w_.begin(), w_.end());
+  if (largest <= 0) throw std::invalid_argument("bilinear target: all weights are zero");
+  if (largest < std::numeric_limits<double>::min())
+    throw std::invalid_argument(
+        "bilinear target: the largest weight, " + formatRoundTrip(largest) +
+        ", underflows (below 2.2e-308); only the weights' ratios matter, so scale them up");
+  // Scale-free: far from 1 the weights are replaced by their ratios to the
+  // largest, so tiny ones do not underflow in the inverse nor huge ones
+  // overflow in the sums (ordinary weights are kept as given, bit for bit).
+  if (largest < 1e-100 || largest > 1e100)
+    for (double &w : w_) w /= largest;
+  norm_ = 0.25 * (w_[0] + w_[1] + w_[2] + w_[3]);
 }
 
 std::string BilinearTarget::spec() const {
-  return formatSpec("bilinear", {w_[0], w_[1], w_[2], w_[3]});
+  return formatSpec("bilinear", {spec_[0], spec_[1], spec_[2], spec_[3]});
 }
 
 double BilinearTarget::pdf(Point2 p) const {
@@ -138,6 +149,10 @@ GaussianTarget::GaussianTarget(double mx, double my, double sigma)
     : ax_{mx, sigma, 0}, ay_{my, sigma, 0} {
   if (!(sigma > 0) || !std::isfinite(sigma) || !std::isfinite(mx) || !std::isfinite(my))
     throw std::invalid_argument("gaussian target: expected finite mean and sigma > 0");
+  if (sigma < kMinSigma)
+    throw std::invalid_argument("gaussian target: sigma " + formatRoundTrip(sigma) +
+                                " is below 1e-12: the points would be the mean to double "
+                                "precision and the density overflows");
   ax_.total = ax_.massBelow(1);
   ay_.total = ay_.massBelow(1);
   if (!(ax_.total > 1e-300 && ay_.total > 1e-300))

@@ -24,6 +24,8 @@ class UniformTarget final : public Target {
 
 // Density proportional to the bilinear interpolation of the corner weights
 // w00 (at (0,0)), w10 (1,0), w01 (0,1), w11 (1,1); weights >= 0, not all 0.
+// Only their ratios matter: they are divided by the largest, which must be a
+// normal double (>= 2.2e-308); smaller ones underflow and are refused.
 class BilinearTarget final : public Target {
  public:
   BilinearTarget(double w00, double w10, double w01, double w11);
@@ -33,14 +35,17 @@ class BilinearTarget final : public Target {
   Inversion invert(Point2 u) const override;
 
  private:
-  std::array<double, 4> w_;  // w00, w10, w01, w11
-  double norm_;              // integral of the unnormalized density
+  std::array<double, 4> spec_;  // the weights as given (the spec)
+  std::array<double, 4> w_;     // w00, w10, w01, w11, over the largest when far from 1
+  double norm_;                 // integral of the density w_ describes
 };
 
 // An isotropic Gaussian (mean (mx, my), standard deviation sigma) truncated
-// to the unit square.
+// to the unit square. sigma >= kMinSigma: narrower, the points are the mean
+// to double precision and the density overflows.
 class GaussianTarget final : public Target {
  public:
+  static constexpr double kMinSigma = 1e-12;
   GaussianTarget(double mx, double my, double sigma);
   std::string spec() const override;
   double pdf(Point2 p) const override;

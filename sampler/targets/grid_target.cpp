@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
+
+#include "sampler/io/round_trip.h"
 
 #if defined(__linux__)
 #include <sys/mman.h>
@@ -93,9 +96,12 @@ GridTarget::GridTarget(std::vector<double> xEdges, std::vector<double> yEdges,
     throw std::invalid_argument(source + ": expected " + std::to_string(cols_ * rows_) +
                                 " densities, got " + std::to_string(density.size()));
 
-  // Cell masses, validated, then normalized.
-  std::vector<double> cellMass(density.size());
-  double total = 0;
+  // Cell masses, validated, then normalized. Densities are scale-free: far
+  // from 1 they are divided by the largest first, so tiny ones (an image of
+  // 1e-300s) keep their ratios and huge ones do not overflow the sums
+  // (ordinary ones are kept as given, bit for bit); a largest below the
+  // normal doubles is refused.
+  double largest = 0;
   for (int j = 0; j < rows_; ++j)
     for (int i = 0; i < cols_; ++i) {
       const double d = density[std::size_t(j) * cols_ + i];
@@ -103,6 +109,18 @@ GridTarget::GridTarget(std::vector<double> xEdges, std::vector<double> yEdges,
         throw std::invalid_argument(source + ": cell (" + std::to_string(i) + ", " +
                                     std::to_string(j) + ") has density " + std::to_string(d) +
                                     "; expected a finite value >= 0");
+      largest = std::max(largest, d);
+    }
+  if (largest > 0 && largest < std::numeric_limits<double>::min())
+    throw std::invalid_argument(source + ": the largest density, " + formatRoundTrip(largest) +
+                                ", underflows (below 2.2e-308); only ratios matter, so scale "
+                                "the values up");
+  const double scale = largest > 0 && (largest < 1e-100 || largest > 1e100) ? largest : 1.0;
+  std::vector<double> cellMass(density.size());
+  double total = 0;
+  for (int j = 0; j < rows_; ++j)
+    for (int i = 0; i < cols_; ++i) {
+      const double d = density[std::size_t(j) * cols_ + i] / scale;
       const double m = d * (xEdges_[i + 1] - xEdges_[i]) * (yEdges_[j + 1] - yEdges_[j]);
       cellMass[std::size_t(j) * cols_ + i] = m;
       total += m;
@@ -111,7 +129,7 @@ GridTarget::GridTarget(std::vector<double> xEdges, std::vector<double> yEdges,
     throw std::invalid_argument(source + ": the density is zero everywhere (no mass to sample)");
   density_.resize(density.size());
   for (std::size_t k = 0; k < density.size(); ++k) {
-    density_[k] = density[k] / total;
+    density_[k] = density[k] / scale / total;
     cellMass[k] /= total;
   }
 

@@ -159,10 +159,13 @@ std::unique_ptr<Target> makeTarget(const std::string &spec) {
   }
   if (factory) return factory(args);
   std::string known;
-  for (const TargetDescription &d : targetDescriptions())
+  std::vector<std::string> families;
+  for (const TargetDescription &d : targetDescriptions()) {
     known += (known.empty() ? "" : ", ") + d.grammar;
-  throw std::invalid_argument("unknown target '" + spec + "' (expected one of: " + known +
-                              "; nuld help targets)");
+    families.push_back(d.grammar.substr(0, d.grammar.find_first_of(":[ ")));
+  }
+  throw std::invalid_argument("unknown target '" + spec + "'" + didYouMean(family, families) +
+                              " (expected one of: " + known + "; nuld help targets)");
 }
 
 std::vector<std::size_t> parseSizeList(const std::string &what, const std::string &text) {

@@ -26,6 +26,7 @@
 #include "sampler/io/image_io.h"
 #include "sampler/point.h"
 #include "sampler/sequences/rng.h"
+#include "sampler/targets/basic_targets.h"
 #include "sampler/targets/grid_target.h"
 #include "sampler/targets/image_targets.h"
 #include "sampler/targets/target.h"
@@ -45,6 +46,52 @@ using test::uniformEdges;
 using ChiSquare = test::MassChiSquare;
 
 // ------------------------------------------------------------ 4. stability, input
+
+// Scale-free targets: weights or densities scaled by 1e-300 or 1e300 give
+// the same density, masses and inverse as the ordinary ones (to 1e-12); a
+// largest value below the normal doubles, or a Gaussian narrower than
+// 1e-12, is refused naming the value.
+TEST(TargetInput, ScaleFreeTargetsKeepTheirShapeAndRefuseUnderflow) {
+  const std::array<double, 4> w{1, 2, 0.5, 3};
+  const auto bilinear = [&](double k) {
+    return std::make_unique<BilinearTarget>(w[0] * k, w[1] * k, w[2] * k, w[3] * k);
+  };
+  const std::vector<double> density{1, 4, 0, 2, 8, 1};
+  const auto grid = [&](double k) {
+    std::vector<double> d = density;
+    for (double &v : d) v *= k;
+    return std::make_unique<GridTarget>(uniformEdges(3), uniformEdges(2), d, "grid", Domain::Square,
+                                        "test grid");
+  };
+  const auto same = [](const Target &a, const Target &b) {
+    for (const Point2 u : {Point2{0.1, 0.2}, Point2{0.5, 0.9}, Point2{0.97, 0.03}}) {
+      const Point2 xa = a.invert(u).x, xb = b.invert(u).x;
+      EXPECT_NEAR(xa.x, xb.x, 1e-12);
+      EXPECT_NEAR(xa.y, xb.y, 1e-12);
+      EXPECT_NEAR(a.pdf(u), b.pdf(u), 1e-12 * b.pdf(u));
+      EXPECT_NEAR(a.mass({{0, 0}, u}), b.mass({{0, 0}, u}), 1e-12);
+    }
+  };
+  for (const double k : {1e-300, 1e-200, 1e200, 1e300}) {
+    SCOPED_TRACE(k);
+    same(*bilinear(k), *bilinear(1));
+    same(*grid(k), *grid(1));
+  }
+  const auto refusal = [](const auto &make) {
+    try {
+      make();
+    } catch (const std::invalid_argument &e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(refusal([] { makeTarget("bilinear:1e-320,1e-320,0,1e-321"); }).find("1e-320"),
+            std::string::npos);
+  EXPECT_NE(refusal([&] { grid(1e-320); }).find("underflows"), std::string::npos);
+  EXPECT_NE(refusal([] { makeTarget("gaussian:0.5,0.5,1e-300"); }).find("sigma 1e-300"),
+            std::string::npos);
+  EXPECT_NO_THROW(makeTarget("gaussian:0.5,0.5,1e-12"));
+}
 
 TEST(TargetInput, InvertIsFiniteAtTheEdges) {
   const double below1 = std::nextafter(1.0, 0.0);

@@ -32,8 +32,17 @@ while IFS= read -r line; do
       echo "FAIL ($rc): nuld $args: expected exit 0 and a warning containing '$expected', got:"
       cat "$out/stderr"; failures=$((failures + 1))
     fi
-  elif [[ $rc -eq 0 || $rc -ge 124 ]]; then
-    echo "FAIL ($rc): nuld $args"; cat "$out/stderr"; failures=$((failures + 1))
+  elif [[ $rc -ne 1 && $rc -ne 2 ]]; then
+    # Refused input exits 1, a usage error 2 (docs/usage.md); anything else
+    # (0, a crash, a CLI11 code) is a failure.
+    echo "FAIL ($rc): nuld $args: expected exit 1 or 2"; cat "$out/stderr"; failures=$((failures + 1))
+  elif LC_ALL=C grep -q $'[\x01-\x08\x0b-\x1f\x7f]' "$out/stderr"; then
+    # No reader echoes a file's raw bytes (sampler/io/input_file.h, quotedInput).
+    echo "FAIL: nuld $args: the message echoes control bytes:"
+    od -c "$out/stderr" | head -5; failures=$((failures + 1))
+  elif ! grep -q "^nuld: error" "$out/stderr"; then
+    echo "FAIL: nuld $args: the message lacks the 'nuld: error:' prefix:"
+    cat "$out/stderr"; failures=$((failures + 1))
   elif ! grep -qF -- "$expected" "$out/stderr"; then
     echo "FAIL: nuld $args: expected a message containing '$expected', got:"
     cat "$out/stderr"; failures=$((failures + 1))

@@ -97,11 +97,6 @@ void applyLobeOptions(const LobeOptions &o, RenderOverrides &change);
 inline constexpr std::initializer_list<const char *> kLobeOptionNames = {
     "--lobe-mix", "--lobe-routes", "--lobe-defensive", "--lobe-bounces"};
 
-// The name in `names` closest to `word` by edit distance, when it is close
-// enough to be a likely typo (at most a third of the word's letters wrong);
-// else "".
-std::string closestName(const std::string &word, const std::vector<std::string> &names);
-
 // "WHAT: uniform, bilinear:w00,w10,w01,w11, ... (nuld help targets)": every
 // target grammar makeTarget knows, for a --target option's help.
 std::string targetOptionHelp(const std::string &what);

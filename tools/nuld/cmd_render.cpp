@@ -1,6 +1,7 @@
 // nuld render: a scene file (or the built-in `default`) with a chosen sampler
 // backend to an EXR plus a tone-mapped PNG preview.
 
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <optional>
@@ -8,6 +9,7 @@
 #include "renderer/backend_registry.h"
 #include "renderer/image_metrics.h"
 #include "renderer/render.h"
+#include "sampler/diagnostics.h"
 #include "scenes/scene_file.h"
 #include "tools/nuld/cli_util.h"
 #include "tools/nuld/commands.h"
@@ -108,6 +110,27 @@ Runner addCompare(CLI::App &app) {
       "Prints 'mse VALUE' and 'relmse VALUE' over pixels and RGB channels;\n"
       "relmse divides each squared error by (reference^2 + 0.01).");
   return [o] {
+    // A PNG or JPEG holds tone-mapped display values (nuld render writes one
+    // beside each EXR), an EXR, PFM or HDR linear radiance: their difference
+    // measures the tone map, not the render.
+    const auto display = [](const std::string &path) {
+      std::string ext = std::filesystem::path(path).extension().string();
+      for (char &c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+      return ext == ".png" || ext == ".jpg" || ext == ".jpeg";
+    };
+    if (display(o->image) != display(o->reference)) {
+      const std::string &png = display(o->image) ? o->image : o->reference;
+      throw std::invalid_argument(
+          png +
+          ": a display image (tone-mapped PNG/JPEG) cannot be compared with linear "
+          "radiance (" +
+          (display(o->image) ? o->reference : o->image) +
+          "); compare the EXR nuld render writes beside it");
+    }
+    if (display(o->image))
+      warning(
+          "comparing display values (tone-mapped, 8 bit), not radiance: use the EXRs for "
+          "render error");
     const Image img = readImage(o->image, false), ref = readImage(o->reference);
     const ImageError e = compareImages(img, ref);
     std::printf("mse %.9g\nrelmse %.9g\n", e.mse, e.relmse);
@@ -116,7 +139,10 @@ Runner addCompare(CLI::App &app) {
     if (path.empty())  // IMAGE.exr -> IMAGE_error.png, beside it
       path = std::filesystem::path(o->image).replace_extension().string() + "_error.png";
     writeImage(path, errorMap(img, ref));
-    return e.nonFinitePixels ? 2 : 0;
+    if (e.nonFinitePixels)
+      throw std::runtime_error(o->image + ": " + std::to_string(e.nonFinitePixels) +
+                               " pixels are not finite (the error above leaves them out)");
+    return 0;
   };
 }
 

@@ -30,6 +30,7 @@ struct IntegrateCliOptions {
   std::string optObjective;
   std::uint64_t seed = 0;
   bool noPlots = false, quiet = false;
+  bool envmapsNamed = false;  // --envmaps given
 };
 
 // The study's options from the command line's.
@@ -48,6 +49,7 @@ study::IntegrateOptions integrateOptions(const IntegrateCliOptions &o) {
   opts.neuralModels = o.neural;
   opts.assetRoot = resolveAssetRoot(o.assets);
   opts.envmaps = study::splitList(o.envmaps);
+  opts.envmapsNamed = o.envmapsNamed;
   opts.seed = o.seed;
   return opts;
 }
@@ -165,6 +167,7 @@ Runner addStudyIntegrate(CLI::App &app) {
                       });
     onlyWhen(app, maps, {"--envmaps"}, "the environment-map integrands");
     checkAssets(app, o->assets, maps, "the environment-map integrands");
+    o->envmapsNamed = app.count("--envmaps") > 0;
     return runStudyIntegrate(*o);
   };
 }

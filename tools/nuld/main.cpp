@@ -24,7 +24,7 @@ namespace {
 
 // The subcommand of `parent` named `word`; nullptr after saying on stderr,
 // with the closest name and the choices (also `otherTopics`, help's own),
-// that there is none ("nuld: PREFIX unknown subcommand ...").
+// that there is none ("nuld: error: PREFIX unknown subcommand ...").
 CLI::App *subcommandNamed(CLI::App &parent, const std::string &word, const std::string &prefix,
                           const std::vector<std::string> &otherTopics = {}) {
   std::vector<std::string> names;
@@ -33,9 +33,9 @@ CLI::App *subcommandNamed(CLI::App &parent, const std::string &word, const std::
     names.push_back(sub->get_name());
   }
   names.insert(names.end(), otherTopics.begin(), otherTopics.end());
-  std::cerr << "nuld: " << prefix << "unknown " << (otherTopics.empty() ? "subcommand" : "topic")
-            << " '" << word << "'";
-  if (const std::string near = nuld::cli::closestName(word, names); !near.empty())
+  std::cerr << "nuld: error: " << prefix << "unknown "
+            << (otherTopics.empty() ? "subcommand" : "topic") << " '" << word << "'";
+  if (const std::string near = nuld::closestName(word, names); !near.empty())
     std::cerr << " (did you mean '" << near << "'?)";
   std::cerr << "; expected " << nuld::joinAlternatives(names) << "\n";
   return nullptr;
@@ -167,8 +167,13 @@ int main(int argc, char **argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError &e) {
-    // Every rank parsed the same words; one of them says what was wrong.
-    return ranks.root() ? app.exit(e) : e.get_exit_code();
+    // --help and --version end here too (exit code 0): CLI11 prints them.
+    if (e.get_exit_code() == 0) return ranks.root() ? app.exit(e) : 0;
+    // Every rank parsed the same words; one of them says what was wrong, in
+    // the form of every other error, and every usage error exits 2
+    // (docs/usage.md, "Conventions worth knowing").
+    if (ranks.root()) std::cerr << "nuld: error: " << e.what() << " (--help lists the options)\n";
+    return 2;
   }
   if (help->parsed()) {
     // "help study render" walks down the subcommands named. The formatter

@@ -10,6 +10,7 @@
 
 #include "renderer/backend_registry.h"
 #include "sampler/bluenoise/blue_noise_sets.h"
+#include "sampler/enum_names.h"
 #include "sampler/targets/target_spec.h"
 #include "scenes/default_scene.h"
 #include "tools/study/integrate_internal.h"
@@ -193,9 +194,25 @@ std::vector<Integrand> selectIntegrands(const IntegrateOptions &o,
     } else if (const auto path = findEnvmap(o.assetRoot, m)) {
       map = loadStudyEnvmap(*path, name);
     } else {
-      notes.push_back("skipping the integrands of environment map '" + m + "': no file " + m +
-                      "_latlong.exr/.hdr or " + m + ".exr/.hdr in " +
-                      (fs::path(o.assetRoot) / "envmaps").string() + " (check --assets)");
+      const std::string why = "no file " + m + "_latlong.exr/.hdr or " + m + ".exr/.hdr in " +
+                              (fs::path(o.assetRoot) / "envmaps").string();
+      // A map the user named must exist (a typo must not leave a table
+      // without its rows); the default map is skipped with a note where the
+      // assets are missing.
+      if (o.envmapsNamed) {
+        std::vector<std::string> there;
+        std::error_code ec;
+        for (const auto &e : fs::directory_iterator(fs::path(o.assetRoot) / "envmaps", ec)) {
+          std::string stem = e.path().stem().string();
+          if (stem.ends_with("_latlong")) there.push_back(stem.substr(0, stem.size() - 8));
+        }
+        std::sort(there.begin(), there.end());
+        throw std::invalid_argument(
+            "--envmaps '" + m + "': " + why + didYouMean(m, there) +
+            (there.empty() ? " (check --assets)" : " (maps there: " + joinNames(there) + ")"));
+      }
+      notes.push_back("skipping the integrands of environment map '" + m + "': " + why +
+                      " (check --assets)");
       continue;
     }
     if (cosine) out.push_back(makeEnvmapCos(map));

@@ -58,6 +58,9 @@ struct IntegrateOptions {
   std::vector<std::string> neuralModels;
   std::string assetRoot;  // resolved; maps are looked up in ASSETROOT/envmaps
   std::vector<std::string> envmaps{"grace"};
+  // Whether the user named the maps: a named map that is not found is an
+  // error; the default one is skipped with a note.
+  bool envmapsNamed = false;
   std::uint64_t seed = 0;
   // The set cache's directory (set_cache.h); empty: SetCache::fromEnvironment.
   std::filesystem::path cacheDir;

@@ -50,5 +50,14 @@ def main():
     pixels[40] = -2.0
     (HERE / "negative_map.pfm").write_bytes(b"PF\n8 4\n-1.0\n" + struct.pack("<96f", *pixels))
 
+    # Random bytes (fixed seed) given as text and binary point sets and as a
+    # model: readers must say what is wrong without echoing them.
+    import random
+    noise = random.Random(7).randbytes(300)
+    (HERE / "random_bytes.txt").write_bytes(noise)
+    (HERE / "random_bytes.ptsb").write_bytes(noise)
+    (HERE / "random_after_magic.ptsb").write_bytes(b"NULDPTS1" + noise)
+    (HERE / "random_bytes.nuldnet").write_bytes(noise)
+
 if __name__ == "__main__":
     main()
