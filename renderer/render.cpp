@@ -137,8 +137,12 @@ RenderSettings RenderOverrides::appliedTo(RenderSettings s, const OverrideNames 
   check(names);
   if (spp) s.spp = *spp;
   if (width) {
+    // A width alone keeps the scene's aspect (a 3:2 scene at --res 96 is
+    // 96x64), as --res-scale does.
+    const int sceneWidth = s.width, sceneHeight = s.height;
     s.width = *width;
-    s.height = height ? *height : *width;
+    s.height =
+        height ? *height : std::max(1, int(std::lround(double(*width) * sceneHeight / sceneWidth)));
   } else if (resolutionScale != 1) {
     s.width = std::max(1, int(std::lround(s.width * resolutionScale)));
     s.height = std::max(1, int(std::lround(s.height * resolutionScale)));

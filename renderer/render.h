@@ -51,7 +51,7 @@ struct OverrideNames {
 // The values are checked here, once, and named in the caller's terms.
 struct RenderOverrides {
   std::optional<std::size_t> spp;
-  std::optional<int> width, height;  // height unset: width (a square image)
+  std::optional<int> width, height;  // height unset: the scene's aspect at that width
   double resolutionScale = 1;        // of the scene's resolution, when width is unset
   std::optional<IntegratorKind> integrator;
   std::optional<int> maxDepth;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <ostream>
+#include <stdexcept>
 
 namespace nuld {
 
@@ -13,6 +14,10 @@ int segmentLength(const RunFlags &flags, int total) {
 
 void resumeRun(const ResumableRun &run, const std::string &checkpoint, const RunFlags &flags,
                std::ostream *log) {
+  if (!flags.resume && !flags.fresh && std::filesystem::exists(checkpoint))
+    throw std::runtime_error(checkpoint +
+                             ": a checkpoint of an earlier run is here; pass "
+                             "--resume to continue it, or --fresh to start over (replacing it)");
   if (flags.resume && std::filesystem::exists(checkpoint)) {
     run.load(checkpoint);
     if (log)

@@ -18,6 +18,9 @@ struct RunFlags {
   long checkpointEvery = 0;  // units per segment; 0: about 5 % of the run
   long stopAfter = -1;       // stop (with a checkpoint) after this unit; -1: run to the end
   bool resume = false;       // continue from the checkpoint when one exists
+  // Start over, replacing an existing checkpoint. Without resume or fresh an
+  // existing checkpoint is an error: it is never discarded silently.
+  bool fresh = false;
   bool quiet = false;        // no progress bar or messages
 };
 

@@ -253,7 +253,9 @@ TEST(RenderStudy, NestedBanksServeEverySppAndAreReusedByAnotherStudy) {
   const CsvTable a = readTable(tmp / "first");
   for (const auto &row : a.rows()) {
     auto r = asMap(a.columns(), row);
-    if (r["backend"] == "optimized") EXPECT_GT(std::stod(r["setup_seconds"]), 0);
+    if (r["backend"] == "optimized") {
+      EXPECT_GT(std::stod(r["setup_seconds"]), 0);
+    }
   }
 
   RenderStudySettings second = first;
@@ -265,10 +267,12 @@ TEST(RenderStudy, NestedBanksServeEverySppAndAreReusedByAnotherStudy) {
   for (const auto &row : b.rows()) {
     auto r = asMap(b.columns(), row);
     EXPECT_EQ(std::stod(r["setup_seconds"]), 0) << r["backend"] << " " << r["spp"];
-    if (r["spp"] == "4")
-      for (const auto &rowA : a.rows())
-        if (rowA[1] == r["backend"] && rowA[2] == "4")
-          EXPECT_EQ(asMap(a.columns(), rowA)["mse"], r["mse"]) << r["backend"];
+    if (r["spp"] != "4") continue;
+    for (const auto &rowA : a.rows()) {
+      if (rowA[1] == r["backend"] && rowA[2] == "4") {
+        EXPECT_EQ(asMap(a.columns(), rowA)["mse"], r["mse"]) << r["backend"];
+      }
+    }
   }
   entries = 0;
   for (const auto &e : fs::directory_iterator(tmp / "cache" / "sets"))

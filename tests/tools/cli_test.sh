@@ -88,6 +88,11 @@ opt=(--target quarterdisc --n 32 --epochs 40 --boxes 512 --instances 2 --seed 5 
 ok "optimize" "$nuld" optimize "${opt[@]}" -o "$dir/full.txt"
 ok "optimize, stopped" "$nuld" optimize "${opt[@]}" --stop-after 17 -o "$dir/resumed.txt"
 [[ -f "$dir/resumed.txt.ckpt" && ! -f "$dir/resumed.txt" ]] || { echo "FAIL: stop-after leaves only a checkpoint"; failures=$((failures + 1)); }
+# A rerun without --resume or --fresh never discards the checkpoint.
+cp "$dir/resumed.txt.ckpt" "$dir/kept.ckpt"
+fails_with "optimize over a checkpoint" "pass --resume to continue it, or --fresh" \
+  "$nuld" optimize "${opt[@]}" -o "$dir/resumed.txt"
+cmp -s "$dir/resumed.txt.ckpt" "$dir/kept.ckpt" || { echo "FAIL: the refused rerun changed the checkpoint"; failures=$((failures + 1)); }
 ok "optimize, resumed" "$nuld" optimize "${opt[@]}" --resume -o "$dir/resumed.txt"
 cmp -s "$dir/full.txt" "$dir/resumed.txt" || { echo "FAIL: resumed run differs from the uninterrupted one"; failures=$((failures + 1)); }
 [[ ! -f "$dir/resumed.txt.ckpt" ]] || { echo "FAIL: checkpoint left after completion"; failures=$((failures + 1)); }

@@ -61,8 +61,8 @@ Resolution parseResolution(const std::string &text) {
     throw std::invalid_argument("--res '" + text + "': expected W or WxH, e.g. 512 or 640x480");
   Resolution r;
   r.width = std::stoi(m[1]);
-  r.height = m[2].matched ? std::stoi(m[2]) : r.width;
-  if (r.width < 1 || r.height < 1 || r.width > 32768 || r.height > 32768)
+  r.height = m[2].matched ? std::stoi(m[2]) : 0;  // 0: the scene's aspect
+  if (r.width < 1 || (m[2].matched && r.height < 1) || r.width > 32768 || r.height > 32768)
     throw std::invalid_argument("--res '" + text + "': each side must be in [1, 32768]");
   return r;
 }
@@ -72,7 +72,11 @@ void addRunFlags(CLI::App &app, RunFlags &flags, const std::string &unit,
   app.add_option("--checkpoint-every", flags.checkpointEvery,
                  unit + "s between checkpoints" + alsoDoes + " (default: about every 5 %)")
       ->check(positiveNumber());
-  app.add_flag("--resume", flags.resume, "continue from OUTPUT.ckpt if it exists");
+  auto *resume = app.add_flag("--resume", flags.resume, "continue from OUTPUT.ckpt if it exists");
+  app.add_flag("--fresh", flags.fresh,
+               "start over even if OUTPUT.ckpt exists, replacing it (without --resume or "
+               "--fresh an existing checkpoint is an error)")
+      ->excludes(resume);
   app.add_option("--stop-after", flags.stopAfter, "stop (with a checkpoint) after this " + unit)
       ->check(nonNegativeNumber());
   app.add_flag("-q,--quiet", flags.quiet, "no progress bar or messages (results still print)");

@@ -27,6 +27,7 @@ void mapByInverseCdf(PointSet &set, const Target &target);
 
 // "W" or "WxH" (--res), each side in [1, 32768]; throws std::invalid_argument
 // quoting the text and the expected form.
+// --res W or WxH; W alone (height 0) keeps the scene's aspect.
 struct Resolution {
   int width = 0, height = 0;
 };

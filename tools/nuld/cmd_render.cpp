@@ -24,6 +24,7 @@ Runner addRender(CLI::App &app) {
     int maxDepth = 0;
     LobeOptions lobes;
     std::int64_t seed = -1;
+    double resScale = 1;
     bool quiet = false;
   };
   auto o = std::make_shared<Options>();
@@ -35,7 +36,11 @@ Runner addRender(CLI::App &app) {
                      "samples)");
   app.add_option("--spp", o->spp, "samples per pixel (default: the scene's)")
       ->check(wholeNumberIn(1, 1 << 24));
-  app.add_option("--res", o->res, "resolution W or WxH (default: the scene's)");
+  app.add_option("--res", o->res,
+                 "resolution WxH, or W keeping the scene's aspect (default: the scene's)");
+  app.add_option("--res-scale", o->resScale,
+                 "scale the scene's own resolution (e.g. 0.25; not with --res)")
+      ->check(CLI::Range(1e-6, 16.0));
   app.add_option("--assets", o->assets,
                  "asset root for the scene's meshes and maps (default: $NULD_ASSETS, else "
                  "../shared/assets beside the checkout)");
@@ -59,10 +64,14 @@ Runner addRender(CLI::App &app) {
     if (o->spp) change.spp = o->spp;
     if (!o->res.empty()) {
       const Resolution r = parseResolution(o->res);
-      change.width = r.width, change.height = r.height;
+      change.width = r.width;
+      if (r.height) change.height = r.height;
     }
     if (!o->integrator.empty()) change.integrator = parseIntegrator(o->integrator);
     if (o->maxDepth) change.maxDepth = o->maxDepth;
+    onlyWhen(app, o->res.empty(), {"--res-scale"},
+             "renders at the scene's own resolution (no --res)");
+    change.resolutionScale = o->resScale;
     applyLobeOptions(o->lobes, change);
     const RenderSettings s = change.appliedTo(loaded.settings);
     onlyWhen(app, s.integrator == IntegratorKind::Path, {"--max-depth"}, "--integrator path");

@@ -170,7 +170,8 @@ Runner addStudyRender(CLI::App &app) {
       ->check(positiveNumber());
   app.add_option("--reference-backend", o->s.reference.backend,
                  "backend of the reference (default halton, as the paper)");
-  app.add_option("--res", o->res, "resolution W or WxH (default: the scene's)");
+  app.add_option("--res", o->res,
+                 "resolution WxH, or W keeping each scene's aspect (default: the scene's)");
   app.add_option("--res-scale", o->s.resolutionScale,
                  "scale each scene's own resolution (e.g. 0.25; not with --res)");
   app.add_option("--integrator", o->integrator,

@@ -1,10 +1,14 @@
 // nuld: non-uniform low-discrepancy point sets and the renderer that uses them.
 // The command line is documented in docs/usage.md; scripts and docs rely on it.
 
+#include <tbb/global_control.h>
+
 #include <CLI/CLI.hpp>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -142,6 +146,19 @@ int main(int argc, char **argv) {
   add("study", "Comparison studies: integration error, renders against references, reports",
       nuld::cli::addStudy);
   add("cache", "The shared cache of optimized sets: list, clear, path", nuld::cli::addCache);
+  // --threads on every command that does work (the leaves of the command
+  // tree): the cores TBB may use, for sharing a machine or timing.
+  int threads = 0;
+  const std::function<void(CLI::App &)> addThreads = [&](CLI::App &a) {
+    const auto subs = a.get_subcommands({});
+    if (subs.empty()) {
+      a.add_option("--threads", threads, "cores to use (default: all)")->check(CLI::Range(1, 4096));
+      return;
+    }
+    for (CLI::App *sub : subs) addThreads(*sub);
+  };
+  for (CLI::App *sub : app.get_subcommands({}))
+    if (sub->get_name() != "cache") addThreads(*sub);
   CLI::App *help = app.add_subcommand(
       "help",
       "Show this help, a subcommand's (help SUB [SUB]), or the grammar of --target "
@@ -208,6 +225,8 @@ int main(int argc, char **argv) {
                    "study integrate\n";
     }
   }
+  std::optional<tbb::global_control> limit;
+  if (threads > 0) limit.emplace(tbb::global_control::max_allowed_parallelism, threads);
   try {
     for (auto &[sub, run] : runners)
       if (sub->parsed()) return run();

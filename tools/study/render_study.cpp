@@ -351,7 +351,8 @@ RenderOverrides RenderStudySettings::overrides() const {
 std::string RenderStudySettings::rowOptions() const {
   std::ostringstream o;
   o << "repeats=" << repeats << " seed=" << seed << " res="
-    << (width ? std::to_string(width) + "x" + std::to_string(height ? height : width) : "scene")
+    << (width ? std::to_string(width) + "x" + (height ? std::to_string(height) : "aspect")
+              : "scene")
     << " res-scale=" << formatNumber(resolutionScale)
     << " integrator=" << (integrator ? toString(*integrator) : "scene")
     << " max-depth=" << (maxDepth ? std::to_string(maxDepth) : "scene")
