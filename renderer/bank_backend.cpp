@@ -50,9 +50,16 @@ std::vector<SetBank> loadSetBanks(const std::string &paths) {
       banks.push_back(loadBank(path));
       continue;
     }
+    // The whole directory, subdirectories included (a study's lobe banks
+    // once lived in one per scene): a bank left out would be a silent
+    // fallback.
     std::vector<fs::path> files;
-    for (const auto &entry : fs::directory_iterator(path, ec))
-      if (entry.is_regular_file()) files.push_back(entry.path());
+    for (const auto &entry : fs::recursive_directory_iterator(path, ec)) {
+      const std::string name = entry.path().filename().string();
+      if (entry.is_regular_file() && !name.starts_with(".") && !name.ends_with(".ckpt") &&
+          !name.ends_with(".options"))
+        files.push_back(entry.path());
+    }
     if (ec) throw std::invalid_argument(path.string() + ": cannot list the directory");
     if (files.empty()) throw std::invalid_argument(path.string() + ": no point-set files in it");
     std::sort(files.begin(), files.end());
@@ -91,6 +98,7 @@ bool BankBackend::samplesLobes() const {
 }
 
 void BankBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
+  for (Use &u : use_) u.served = 0, u.fellBack = 0;
   served_.clear();
   uniform_ = nullptr;
   light_ = targets.light;
@@ -167,9 +175,12 @@ std::span<const Point2> BankBackend::pick(const SetBank &bank, std::uint64_t pix
 void BankBackend::primary(std::uint64_t pixel, std::uint32_t pair, std::span<Point2> out) const {
   const int depth = SamplePairs::depthOf(pair);
   if (!uniform_ || depth >= bounces_ || pair == SamplePairs::roulette(depth) || out.size() != n_) {
+    if (uniform_ && depth == 0 && out.size() == n_ && pair != SamplePairs::roulette(depth))
+      use_[2].fellBack.fetch_add(1, std::memory_order_relaxed);
     fallback_->primary(pixel, pair, out);
     return;
   }
+  use_[2].served.fetch_add(1, std::memory_order_relaxed);
   const auto points = pick(*uniform_, pixel, pair);
   const std::uint64_t shift = hash3(seed_, pixel, pair);
   for (std::size_t i = 0; i < out.size(); ++i) out[i] = cranleyPatterson(points[i], shift);
@@ -181,11 +192,16 @@ bool BankBackend::distributed(const Target &target, std::uint64_t pixel, std::ui
   // Targets were matched by spec once in prepare(); here they are addresses.
   const auto it = std::find_if(served_.begin(), served_.end(),
                                [&](const Served &s) { return s.target == &target; });
-  if (it == served_.end() || out.size() != n_) return false;
   const int depth = SamplePairs::depthOf(pair);
+  Use &use = use_[&target == light_ ? 0 : 1];
+  if (it == served_.end() || out.size() != n_) {
+    if (depth == 0) use.fellBack.fetch_add(1, std::memory_order_relaxed);
+    return false;
+  }
   if (depth >= bounces_ ||
       pair != (&target == light_ ? SamplePairs::light(depth) : SamplePairs::bsdf(depth)))
     return false;
+  use.served.fetch_add(1, std::memory_order_relaxed);
   const auto points = pick(*it->bank, pixel, pair);
   const std::uint64_t shift = hash3(seed_, pixel, pair);
   if (shifted_) {
@@ -197,6 +213,14 @@ bool BankBackend::distributed(const Target &target, std::uint64_t pixel, std::ui
   }
   shufflePoints(out, shift);
   return true;
+}
+
+std::vector<SamplerBackend::PairUse> BankBackend::pairUse() const {
+  std::vector<PairUse> out;
+  const char *names[] = {"light", "bsdf", "primary"};
+  for (std::size_t k = 0; k < use_.size(); ++k)
+    out.push_back({names[k], use_[k].served.load(), use_[k].fellBack.load()});
+  return out;
 }
 
 }  // namespace nuld

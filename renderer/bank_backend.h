@@ -27,6 +27,8 @@
 // and the estimator is unbiased, at the price of the structure the shift
 // cuts across the torus seams.
 
+#include <array>
+#include <atomic>
 #include <memory>
 #include <string>
 #include <vector>
@@ -47,8 +49,9 @@ struct SetBank {
   bool nested() const;
 };
 
-// The banks of PATHS: point-set files or directories of them (every regular
-// file in a directory, in name order), separated by commas. Throws naming the
+// The banks of PATHS: point-set files or directories of them (every point-set
+// file under a directory, its subdirectories included, in path order; not
+// checkpoints nor hidden temporaries), separated by commas. Throws naming the
 // path when one cannot be read, or holds no points.
 std::vector<SetBank> loadSetBanks(const std::string &paths);
 
@@ -64,6 +67,7 @@ class BankBackend : public SamplerBackend {
   void primary(std::uint64_t pixel, std::uint32_t pair, std::span<Point2> out) const override;
   bool distributed(const Target &target, std::uint64_t pixel, std::uint32_t pair,
                    std::span<Point2> out) const override;
+  std::vector<PairUse> pairUse() const override;
 
   const std::vector<SetBank> &banks() const { return banks_; }
   // How many of the scene's targets the last prepare() matched to a bank.
@@ -96,6 +100,12 @@ class BankBackend : public SamplerBackend {
   const SetBank *uniform_ = nullptr;
   const Target *light_ = nullptr;
   std::size_t n_ = 0;
+  // pairUse()'s counts: light, bsdf, primary; relaxed atomics (a context is
+  // asked once per pixel and pair, not per sample).
+  struct Use {
+    std::atomic<std::uint64_t> served{0}, fellBack{0};
+  };
+  mutable std::array<Use, 3> use_;
 };
 
 }  // namespace nuld

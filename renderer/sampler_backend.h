@@ -97,6 +97,16 @@ class SamplerBackend {
   // then maps only the points it uses, from the pair's primary points it
   // already holds, instead of asking for a whole set per context.
   virtual bool mapsPrimaryThrough(const Target &target) const { return false; }
+
+  // What a backend of learned sets served since prepare(): per kind of pair
+  // ("light", "bsdf", "primary"), the first-bounce contexts (pixel, pair)
+  // its sets served and those that fell back to its classic sampler. Empty
+  // for backends without sets.
+  struct PairUse {
+    std::string pair;
+    std::uint64_t served = 0, fellBack = 0;
+  };
+  virtual std::vector<PairUse> pairUse() const { return {}; }
 };
 
 }  // namespace nuld

@@ -202,4 +202,25 @@ void applyLobeOptions(const LobeOptions &o, RenderOverrides &change) {
   change.lobeBounces = o.bounces;
 }
 
+void addSetOptions(CLI::App &app, study::RenderStudySettings &s) {
+  app.add_option("--opt-instances", s.optimizedInstances,
+                 "instances of the optimized backends' sets (default 16, as the paper)")
+      ->check(positiveNumber());
+  app.add_option("--opt-epochs", s.optimizedEpochs,
+                 "epochs of their optimization (default: the preset's, e.g. 5000 on the sphere)")
+      ->check(positiveNumber());
+  app.add_option("--opt-lobe-epochs", s.lobeEpochs,
+                 "epochs of the lobe banks (default: --opt-epochs if given, else 250)")
+      ->check(positiveNumber());
+  app.add_flag("--opt-nested", s.optimizedNested,
+               "one nested bank per target at the largest --spp whose prefixes serve the "
+               "smaller spp (nuld optimize --nested), instead of a bank per spp; a nested bank "
+               "in the set cache that holds a cell's spp serves it with no setup");
+  app.add_option("--opt-union-weight", s.lobeUnionWeight,
+                 "weight of the lobe banks' bank term (nuld optimize --union-weight), which "
+                 "keeps a glossy lobe's instances from converging to one set (default 3; 0: "
+                 "instances optimized apart)")
+      ->check(nonNegativeNumber());
+}
+
 }  // namespace nuld::cli

@@ -12,6 +12,7 @@
 #include "sampler/optimize/resumable_run.h"
 #include "sampler/point.h"
 #include "sampler/targets/target.h"
+#include "tools/study/render_study.h"
 
 namespace nuld::cli {
 
@@ -101,5 +102,12 @@ inline constexpr std::initializer_list<const char *> kLobeOptionNames = {
 // "WHAT: uniform, bilinear:w00,w10,w01,w11, ... (nuld help targets)": every
 // target grammar makeTarget knows, for a --target option's help.
 std::string targetOptionHelp(const std::string &what);
+
+// The options of the sets the study's backends make (optimized,
+// optimized-bsdf, ...: tools/study/render_study.h), the same on nuld render
+// and nuld study render.
+void addSetOptions(CLI::App &app, study::RenderStudySettings &s);
+inline constexpr std::initializer_list<const char *> kSetOptionNames = {
+    "--opt-instances", "--opt-epochs", "--opt-lobe-epochs", "--opt-nested", "--opt-union-weight"};
 
 }  // namespace nuld::cli

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cstdio>
 #include <filesystem>
+#include <iostream>
 #include <optional>
 
 #include "renderer/backend_registry.h"
@@ -14,6 +15,7 @@
 #include "tools/nuld/cli_util.h"
 #include "tools/nuld/commands.h"
 #include "tools/nuld/progress.h"
+#include "tools/study/render_study.h"
 
 namespace nuld::cli {
 
@@ -24,6 +26,7 @@ Runner addRender(CLI::App &app) {
     int maxDepth = 0;
     LobeOptions lobes;
     std::int64_t seed = -1;
+    study::RenderStudySettings sets;  // --opt-*: the study backends' sets
     double resScale = 1;
     bool quiet = false;
   };
@@ -32,8 +35,10 @@ Runner addRender(CLI::App &app) {
       ->required();
   app.add_option("--backend", o->backend,
                  "sampler backend: " + backendSpellings() +
-                     " (default: the scene's, else sobol; nuld help backends says what each "
-                     "samples)");
+                     ", or the study's optimized, optimized-uniform, optimized-bsdf, "
+                     "optimized-both (sets made once into the set cache, or found there; "
+                     "+shift for shifted sets) (default: the scene's, else sobol; nuld help "
+                     "backends says what each samples)");
   app.add_option("--spp", o->spp, "samples per pixel (default: the scene's)")
       ->check(wholeNumberIn(1, 1 << 24));
   app.add_option("--res", o->res,
@@ -51,6 +56,7 @@ Runner addRender(CLI::App &app) {
   app.add_option("--max-depth", o->maxDepth, "maximum path length in bounces")
       ->check(wholeNumberIn(1, kMaxDepthLimit));
   addLobeOptions(app, o->lobes);
+  addSetOptions(app, o->sets);
   app.add_option("--seed", o->seed, "seed of the backend's randomization")
       ->check(wholeNumberIn(0, std::int64_t(1) << 62));
   app.add_option("-o,--output", o->output, "output EXR (a tone-mapped PNG is written beside it)")
@@ -76,7 +82,28 @@ Runner addRender(CLI::App &app) {
     const RenderSettings s = change.appliedTo(loaded.settings);
     onlyWhen(app, s.integrator == IntegratorKind::Path, {"--max-depth"}, "--integrator path");
     const std::uint64_t seed = o->seed >= 0 ? std::uint64_t(o->seed) : loaded.seed;
-    const auto backend = makeBackend(o->backend.empty() ? loaded.backend : o->backend, seed);
+    // A study word makes (or finds in the set cache) its sets as a study
+    // with this seed would, then renders through the banks that serve them.
+    const study::StudyBackend word =
+        study::parseStudyBackend(o->backend.empty() ? loaded.backend : o->backend);
+    onlyWhen(app, word.sets != study::StudyBackend::Sets::None, kSetOptionNames,
+             "the study's backends that make sets (optimized, optimized-bsdf, ...)");
+    study::RenderStudySettings setOptions = o->sets;
+    setOptions.seed = seed;
+    study::PreparedBackend prepared;
+    {
+      ProgressBar setsBar("sets", 1000, 0,
+                          o->quiet || word.sets == study::StudyBackend::Sets::None);
+      prepared =
+          study::prepareStudyBackend(word, loaded.scene, s, study::slug(o->scene), setOptions,
+                                     [&](const std::string &, double f, const std::string &status) {
+                                       setsBar.update(long(1000 * f), status);
+                                     });
+      setsBar.finish(std::to_string(prepared.setsMade) + " made, " +
+                     std::to_string(prepared.setsCached) + " from the cache");
+    }
+    if (!prepared.note.empty()) std::cerr << "nuld: note: " << prepared.note << "\n";
+    const auto backend = makeBackend(prepared.spec, seed);
     onlyWhen(app, backend->samplesLobes() && s.integrator != IntegratorKind::Light,
              kLobeOptionNames,
              "a backend that samples lobe tables (sobol-tabulated, lobe banks) and an integrator "
@@ -89,10 +116,21 @@ Runner addRender(CLI::App &app) {
           bar.update(long(1000 * d / n), std::to_string(d) + "/" + std::to_string(n) + " tiles");
         });
     bar.finish(formatDuration(stats.seconds));
+    // A backend of learned sets that served nothing rendered the classic
+    // sampler's image under its name: refused, not written.
+    const auto use = backend->pairUse();
+    std::uint64_t served = 0;
+    for (const auto &u : use) served += u.served;
+    if (!use.empty() && served == 0)
+      throw std::runtime_error(
+          "backend '" + (o->backend.empty() ? loaded.backend : o->backend) +
+          "': its sets served no first-bounce sample of this render (every context fell back "
+          "to Owen-Sobol); its sets are for other targets, bins or sample counts");
     writeRender(o->output, image, renderAttributes(loaded.name, s, backend->name(), seed, stats));
-    std::printf("scene %s\nbackend %s\nspp %zu\nresolution %dx%d\nintegrator %s\n",
-                loaded.name.c_str(), backend->name().c_str(), s.spp, s.width, s.height,
-                toString(s.integrator).c_str());
+    std::printf(
+        "scene %s\nbackend %s\nspp %zu\nresolution %dx%d\nintegrator %s\n", loaded.name.c_str(),
+        (word.sets == study::StudyBackend::Sets::None ? backend->name() : word.word).c_str(), s.spp,
+        s.width, s.height, toString(s.integrator).c_str());
     std::printf("seconds %.3f\nsetup_seconds %.3f\nrays %llu\nrays_per_second %.4g\n",
                 stats.seconds, stats.setupSeconds, (unsigned long long)stats.rays,
                 stats.raysPerSecond());
@@ -102,6 +140,14 @@ Runner addRender(CLI::App &app) {
     if (stats.lobeBins)
       std::printf("lobe_bins %zu\nlobe_bins_tabulated %zu\n", stats.lobeBins,
                   stats.lobeBinsTabulated);
+    if (word.sets != study::StudyBackend::Sets::None)
+      std::printf("sets_made %zu\nsets_cached %zu\nsets_seconds %.3f\n", prepared.setsMade,
+                  prepared.setsCached, prepared.setupSeconds);
+    // Per pair, the first-bounce contexts the sets served and those that
+    // fell back to the classic sampler.
+    for (const auto &u : use)
+      std::printf("served_%s %llu\nfell_back_%s %llu\n", u.pair.c_str(),
+                  (unsigned long long)u.served, u.pair.c_str(), (unsigned long long)u.fellBack);
     return 0;
   };
 }

@@ -188,24 +188,7 @@ Runner addStudyRender(CLI::App &app) {
                  "equal_time_ratio (default 1: every render pays it all; pass the number of "
                  "frames or views you will render with the same sets)")
       ->check(CLI::Range(1.0, 1e12));
-  app.add_option("--opt-instances", o->s.optimizedInstances,
-                 "instances of the optimized backends' sets (default 16, as the paper)")
-      ->check(positiveNumber());
-  app.add_option("--opt-epochs", o->s.optimizedEpochs,
-                 "epochs of their optimization (default: the preset's, e.g. 5000 on the sphere)")
-      ->check(positiveNumber());
-  app.add_option("--opt-lobe-epochs", o->s.lobeEpochs,
-                 "epochs of the lobe banks alone (default: --opt-epochs, else the preset's)")
-      ->check(positiveNumber());
-  app.add_flag("--opt-nested", o->s.optimizedNested,
-               "one nested bank per target at the largest --spp whose prefixes serve the "
-               "smaller spp (nuld optimize --nested), instead of a bank per spp; a nested bank "
-               "in the set cache that holds a cell's spp serves it with no setup");
-  app.add_option("--opt-union-weight", o->s.lobeUnionWeight,
-                 "weight of the lobe banks' bank term (nuld optimize --union-weight), which "
-                 "keeps a glossy lobe's instances from converging to one set (default 3; 0: "
-                 "instances optimized apart)")
-      ->check(nonNegativeNumber());
+  addSetOptions(app, o->s);
   addLobeOptions(app, o->lobes);
   app.add_option("--assets", o->s.assets,
                  "asset root (default: $NULD_ASSETS, else ../shared/assets)");

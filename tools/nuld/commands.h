@@ -21,6 +21,7 @@ Runner addRender(CLI::App &app);
 Runner addCompare(CLI::App &app);
 Runner addStudy(CLI::App &app);
 Runner addCache(CLI::App &app);
+Runner addBank(CLI::App &app);
 // The study's parts (cmd_study_*.cpp).
 Runner addStudyIntegrate(CLI::App &app);
 Runner addStudyRender(CLI::App &app);

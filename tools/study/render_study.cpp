@@ -111,7 +111,7 @@ BackendPlan planBackend(const StudyBackend &backend, const Scene &scene, const L
       return {std::nullopt, {}, "the scene has no Disney material to optimize lobe sets for"};
     request.objective = Objective::ExactL2asd;
     request.unionWeight = s.lobeUnionWeight;
-    if (s.lobeEpochs > 0) request.epochs = s.lobeEpochs;
+    request.epochs = s.lobeBankEpochs();
     const auto &targets = lobeTargets;  // the tabulated bins first hits take
     // No bin whose route is the table: every BSDF sample keeps the
     // material's sampler, and the bank backend's fallback is Owen-Sobol with
@@ -361,7 +361,7 @@ std::string RenderStudySettings::rowOptions() const {
     << " lobe-defensive=" << formatNumber(lobeDefensive.value_or(LobeTableSettings{}.defensive))
     << " lobe-bounces=" << lobeBounces.value_or(LobeTableSettings{}.bounces)
     << " opt-instances=" << optimizedInstances << " opt-epochs=" << optimizedEpochs
-    << (lobeEpochs ? " opt-lobe-epochs=" + std::to_string(lobeEpochs) : "")
+    << " opt-lobe-epochs=" << lobeBankEpochs()
     << " opt-union-weight=" << formatNumber(lobeUnionWeight)
     << (optimizedNested ? " opt-nested=on" : "") << " reference-spp=" << reference.spp
     << " reference-pass-spp=" << reference.passSpp << " reference-backend=" << reference.backend;
@@ -438,13 +438,17 @@ bool samplesLobes(const StudyBackend &b) {
 constexpr double kMinBinShare = 1e-3;
 
 // The tabulated bins whose lobes get banks: those that at least kMinBinShare
-// of the camera rays' first hits take (a 2 x 2 grid per pixel at the study's
-// resolution; primary rays only, a fraction of a render's time). The time
-// counts with the tables'.
-void chooseVisitedBins(const SceneStudy &scene, const LobeTables &tables, ScenePlan &plan) {
-  const auto start = Clock::now();
-  const LobeVisits visits =
-      lobeTableVisits(scene.loaded.scene, tables, scene.settings.width, scene.settings.height);
+// of the camera rays' first hits take (a 2 x 2 grid per pixel at the render's
+// resolution; primary rays only, a fraction of a render's time), and a note
+// naming the others.
+struct VisitedBins {
+  std::vector<const Target *> targets;
+  std::string note;
+};
+VisitedBins visitedBins(const Scene &scene, const RenderSettings &settings,
+                        const LobeTables &tables, const std::string &slug) {
+  VisitedBins out;
+  const LobeVisits visits = lobeTableVisits(scene, tables, settings.width, settings.height);
   const std::vector<const Target *> all = tables.targets();
   std::vector<const LobeBinRoute *> served;  // the routes of `all`, in order
   for (const LobeBinRoute &r : tables.routes())
@@ -455,7 +459,7 @@ void chooseVisitedBins(const SceneStudy &scene, const LobeTables &tables, SceneP
     const auto it = visits.rays.find(all[k]);
     const std::size_t rays = it == visits.rays.end() ? 0 : it->second;
     if (double(rays) >= kMinBinShare * double(visits.total)) {
-      plan.lobeTargets.push_back(all[k]);
+      out.targets.push_back(all[k]);
       continue;
     }
     ++(rays ? rare : unseen);
@@ -465,13 +469,13 @@ void chooseVisitedBins(const SceneStudy &scene, const LobeTables &tables, SceneP
                   served[k]->phiDegrees, rays);
     skipped += bin;
   }
-  plan.tableSeconds += secondsSince(start);
   if (unseen + rare > 0)
-    plan.lobeNote = scene.slug + ": lobe banks for " + std::to_string(plan.lobeTargets.size()) +
-                    " of " + std::to_string(all.size()) + " tabulated bins; " +
-                    std::to_string(unseen) + " no camera ray's first hit takes and " +
-                    std::to_string(rare) + " fewer than 0.1 % of " + std::to_string(visits.total) +
-                    " do (" + skipped + "): they sample Owen-Sobol through the table";
+    out.note = slug + ": lobe banks for " + std::to_string(out.targets.size()) + " of " +
+               std::to_string(all.size()) + " tabulated bins; " + std::to_string(unseen) +
+               " no camera ray's first hit takes and " + std::to_string(rare) +
+               " fewer than 0.1 % of " + std::to_string(visits.total) + " do (" + skipped +
+               "): they sample Owen-Sobol through the table";
+  return out;
 }
 
 ScenePlan planScene(const SceneStudy &scene, const CsvTable &table, const RenderStudySettings &s) {
@@ -491,10 +495,13 @@ ScenePlan planScene(const SceneStudy &scene, const CsvTable &table, const Render
     const auto start = Clock::now();
     plan.tables = scene.loaded.scene.lobeTables->get(scene.loaded.scene.materials,
                                                      lobeTablesFor(scene.settings));
-    plan.tableSeconds = secondsSince(start);
     if (std::any_of(plan.cells.begin(), plan.cells.end(),
-                    [](const PlannedCell &c) { return c.backend.makesLobeSets(); }))
-      chooseVisitedBins(scene, *plan.tables, plan);
+                    [](const PlannedCell &c) { return c.backend.makesLobeSets(); })) {
+      VisitedBins bins = visitedBins(scene.loaded.scene, scene.settings, *plan.tables, scene.slug);
+      plan.lobeTargets = std::move(bins.targets);
+      plan.lobeNote = std::move(bins.note);
+    }
+    plan.tableSeconds = secondsSince(start);
   }
   for (PlannedCell &c : plan.cells)
     c.plan = planBackend(c.backend, scene.loaded.scene, plan.tables.get(), plan.lobeTargets,
@@ -622,6 +629,47 @@ RenderStudyResult runRenderStudy(const RenderStudySettings &s, const StudyProgre
   // Rows kept from an earlier run take this run's K too.
   if (ranks.root() && !table.rows().empty()) fillEqualTime(table, s.amortize);
   return result;
+}
+
+PreparedBackend prepareStudyBackend(const StudyBackend &backend, const Scene &scene,
+                                    const RenderSettings &settings, const std::string &sceneName,
+                                    const RenderStudySettings &options,
+                                    const StudyProgress &progress) {
+  PreparedBackend out;
+  if (backend.sets == StudyBackend::Sets::None) {
+    out.spec = backend.renderer;
+    return out;
+  }
+  const auto start = Clock::now();
+  std::shared_ptr<const LobeTables> tables;
+  std::vector<const Target *> lobeTargets;
+  if (backend.makesLobeSets() && settings.integrator != IntegratorKind::Light) {
+    tables = scene.lobeTables->get(scene.materials, lobeTablesFor(settings));
+    VisitedBins bins = visitedBins(scene, settings, *tables, sceneName);
+    lobeTargets = std::move(bins.targets);
+    out.note = std::move(bins.note);
+  }
+  RenderStudySettings s = options;
+  s.spp = {settings.spp};
+  const BackendPlan plan =
+      planBackend(backend, scene, tables.get(), lobeTargets, sceneName, settings.spp, s);
+  if (!plan.spec) throw std::invalid_argument("backend '" + backend.word + "': " + plan.why);
+  out.spec = *plan.spec;
+  const std::vector<SetsJob> made = makeMissingSets(
+      Ranks::world(), plan.sets,
+      [&](std::size_t done, std::size_t total, const SetsJob &job, int e, int n, double loss) {
+        if (progress)
+          progress("optimize sets", (double(done) + double(e) / n) / double(total),
+                   job.label + ": loss " + formatNumber(loss));
+      });
+  out.setsMade = made.size();
+  out.setsCached = plan.sets.size() - std::min(plan.sets.size(), made.size());
+  for (const SetsJob &job : plan.sets)
+    out.sets.push_back({job.file.string(), shortSpec(job.target->spec()),
+                        std::any_of(made.begin(), made.end(),
+                                    [&](const SetsJob &m) { return m.file == job.file; })});
+  out.setupSeconds = made.empty() ? 0.0 : secondsSince(start);
+  return out;
 }
 
 }  // namespace nuld::study

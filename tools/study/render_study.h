@@ -65,8 +65,17 @@ struct RenderStudySettings {
   // bank already in the cache that holds a cell's spp serves it.
   bool optimizedNested = false;
   int optimizedEpochs = 0;  // 0: the preset's
-  // Epochs of the lobe banks (0: optimizedEpochs, else the preset's).
+  // Epochs of the lobe banks (0: optimizedEpochs if set, else
+  // kLobeBankEpochs) and the value they get.
   int lobeEpochs = 0;
+  int lobeBankEpochs() const {
+    return lobeEpochs ? lobeEpochs : optimizedEpochs ? optimizedEpochs : kLobeBankEpochs;
+  }
+  // The lobe banks' default: at 250 epochs the dragon's optimized-bsdf
+  // renders 0.81 / 0.90 of sobol's MSE at 16 / 64 spp against 0.82 / 0.88
+  // with the preset's 1000, for a quarter of the time (tools/experiments/
+  // README.md, "Setup").
+  static constexpr int kLobeBankEpochs = 250;
   // The lobe banks' bank term (optimizer.h, unionWeight): without it the
   // instances of a glossy lobe's bank converge to nearly one set.
   double lobeUnionWeight = kBankUnionWeight;
@@ -137,6 +146,29 @@ struct RenderStudyResult {
 // the outputs are those of a single process but for the measured times.
 RenderStudyResult runRenderStudy(const RenderStudySettings &settings,
                                  const StudyProgress &progress = {});
+
+// A backend word of the study's own sets (optimized, optimized-bsdf, ...)
+// for a render outside a study (nuld render, nuld bank, the Python module):
+// its sets made or found in the set cache exactly as a study would (the
+// options' --opt-* settings and cache), and the renderer backend that
+// serves them. A renderer word passes through unchanged.
+struct PreparedBackend {
+  BackendSpec spec;
+  double setupSeconds = 0;  // wall time of making what was missing (0: all cached)
+  std::size_t setsMade = 0, setsCached = 0;
+  struct Set {
+    std::string file, target;  // the set's file and its target's spec, shortened
+    bool made = false;         // made now (else found in the cache)
+  };
+  std::vector<Set> sets;  // one per target: the light, each lobe bin
+  std::string note;       // lobe bins left without banks, and why
+};
+// Throws std::invalid_argument naming the word when the scene cannot use it
+// (no environment map for `optimized`, no Disney material for lobe banks).
+PreparedBackend prepareStudyBackend(const StudyBackend &backend, const Scene &scene,
+                                    const RenderSettings &settings, const std::string &sceneName,
+                                    const RenderStudySettings &options,
+                                    const StudyProgress &progress = {});
 
 // A file-name-safe form of a scene or backend name: "neural:m/q.nuldnet" ->
 // "neural-q", "scenes/cup.json" -> "cup".

@@ -1,0 +1,104 @@
+// nuld bank: a scene's learned sets for a study backend, made into the set
+// cache (or found there) exactly as a study or nuld render makes them, and
+// listed by the pair and target they serve; with -o, copied into a bank
+// directory that `--backend optimized:DIR` reads whole.
+
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+
+#include "scenes/scene_file.h"
+#include "tools/nuld/cli_util.h"
+#include "tools/nuld/commands.h"
+#include "tools/nuld/progress.h"
+#include "tools/study/render_study.h"
+
+namespace nuld::cli {
+
+Runner addBank(CLI::App &app) {
+  struct Options {
+    std::string scene, backend = "optimized-both", res, assets, integrator, output;
+    std::vector<std::size_t> spp;
+    double resScale = 1;
+    std::uint64_t seed = 1;
+    study::RenderStudySettings sets;
+    bool quiet = false;
+  };
+  auto o = std::make_shared<Options>();
+  app.add_option("scene", o->scene, "scene file (JSON) or 'default'")->required();
+  app.add_option("--backend", o->backend,
+                 "optimized, optimized-uniform, optimized-bsdf or optimized-both (default "
+                 "optimized-both)");
+  app.add_option("--spp", o->spp, "comma-separated sample counts (default: the scene's)")
+      ->delimiter(',');
+  app.add_option("--res", o->res, "resolution the lobe bins are chosen at (WxH or W)");
+  app.add_option("--res-scale", o->resScale, "scale the scene's resolution (not with --res)")
+      ->check(CLI::Range(1e-6, 16.0));
+  app.add_option("--integrator", o->integrator,
+                 "path, direct, light or bsdf (default: the scene's)")
+      ->check(oneOf(kIntegratorNames));
+  app.add_option("--seed", o->seed, "seed of the optimization (a study's --seed; default 1)")
+      ->check(wholeNumber());
+  addSetOptions(app, o->sets);
+  app.add_option("--assets", o->assets,
+                 "asset root (default: $NULD_ASSETS, else ../shared/assets)");
+  app.add_option("-o,--output", o->output,
+                 "also copy the sets into this bank directory (for --backend optimized:DIR)");
+  app.add_flag("-q,--quiet", o->quiet, "no progress bar");
+  app.footer(
+      "Prints one line per set: spp, the pair it serves (light or bsdf), its target, whether it\n"
+      "was made now or found in the set cache ($NULD_CACHE; nuld cache list), and its file.");
+  return [o, &app] {
+    const study::StudyBackend word = study::parseStudyBackend(o->backend);
+    if (word.sets == study::StudyBackend::Sets::None)
+      throw std::invalid_argument("--backend '" + o->backend +
+                                  "': nuld bank makes the study's sets (optimized, "
+                                  "optimized-uniform, optimized-bsdf, optimized-both)");
+    checkAssets(app, o->assets, !isBuiltInScene(o->scene), kSceneFilesOnly);
+    LoadedScene loaded = loadScene(o->scene, resolveAssetRoot(o->assets));
+    RenderOverrides change;
+    if (!o->res.empty()) {
+      const Resolution r = parseResolution(o->res);
+      change.width = r.width;
+      if (r.height) change.height = r.height;
+    }
+    onlyWhen(app, o->res.empty(), {"--res-scale"}, "the scene's own resolution (no --res)");
+    change.resolutionScale = o->resScale;
+    if (!o->integrator.empty()) change.integrator = parseIntegrator(o->integrator);
+    RenderSettings s = change.appliedTo(loaded.settings);
+    if (o->spp.empty()) o->spp = {s.spp};
+    study::RenderStudySettings options = o->sets;
+    options.seed = o->seed;
+    options.spp = o->spp;
+    if (!o->output.empty()) std::filesystem::create_directories(o->output);
+    std::printf("%-5s %-6s %-44s %-6s %s\n", "spp", "pair", "target", "state", "file");
+    for (const std::size_t spp : o->spp) {
+      s.spp = spp;
+      ProgressBar bar("sets spp " + std::to_string(spp), 1000, 0, o->quiet);
+      const study::PreparedBackend p =
+          study::prepareStudyBackend(word, loaded.scene, s, study::slug(o->scene), options,
+                                     [&](const std::string &, double f, const std::string &status) {
+                                       bar.update(long(1000 * f), status);
+                                     });
+      bar.finish(std::to_string(p.setsMade) + " made, " + std::to_string(p.setsCached) + " cached");
+      if (!p.note.empty()) std::cerr << "nuld: note: " << p.note << "\n";
+      for (const auto &set : p.sets) {
+        const bool lobe = set.target.rfind("disney", 0) == 0;
+        std::printf("%-5zu %-6s %-44s %-6s %s\n", spp,
+                    lobe                      ? "bsdf"
+                    : set.target == "uniform" ? "any"
+                                              : "light",
+                    set.target.substr(0, 44).c_str(), set.made ? "made" : "cached",
+                    set.file.c_str());
+        if (!o->output.empty())
+          std::filesystem::copy_file(
+              set.file,
+              std::filesystem::path(o->output) / std::filesystem::path(set.file).filename(),
+              std::filesystem::copy_options::overwrite_existing);
+      }
+    }
+    return 0;
+  };
+}
+
+}  // namespace nuld::cli
