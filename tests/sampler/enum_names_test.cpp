@@ -1,6 +1,8 @@
 // The enum name tables and the round-trip number format: every name parses
 // back to its value, every unknown name gets the one message that names the
 // field, the text and the names; numbers read back exactly.
+#include "sampler/enum_names.h"
+
 #include <gtest/gtest.h>
 
 #include <charconv>
@@ -13,7 +15,6 @@
 #include "sampler/bluenoise/blue_noise_sets.h"
 #include "sampler/bluenoise/gaussian_blue_noise.h"
 #include "sampler/bluenoise/sliced_ot.h"
-#include "sampler/enum_names.h"
 #include "sampler/io/round_trip.h"
 #include "sampler/loss/boxes.h"
 #include "sampler/optimize/optimizer.h"
@@ -79,8 +80,13 @@ TEST(EnumNames, UnknownNamesGetOneMessage) {
             "unknown domain 'torus' (expected square, sphere or hemisphere)");
   EXPECT_EQ(parseError(kUniformSotDomainNames, "ball"),
             "unknown uniform domain 'ball' (expected disc or square)");
+  // A likely typo gets the closest name (an edit distance of a third of the
+  // word or less); far from every name, none.
   EXPECT_EQ(parseError(kBlueNoiseNames, "sot-warped"),
-            "unknown blue-noise method 'sot-warped' (expected sot, sot-mapped, gbn or gbn-mapped)");
+            "unknown blue-noise method 'sot-warped' (did you mean 'sot-mapped'?) (expected sot, "
+            "sot-mapped, gbn or gbn-mapped)");
+  EXPECT_EQ(parseError(kScrambleNames, "owem"),
+            "unknown scrambling 'owem' (did you mean 'owen'?) (expected owen, shift, cp or none)");
   EXPECT_THROW(parseObjective("l3"), std::invalid_argument);
   EXPECT_THROW(parseMapping(""), std::invalid_argument);
 }

@@ -44,19 +44,22 @@ Runner addPlot(CLI::App &app) {
     const bool vDown = target->domain() != Domain::Square;
     auto toV = [&](double rowCenter) { return vDown ? rowCenter : 1 - rowCenter; };
     Image img{S, S, 3, std::vector<float>(std::size_t(S) * S * 3, 1.0f)};
-    // Background: the density in light blue, normalized to its maximum.
+    // Background: the density in light blue, on a log scale below its maximum.
     if (!target->isUniform()) {
       std::vector<double> d(std::size_t(S) * S);
       for (int y = 0; y < S; ++y)
         for (int x = 0; x < S; ++x)
           d[std::size_t(y) * S + x] = target->pdf({(x + 0.5) / S, toV((y + 0.5) / S)});
-      // Log scale relative to the mean density: HDR maps span many decades.
+      // A log scale over the top four decades below the peak: an HDR map's
+      // sun is 1e4-1e6 times its sky, and a linear (or log1p) scale draws
+      // everything but the sun white. Zero density stays white.
       const double peak = std::max(*std::max_element(d.begin(), d.end()), 1e-300);
-      const double scale = std::log1p(peak);
+      constexpr double kDecades = 4;
       for (std::size_t i = 0; i < d.size(); ++i) {
-        const float t = float(std::log1p(d[i]) / scale);
-        img.pixels[3 * i + 0] = 1 - 0.45f * t;
-        img.pixels[3 * i + 1] = 1 - 0.25f * t;
+        const float t =
+            d[i] > 0 ? float(std::clamp(1 + std::log10(d[i] / peak) / kDecades, 0.0, 1.0)) : 0.0f;
+        img.pixels[3 * i + 0] = 1 - 0.75f * t;
+        img.pixels[3 * i + 1] = 1 - 0.5f * t;
         img.pixels[3 * i + 2] = 1.0f;
       }
     }
