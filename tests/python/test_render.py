@@ -73,3 +73,17 @@ def test_bad_render_arguments():
         nuld.render("default", lobe_mix=1.5, resolution=(4, 4))
     with pytest.raises(RuntimeError, match="missing.json"):
         nuld.render("missing.json")
+
+
+def test_study_words_render_with_their_sets_and_say_what_they_served(tmp_path, monkeypatch):
+    # The study's optimized-both makes its sets into the set cache, then a
+    # second render finds them; the stats say per pair what they served.
+    monkeypatch.setenv("NULD_CACHE", str(tmp_path / "cache"))
+    kw = dict(backend="optimized-both", spp=4, resolution=(16, 12), stats=True, seed=3,
+              opt_instances=2, opt_epochs=5, opt_lobe_epochs=5)
+    img, first = nuld.render("default", **kw)
+    again, second = nuld.render("default", **kw)
+    assert first["backend"] == "optimized-both" and first["sets_made"] > 0
+    assert second["sets_made"] == 0 and second["sets_cached"] == first["sets_made"]
+    assert first["served_light"] > 0 and first["served_bsdf"] > 0
+    assert np.array_equal(img, again)

@@ -101,6 +101,13 @@ ok "optimize, stopped early" "$nuld" optimize "${opt[@]}" --stop-after 5 -o "$di
 fails_with "optimize resume with other settings" "other settings" \
   "$nuld" optimize --target quarterdisc --n 32 --epochs 40 --boxes 512 --instances 2 --seed 6 -q --resume -o "$dir/o.txt"
 fails_with "optimize unknown target" "unknown target 'disk'" "$nuld" optimize --target disk --n 8 -o "$dir/x.txt"
+# eval checks the integrand's name before printing any metric, refuses
+# sphere sets for the square's integrands and says when the target misses
+# part of the integrand's mass.
+fails_with "eval unknown integrand" "unknown integrand 'foo'" "$nuld" eval "$dir/full.txt" --integrand foo
+[[ ! -s "$dir/out" ]] || { echo "FAIL: eval printed metrics before refusing the integrand"; cat "$dir/out"; failures=$((failures + 1)); }
+"$nuld" eval "$dir/full.txt" --integrand step >/dev/null 2>"$dir/err"
+grep -q "has no density where step holds" "$dir/err" || { echo "FAIL: eval of quarterdisc sets against step names the missed mass"; cat "$dir/err"; failures=$((failures + 1)); }
 fails_with "optimize bad mass" "expected mc:K" "$nuld" optimize --target uniform --n 8 --mass mc:lots -o "$dir/x.txt"
 fails_with "optimize bad lr" "learning rates" "$nuld" optimize --target uniform --n 8 --lr -3 -o "$dir/x.txt"
 fails_with "optimize unreadable image" "nope.exr" "$nuld" optimize --target image:"$dir/nope.exr" --n 8 -o "$dir/x.txt"

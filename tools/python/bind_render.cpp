@@ -12,6 +12,7 @@
 #include "renderer/render.h"
 #include "scenes/scene_file.h"
 #include "tools/python/bindings.h"
+#include "tools/study/render_study.h"
 
 namespace nuld::python {
 
@@ -47,7 +48,8 @@ void bindRender(py::module_ &m) {
          std::optional<std::size_t> spp, std::optional<std::pair<int, int>> resolution,
          std::optional<std::string> integrator, std::optional<int> maxDepth,
          std::optional<std::uint64_t> seed, const std::string &assets,
-         std::optional<double> lobeMix, bool stats) {
+         std::optional<double> lobeMix, bool stats, std::size_t optInstances, int optEpochs,
+         int optLobeEpochs) {
         const bool builtIn = isBuiltInScene(scene);
         LoadedScene loaded = loadScene(scene, builtIn ? std::string() : resolveAssetRoot(assets));
         RenderOverrides change;
@@ -57,11 +59,24 @@ void bindRender(py::module_ &m) {
         change.maxDepth = maxDepth;
         change.lobeMix = lobeMix;
         const RenderSettings s = change.appliedTo(loaded.settings, OverrideNames::python());
-        const auto b = makeBackend(backend ? *backend : loaded.backend, seed ? *seed : loaded.seed);
+        const std::uint64_t seedValue = seed ? *seed : loaded.seed;
+        // The study's words make (or find in the set cache) their sets as
+        // `nuld render` does, with the study's default --opt-* settings.
+        const study::StudyBackend word =
+            study::parseStudyBackend(backend ? *backend : loaded.backend);
+        study::RenderStudySettings options;
+        options.seed = seedValue;
+        options.optimizedInstances = optInstances;
+        options.optimizedEpochs = optEpochs;
+        options.lobeEpochs = optLobeEpochs;
+        study::PreparedBackend prepared;
         RenderStats st;
         Image img;
+        std::unique_ptr<SamplerBackend> b;
         {
           py::gil_scoped_release release;
+          prepared = study::prepareStudyBackend(word, loaded.scene, s, study::slug(scene), options);
+          b = makeBackend(prepared.spec, seedValue);
           img = render(loaded.scene, s, *b, &st);
         }
         FloatArray out = arrayOf(img);
@@ -70,16 +85,28 @@ void bindRender(py::module_ &m) {
         d["backend"] = b->name(), d["spp"] = s.spp, d["integrator"] = toString(s.integrator);
         d["seconds"] = st.seconds, d["setup_seconds"] = st.setupSeconds, d["rays"] = st.rays;
         d["rejected_samples"] = st.rejectedSamples, d["classic_fallbacks"] = st.classicFallbacks;
+        if (word.sets != study::StudyBackend::Sets::None)
+          d["backend"] = word.word, d["sets_made"] = prepared.setsMade,
+          d["sets_cached"] = prepared.setsCached, d["sets_seconds"] = prepared.setupSeconds;
+        for (const auto &u : b->pairUse()) {
+          d[py::str("served_" + u.pair)] = u.served;
+          d[py::str("fell_back_" + u.pair)] = u.fellBack;
+        }
         return py::object(py::make_tuple(out, d));
       },
       py::arg("scene") = "default", py::arg("backend") = py::none(), py::arg("spp") = py::none(),
       py::arg("resolution") = py::none(), py::arg("integrator") = py::none(),
       py::arg("max_depth") = py::none(), py::arg("seed") = py::none(), py::arg("assets") = "",
-      py::arg("lobe_mix") = py::none(), py::arg("stats") = false,
+      py::arg("lobe_mix") = py::none(), py::arg("stats") = false, py::arg("opt_instances") = 16,
+      py::arg("opt_epochs") = 0, py::arg("opt_lobe_epochs") = 0,
       R"(Renders a scene file (or 'default', 'stress') as `nuld render` does, to a
 linear float32 (H, W, 3) array, row 0 at the top. Unset arguments take the
 scene's values; resolution is (width, height); assets defaults to
-$NULD_ASSETS, else ../shared/assets. With stats=True returns (image, dict).)");
+$NULD_ASSETS, else ../shared/assets. backend: any word `nuld help backends`
+lists, the study's optimized, optimized-bsdf, ... included (their sets made
+into the set cache, $NULD_CACHE, or found there; opt_instances, opt_epochs and
+opt_lobe_epochs as nuld render's --opt-*, 0 for the defaults). With stats=True returns
+(image, dict), the dict with what a learned backend's sets served per pair.)");
 
   m.def(
       "compare",
