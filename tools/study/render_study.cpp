@@ -15,6 +15,7 @@
 #include "renderer/lobe_tables.h"
 #include "renderer/sampler_backend.h"
 #include "sampler/io/image_io.h"
+#include "sampler/io/input_file.h"
 #include "sampler/targets/target_spec.h"
 #include "scenes/scene_file.h"
 #include "tools/study/csv_table.h"
@@ -332,6 +333,8 @@ void RenderStudySettings::validate() const {
   if (out.empty()) throw std::invalid_argument("study render: -o OUTDIR is required");
   for (const auto &b : backends)  // fail now, not after an hour of reference
     parseStudyBackend(b);         // the word only: files are read per cell
+  for (const auto &scene : scenes)  // every scene file, before the first reference
+    if (!isBuiltInScene(scene)) requireInputFile(scene, "the scene file");
 }
 
 RenderOverrides RenderStudySettings::overrides() const {
