@@ -1,0 +1,70 @@
+#!/usr/bin/env bash
+# The option sweep: every option that takes a value, of every command, given
+# a value that names nothing (OUT/no/such/@@: no such name, number, file or
+# directory) after a minimal valid command line. Each must be refused like
+# any bad input: exit 1 or 2, a message starting 'nuld: error' that names
+# the option or the value, no control bytes, nothing written under OUT but
+# what the command line already names. Options read from `--help`, so a new
+# option joins the sweep by itself.
+# Usage: option_sweep_test.sh NULD DATA_DIR
+set -uo pipefail
+set -f  # the base command lines hold words like gaussian*step
+nuld=$1
+data=$2
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+export NULD_CACHE="$out/set-cache"
+bad="$out/no/such/@@"
+failures=0 cases=0
+
+# A minimal valid command line per command (DATA: the bad-input corpus's
+# folder, OUT: scratch).
+declare -A base=(
+  [generate]="--n 4 -o OUT/g.txt"
+  [map]="DATA/valid.txt --target uniform -o OUT/m.txt"
+  [eval]="DATA/valid.txt"
+  [export]="DATA/valid.txt -o OUT/e.csv"
+  [optimize]="--target uniform --n 4 --epochs 2 -o OUT/o.txt"
+  [plot]="DATA/valid.txt -o OUT/p.png"
+  [spectrum]="DATA/valid.txt -o OUT/s.png"
+  [render]="default --res 8 --spp 1 -o OUT/r.exr"
+  [compare]="OUT/r.exr OUT/r.exr"
+  [bank]="default --res 8 --spp 1 --opt-instances 2 --opt-epochs 2"
+  [study render]="default --backends sobol --spp 1 --res 8 --reference-spp 4 -o OUT/sr"
+  [study integrate]="--integrands gaussian*step --samplers sobol --n 4 --instances 2 -o OUT/si"
+  [train]="--target uniform --n 4 --hidden 8 --steps 2 --batch 2 --boxes 16 -o OUT/t.nuldnet"
+)
+# Options that take any value by design ("COMMAND OPTION"), with the reason.
+declare -A free=(
+  ["bank --output"]="creates the bank directory, parents included, as study render -o does"
+)
+
+"$nuld" render default --res 8 --spp 1 -q -o "$out/r.exr" >/dev/null 2>&1
+for command in "${!base[@]}"; do
+  # shellcheck disable=SC2086  # the command is words
+  options=$("$nuld" $command --help 2>/dev/null |
+    grep -oE '^\s+(-[a-zA-Z],)?--[a-z][a-z0-9-]* [A-Z:]+' | grep -oE -- '--[a-z][a-z0-9-]*' | sort -u)
+  for option in $options; do
+    [[ -n "${free["$command $option"]:-}" ]] && continue
+    cases=$((cases + 1))
+    args=${base[$command]//DATA/$data}
+    args=${args//OUT/$out}
+    # shellcheck disable=SC2086
+    timeout 120 "$nuld" $command $args "$option" "$bad" >"$out/stdout" 2>"$out/stderr"
+    rc=$?
+    if [[ $rc -ne 1 && $rc -ne 2 ]]; then
+      echo "FAIL ($rc): nuld $command $option '$bad' was not refused:"; head -3 "$out/stderr"
+      failures=$((failures + 1))
+    elif ! grep -q '^nuld: error' "$out/stderr"; then
+      echo "FAIL: nuld $command $option: no 'nuld: error' message:"; head -3 "$out/stderr"
+      failures=$((failures + 1))
+    elif ! grep -qF -e "$option" -e "@@" "$out/stderr"; then
+      echo "FAIL: nuld $command $option: the message names neither the option nor the value:"
+      head -3 "$out/stderr"; failures=$((failures + 1))
+    elif LC_ALL=C grep -q $'[\x01-\x08\x0b-\x1f\x7f]' "$out/stderr"; then
+      echo "FAIL: nuld $command $option: control bytes in the message"; failures=$((failures + 1))
+    fi
+  done
+done
+echo "option sweep: $cases options, $failures failed"
+((failures == 0))
