@@ -75,8 +75,9 @@ RouteVariances measureAt(const DisneyBrdf &m, Vec3 wo, const LobeFrame &lobe, st
 }  // namespace
 
 std::optional<BsdfSample> sampleLobeRoute(const Bsdf &bsdf, Vec3 wo, const LobeFrame &lobe,
-                                          Point2 u) {
+                                          Point2 u, double *materialPdf) {
   BsdfSample s;
+  double own = 0;
   // The defensive split, in the table's primary space, where a set that
   // follows the table is uniform: a strip of width d of the conditional
   // coordinate goes to the material's sampler, the rest, stretched back to
@@ -85,10 +86,11 @@ std::optional<BsdfSample> sampleLobeRoute(const Bsdf &bsdf, Vec3 wo, const LobeF
   // not.
   const double d = lobe.defensive;
   if (u.x < d) {
-    const auto own = bsdf.sample(wo, {u.x / d, u.y});
-    if (!own) return std::nullopt;
-    s = *own;
-    s.pdf = lobe.pdf(s.wi, own->pdf);
+    const auto drawn = bsdf.sample(wo, {u.x / d, u.y});
+    if (!drawn) return std::nullopt;
+    s = *drawn;
+    own = s.pdf;
+    s.pdf = lobe.pdf(s.wi, own);
   } else {
     // The table's density from the cell the point lies in (no second
     // lookup through the direction).
@@ -98,8 +100,10 @@ std::optional<BsdfSample> sampleLobeRoute(const Bsdf &bsdf, Vec3 wo, const LobeF
     const BsdfValue v = bsdf.evalWithPdf(wo, s.wi);
     s.f = v.f;
     s.pdf = lobe.mixture(lobe.table->cellDensity(cell.i, cell.j) * kInvFourPi, v.pdf);
+    own = v.pdf;
   }
   if (!(s.pdf > 0) || !std::isfinite(s.pdf) || !s.f.isFinite()) return std::nullopt;
+  if (materialPdf) *materialPdf = own;
   return s;
 }
 

@@ -114,8 +114,10 @@ struct LobeFrame {
 // stretched over the square, through the table. f is the material's and pdf
 // the route's mixture density (LobeFrame::pdf); with u uniform, wi follows
 // that mixture. nullopt when no direction results.
+// `materialPdf`, when given, receives the material's own pdf at the drawn
+// direction (the path integrator's MIS weights use it).
 std::optional<BsdfSample> sampleLobeRoute(const Bsdf &bsdf, Vec3 wo, const LobeFrame &lobe,
-                                          Point2 u);
+                                          Point2 u, double *materialPdf = nullptr);
 
 // What the route measurement found for one bin (renderer/README.md, "Lobe
 // routes"): the relative variance of a 16-point Owen-Sobol estimate of the

@@ -235,8 +235,12 @@ void PathIntegrator::addLightSamples(std::span<PathState> path, int depth,
       if (scene_.geometry.occluded(shadow)) continue;
       const auto [f, classicPdf] = p.bsdf->evalWithPdf(p.wo, wi);
       if (f.isBlack()) continue;
-      const double bsdfPdf = p.lobe.table ? p.lobe.pdf(wi, classicPdf) : classicPdf;
-      const double w = lightOnly_ ? 1.0 : powerHeuristic(ls[k]->pdf, bsdfPdf);
+      // The MIS weights of both strategies use the material's own pdf for
+      // the BSDF side, also where a table draws the BSDF sample: any weights
+      // that sum to 1 keep the estimate unbiased (each sample still divides
+      // by the density that drew it), and this spares a table lookup per
+      // light sample.
+      const double w = lightOnly_ ? 1.0 : powerHeuristic(ls[k]->pdf, classicPdf);
       p.L += (w * wi.z / ls[k]->pdf) * p.beta * f * ls[k]->radiance;
     }
   }
@@ -255,14 +259,16 @@ bool PathIntegrator::continuePaths(std::span<PathState> path, int depth,
     PathState &p = path[k];
     if (!p.alive) continue;
     p.alive = false;
+    double materialPdf = 0;
     const auto bs =
-        p.lobe.table ? sampleLobeRoute(*p.bsdf, p.wo, p.lobe, p.lobePoint)
+        p.lobe.table ? sampleLobeRoute(*p.bsdf, p.wo, p.lobe, p.lobePoint, &materialPdf)
                      : p.bsdf->sample(p.wo, p.samples->primary(SamplePairs::bsdf(depth), p.index));
     if (!bs || !(bs->pdf > 0)) continue;
     if (!(bs->wi.z > 0)) continue;  // below the shading hemisphere: f = 0
     const Vec3 wiWorld = p.sh.frame.toWorld(bs->wi);
     p.beta *= (bs->wi.z / bs->pdf) * bs->f;
-    p.lastBsdfPdf = bs->pdf;
+    // The MIS weight's BSDF pdf: the material's own (see addLightSamples).
+    p.lastBsdfPdf = p.lobe.table ? materialPdf : bs->pdf;
     p.ray = {p.sh.origin, wiWorld};
     if (p.beta.isBlack()) continue;
     p.alive = true;

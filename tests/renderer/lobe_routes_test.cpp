@@ -270,6 +270,30 @@ TEST(LobeRoutes, GlossyAnisotropicMetalConvergesWithEveryBackend) {
   }
 }
 
+// Multiple importance sampling where a table draws the BSDF sample: both
+// strategies weigh by the material's own pdf, so the weights sum to 1 at
+// every direction and the estimate is unbiased. A rough lobe under a
+// constant map (light and BSDF pdfs of the same size, so both weights
+// matter), every bin forced through a coarse table (whose pdf is far from
+// the material's): direct lighting against light sampling alone, which has
+// no BSDF strategy and no weights. Weights from the table's pdf on one side
+// and the material's on the other miss by 4 %.
+TEST(LobeRoutes, MisWeightsSumToOneWhereTablesDrawTheBsdfSample) {
+  const Scene scene =
+      test::sceneWith({test::unitSphere()}, {material(1.0, 0.0, 0.0)}, test::constantMap(1.0f),
+                      {{0, 0, 4}, {0, 0, 0}, {0, 1, 0}, 12, false});
+  LobeTableSettings table;
+  table.routing = LobeRouting::Table;
+  table.phiCells = 8;  // coarse cells: the table's pdf far from the material's
+  const auto run = [&](const std::string &name, IntegratorKind kind) {
+    RenderSettings s{12, 12, 1024, kind, 1};
+    s.lobeTables = table;
+    return meanOf(render(scene, s, *makeBackend(name, 3)));
+  };
+  const double reference = run("sobol", IntegratorKind::Light);
+  EXPECT_NEAR(run("sobol-tabulated", IntegratorKind::Direct), reference, 0.003 * reference);
+}
+
 // Measured routes and lobe banks render the same image on one thread and on
 // many.
 TEST(LobeRoutes, RendersAreEqualForAnyThreadCount) {
