@@ -87,3 +87,11 @@ def test_study_words_render_with_their_sets_and_say_what_they_served(tmp_path, m
     assert second["sets_made"] == 0 and second["sets_cached"] == first["sets_made"]
     assert first["served_light"] > 0 and first["served_bsdf"] > 0
     assert np.array_equal(img, again)
+
+
+def test_threads_limit_the_cores_and_change_no_pixel():
+    one = nuld.render("default", spp=4, resolution=(16, 12), seed=2, threads=1)
+    every = nuld.render("default", spp=4, resolution=(16, 12), seed=2)
+    assert np.array_equal(one, every)
+    with pytest.raises(ValueError, match="threads must be >= 1"):
+        nuld.render("default", threads=0)

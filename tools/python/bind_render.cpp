@@ -2,6 +2,7 @@
 // backend to a float32 (H, W, 3) array, images compared and read or written.
 
 #include <pybind11/stl.h>
+#include <tbb/global_control.h>
 
 #include <cstring>
 #include <optional>
@@ -49,7 +50,11 @@ void bindRender(py::module_ &m) {
          std::optional<std::string> integrator, std::optional<int> maxDepth,
          std::optional<std::uint64_t> seed, const std::string &assets,
          std::optional<double> lobeMix, bool stats, std::size_t optInstances, int optEpochs,
-         int optLobeEpochs) {
+         int optLobeEpochs, std::optional<int> threads) {
+        if (threads && *threads < 1) throw std::invalid_argument("render: threads must be >= 1");
+        // Cores for this call (as the CLI's --threads), released on return.
+        std::optional<tbb::global_control> limit;
+        if (threads) limit.emplace(tbb::global_control::max_allowed_parallelism, *threads);
         const bool builtIn = isBuiltInScene(scene);
         LoadedScene loaded = loadScene(scene, builtIn ? std::string() : resolveAssetRoot(assets));
         RenderOverrides change;
@@ -98,14 +103,15 @@ void bindRender(py::module_ &m) {
       py::arg("resolution") = py::none(), py::arg("integrator") = py::none(),
       py::arg("max_depth") = py::none(), py::arg("seed") = py::none(), py::arg("assets") = "",
       py::arg("lobe_mix") = py::none(), py::arg("stats") = false, py::arg("opt_instances") = 16,
-      py::arg("opt_epochs") = 0, py::arg("opt_lobe_epochs") = 0,
+      py::arg("opt_epochs") = 0, py::arg("opt_lobe_epochs") = 0, py::arg("threads") = py::none(),
       R"(Renders a scene file (or 'default', 'stress') as `nuld render` does, to a
 linear float32 (H, W, 3) array, row 0 at the top. Unset arguments take the
 scene's values; resolution is (width, height); assets defaults to
 $NULD_ASSETS, else ../shared/assets. backend: any word `nuld help backends`
 lists, the study's optimized, optimized-bsdf, ... included (their sets made
 into the set cache, $NULD_CACHE, or found there; opt_instances, opt_epochs and
-opt_lobe_epochs as nuld render's --opt-*, 0 for the defaults). With stats=True returns
+opt_lobe_epochs as nuld render's --opt-*, 0 for the defaults; threads: the cores to
+use, default all). With stats=True returns
 (image, dict), the dict with what a learned backend's sets served per pair.)");
 
   m.def(
