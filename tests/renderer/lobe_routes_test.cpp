@@ -277,7 +277,8 @@ TEST(LobeRoutes, GlossyAnisotropicMetalConvergesWithEveryBackend) {
 // matter), every bin forced through a coarse table (whose pdf is far from
 // the material's): direct lighting against light sampling alone, which has
 // no BSDF strategy and no weights. Weights from the table's pdf on one side
-// and the material's on the other miss by 4 %.
+// and the material's on the other fail it (tools/experiments/README.md,
+// "Lobe routes").
 TEST(LobeRoutes, MisWeightsSumToOneWhereTablesDrawTheBsdfSample) {
   const Scene scene =
       test::sceneWith({test::unitSphere()}, {material(1.0, 0.0, 0.0)}, test::constantMap(1.0f),

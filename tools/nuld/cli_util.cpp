@@ -67,6 +67,17 @@ Resolution parseResolution(const std::string &text) {
   return r;
 }
 
+void applyResolution(const CLI::App &app, const std::string &res, double scale,
+                     RenderOverrides &change) {
+  onlyWhen(app, res.empty(), {"--res-scale"}, "renders at the scene's own resolution (no --res)");
+  if (!res.empty()) {
+    const Resolution r = parseResolution(res);
+    change.width = r.width;
+    if (r.height) change.height = r.height;
+  }
+  change.resolutionScale = scale;
+}
+
 void addRunFlags(CLI::App &app, RunFlags &flags, const std::string &unit,
                  const std::string &alsoDoes) {
   app.add_option("--checkpoint-every", flags.checkpointEvery,

@@ -33,6 +33,10 @@ struct Resolution {
   int width = 0, height = 0;
 };
 Resolution parseResolution(const std::string &text);
+// --res and --res-scale of a render-like command into `change` (--res-scale
+// refused beside --res), the one reading render and bank share.
+void applyResolution(const CLI::App &app, const std::string &res, double scale,
+                     RenderOverrides &change);
 
 // The flags every resumable command shares, with the same names and wording:
 // --checkpoint-every (units of `unit`, e.g. "epochs"; `alsoDoes` adds what

@@ -57,13 +57,7 @@ Runner addBank(CLI::App &app) {
     checkAssets(app, o->assets, !isBuiltInScene(o->scene), kSceneFilesOnly);
     LoadedScene loaded = loadScene(o->scene, resolveAssetRoot(o->assets));
     RenderOverrides change;
-    if (!o->res.empty()) {
-      const Resolution r = parseResolution(o->res);
-      change.width = r.width;
-      if (r.height) change.height = r.height;
-    }
-    onlyWhen(app, o->res.empty(), {"--res-scale"}, "the scene's own resolution (no --res)");
-    change.resolutionScale = o->resScale;
+    applyResolution(app, o->res, o->resScale, change);
     if (!o->integrator.empty()) change.integrator = parseIntegrator(o->integrator);
     RenderSettings s = change.appliedTo(loaded.settings);
     if (o->spp.empty()) o->spp = {s.spp};

@@ -68,16 +68,9 @@ Runner addRender(CLI::App &app) {
     LoadedScene loaded = loadScene(o->scene, resolveAssetRoot(o->assets));
     RenderOverrides change;
     if (o->spp) change.spp = o->spp;
-    if (!o->res.empty()) {
-      const Resolution r = parseResolution(o->res);
-      change.width = r.width;
-      if (r.height) change.height = r.height;
-    }
+    applyResolution(app, o->res, o->resScale, change);
     if (!o->integrator.empty()) change.integrator = parseIntegrator(o->integrator);
     if (o->maxDepth) change.maxDepth = o->maxDepth;
-    onlyWhen(app, o->res.empty(), {"--res-scale"},
-             "renders at the scene's own resolution (no --res)");
-    change.resolutionScale = o->resScale;
     applyLobeOptions(o->lobes, change);
     const RenderSettings s = change.appliedTo(loaded.settings);
     onlyWhen(app, s.integrator == IntegratorKind::Path, {"--max-depth"}, "--integrator path");

@@ -50,14 +50,6 @@ class TaskBars {
   std::unique_ptr<ProgressBar> bar_;
 };
 
-double number(const std::string &s) {
-  try {
-    return std::stod(s);
-  } catch (...) {
-    return NAN;
-  }
-}
-
 // Better, worse or a tie against 1 at two standard errors.
 const char *verdictOf(double q, double se) {
   return q + 2 * se < 1 ? "better" : q - 2 * se > 1 ? "worse" : "tie";
@@ -116,8 +108,8 @@ void printTable(const study::CsvTable &table, double amortize) {
     std::string name = r.backend;
     if (name.size() > 22) name = "..." + name.substr(name.size() - 19);
     std::printf("%-22s %5zu %11.4e %11.4e %13s %6s %8.3f %8.2f %8.3f %13s %6s\n", name.c_str(),
-                r.spp, r.mse, number(table.rows()[i][relmse]), ratio, verdict, r.seconds,
-                r.setupSeconds, times[i].totalSeconds, timeRatio, timeVerdict);
+                r.spp, r.mse, study::parseNumber(table.rows()[i][relmse]), ratio, verdict,
+                r.seconds, r.setupSeconds, times[i].totalSeconds, timeRatio, timeVerdict);
   }
   std::printf("\nLowest error for the time (MSE x total seconds, setup over %s render%s):\n",
               study::formatNumber(amortize).c_str(), amortize == 1 ? "" : "s");

@@ -176,4 +176,12 @@ std::string formatNumber(double v) {
   return buf;
 }
 
+double parseNumber(const std::string &s) {
+  try {
+    return std::stod(s);
+  } catch (...) {
+    return NAN;
+  }
+}
+
 }  // namespace nuld::study

@@ -57,5 +57,7 @@ class CsvTable {
 
 // %.6g, or "nan"/"inf" spelled as Python's csv/float() reads them.
 std::string formatNumber(double v);
+// A table's value as a number: NaN for an empty or unreadable one.
+double parseNumber(const std::string &s);
 
 }  // namespace nuld::study

@@ -27,14 +27,6 @@ std::pair<double, double> ratioOf(const TimedRow &a, const TimedRow &b, double a
   return {q, q * std::sqrt(ea * ea + eb * eb)};
 }
 
-double parse(const std::string &s) {
-  try {
-    return std::stod(s);
-  } catch (...) {
-    return NAN;
-  }
-}
-
 }  // namespace
 
 std::vector<EqualTime> equalTime(const std::vector<TimedRow> &rows, double amortize) {
@@ -132,8 +124,8 @@ std::vector<TimedRow> timedRows(const CsvTable &table) {
                     setup = table.column("setup_seconds");
   std::vector<TimedRow> out;
   for (const auto &r : table.rows())
-    out.push_back({r[scene], r[backend], std::size_t(parse(r[spp])), parse(r[mse]),
-                   parse(r[mseErr]), parse(r[secs]), parse(r[setup])});
+    out.push_back({r[scene], r[backend], std::size_t(parseNumber(r[spp])), parseNumber(r[mse]),
+                   parseNumber(r[mseErr]), parseNumber(r[secs]), parseNumber(r[setup])});
   return out;
 }
 

@@ -331,8 +331,8 @@ void RenderStudySettings::validate() const {
     throw std::invalid_argument("--opt-union-weight: expected a finite weight >= 0");
   overrides().check(OverrideNames::options());  // the render settings, as every render checks
   if (out.empty()) throw std::invalid_argument("study render: -o OUTDIR is required");
-  for (const auto &b : backends)  // fail now, not after an hour of reference
-    parseStudyBackend(b);         // the word only: files are read per cell
+  for (const auto &b : backends)    // fail now, not after an hour of reference
+    parseStudyBackend(b);           // the word only: files are read per cell
   for (const auto &scene : scenes)  // every scene file, before the first reference
     if (!isBuiltInScene(scene)) requireInputFile(scene, "the scene file");
 }

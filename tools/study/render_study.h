@@ -71,11 +71,9 @@ struct RenderStudySettings {
   int lobeBankEpochs() const {
     return lobeEpochs ? lobeEpochs : optimizedEpochs ? optimizedEpochs : kLobeBankEpochs;
   }
-  // The lobe banks' default: at 250 epochs the dragon's optimized-bsdf
-  // renders 0.78 / 0.90 of sobol's MSE at 16 / 64 spp against 0.82 / 0.88
-  // with the sphere preset's 5000 (lobe tables are on the hemisphere), for
-  // a twentieth of the time (tools/experiments/README.md, "Setup, nested
-  // sets and reuse").
+  // The lobe banks' default, not the sphere preset's 5000 (lobe tables are
+  // on the hemisphere): about the same render error for a twentieth of the
+  // time (tools/experiments/README.md, "Setup, nested sets and reuse").
   static constexpr int kLobeBankEpochs = 250;
   // The lobe banks' bank term (optimizer.h, unionWeight): without it the
   // instances of a glossy lobe's bank converge to nearly one set.

@@ -38,36 +38,25 @@ std::string setCacheKey(const Target &target, const OptimizerSettings &settings)
       .hex();
 }
 
-fs::path SetCache::entry(const Target &target, const OptimizerSettings &settings) const {
-  // The key decides; the readable part is the name of whoever made the
-  // entry first (a map's file stem may differ under another root).
-  const std::string key = setCacheKey(target, settings);
-  const std::string suffix = "_n" + std::to_string(settings.n) + "_" + key + ".ptsb";
-  std::error_code ec;
-  if (fs::is_directory(setsDir(), ec))
-    for (const auto &e : fs::directory_iterator(setsDir(), ec)) {
-      const std::string name = e.path().filename().string();
-      if (!name.starts_with(".") && name.ends_with(suffix)) return e.path();
-    }
-  std::string slug = shortSpec(target.spec());
-  for (char &c : slug)
-    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '-') c = '_';
-  if (slug.size() > 48) slug.resize(48);
-  return setsDir() / (slug + suffix);
-}
-
 namespace {
+
+// Every regular file of the sets directory (none when it does not exist
+// yet): entries, checkpoints and writers' temporaries.
+std::vector<fs::directory_entry> filesIn(const fs::path &dir) {
+  std::vector<fs::directory_entry> files;
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) return files;
+  for (const auto &e : fs::directory_iterator(dir, ec))
+    if (e.is_regular_file(ec)) files.push_back(e);
+  return files;
+}
 
 // An entry's file: a visible point-set file (temporaries are hidden,
 // checkpoints end in .ckpt).
 bool isEntry(const fs::directory_entry &e) {
   const std::string name = e.path().filename().string();
-  return e.is_regular_file() && !name.starts_with(".") && e.path().extension() == ".ptsb";
+  return !name.starts_with(".") && e.path().extension() == ".ptsb";
 }
-
-}  // namespace
-
-namespace {
 
 // A settings description without what a nested entry may differ in: N, the
 // prefix sizes and the bank term's group size (which follows N).
@@ -84,14 +73,26 @@ std::string withoutSize(const std::string &describe) {
 
 }  // namespace
 
+fs::path SetCache::entry(const Target &target, const OptimizerSettings &settings) const {
+  // The key decides; the readable part is the name of whoever made the
+  // entry first (a map's file stem may differ under another root).
+  const std::string key = setCacheKey(target, settings);
+  const std::string suffix = "_n" + std::to_string(settings.n) + "_" + key + ".ptsb";
+  for (const auto &e : filesIn(setsDir()))
+    if (isEntry(e) && e.path().filename().string().ends_with(suffix)) return e.path();
+  std::string slug = shortSpec(target.spec());
+  for (char &c : slug)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '-') c = '_';
+  if (slug.size() > 48) slug.resize(48);
+  return setsDir() / (slug + suffix);
+}
+
 fs::path SetCache::findNested(const Target &target, const OptimizerSettings &settings,
                               std::size_t spp) const {
   const std::string want = withoutSize(settings.describe()), hash = target.contentHash();
   fs::path best;
   std::size_t bestN = 0;
-  std::error_code ec;
-  if (!fs::is_directory(setsDir(), ec)) return best;
-  for (const auto &e : fs::directory_iterator(setsDir(), ec)) {
+  for (const auto &e : filesIn(setsDir())) {
     if (!isEntry(e)) continue;
     try {
       const PointSet set = readPointSet(e.path().string());
@@ -110,8 +111,7 @@ fs::path SetCache::findNested(const Target &target, const OptimizerSettings &set
 std::vector<SetCache::Entry> SetCache::list() const {
   std::vector<Entry> out;
   std::error_code ec;
-  if (!fs::is_directory(setsDir(), ec)) return out;
-  for (const auto &e : fs::directory_iterator(setsDir(), ec)) {
+  for (const auto &e : filesIn(setsDir())) {
     if (!isEntry(e)) continue;
     Entry entry{e.path(), e.file_size(ec), "", 0, 0, 0};
     try {
@@ -133,21 +133,17 @@ std::vector<SetCache::Entry> SetCache::list() const {
 std::uintmax_t SetCache::bytes() const {
   std::uintmax_t total = 0;
   std::error_code ec;
-  if (!fs::is_directory(setsDir(), ec)) return 0;
-  for (const auto &e : fs::directory_iterator(setsDir(), ec))
-    if (e.is_regular_file(ec)) total += e.file_size(ec);
+  for (const auto &e : filesIn(setsDir())) total += e.file_size(ec);
   return total;
 }
 
 std::uintmax_t SetCache::clear() const {
   std::uintmax_t freed = 0;
   std::error_code ec;
-  if (!fs::is_directory(setsDir(), ec)) return 0;
-  for (const auto &e : fs::directory_iterator(setsDir(), ec))
-    if (e.is_regular_file(ec)) {
-      const std::uintmax_t size = e.file_size(ec);
-      if (fs::remove(e.path(), ec)) freed += size;
-    }
+  for (const auto &e : filesIn(setsDir())) {
+    const std::uintmax_t size = e.file_size(ec);
+    if (fs::remove(e.path(), ec)) freed += size;
+  }
   return freed;
 }
 
