@@ -22,113 +22,15 @@
 #include "tools/study/equal_time.h"
 #include "tools/study/optimized_sets.h"
 #include "tools/study/ranks.h"
-#include "tools/study/set_cache.h"
 #include "tools/study/statistics.h"
 #include "tools/study/stopwatch.h"
+#include "tools/study/study_backends.h"
 
 namespace nuld::study {
 
 namespace fs = std::filesystem;
 
 namespace {
-
-// What a study backend needs at one spp: the renderer's backend, which reads
-// the sets the jobs make. No spec when the scene cannot use the backend
-// (reason in `why`).
-struct BackendPlan {
-  std::optional<BackendSpec> spec;
-  std::vector<SetsJob> sets;
-  std::string why;
-};
-
-BackendPlan planBackend(const StudyBackend &backend, const Scene &scene, const LobeTables *tables,
-                        const std::vector<const Target *> &lobeTargets,
-                        const std::string &sceneSlug, std::size_t spp,
-                        const RenderStudySettings &s) {
-  using Sets = StudyBackend::Sets;
-  if (backend.sets == Sets::None) return {backend.renderer, {}, ""};
-  OptimizedSetsRequest request;
-  request.n = spp;
-  request.instances = s.optimizedInstances;
-  request.epochs = s.optimizedEpochs;
-  request.seed = s.seed;
-  const std::string task = sceneSlug + ": " + backend.word + " N=" + std::to_string(spp) +
-                           (s.optimizedNested ? " (nested)" : "");
-  const SetCache cache = s.cacheDir.empty() ? SetCache::fromEnvironment() : SetCache(s.cacheDir);
-  std::vector<std::string> paths;
-  BackendPlan plan;
-  // The sets' backend: every file and directory of `paths`, shifted in
-  // primary space for a +shift word.
-  const auto banks = [&] {
-    std::string argument;
-    for (std::size_t i = 0; i < paths.size(); ++i) argument += (i ? "," : "") + paths[i];
-    return BackendSpec{backend.shifted ? BackendKind::Shifted : BackendKind::Optimized, argument};
-  };
-  // The sets of one target: with --opt-nested one nested bank of the
-  // largest spp whose prefixes are the other spp (or any nested bank in the
-  // cache that holds at least this spp: no set to make); else a bank of spp
-  // points.
-  const std::size_t largest = *std::max_element(s.spp.begin(), s.spp.end());
-  const auto addSets = [&](const Target &target, OptimizedSetsRequest r, const std::string &label) {
-    if (s.optimizedNested) {
-      r.n = largest;
-      for (std::size_t m : s.spp)
-        if (m < largest) r.nested.push_back(m);
-      std::sort(r.nested.begin(), r.nested.end());
-      r.nested.erase(std::unique(r.nested.begin(), r.nested.end()), r.nested.end());
-      if (const fs::path found = cache.findNested(target, optimizerSettings(target, r), spp);
-          !found.empty()) {
-        paths.push_back(found.string());
-        return;
-      }
-    }
-    const fs::path file = cache.entry(target, optimizerSettings(target, r));
-    plan.sets.push_back({&target, r, file, label});
-    paths.push_back(file.string());
-  };
-
-  if (backend.sets == Sets::Uniform) {
-    // Sets for the periodic L2 discrepancy: a Cranley-Patterson shift, which
-    // the backend applies per pixel and pair, leaves it unchanged, so every
-    // shifted set is as good as the optimized one (sets for the plain L2
-    // discrepancy lose their quality under the shift).
-    static const auto uniform = makeTarget("uniform");
-    request.objective = Objective::PeriodicL2;
-    addSets(*uniform, request, task);
-    plan.spec = banks();
-    return plan;
-  }
-  if (backend.sets == Sets::EnvMap || backend.sets == Sets::EnvMapAndLobes) {
-    if (!scene.environment || !scene.environment->target())
-      return {std::nullopt, {}, "the scene has no (non-black) environment map to optimize for"};
-    addSets(*scene.environment->target(), request, task);
-  }
-  if (backend.makesLobeSets()) {
-    // A bank per lobe table the renderer will build for this scene (the same
-    // settings give the same specs), optimized for the exact L2asd
-    // objective: as good as the sphere preset's soft boxes for these targets
-    // at 1/30 to 1/100 of the time (tools/experiments/lobe_banks_log.md).
-    if (!tables || tables->materials() == 0)
-      return {std::nullopt, {}, "the scene has no Disney material to optimize lobe sets for"};
-    request.objective = Objective::ExactL2asd;
-    request.unionWeight = s.lobeUnionWeight;
-    request.epochs = s.lobeBankEpochs();
-    const auto &targets = lobeTargets;  // the tabulated bins first hits take
-    // No bin whose route is the table: every BSDF sample keeps the
-    // material's sampler, and the bank backend's fallback is Owen-Sobol with
-    // the same seed, so the row is sobol's (or the map sets') bit for bit.
-    if (targets.empty()) {
-      plan.spec = paths.empty() ? BackendSpec{BackendKind::Sobol, ""} : banks();
-      return plan;
-    }
-    // One entry per lobe table, each named to the backend.
-    for (std::size_t k = 0; k < targets.size(); ++k)
-      addSets(*targets[k], request,
-              task + " lobe " + std::to_string(k + 1) + "/" + std::to_string(targets.size()));
-  }
-  plan.spec = banks();
-  return plan;
-}
 
 ReferenceSettings referenceFor(const RenderStudySettings &s, const RenderSettings &render) {
   ReferenceSettings r = s.reference;
@@ -255,42 +157,6 @@ CellOutcome renderCell(
 }
 
 }  // namespace
-
-const std::vector<StudyBackendDescription> &studyBackendDescriptions() {
-  using Sets = StudyBackend::Sets;
-  static const std::vector<StudyBackendDescription> list{
-      {"optimized", "sets optimized for the scene's environment map (light samples)", Sets::EnvMap},
-      {"optimized-uniform", "uniform sets for the periodic L2 discrepancy (primary samples)",
-       Sets::Uniform},
-      {"optimized-bsdf", "lobe banks for the scene's Disney materials (BSDF samples)", Sets::Lobes},
-      {"optimized-both", "optimized and optimized-bsdf together", Sets::EnvMapAndLobes},
-  };
-  return list;
-}
-
-StudyBackend parseStudyBackend(const std::string &word) {
-  // A study word may carry the suffix "+shift": its non-uniform sets are
-  // then randomized in primary space (the renderer's shifted:PATHS).
-  constexpr std::string_view kShift = "+shift";
-  StudyBackend b;
-  b.word = word;
-  std::string base = word;
-  if (base.size() > kShift.size() && base.ends_with(kShift)) {
-    base.resize(base.size() - kShift.size());
-    b.shifted = true;
-  }
-  for (const StudyBackendDescription &d : studyBackendDescriptions())
-    if (base == d.spelling) {
-      b.sets = d.sets;
-      return b;
-    }
-  if (b.shifted)
-    throw std::invalid_argument("--backends: '" + word +
-                                "': +shift applies to the study's own sets (optimized, "
-                                "optimized-uniform, optimized-bsdf, optimized-both) only");
-  b.renderer = parseBackend(word);
-  return b;
-}
 
 const std::vector<std::string> &renderStudyColumns() {
   static const std::vector<std::string> columns{"scene",
@@ -433,52 +299,6 @@ bool samplesLobes(const StudyBackend &b) {
   if (b.sets != StudyBackend::Sets::None) return b.makesLobeSets();
   // A file's banks or a model may or may not sample lobes: asked.
   return b.renderer.entry().lobes && makeBackend(b.renderer, 0)->samplesLobes();
-}
-
-// A bank costs seconds of optimization; a bin that fewer than this share of
-// camera rays' first hits take adds too little to the image's error to
-// deserve one (its samples fall back to Owen-Sobol through the table).
-constexpr double kMinBinShare = 1e-3;
-
-// The tabulated bins whose lobes get banks: those that at least kMinBinShare
-// of the camera rays' first hits take (a 2 x 2 grid per pixel at the render's
-// resolution; primary rays only, a fraction of a render's time), and a note
-// naming the others.
-struct VisitedBins {
-  std::vector<const Target *> targets;
-  std::string note;
-};
-VisitedBins visitedBins(const Scene &scene, const RenderSettings &settings,
-                        const LobeTables &tables, const std::string &slug) {
-  VisitedBins out;
-  const LobeVisits visits = lobeTableVisits(scene, tables, settings.width, settings.height);
-  const std::vector<const Target *> all = tables.targets();
-  std::vector<const LobeBinRoute *> served;  // the routes of `all`, in order
-  for (const LobeBinRoute &r : tables.routes())
-    if (r.table) served.push_back(&r);
-  std::string skipped;
-  std::size_t unseen = 0, rare = 0;
-  for (std::size_t k = 0; k < all.size(); ++k) {
-    const auto it = visits.rays.find(all[k]);
-    const std::size_t rays = it == visits.rays.end() ? 0 : it->second;
-    if (double(rays) >= kMinBinShare * double(visits.total)) {
-      out.targets.push_back(all[k]);
-      continue;
-    }
-    ++(rays ? rare : unseen);
-    char bin[96];
-    std::snprintf(bin, sizeof bin, "%smaterial %zu at %.0f/%.0f deg (%zu rays)",
-                  skipped.empty() ? "" : ", ", served[k]->material, served[k]->thetaDegrees,
-                  served[k]->phiDegrees, rays);
-    skipped += bin;
-  }
-  if (unseen + rare > 0)
-    out.note = slug + ": lobe banks for " + std::to_string(out.targets.size()) + " of " +
-               std::to_string(all.size()) + " tabulated bins; " + std::to_string(unseen) +
-               " no camera ray's first hit takes and " + std::to_string(rare) +
-               " fewer than 0.1 % of " + std::to_string(visits.total) + " do (" + skipped +
-               "): they sample Owen-Sobol through the table";
-  return out;
 }
 
 ScenePlan planScene(const SceneStudy &scene, const CsvTable &table, const RenderStudySettings &s) {
@@ -632,47 +452,6 @@ RenderStudyResult runRenderStudy(const RenderStudySettings &s, const StudyProgre
   // Rows kept from an earlier run take this run's K too.
   if (ranks.root() && !table.rows().empty()) fillEqualTime(table, s.amortize);
   return result;
-}
-
-PreparedBackend prepareStudyBackend(const StudyBackend &backend, const Scene &scene,
-                                    const RenderSettings &settings, const std::string &sceneName,
-                                    const RenderStudySettings &options,
-                                    const StudyProgress &progress) {
-  PreparedBackend out;
-  if (backend.sets == StudyBackend::Sets::None) {
-    out.spec = backend.renderer;
-    return out;
-  }
-  const auto start = Clock::now();
-  std::shared_ptr<const LobeTables> tables;
-  std::vector<const Target *> lobeTargets;
-  if (backend.makesLobeSets() && settings.integrator != IntegratorKind::Light) {
-    tables = scene.lobeTables->get(scene.materials, lobeTablesFor(settings));
-    VisitedBins bins = visitedBins(scene, settings, *tables, sceneName);
-    lobeTargets = std::move(bins.targets);
-    out.note = std::move(bins.note);
-  }
-  RenderStudySettings s = options;
-  s.spp = {settings.spp};
-  const BackendPlan plan =
-      planBackend(backend, scene, tables.get(), lobeTargets, sceneName, settings.spp, s);
-  if (!plan.spec) throw std::invalid_argument("backend '" + backend.word + "': " + plan.why);
-  out.spec = *plan.spec;
-  const std::vector<SetsJob> made = makeMissingSets(
-      Ranks::world(), plan.sets,
-      [&](std::size_t done, std::size_t total, const SetsJob &job, int e, int n, double loss) {
-        if (progress)
-          progress("optimize sets", (double(done) + double(e) / n) / double(total),
-                   job.label + ": loss " + formatNumber(loss));
-      });
-  out.setsMade = made.size();
-  out.setsCached = plan.sets.size() - std::min(plan.sets.size(), made.size());
-  for (const SetsJob &job : plan.sets)
-    out.sets.push_back({job.file.string(), shortSpec(job.target->spec()),
-                        std::any_of(made.begin(), made.end(),
-                                    [&](const SetsJob &m) { return m.file == job.file; })});
-  out.setupSeconds = made.empty() ? 0.0 : secondsSince(start);
-  return out;
 }
 
 }  // namespace nuld::study

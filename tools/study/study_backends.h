@@ -1,0 +1,46 @@
+#pragma once
+// What a study backend word means and needs (the render study's planning,
+// shared with prepareStudyBackend for one render): the sets each word makes
+// for a scene at one spp, and the lobe bins worth a bank. Internal to
+// tools/study; render_study.h has the public face.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "renderer/backend_registry.h"
+#include "renderer/lobe_tables.h"
+#include "renderer/scene.h"
+#include "tools/study/optimized_sets.h"
+#include "tools/study/render_study.h"
+
+namespace nuld::study {
+
+// What a study backend needs at one spp: the renderer's backend, which reads
+// the sets the jobs make. No spec when the scene cannot use the backend
+// (reason in `why`).
+struct BackendPlan {
+  std::optional<BackendSpec> spec;
+  std::vector<SetsJob> sets;
+  std::string why;
+};
+
+// The plan of `backend` for the scene at `spp`, its sets in the set cache
+// (made or found there); lobe banks for `lobeTargets` only.
+BackendPlan planBackend(const StudyBackend &backend, const Scene &scene, const LobeTables *tables,
+                        const std::vector<const Target *> &lobeTargets,
+                        const std::string &sceneSlug, std::size_t spp,
+                        const RenderStudySettings &s);
+
+// The tabulated bins whose lobes get banks: those that at least a minimum share
+// of the camera rays' first hits take (a 2 x 2 grid per pixel at the render's
+// resolution; primary rays only, a fraction of a render's time), and a note
+// naming the others.
+struct VisitedBins {
+  std::vector<const Target *> targets;
+  std::string note;
+};
+VisitedBins visitedBins(const Scene &scene, const RenderSettings &settings,
+                        const LobeTables &tables, const std::string &slug);
+
+}  // namespace nuld::study
