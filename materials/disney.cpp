@@ -191,6 +191,21 @@ std::optional<Vec3> DisneyBrdf::sampleLobe(int k, Vec3 wo, Point2 u) const {
   return std::nullopt;
 }
 
+Point2 DisneyBrdf::primaryUnderSymmetry(Point2 u, double turns, bool flipX, bool flipY) const {
+  const int k = std::min(int(std::clamp(u.x, 0.0, 1.0) * lobeCount_), lobeCount_ - 1);
+  double y = u.y;
+  if (lobe(k) == DisneyLobe::Specular) {
+    // phi -> pi - phi about (t1, t2) for one mirror; both: the identity.
+    if (flipX != flipY) y = 0.5 - y;
+  } else {
+    if (flipX) y = 0.5 - y;  // phi -> pi - phi
+    if (flipY) y = -y;       // phi -> -phi
+    y += turns;
+  }
+  y -= std::floor(y);
+  return {u.x, y < 1 ? y : 0.0};  // a tiny negative y rounds to 1 above: the same azimuth as 0
+}
+
 std::optional<BsdfSample> DisneyBrdf::sample(Vec3 wo, Point2 u) const {
   if (!(wo.z > 0)) return std::nullopt;
   // The supplement's mapping: u.x chooses the lobe and, rescaled, stays the

@@ -73,6 +73,19 @@ class DisneyBrdf final : public Bsdf {
   // A direction from lobe k alone; nullopt when it points below the surface.
   std::optional<Vec3> sampleLobe(int k, Vec3 wo, Point2 u) const;
 
+  // The primary point u' with sample(S wo, u') = S sample(wo, u), for S a
+  // symmetry of f that moves the view: the mirrors x -> -x (flipX) and
+  // y -> -y (flipY), then the rotation about the normal by `turns` (for an
+  // isotropic material only; f is unchanged under it). A table of sample()'s
+  // primary space made at one view then serves every view S wo (renderer/
+  // lobe_tables.h). The map only moves u.y, the azimuth every lobe's warp
+  // draws (a shift or a reflection mod 1), so it preserves area: u' is
+  // uniform where u is. The diffuse, subsurface and clear-coat warps draw
+  // the azimuth in the shading frame, which S moves; the visible-normal warp
+  // draws it about the stretched view, so a rotation leaves it in place and
+  // either mirror reflects it about that frame's first axis.
+  Point2 primaryUnderSymmetry(Point2 u, double turns, bool flipX, bool flipY) const;
+
  private:
   // The angles every lobe reads, for wo and wi above the surface.
   struct Geometry {

@@ -41,7 +41,7 @@ constexpr std::array<ParamKey, 10> kParamKeys{{
 }};
 constexpr const char *kKnownKeys =
     "basecolor, metallic, subsurface, specular, roughness, speculartint, anisotropic, sheen, "
-    "sheentint, clearcoat, clearcoatgloss, theta, phi, res, rows, mix";
+    "sheentint, clearcoat, clearcoatgloss, theta, phi, res, rows, mix, space";
 
 class ArgsParser {
  public:
@@ -140,6 +140,11 @@ DisneyTargetSpec parseDisneyTargetArgs(const std::string &args) {
       out.phiCells = parser.cells(key, value, 2);
     } else if (key == "mix") {
       out.samplingMix = parser.inRange(key, value, 0, 1, false, "a number in [0, 1]");
+    } else if (key == "space") {
+      const auto space = kLobeSpaceNames.find(value);
+      if (!space)
+        parser.fail("space = " + value + " (expected " + kLobeSpaceNames.expected() + ")");
+      out.space = *space;
     } else if (key == "rows") {
       out.thetaRows = parser.cells(key, value, 1);
       rowsGiven = true;
@@ -151,7 +156,7 @@ DisneyTargetSpec parseDisneyTargetArgs(const std::string &args) {
       out.params.*(it->field) = parser.inRange(key, value, 0, 1, false, "a number in [0, 1]");
     }
   }
-  if (!rowsGiven) out.thetaRows = std::max(1, out.phiCells / 2);
+  if (!rowsGiven) out.thetaRows = out.defaultRows();
   return out;
 }
 
@@ -172,23 +177,28 @@ std::string toSpec(const DisneyTargetSpec &s) {
   if (s.thetaDegrees != d.thetaDegrees) add("theta", formatRoundTrip(s.thetaDegrees));
   if (s.phiDegrees != d.phiDegrees) add("phi", formatRoundTrip(s.phiDegrees));
   if (s.phiCells != d.phiCells) add("res", std::to_string(s.phiCells));
-  if (s.thetaRows != std::max(1, s.phiCells / 2)) add("rows", std::to_string(s.thetaRows));
+  if (s.thetaRows != s.defaultRows()) add("rows", std::to_string(s.thetaRows));
   if (s.samplingMix != d.samplingMix) add("mix", formatRoundTrip(s.samplingMix));
+  if (s.space != d.space) add("space", toString(s.space));
   return args.empty() ? "disney" : "disney:" + args;
 }
 
 namespace {
 
+void checkTableArgs(int cols, int rows, Vec3 wo, const std::string &name) {
+  if (!(cols >= 1 && rows >= 1 && cols <= kMaxCells && rows <= kMaxCells))
+    throw std::invalid_argument("target '" + name + "': expected 1 to " +
+                                std::to_string(kMaxCells) + " cells per axis, got " +
+                                std::to_string(cols) + " x " + std::to_string(rows));
+  if (!isFinite(wo) || !(wo.z > 0))
+    throw std::invalid_argument("target '" + name + "': wo must point above the surface");
+}
+
 // f(wo, .) cos tabulated on the layout described in the header; `name` is
 // the spec the target reports.
 std::unique_ptr<GridTarget> tabulate(const DisneyParams &params, Vec3 wo, int phiCells,
                                      int thetaRows, double samplingMix, const std::string &name) {
-  if (!(phiCells >= 1 && thetaRows >= 1 && phiCells <= kMaxCells && thetaRows <= kMaxCells))
-    throw std::invalid_argument("target '" + name + "': expected 1 to " +
-                                std::to_string(kMaxCells) + " cells per axis, got " +
-                                std::to_string(phiCells) + " x " + std::to_string(thetaRows));
-  if (!isFinite(wo) || !(wo.z > 0))
-    throw std::invalid_argument("target '" + name + "': wo must point above the surface");
+  checkTableArgs(phiCells, thetaRows, wo, name);
   wo = normalize(wo);
   const DisneyBrdf brdf(params);
 
@@ -229,6 +239,73 @@ std::unique_ptr<GridTarget> tabulate(const DisneyParams &params, Vec3 wo, int ph
                                       Domain::Hemisphere, "target '" + name + "'");
 }
 
+// w(u) = luminance(f) cos / p at wi = sample(wo, u) on a uniform grid over
+// the primary square (LobeSpace::Primary), each cell the average over 4 x 4
+// sub-cell midpoints, with the lobes' stripes weighted by samplingMix.
+std::unique_ptr<GridTarget> tabulatePrimary(const DisneyParams &params, Vec3 wo, int cols, int rows,
+                                            double samplingMix, const std::string &name) {
+  checkTableArgs(cols, rows, wo, name);
+  wo = normalize(wo);
+  const DisneyBrdf brdf(params);
+  std::vector<double> xEdges = GridTarget::uniformEdges(cols),
+                      yEdges = GridTarget::uniformEdges(rows);
+  std::vector<double> density(std::size_t(cols) * rows, 0.0);
+  tbb::parallel_for(0, rows, [&](int j) {
+    for (int i = 0; i < cols; ++i) {
+      double sum = 0;
+      for (int sj = 0; sj < kSubSamples; ++sj)
+        for (int si = 0; si < kSubSamples; ++si) {
+          const Point2 u{(i + (si + 0.5) / kSubSamples) / cols,
+                         (j + (sj + 0.5) / kSubSamples) / rows};
+          const auto s = brdf.sample(wo, u);
+          if (s && s->wi.z > 0 && s->pdf > 0) sum += s->f.luminance() * s->wi.z / s->pdf;
+        }
+      density[std::size_t(j) * cols + i] = sum / (kSubSamples * kSubSamples);
+    }
+  });
+  // The stripes of u.x that pick each lobe (DisneyBrdf::sample): stripe k
+  // gets the mass (1 - mix) w_k + mix max(w_k, own_k / lobes), renormalized,
+  // w_k its share of w's mass and own_k 1 if lobe k is a term of this
+  // material's f (else 0: a metal's diffuse stripes, whose points carry
+  // only what they see of the specular lobe). Inside a stripe the density
+  // follows w. A cell belongs to the stripe of its centre (the renderer's
+  // tables align their columns with the stripes).
+  const int lobes = brdf.lobeCount();
+  std::vector<double> stripeMass(lobes, 0.0), ownValue(lobes, 0.0);
+  const auto stripeOf = [&](int i) { return std::min(int((i + 0.5) / cols * lobes), lobes - 1); };
+  for (int j = 0; j < rows; ++j)
+    for (int i = 0; i < cols; ++i) stripeMass[stripeOf(i)] += density[std::size_t(j) * cols + i];
+  for (int k = 0; k < lobes; ++k)  // lobe k's own term at a few of its own directions
+    for (int q = 0; q < 16 && ownValue[k] == 0; ++q)
+      if (const auto wi = brdf.sampleLobe(k, wo, {(q % 4 + 0.5) / 4, (q / 4 + 0.5) / 4}))
+        ownValue[k] = brdf.evalLobe(k, wo, *wi).luminance();
+  double total = 0;
+  for (const double m : stripeMass) total += m;
+  if (!(total > 0)) {  // a view so grazing that nothing reflects: the warp alone
+    std::fill(density.begin(), density.end(), 1.0);
+  } else {
+    std::vector<double> want(lobes);
+    double wantTotal = 0;
+    for (int k = 0; k < lobes; ++k) {
+      const double share = stripeMass[k] / total;
+      want[k] = (1 - samplingMix) * share +
+                samplingMix * std::max(share, ownValue[k] > 0 ? 1.0 / lobes : 0.0);
+      wantTotal += want[k];
+    }
+    std::vector<int> stripeCells(lobes, 0);
+    for (int i = 0; i < cols; ++i) stripeCells[stripeOf(i)] += rows;
+    for (int j = 0; j < rows; ++j)
+      for (int i = 0; i < cols; ++i) {
+        const int k = stripeOf(i);
+        double &d = density[std::size_t(j) * cols + i];
+        // A stripe where w vanishes keeps its share uniformly.
+        d = want[k] / wantTotal * (stripeMass[k] > 0 ? d / stripeMass[k] : 1.0 / stripeCells[k]);
+      }
+  }
+  return std::make_unique<GridTarget>(std::move(xEdges), std::move(yEdges), density, name,
+                                      Domain::Square, "target '" + name + "'");
+}
+
 }  // namespace
 
 std::unique_ptr<GridTarget> makeDisneyTarget(const DisneyParams &params, Vec3 wo, int phiCells,
@@ -243,6 +320,9 @@ std::unique_ptr<GridTarget> makeDisneyTarget(const DisneyParams &params, Vec3 wo
 }
 
 std::unique_ptr<GridTarget> makeDisneyTarget(const DisneyTargetSpec &spec) {
+  if (spec.space == LobeSpace::Primary)
+    return tabulatePrimary(spec.params, spec.wo(), spec.phiCells, spec.thetaRows, spec.samplingMix,
+                           toSpec(spec));
   return tabulate(spec.params, spec.wo(), spec.phiCells, spec.thetaRows, spec.samplingMix,
                   toSpec(spec));
 }
@@ -275,7 +355,9 @@ class DisneyFamily final : public TargetFamily {
     return "family:" + s;
   }
   std::size_t gammaDimension() const override { return 2; }
-  Domain domain() const override { return Domain::Hemisphere; }
+  Domain domain() const override {
+    return base_.space == LobeSpace::Primary ? Domain::Square : Domain::Hemisphere;
+  }
   std::shared_ptr<const Target> target(std::span<const double> gamma) const override {
     checkGamma(*this, gamma);
     DisneyTargetSpec s = base_;
@@ -291,28 +373,149 @@ class DisneyFamily final : public TargetFamily {
 
 }  // namespace
 
-std::optional<std::array<double, 2>> disneyFamilyGamma(const std::string &familySpec,
-                                                       const std::string &targetSpec) {
-  // The part after `disney` (with its colon) of a spec that starts with PREFIX.
-  const auto argsAfter = [](const std::string &spec,
-                            const std::string &prefix) -> std::optional<std::string> {
-    if (spec == prefix) return std::string();
-    if (spec.rfind(prefix + ":", 0) != 0) return std::nullopt;
-    return spec.substr(prefix.size() + 1);
-  };
-  const auto familyArgs = argsAfter(familySpec, "family:disney");
+namespace {
+
+// The part after PREFIX (and its colon) of a spec that starts with PREFIX.
+std::optional<std::string> argsAfter(const std::string &spec, const std::string &prefix) {
+  if (spec == prefix) return std::string();
+  if (spec.rfind(prefix + ":", 0) != 0) return std::nullopt;
+  return spec.substr(prefix.size() + 1);
+}
+
+}  // namespace
+
+std::optional<std::vector<double>> disneyFamilyGamma(const std::string &familySpec,
+                                                     const std::string &targetSpec) {
   const auto targetArgs = argsAfter(targetSpec, "disney");
-  if (!familyArgs || !targetArgs) return std::nullopt;
+  if (!targetArgs) return std::nullopt;
   try {
-    const DisneyTargetSpec base = parseDisneyTargetArgs(*familyArgs);
     const DisneyTargetSpec t = parseDisneyTargetArgs(*targetArgs);
-    if (!(t.params == base.params) || t.phiCells != base.phiCells ||
-        t.thetaRows != base.thetaRows || t.samplingMix != base.samplingMix)
-      return std::nullopt;
-    return invertDisneyFamilyView({t.thetaDegrees, t.phiDegrees});
+    const auto sameLayout = [&](const DisneyTargetSpec &base) {
+      return t.phiCells == base.phiCells && t.thetaRows == base.thetaRows &&
+             t.samplingMix == base.samplingMix && t.space == base.space;
+    };
+    if (const auto familyArgs = argsAfter(familySpec, "family:disney-material")) {
+      const DisneyTargetSpec base = parseDisneyTargetArgs(*familyArgs);
+      if (!sameLayout(base)) return std::nullopt;
+      return invertDisneyMaterialGamma(t);
+    }
+    const auto familyArgs = argsAfter(familySpec, "family:disney");
+    if (!familyArgs) return std::nullopt;
+    const DisneyTargetSpec base = parseDisneyTargetArgs(*familyArgs);
+    if (!(t.params == base.params) || !sameLayout(base)) return std::nullopt;
+    const auto view = invertDisneyFamilyView({t.thetaDegrees, t.phiDegrees});
+    if (!view) return std::nullopt;
+    return std::vector<double>{(*view)[0], (*view)[1]};
   } catch (const std::invalid_argument &) {
     return std::nullopt;  // not a spec this family could have made
   }
+}
+
+// ---------------------------------------------------- family:disney-material
+
+namespace {
+
+// How gamma entry k maps to a parameter in [0, 1]: linear, or with a flat
+// stretch at 0 (and at 1) of width `flat` that puts that much of the
+// uniformly drawn gammas on the value (scenes leave a clear coat, sheen,
+// subsurface, anisotropy and the tints at 0 and make materials metallic 0 or
+// 1 far more often than anything between).
+struct GammaAxis {
+  double DisneyParams::*field = nullptr;  // null: a base colour channel
+  int channel = 0;
+  double flatLow = 0, flatHigh = 0;
+
+  double value(double g) const {
+    return std::clamp((g - flatLow) / (1 - flatLow - flatHigh), 0.0, 1.0);
+  }
+  // The gamma of a value: the middle of a flat stretch for its end values.
+  double gamma(double v) const {
+    if (v <= 0 && flatLow > 0) return flatLow / 2;
+    if (v >= 1 && flatHigh > 0) return 1 - flatHigh / 2;
+    return flatLow + v * (1 - flatLow - flatHigh);
+  }
+};
+
+// gamma = (theta / 89 degrees, phi / 360 degrees, then these).
+const std::array<GammaAxis, 13> kMaterialAxes{{
+    {nullptr, 0},
+    {nullptr, 1},
+    {nullptr, 2},
+    {&DisneyParams::metallic, 0, 0.25, 0.25},
+    {&DisneyParams::subsurface, 0, 0.5},
+    {&DisneyParams::specular},
+    {&DisneyParams::roughness},
+    {&DisneyParams::specularTint, 0, 0.5},
+    {&DisneyParams::anisotropic, 0, 0.5},
+    {&DisneyParams::sheen, 0, 0.5},
+    {&DisneyParams::sheenTint, 0, 0.5},
+    {&DisneyParams::clearcoat, 0, 0.5},
+    {&DisneyParams::clearcoatGloss},
+}};
+
+double &channel(Rgb &c, int k) { return k == 0 ? c.r : k == 1 ? c.g : c.b; }
+
+// gamma = the view and every material parameter (kMaterialAxes); ARGS give
+// the table's layout only (res, rows, mix, space).
+class DisneyMaterialFamily final : public TargetFamily {
+ public:
+  explicit DisneyMaterialFamily(const std::string &args) : base_(parseDisneyTargetArgs(args)) {
+    DisneyTargetSpec layout;
+    layout.phiCells = base_.phiCells;
+    layout.thetaRows = base_.thetaRows;
+    layout.samplingMix = base_.samplingMix;
+    layout.space = base_.space;
+    if (toSpec(layout) != toSpec(base_))
+      throw std::invalid_argument("target family 'family:disney-material:" + args +
+                                  "': the view and the material are its gamma; its keys are the "
+                                  "table's layout only (res, rows, mix, space)");
+  }
+  std::string spec() const override {
+    const std::string s = toSpec(base_);  // "disney" or "disney:ARGS"
+    return "family:disney-material" + s.substr(std::string("disney").size());
+  }
+  std::size_t gammaDimension() const override { return 2 + kMaterialAxes.size(); }
+  Domain domain() const override {
+    return base_.space == LobeSpace::Primary ? Domain::Square : Domain::Hemisphere;
+  }
+  std::shared_ptr<const Target> target(std::span<const double> gamma) const override {
+    checkGamma(*this, gamma);
+    return makeDisneyTarget(disneyMaterialSpec(base_, gamma));
+  }
+
+ private:
+  DisneyTargetSpec base_;
+};
+
+}  // namespace
+
+DisneyTargetSpec disneyMaterialSpec(const DisneyTargetSpec &layout, std::span<const double> gamma) {
+  if (gamma.size() != kDisneyMaterialGammaDimension)
+    throw std::invalid_argument("family:disney-material: gamma needs " +
+                                std::to_string(kDisneyMaterialGammaDimension) + " entries");
+  DisneyTargetSpec s = layout;
+  const DisneyView view = disneyFamilyView({gamma[0], gamma[1]});
+  s.thetaDegrees = view.thetaDegrees;
+  s.phiDegrees = view.phiDegrees;
+  for (std::size_t k = 0; k < kMaterialAxes.size(); ++k) {
+    const GammaAxis &a = kMaterialAxes[k];
+    const double v = a.value(gamma[2 + k]);
+    if (a.field)
+      s.params.*(a.field) = v;
+    else
+      channel(s.params.baseColor, a.channel) = v;
+  }
+  return s;
+}
+
+std::optional<std::vector<double>> invertDisneyMaterialGamma(const DisneyTargetSpec &spec) {
+  const auto view = invertDisneyFamilyView({spec.thetaDegrees, spec.phiDegrees});
+  if (!view) return std::nullopt;
+  std::vector<double> g{(*view)[0], (*view)[1]};
+  Rgb colour = spec.params.baseColor;
+  for (const GammaAxis &a : kMaterialAxes)
+    g.push_back(a.gamma(a.field ? spec.params.*(a.field) : channel(colour, a.channel)));
+  return g;
 }
 
 void registerMaterialTargets() {
@@ -325,8 +528,9 @@ void registerMaterialTargets() {
       std::string("a Disney BRDF lobe f cos on the hemisphere at the view (theta, phi) in "
                   "degrees, tabulated; keys: ") +
           kKnownKeys +
-          " (mix: the share of the material's own sampling pdf); plain `disney` "
-          "is the supplement's instance at theta 45");
+          " (mix: the share of the material's own sampling pdf; space: sphere, or primary for "
+          "the lobe pulled back to the primary square of the material's own sampling warp); "
+          "plain `disney` is the supplement's instance at theta 45");
   registerTargetFamily(
       "disney",
       [](const std::string &args) -> std::unique_ptr<TargetFamily> {
@@ -334,6 +538,16 @@ void registerMaterialTargets() {
       },
       "family:disney[:KEY=VALUE,...]",
       "gamma = (theta / 89 degrees, phi / 360 degrees) of the view; the other keys as disney");
+  registerTargetFamily(
+      "disney-material",
+      [](const std::string &args) -> std::unique_ptr<TargetFamily> {
+        return std::make_unique<DisneyMaterialFamily>(args);
+      },
+      "family:disney-material[:res=..,rows=..,mix=..,space=..]",
+      "gamma = the view (as family:disney), then base colour r, g, b, metallic, subsurface, "
+      "specular, roughness, speculartint, anisotropic, sheen, sheentint, clearcoat, "
+      "clearcoatgloss; metallic is 0 or 1, and subsurface, the tints, anisotropic, sheen and "
+      "clearcoat 0, over flat stretches of gamma (materials/disney_target.h)");
 }
 
 }  // namespace nuld

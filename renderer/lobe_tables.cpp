@@ -8,6 +8,7 @@
 
 #include "materials/disney_target.h"
 #include "materials/sphere_map.h"
+#include "materials/turns.h"
 #include "renderer/padding.h"
 #include "sampler/sequences/rng.h"
 #include "sampler/sequences/sequence.h"
@@ -38,10 +39,11 @@ double smoothLight(int k, Vec3 wi) {
 // classic route (the material's sample()) and of `lobe`'s route, both fed
 // the same Owen-Sobol points as the sobol-tabulated backend feeds them.
 struct RouteVariances {
-  double classic = 0, table = 0;
+  double classic = 0, table = 0, primary = 0;
 };
-RouteVariances measureAt(const DisneyBrdf &m, Vec3 wo, const LobeFrame &lobe, std::uint64_t seed) {
-  std::array<std::array<double, kMeasureRepeats>, kLights> classic{}, table{};
+RouteVariances measureAt(const DisneyBrdf &m, Vec3 wo, const LobeFrame *lobe,
+                         const LobeFrame *primaryLobe, std::uint64_t seed) {
+  std::array<std::array<double, kMeasureRepeats>, kLights> classic{}, table{}, primary{};
   std::array<Point2, kMeasurePoints> u;
   for (std::size_t r = 0; r < kMeasureRepeats; ++r) {
     const std::uint64_t key = mix64(seed + r);
@@ -55,8 +57,14 @@ RouteVariances measureAt(const DisneyBrdf &m, Vec3 wo, const LobeFrame &lobe, st
       };
       const auto c = m.sample(wo, u[i]);
       add(c, c ? c->pdf : 0, classic);
-      const auto t = sampleLobeRoute(m, wo, lobe, u[i]);
-      add(t, t ? t->pdf : 0, table);
+      if (lobe) {
+        const auto t = sampleLobeRoute(m, wo, *lobe, u[i]);
+        add(t, t ? t->pdf : 0, table);
+      }
+      if (primaryLobe) {
+        const auto t = sampleLobeRoute(m, wo, *primaryLobe, u[i]);
+        add(t, t ? t->pdf : 0, primary);
+      }
     }
   }
   const auto relativeVariance = [](const auto &sums) {
@@ -69,7 +77,7 @@ RouteVariances measureAt(const DisneyBrdf &m, Vec3 wo, const LobeFrame &lobe, st
     }
     return total;
   };
-  return {relativeVariance(classic), relativeVariance(table)};
+  return {relativeVariance(classic), relativeVariance(table), relativeVariance(primary)};
 }
 
 }  // namespace
@@ -85,7 +93,26 @@ std::optional<BsdfSample> sampleLobeRoute(const Bsdf &bsdf, Vec3 wo, const LobeF
   // stratification on both sides, which a random choice per sample would
   // not.
   const double d = lobe.defensive;
-  if (u.x < d) {
+  if (lobe.primary) {
+    // Both sides go through the material's warp; they differ in the point
+    // fed to it and so in the primary density x has.
+    Point2 x;
+    double tableDensity;
+    if (u.x < d) {
+      x = {u.x / d, u.y};
+      tableDensity = lobe.table->pdf(x);
+    } else {
+      GridTarget::Cell cell;
+      x = lobe.table->invert({(u.x - d) / (1 - d), u.y}, cell).x;
+      tableDensity = lobe.table->cellDensity(cell.i, cell.j);
+    }
+    const auto drawn = bsdf.sample(
+        wo, lobe.warp->primaryUnderSymmetry(x, lobe.turns, lobe.flipX < 0, lobe.flipY < 0));
+    if (!drawn) return std::nullopt;
+    s = *drawn;
+    own = s.pdf;
+    s.pdf = own * ((1 - d) * tableDensity + d);
+  } else if (u.x < d) {
     const auto drawn = bsdf.sample(wo, {u.x / d, u.y});
     if (!drawn) return std::nullopt;
     s = *drawn;
@@ -122,9 +149,11 @@ double LobeFrame::tablePdf(Vec3 wi) const {
 LobeTables::LobeTables(const std::vector<std::shared_ptr<const Bsdf>> &materials,
                        const LobeTableSettings &settings)
     : settings_(settings) {
-  if (settings.thetaBins < 1 || settings.phiBins < 1 || settings.phiCells < 2)
+  if (settings.thetaBins < 1 || settings.phiBins < 1 || settings.phiCells < 2 ||
+      settings.primaryCells < 1)
     throw std::invalid_argument(
-        "lobe tables: theta and phi bins must be >= 1 and the resolution >= 2");
+        "lobe tables: theta and phi bins must be >= 1, the resolution >= 2 and the primary "
+        "resolution >= 1");
   if (!settings.samplingMix || !(*settings.samplingMix >= 0 && *settings.samplingMix <= 1))
     throw std::invalid_argument("lobe tables: the sampling mix must be given, in [0, 1]");
   if (!(settings.defensive >= 0 && settings.defensive <= 1))
@@ -140,7 +169,7 @@ LobeTables::LobeTables(const std::vector<std::shared_ptr<const Bsdf>> &materials
     if (!disney || std::any_of(entries_.begin(), entries_.end(),
                                [&](const Entry &e) { return e.material == disney; }))
       continue;
-    Entry e{disney, disney->params().anisotropic > 0, {}, routes_.size()};
+    Entry e{disney, disney->params().anisotropic > 0, {}, {}, routes_.size()};
     const int phiBins = e.anisotropic ? settings.phiBins : 1;
     for (int t = 0; t < settings.thetaBins; ++t)
       for (int p = 0; p < phiBins; ++p) {
@@ -152,49 +181,73 @@ LobeTables::LobeTables(const std::vector<std::shared_ptr<const Bsdf>> &materials
         spec.thetaRows = std::max(1, settings.phiCells / 2);
         spec.samplingMix = *settings.samplingMix;
         e.tables.push_back(makeDisneyTarget(spec));
+        // Columns a multiple of 12: the lobe-selection stripes of u.x (3 or
+        // 4) then end on cell edges, so no cell averages two lobes, and
+        // every material's tables have one size (as a family's do).
+        spec.space = LobeSpace::Primary;
+        spec.phiCells = (settings.primaryCells + 11) / 12 * 12;
+        spec.thetaRows = settings.primaryCells;
+        e.primaryTables.push_back(makeDisneyTarget(spec));
       }
     measureRoutes(e, entries_.size());
     entries_.push_back(std::move(e));
   }
 }
 
-// Decides each bin's route: the table serves where, over views spread
-// across the bin, its estimates vary no more than the material's own
-// sampler's (both fed the same kind of points). A bin whose views all lie
-// below a table's resolution (a narrow lobe, whose peak moves across the bin
-// with the view) keeps the material's sampler.
+// Decides each bin's route: the route whose estimates, over views spread
+// across the bin, vary least, among the material's own sampler and the
+// tables the routing allows (all fed the same kind of points). A bin whose
+// views all lie below the sphere table's resolution (a narrow lobe, whose
+// peak moves across the bin with the view) keeps the material's sampler or
+// its primary table, which leaves the peak to the warp.
 void LobeTables::measureRoutes(const Entry &e, std::size_t material) {
   const int phiBins = e.anisotropic ? settings_.phiBins : 1;
+  const LobeRouting routing = settings_.routing;
   for (std::size_t b = 0; b < e.tables.size(); ++b) {
     const int t = int(b) / phiBins, p = int(b) % phiBins;
     LobeBinRoute route{material, binCentre(t, 90, settings_.thetaBins),
                        e.anisotropic ? binCentre(p, 90, phiBins) : 0};
-    if (settings_.routing == LobeRouting::Table) {  // nothing to decide
+    if (routing == LobeRouting::Table || routing == LobeRouting::Primary) {  // nothing to decide
       route.table = true;
+      route.primary = routing == LobeRouting::Primary;
       routes_.push_back(route);
       continue;
     }
+    const bool tryPrimary = routing == LobeRouting::Measured;
+    int view = 0;
     for (const double ft : {1.0 / 6, 0.5, 5.0 / 6})
       for (const double fp : e.anisotropic ? std::vector{0.25, 0.75} : std::vector{0.4}) {
         const double theta = (t + ft) * 90 / settings_.thetaBins / kDegrees;
         // Isotropic: an azimuth away from the table's, so the rotation is
-        // part of what is measured.
+        // part of what is measured. Anisotropic: views in every quadrant,
+        // so the folds are (a primary table is made in the first quadrant
+        // and serves the others unfolded, since the warp's primary space
+        // has no fold).
         const double phi = e.anisotropic ? (p + fp) * 90 / phiBins / kDegrees : fp;
-        const Vec3 wo{std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi),
-                      std::cos(theta)};
+        const double flipX = e.anisotropic && (view & 1) ? -1 : 1;
+        const double flipY = e.anisotropic && (view & 2) ? -1 : 1;
+        ++view;
+        const Vec3 wo{flipX * std::sin(theta) * std::cos(phi),
+                      flipY * std::sin(theta) * std::sin(phi), std::cos(theta)};
         std::size_t index = 0;
-        const LobeFrame lobe = binFrame(e, wo, index);
-        const RouteVariances v = measureAt(*e.material, wo, lobe,
-                                           hashCombine(material * 1000 + b, std::uint64_t(ft * 6)));
+        const LobeFrame sphere = binFrame(e, wo, index, false);
+        const LobeFrame primary = binFrame(e, wo, index, true);
+        const RouteVariances v =
+            measureAt(*e.material, wo, &sphere, tryPrimary ? &primary : nullptr,
+                      hashCombine(material * 1000 + b, std::uint64_t(ft * 6)));
         route.classicVariance += v.classic;
         route.tableVariance += v.table;
+        route.primaryVariance += v.primary;
       }
-    route.table = route.tableVariance <= route.classicVariance;
+    const bool primaryBest = tryPrimary && route.primaryVariance <= route.classicVariance &&
+                             route.primaryVariance < route.tableVariance;
+    route.primary = primaryBest;
+    route.table = primaryBest || route.tableVariance <= route.classicVariance;
     routes_.push_back(route);
   }
 }
 
-LobeFrame LobeTables::binFrame(const Entry &e, Vec3 wo, std::size_t &index) const {
+LobeFrame LobeTables::binFrame(const Entry &e, Vec3 wo, std::size_t &index, bool primary) const {
   // The bins by comparisons with their edges' cosines and tangents (wo is a
   // unit vector): no atan2 per shading point.
   int t = 0;
@@ -214,6 +267,14 @@ LobeFrame LobeTables::binFrame(const Entry &e, Vec3 wo, std::size_t &index) cons
     index = std::size_t(t) * settings_.phiBins + p;
   }
   f.table = e.tables[index].get();
+  if (primary) {
+    // The primary table is made at the bin's view; the warp's symmetry
+    // carries its points to this view (DisneyBrdf::primaryUnderSymmetry).
+    f.primary = true;
+    f.table = e.primaryTables[index].get();
+    f.warp = e.material;
+    if (!e.anisotropic) f.turns = atan2Turns(wo.y, wo.x);
+  }
   return f;
 }
 
@@ -222,16 +283,19 @@ std::optional<LobeFrame> LobeTables::frame(const Bsdf *material, Vec3 wo) const 
                                [&](const Entry &e) { return e.material == material; });
   if (it == entries_.end() || !(wo.z > 0)) return std::nullopt;
   std::size_t index = 0;
-  const LobeFrame f = binFrame(*it, wo, index);
-  if (!serves(*it, index)) return std::nullopt;  // the bin keeps the material's sampler
-  return f;
+  const LobeFrame f = binFrame(*it, wo, index, false);
+  const LobeBinRoute &route = routes_[it->firstRoute + index];
+  if (!route.table) return std::nullopt;  // the bin keeps the material's sampler
+  return route.primary ? binFrame(*it, wo, index, true) : f;
 }
 
 std::vector<const Target *> LobeTables::targets() const {
   std::vector<const Target *> out;
   for (const Entry &e : entries_)
-    for (std::size_t b = 0; b < e.tables.size(); ++b)
-      if (serves(e, b)) out.push_back(e.tables[b].get());
+    for (std::size_t b = 0; b < e.tables.size(); ++b) {
+      const LobeBinRoute &route = routes_[e.firstRoute + b];
+      if (route.table) out.push_back((route.primary ? e.primaryTables : e.tables)[b].get());
+    }
   return out;
 }
 

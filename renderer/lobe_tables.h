@@ -26,13 +26,16 @@
 // the exact lobe at wo costs variance, never bias, provided the estimator
 // divides by the pdf of the route actually used (LobeFrame::pdf).
 //
-// A table is not always the better route (renderer/README.md, "Lobe
+// A sphere table is not always the better route (renderer/README.md, "Lobe
 // routes"): a lobe narrower than the bin's sweep of its mirror direction
-// (a glossy metal) is mostly missed by the table of the bin's centre. So
-//  - each bin's route is measured when the tables are built: the table
-//    serves only where its estimates of smooth lights vary no more than the
-//    material's own sampler's; other bins keep the material's sampler and
-//    are no context for any backend;
+// (a glossy metal) is mostly missed by the table of the bin's centre. Each
+// bin therefore also has a table in the primary space of the material's own
+// sample() (materials/disney_target.h, LobeSpace::Primary), which leaves
+// the peak to the warp and reshapes only what the warp leaves uneven. So
+//  - each bin's route is measured when the tables are built: of the
+//    material's own sampler, the sphere table and the primary table, the
+//    one whose estimates of smooth lights vary least serves the bin; bins
+//    that keep the material's sampler are no context for any backend;
 //  - a tabulated sample is a defensive mixture with the material's sampler,
 //    which bounds its weight f cos / p by 1 / defensive times the material's;
 //  - tables serve the first bounce only by default (`bounces`).
@@ -49,13 +52,18 @@
 
 namespace nuld {
 
-// Which bins sample their table (renderer/README.md, "Lobe routes").
+// Which bins sample which table (renderer/README.md, "Lobe routes").
 enum class LobeRouting {
-  Measured,  // a bin's table serves only where it measured no worse than the material's sampler
-  Table,     // every bin's table serves (for comparisons: the route before measurement)
+  Measured,        // each bin its measured best of the material's sampler and its two tables
+  MeasuredSphere,  // the same between the material's sampler and the sphere table only
+  Table,           // every bin its sphere table (for comparisons)
+  Primary,         // every bin its primary-space table (for comparisons)
 };
-inline constexpr auto kLobeRoutingNames = enumTable<LobeRouting>(
-    "lobe routing", {{"measured", LobeRouting::Measured}, {"table", LobeRouting::Table}});
+inline constexpr auto kLobeRoutingNames =
+    enumTable<LobeRouting>("lobe routing", {{"measured", LobeRouting::Measured},
+                                            {"measured-sphere", LobeRouting::MeasuredSphere},
+                                            {"table", LobeRouting::Table},
+                                            {"primary", LobeRouting::Primary}});
 constexpr const auto &enumNames(LobeRouting) { return kLobeRoutingNames; }
 
 struct LobeTableSettings {
@@ -81,6 +89,12 @@ struct LobeTableSettings {
   // a table serves one or two of a pixel's points there: no gain measured,
   // for the lookups' time (renderer/README.md, "Lobe routes").
   int bounces = 1;
+  // The primary-space tables (materials/disney_target.h, LobeSpace):
+  // primaryCells rows over the warp's primary square, and as many columns
+  // rounded up to a multiple of 12, so no cell straddles two lobes' stripes
+  // (3 or 4 of them); their mix is samplingMix. The square holds a smooth
+  // function (the warp keeps the peaks), which a coarse table holds.
+  int primaryCells = 32;
 
   friend bool operator==(const LobeTableSettings &, const LobeTableSettings &) = default;
 };
@@ -92,6 +106,16 @@ struct LobeFrame {
   double cosPhi = 1, sinPhi = 0;  // isotropic: rotation by phi_o
   double flipX = 1, flipY = 1;    // anisotropic: the folds
   double defensive = 0;           // LobeTableSettings::defensive
+  // Whether `table` lives in the material's primary sample space
+  // (LobeSpace::Primary): a point of it, carried from the table's view to
+  // the shading point's by the warp's symmetry (`warp`, `turns` for an
+  // isotropic material, the flips for an anisotropic one; see
+  // DisneyBrdf::primaryUnderSymmetry), goes through the material's own
+  // sample() at the shading point's wo. direction() and tablePdf() are then
+  // not defined.
+  bool primary = false;
+  const DisneyBrdf *warp = nullptr;
+  double turns = 0;
 
   // The direction (shading frame) that the table's point x stands for.
   Vec3 direction(Point2 x) const;
@@ -111,9 +135,18 @@ struct LobeFrame {
 // point x that follows the table has u = table->primaryOf(x); the table
 // maps u back to x by its inverse CDF): a share `defensive` of the square
 // (u.x < defensive) goes to the material's own sample() and the rest,
-// stretched over the square, through the table. f is the material's and pdf
-// the route's mixture density (LobeFrame::pdf); with u uniform, wi follows
-// that mixture. nullopt when no direction results.
+// stretched over the square, through the table. f is the material's.
+//  - A sphere table: pdf is the route's mixture density (LobeFrame::pdf);
+//    with u uniform, wi follows that mixture.
+//  - A primary table: the table's point x (or, on the defensive side, the
+//    stretched u itself) goes through sample(), and pdf is the material's
+//    pdf at wi times the mixture (1 - d) table(x) + d in primary space: not
+//    the density of wi, but what the estimate f cos L / pdf must divide by
+//    to stay unbiased (materials/disney_target.h, LobeSpace). Its weight
+//    f cos / pdf is at most 1 / d times the material's own weight f cos / p
+//    there, and near the table's mean of w / (1 - d) wherever the table
+//    resolves w: the table evens out the warp's weights.
+// nullopt when no direction results.
 // `materialPdf`, when given, receives the material's own pdf at the drawn
 // direction (the path integrator's MIS weights use it).
 std::optional<BsdfSample> sampleLobeRoute(const Bsdf &bsdf, Vec3 wo, const LobeFrame &lobe,
@@ -126,8 +159,11 @@ std::optional<BsdfSample> sampleLobeRoute(const Bsdf &bsdf, Vec3 wo, const LobeF
 struct LobeBinRoute {
   std::size_t material = 0;                 // index among the tabulated materials
   double thetaDegrees = 0, phiDegrees = 0;  // the bin's centre
-  double classicVariance = 0, tableVariance = 0;
-  bool table = false;  // whether the table serves the bin
+  // Through the material's sample(), the sphere table and the primary table
+  // (0 for a route the routing does not consider).
+  double classicVariance = 0, tableVariance = 0, primaryVariance = 0;
+  bool table = false;    // whether a table serves the bin
+  bool primary = false;  // whether that table is the primary-space one
 };
 
 class LobeTables {
@@ -154,16 +190,15 @@ class LobeTables {
   struct Entry {
     const DisneyBrdf *material;
     bool anisotropic;
-    std::vector<std::unique_ptr<GridTarget>> tables;  // theta-major, then phi
-    std::size_t firstRoute;                           // its tables' routes in routes_
+    std::vector<std::unique_ptr<GridTarget>> tables;         // sphere, theta-major, then phi
+    std::vector<std::unique_ptr<GridTarget>> primaryTables;  // the same bins in primary space
+    std::size_t firstRoute;                                  // its tables' routes in routes_
   };
-  bool serves(const Entry &e, std::size_t index) const {
-    return routes_[e.firstRoute + index].table;
-  }
   // Measures and sets the routes of e's bins (e is material `material`).
   void measureRoutes(const Entry &e, std::size_t material);
-  // The frame of bin `index` of `e` at wo, whatever its route.
-  LobeFrame binFrame(const Entry &e, Vec3 wo, std::size_t &index) const;
+  // The frame of bin `index` of `e` at wo through its sphere or its primary
+  // table, whatever its route.
+  LobeFrame binFrame(const Entry &e, Vec3 wo, std::size_t &index, bool primary) const;
   LobeTableSettings settings_;
   // The inner edges of the theta bins as cosines and of the phi bins as
   // tangents, in increasing angle.

@@ -53,7 +53,7 @@ void NeuralBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
     for (const Target *t : targets.lobes)
       if (const auto g = disneyFamilyGamma(generator_.family().spec(), t->spec())) {
         specs.push_back(t->spec());
-        gammas.push_back({(*g)[0], (*g)[1]});
+        gammas.push_back(*g);
       }
     if (specs.empty())
       throw BackendRefusal(

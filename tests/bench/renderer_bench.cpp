@@ -4,7 +4,7 @@
 //  - Backend/SCENE/BACKEND: a 16-spp path render at the scene's resolution
 //    with sobol and with sobol-tabulated side by side (the lobe tables are
 //    built before timing: a scene builds them once);
-//  - BM_MaterialSample, BM_LobeRouteSample: one BSDF sample through the
+//  - BM_MaterialSample, BM_LobeRouteSample, BM_LobeRoutePrimarySample: one BSDF sample through the
 //    material's own sampler and through a tabulated route (table inverse CDF
 //    and the defensive split), at the dragon's material;
 //  - EmbreeRaw/SCENE/spp:N: the same rays, recorded from one such render,
@@ -135,12 +135,13 @@ void BM_MaterialSample(benchmark::State &state) {
 BENCHMARK(BM_MaterialSample);
 
 // Arg: the defensive share in percent. From the table's primary point, as
-// sobol-tabulated's are.
-void BM_LobeRouteSample(benchmark::State &state) {
+// sobol-tabulated's are; through the sphere table (BM_LobeRouteSample) or
+// the primary-space table (BM_LobeRoutePrimarySample).
+void lobeRouteSample(benchmark::State &state, LobeRouting routing) {
   const auto brdf = std::make_shared<const DisneyBrdf>(dragonMaterial());
   LobeTableSettings settings;
   settings.samplingMix = 1.0;
-  settings.routing = LobeRouting::Table;
+  settings.routing = routing;
   settings.defensive = double(state.range(0)) / 100;
   const LobeTables tables({brdf}, settings);
   const LobeFrame lobe = *tables.frame(brdf.get(), kWo);
@@ -149,7 +150,12 @@ void BM_LobeRouteSample(benchmark::State &state) {
   for (auto _ : state) benchmark::DoNotOptimize(sampleLobeRoute(*brdf, kWo, lobe, us[k++ & 4095]));
   state.SetItemsProcessed(state.iterations());
 }
+void BM_LobeRouteSample(benchmark::State &state) { lobeRouteSample(state, LobeRouting::Table); }
+void BM_LobeRoutePrimarySample(benchmark::State &state) {
+  lobeRouteSample(state, LobeRouting::Primary);
+}
 BENCHMARK(BM_LobeRouteSample)->Arg(0)->Arg(10);
+BENCHMARK(BM_LobeRoutePrimarySample)->Arg(0)->Arg(10);
 
 bool haveAssets() {
   return std::filesystem::exists(std::filesystem::path(resolveAssetRoot("")) / "lte_orb");

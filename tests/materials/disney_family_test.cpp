@@ -5,8 +5,10 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "materials/disney_target.h"
+#include "sampler/sequences/rng.h"
 #include "sampler/targets/target_family.h"
 #include "sampler/targets/target_spec.h"
 
@@ -88,7 +90,8 @@ TEST(DisneyFamily, SpecGammaIsTheViewsInverse) {
   const auto family = makeTargetFamily("family:disney:res=32");
   const auto g = disneyFamilyGamma(family->spec(), "disney:theta=60,phi=300,res=32");
   ASSERT_TRUE(g);
-  EXPECT_EQ(*g, *invertDisneyFamilyView({60, 300}));
+  const auto view = *invertDisneyFamilyView({60, 300});
+  EXPECT_EQ(*g, (std::vector<double>{view[0], view[1]}));
   EXPECT_FALSE(disneyFamilyGamma(family->spec(), "disney:theta=89.5,res=32"));
   // The tables' density is part of the family: a model trained on f cos does
   // not serve the MIS tables (mix 1), one trained on family:disney:mix=1 does.
@@ -99,6 +102,55 @@ TEST(DisneyFamily, SpecGammaIsTheViewsInverse) {
   EXPECT_FALSE(disneyFamilyGamma(sampling->spec(), "disney:theta=60,res=32"));
   const std::array<double, 2> gamma{0.5, 0.25};
   EXPECT_NE(sampling->target(gamma)->spec().find("mix=1"), std::string::npos);
+}
+
+// family:disney-material: gamma covers the view and the whole material.
+// A gamma off the flat stretches comes back from the spec it makes; the
+// scenes' usual values (metallic 0 and 1, no clear coat) sit on the flats
+// and come back as their middles; a renderer's primary table of a scene
+// material is one of the family's targets, the same table; keys other than
+// the layout are refused.
+TEST(DisneyFamily, MaterialFamilyCoversEveryMaterial) {
+  registerMaterialTargets();
+  const auto family = makeTargetFamily("family:disney-material:res=36,rows=32,mix=1,space=primary");
+  EXPECT_EQ(family->spec(), "family:disney-material:res=36,rows=32,mix=1,space=primary");
+  EXPECT_EQ(family->gammaDimension(), kDisneyMaterialGammaDimension);
+  EXPECT_EQ(family->domain(), Domain::Square);
+  Rng rng(8);
+  for (int trial = 0; trial < 50; ++trial) {
+    std::vector<double> gamma(kDisneyMaterialGammaDimension);
+    for (double &g : gamma) g = rng.uniform();
+    const auto target = family->target(gamma);
+    const auto back = disneyFamilyGamma(family->spec(), target->spec());
+    ASSERT_TRUE(back) << target->spec();
+    // Round trip through the spec's printed numbers: the same target.
+    EXPECT_EQ(family->target(*back)->spec(), target->spec());
+  }
+  // A scene's material: the cup (scenes/cup.json), its primary table at a bin.
+  DisneyTargetSpec cup;
+  cup.params = DisneyParams{};
+  cup.params.baseColor = {0.92, 0.9, 0.86};
+  cup.params.roughness = 0.15;
+  cup.params.specular = 0.5;
+  cup.params.clearcoat = 1;
+  cup.params.clearcoatGloss = 0.9;
+  cup.thetaDegrees = 45;
+  cup.phiDegrees = 0;
+  cup.phiCells = 36;
+  cup.thetaRows = 32;
+  cup.samplingMix = 1;
+  cup.space = LobeSpace::Primary;
+  const auto g = disneyFamilyGamma(family->spec(), toSpec(cup));
+  ASSERT_TRUE(g);
+  EXPECT_EQ((*g)[5], 0.125);  // metallic 0: the middle of its flat quarter
+  EXPECT_EQ((*g)[13], 1.0);   // clearcoat 1: the top of its linear half
+  const auto made = family->target(*g);
+  const auto direct = makeDisneyTarget(cup);
+  EXPECT_EQ(made->contentHash(), direct->contentHash());
+  // Another layout is another family's.
+  cup.samplingMix = 0;
+  EXPECT_FALSE(disneyFamilyGamma(family->spec(), toSpec(cup)));
+  EXPECT_THROW(makeTargetFamily("family:disney-material:roughness=0.5"), std::invalid_argument);
 }
 
 }  // namespace

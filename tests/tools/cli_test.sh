@@ -157,8 +157,11 @@ grep -q '^sets_made 0$' "$dir/out" && grep -q '^served_light [1-9]' "$dir/out" &
   { echo "FAIL: a second optimized-both render finds its sets and serves both pairs"; cat "$dir/out"; failures=$((failures + 1)); }
 ok "bank" "$nuld" bank default --backend optimized-both --spp 4 --res 8 "${sets[@]}" -q -o "$dir/bankdir"
 ok "render a bank directory" "$nuld" render default --backend optimized:"$dir/bankdir" --spp 4 --res 8 -q -o "$dir/w.exr"
+# Sets for the MIS tables serve nothing under BSDF sampling alone through the
+# sphere tables, whose density differs between the two (a primary table can
+# be the same table under both: a metal's, whose lobe choice mix leaves alone).
 fails_with "a learned backend that serves nothing" "served no first-bounce sample" \
-  "$nuld" render default --backend optimized:"$dir/bankdir" --spp 4 --res 8 --integrator bsdf -q -o "$dir/x.exr"
+  "$nuld" render default --backend optimized:"$dir/bankdir" --spp 4 --res 8 --integrator bsdf --lobe-routes table -q -o "$dir/x.exr"
 ok "study render every backend word" "$nuld" study render default --backends "$(echo $words | tr ' ' ',')" \
   --spp 4 --res 8 --repeats 1 --reference-spp 16 --no-report -q -o "$dir/words.study"
 [[ $(tail -n +2 "$dir/words.study/render.csv" | wc -l) -eq $(echo "$words" | wc -l) ]] ||

@@ -193,8 +193,10 @@ void addLobeOptions(CLI::App &app, LobeOptions &o) {
                  "--integrator bsdf, 1 under MIS)")
       ->check(numberIn(0, 1));
   app.add_option("--lobe-routes", o.routes,
-                 "which view bins sample their lobe table: measured (those measured at least "
-                 "as good as the material's own sampler, the default) or table (every bin)")
+                 "how each view bin samples its lobe: measured (the material's own sampler, "
+                 "the sphere table or the primary-space table, whichever measures best; the "
+                 "default), measured-sphere (the material's sampler or the sphere table), "
+                 "table (every bin its sphere table) or primary (every bin its primary table)")
       ->check(oneOf(kLobeRoutingNames));
   app.add_option("--lobe-defensive", o.defensive,
                  "share of tabulated samples drawn by the material's own sampler; weights are "

@@ -230,9 +230,7 @@ namespace {
 std::function<std::optional<std::vector<double>>(const TargetFamily &)> familyGammaOf(
     std::string spec) {
   return [spec](const TargetFamily &family) -> std::optional<std::vector<double>> {
-    const auto g = disneyFamilyGamma(family.spec(), spec);
-    if (!g) return std::nullopt;
-    return std::vector<double>{(*g)[0], (*g)[1]};
+    return disneyFamilyGamma(family.spec(), spec);
   };
 }
 
