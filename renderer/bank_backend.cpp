@@ -102,6 +102,7 @@ void BankBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
   served_.clear();
   uniform_ = nullptr;
   light_ = targets.light;
+  lobes_ = targets.lobes;
   n_ = spp;
   if (banks_.empty()) throw std::invalid_argument(name_ + ": the backend has no point sets");
   // Sets of exactly spp points first; then nested sets (optimized prefix by
@@ -212,6 +213,18 @@ bool BankBackend::distributed(const Target &target, std::uint64_t pixel, std::ui
     std::copy_n(points.begin(), out.size(), out.begin());  // a nested bank's prefix
   }
   shufflePoints(out, shift);
+  return true;
+}
+
+bool BankBackend::mapsPrimaryThrough(const Target &target) const {
+  // A lobe table without a bank: the fallback's Owen-Sobol through the
+  // table, bit for bit what sobol-tabulated gives (the strongest classic
+  // route there). The renderer asks tables at the bounces they serve.
+  if (std::find(lobes_.begin(), lobes_.end(), &target) == lobes_.end() ||
+      std::any_of(served_.begin(), served_.end(),
+                  [&](const Served &s) { return s.target == &target; }))
+    return false;
+  use_[1].fellBack.fetch_add(1, std::memory_order_relaxed);
   return true;
 }
 

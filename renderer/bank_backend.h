@@ -15,7 +15,9 @@
 //    primary-sample-space points, one instance per (pixel, pair) under its
 //    own Cranley-Patterson shift, which keeps the estimator unbiased.
 // Every other pair and context (deeper bounces, other materials) falls back
-// to Owen-scrambled Sobol with the same seed, bit for bit what `sobol` gives.
+// to Owen-scrambled Sobol with the same seed, bit for bit what `sobol` gives,
+// except a lobe table no bank serves at the first bounce, which gets those
+// points through the table, as `sobol-tabulated` does.
 //
 // Optimized instances of a non-uniform target are not randomized: the
 // estimator's expectation is the average over the bank's points, which
@@ -67,6 +69,7 @@ class BankBackend : public SamplerBackend {
   void primary(std::uint64_t pixel, std::uint32_t pair, std::span<Point2> out) const override;
   bool distributed(const Target &target, std::uint64_t pixel, std::uint32_t pair,
                    std::span<Point2> out) const override;
+  bool mapsPrimaryThrough(const Target &target) const override;
   std::vector<PairUse> pairUse() const override;
 
   const std::vector<SetBank> &banks() const { return banks_; }
@@ -76,6 +79,9 @@ class BankBackend : public SamplerBackend {
  protected:
   // For a backend that makes its banks in prepare() (NeuralBackend).
   void setBanks(std::vector<SetBank> banks);
+  // Whether every set is Cranley-Patterson shifted in primary space (as
+  // `shifted:PATHS`); takes effect at the next prepare().
+  void setShifted(bool shifted) { shifted_ = shifted; }
   std::uint64_t seed() const { return seed_; }
 
  private:
@@ -99,6 +105,7 @@ class BankBackend : public SamplerBackend {
   std::vector<Served> served_;
   const SetBank *uniform_ = nullptr;
   const Target *light_ = nullptr;
+  std::vector<const Target *> lobes_;  // the scene's lobe tables (prepare())
   std::size_t n_ = 0;
   // pairUse()'s counts: light, bsdf, primary; relaxed atomics (a context is
   // asked once per pixel and pair, not per sample).

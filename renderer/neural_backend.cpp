@@ -18,6 +18,12 @@ NeuralBackend::NeuralBackend(std::string name, const std::string &modelPath, std
       generator_(NeuralGenerator::load(modelPath)) {
   const std::string family = generator_.family().spec();
   lobeFamily_ = family.rfind("family:disney", 0) == 0;
+  // A lobe model's sets follow their table only roughly (bins of its
+  // primary square off by up to a fifth, measured: tools/experiments/
+  // README.md, "The graph generator in primary space"), which would bias
+  // every pixel; shifted in the table's primary space, every point follows
+  // the table exactly and the estimate is unbiased.
+  setShifted(lobeFamily_);
   if (generator_.gammaDimension() > 0 && !lobeFamily_)
     throw std::invalid_argument(
         source_ + ": a model for the family '" + family +
@@ -63,7 +69,7 @@ void NeuralBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
   }
   if (specs != bankSpecs_ || n != bankN_) {
     const std::size_t total = std::clamp<std::size_t>((std::size_t(1) << 22) / n, 1, kMaxBankSets);
-    const std::size_t each = std::max(total / specs.size(), std::min(total, kMinSetsPerGamma));
+    const std::size_t each = lobeFamily_ ? std::min(total, kSetsPerGamma) : total;
     std::vector<SetBank> banks;
     for (std::size_t k = 0; k < specs.size(); ++k) {
       SetBank bank{generator_.generateSets(each, seed() + k, gammas[k], n), source_};

@@ -12,8 +12,12 @@
 //  - A model for a `family:disney` target family is conditioned on the lobe's
 //    gamma = (theta_o, phi_o): it makes one bank per lobe table of the scene
 //    that the family contains (the same material), at that table's gamma, and
-//    serves the first bounce's BSDF pair there. Other families have no
-//    sampling context in a render and are refused.
+//    serves the first bounce's BSDF pair there; a `family:disney-material`
+//    model does so for every table of its layout, any material. Its sets are
+//    Cranley-Patterson shifted in the table's primary space per (pixel,
+//    pair), as `shifted:PATHS` does, so that every point follows the table
+//    exactly (a generator's sets follow it only roughly). Other families have
+//    no sampling context in a render and are refused.
 //
 // The supplement's network makes sets of its trained N only, so it serves
 // that spp alone; a graph model serves any spp (banks remade per spp).
@@ -28,9 +32,14 @@ namespace nuld {
 class NeuralBackend final : public BankBackend {
  public:
   // The banks hold at most this many sets in all (fewer when N is large: at
-  // most 2^22 points in all), and at least kMinSetsPerGamma per lobe table.
+  // most 2^22 points in all); a lobe family's model makes kSetsPerGamma per
+  // lobe table. Each pixel's set is a random draw from its bank either way,
+  // so a pixel's expected error does not depend on the bank's size; a
+  // smaller bank only shares sets between more pixels, and costs less to
+  // generate (tools/experiments/README.md, "The graph generator in primary
+  // space").
   static constexpr std::size_t kMaxBankSets = 4096;
-  static constexpr std::size_t kMinSetsPerGamma = 64;
+  static constexpr std::size_t kSetsPerGamma = 16;
 
   NeuralBackend(std::string name, const std::string &modelPath, std::uint64_t seed);
 

@@ -82,7 +82,8 @@ torch::Tensor NeuralGenerator::Net::forward(const NeuralGenerator &gen, std::spa
   torch::Tensor current = base;
   for (int stage = 0; stage < gen.settings().stages; ++stage) {
     const auto [nodes, edges] = graphInputs(gen, gamma, current, graphs);
-    const torch::Tensor r = graph->forward(nodes, edges, index) * (1 / std::sqrt(double(n)));
+    torch::Tensor r = graph->forward(nodes, edges, index) * (1 / std::sqrt(double(n)));
+    if (gen.settings().centred) r = r - r.mean(1, /*keepdim=*/true);
     total = stage == 0 ? r : total + r;
     if (stage + 1 < gen.settings().stages)
       current = (base + total.detach().to(torch::kFloat64)).contiguous();

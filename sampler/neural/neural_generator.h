@@ -92,6 +92,11 @@ struct NeuralSettings {
   // descent step rather than guess the direction from the neighbourhood).
   int stages = 1;
   bool discrepancyGradient = false;
+  // Graph only (ours): each stage's residuals lose their mean over the set,
+  // so no stage moves a set as a whole and each set keeps its base set's
+  // mean in u (tools/experiments/README.md, "The graph generator in
+  // primary space"). A set's mean error is what a smooth integrand sees.
+  bool centred = false;
   BaseRandomization base = BaseRandomization::Rotated;
   double sigma = 0.1;     // standard deviation of the Fourier frequencies B
   int encodingDims = 32;  // [cos 2 pi B v, sin 2 pi B v]: B has encodingDims / 2 rows

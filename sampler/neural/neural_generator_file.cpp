@@ -44,6 +44,8 @@ std::map<std::string, std::string> NeuralGenerator::metadata() const {
     m["position_harmonics"] = std::to_string(settings_.positionHarmonics);
     m["stages"] = std::to_string(settings_.stages);
     m["discrepancy_gradient"] = settings_.discrepancyGradient ? "1" : "0";
+    // Only when on, so files from before keep their metadata.
+    if (settings_.centred) m["centred"] = "1";
   }
   // Only for several sizes, so single-size files keep their metadata.
   if (!settings_.trainingNs.empty()) m["training_n"] = joinSizes(settings_.trainingNs);

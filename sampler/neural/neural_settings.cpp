@@ -113,6 +113,7 @@ NeuralSettings NeuralSettings::fromModelFile(const ModelFile &file, const std::s
     s.positionHarmonics = int(integer("position_harmonics", 0, 1 << 20));
     s.stages = int(integer("stages", 0, 1 << 20));
     s.discrepancyGradient = integer("discrepancy_gradient", 0, 1) != 0;
+    s.centred = file.metadata.count("centred") && integer("centred", 0, 1) != 0;
     if (file.metadata.count("training_n")) {
       try {
         s.trainingNs = parseSizeList("model metadata 'training_n'", file.metadata.at("training_n"));

@@ -99,7 +99,7 @@ TEST(NeuralBackend, DisneyFamilyModelServesTheLobeTablesOfItsMaterial) {
   const auto targets = tables.targets();
   backend.prepare(4, {nullptr, targets});
   EXPECT_EQ(backend.servedTargets(), targets.size());
-  EXPECT_GE(backend.bankSets(), targets.size() * NeuralBackend::kMinSetsPerGamma);
+  EXPECT_EQ(backend.bankSets(), targets.size() * NeuralBackend::kSetsPerGamma);
   std::vector<Point2> out(4);
   for (const Target *t : targets) {
     ASSERT_TRUE(backend.distributed(*t, 9, SamplePairs::bsdf(0), out));

@@ -232,9 +232,10 @@ TEST(IntegrationStudyRun, IndependentEstimatesAreUnbiased) {
   o.instances = 600;
   runIntegrateStudy(o);
   const CsvTable t = readCsv(o.outDir);
-  // 10 integrands (disney*cosines at 3 angles, disney*envmap at 3 views) +
-  // independent-tabulated on the seven BRDF ones
-  ASSERT_EQ(t.rows().size(), 17u);
+  // 19 integrands (disney*cosines at 3 angles, disney*envmap at 3 views,
+  // disney-primary*cosines at 3 angles and 3 roughnesses) +
+  // independent-tabulated on the 16 BRDF ones
+  ASSERT_EQ(t.rows().size(), 35u);
   for (const auto &r : t.rows()) {
     const double bias = value(t, r, "bias"), se = value(t, r, "bias_stderr");
     EXPECT_GT(se, 0) << r[0] << " " << r[2];

@@ -9,6 +9,7 @@
 #include "sampler/io/pointset_metadata.h"
 #include "sampler/metrics/discrepancy.h"
 #include "sampler/metrics/integration.h"
+#include "sampler/metrics/moment_spread.h"
 #include "sampler/metrics/set_distance.h"
 #include "sampler/targets/target_spec.h"
 #include "tools/nuld/cli_util.h"
@@ -20,7 +21,8 @@ Runner addEval(CLI::App &app) {
   struct Options {
     std::string file, target, metric = "all", integrand;
     int grid = 256;
-    bool perInstance = false, zeroDensity = false, setDistance = false, prefixes = false;
+    bool perInstance = false, zeroDensity = false, setDistance = false, prefixes = false,
+         momentSpread = false;
   };
   auto o = std::make_shared<Options>();
   app.add_option("file", o->file, "point-set file")->required();
@@ -44,6 +46,10 @@ Runner addEval(CLI::App &app) {
   app.add_flag("--set-distance", o->setDistance,
                "also print set_distance: the mean chamfer distance between instances (distinct "
                "sets score ~0.5/sqrt(N); near 0 means the instances are the same set)");
+  app.add_flag("--moment-spread", o->momentSpread,
+               "also print moment_spread_x, _y and _xy: over the instances, the standard "
+               "deviation of each set's mean x, y and x y (sets that drift as a whole score high; "
+               "compare with Owen-Sobol's at the same N)");
   app.add_option("--integrand", o->integrand,
                  "also estimate the integral of a test integrand (step, disc, bilinear, gaussian) "
                  "with the points as importance samples of the target; prints its RMSE and bias");
@@ -120,6 +126,11 @@ Runner addEval(CLI::App &app) {
       }
     }
     if (o->setDistance) std::printf("set_distance %.9g\n", meanSetDistance(set));
+    if (o->momentSpread) {
+      const MomentSpread m = momentSpread(set);
+      std::printf("moment_spread_x %.9g\nmoment_spread_y %.9g\nmoment_spread_xy %.9g\n", m.x, m.y,
+                  m.xy);
+    }
     if (integrand) {
       const TestIntegrand &f = *integrand;
       double se = 0, bias = 0;

@@ -48,6 +48,9 @@ void addNetworkOptions(CLI::App &app, TrainOptions &o) {
   app.add_flag("--discrepancy-gradient", o.net.discrepancyGradient,
                "graph: each point also sees the gradient of its set's grid L2 discrepancy at "
                "its current position (a learned descent step)");
+  app.add_flag("--centred", o.net.centred,
+               "graph: each stage's residuals lose their mean over the set, so no set moves as "
+               "a whole (see README)");
   app.add_option("--sigma", o.net.sigma, "standard deviation of the Fourier frequencies")
       ->capture_default_str();
   app.add_option("--encoding-dims", o.net.encodingDims,
@@ -116,7 +119,7 @@ std::pair<NeuralSettings, TrainerSettings> settingsFrom(const TrainOptions &o,
   if (ns.arch == NetworkArch::Graph && app.count("--hidden") == 0) ns.hidden = 64;
   onlyWhen(app, ns.arch == NetworkArch::Graph,
            {"--neighbours", "--rounds", "--position-harmonics", "--stages",
-            "--discrepancy-gradient", "--base"},
+            "--discrepancy-gradient", "--centred", "--base"},
            "--arch graph");
   ns.trainingNs = parseSizeList("--n", o.sizes);
   ns.n = ns.trainingNs.front();
