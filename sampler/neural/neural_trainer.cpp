@@ -16,6 +16,7 @@
 #include "sampler/neural/network.h"
 #include "sampler/optimize/schedule.h"
 #include "sampler/sequences/rng.h"
+#include "sampler/targets/grid_target.h"
 
 namespace nuld {
 namespace {
@@ -92,6 +93,7 @@ std::string TrainerSettings::describe() const {
     << " alpha=" << r(alphaStart) << " alpha_end=" << r(alphaEnd) << " ramp=" << r(rampFraction)
     << " cutoff=" << r(cutoff) << " pullback=" << toString(pullback) << " seed=" << seed
     << " validation=" << validationSets << " validation_grid=" << validationGrid;
+  if (shiftedSets) s << " shifted=1";  // only when on: older checkpoints keep their line
   return s.str();
 }
 
@@ -112,6 +114,14 @@ void TrainerSettings::validate() const {
 NeuralTrainer::NeuralTrainer(NeuralGenerator &generator, TrainerSettings settings)
     : gen_(generator), settings_(std::move(settings)), state_(std::make_unique<State>()) {
   settings_.validate();
+  if (settings_.shiftedSets) {
+    // Any gamma makes a target of the family's kind; the shift needs its CDF map.
+    const std::vector<double> gamma(gen_.gammaDimension(), 0.5);
+    if (!gen_.settings().mapped ||
+        !dynamic_cast<const GridTarget *>(gen_.family().target(gamma).get()))
+      throw std::invalid_argument("train: shifted sets need mapped sets of a tabulated target ('" +
+                                  gen_.family().spec() + "' is not one)");
+  }
   const std::size_t sizes = gen_.settings().sizesTrained().size();
   if (settings_.validationSets > 0 && settings_.validationSets < sizes)
     throw std::invalid_argument("train: " + std::to_string(sizes) +
@@ -151,7 +161,18 @@ double NeuralTrainer::stepLoss(int step, Mode mode) {
   const double kernelBefore = lossSeconds_;
   const torch::Tensor base = baseSets(gen_, batch.z, sizeAt(step));
   const torch::Tensor residual = gen_.net().forward(gen_, batch.z, batch.gamma, base);
-  const torch::Tensor points = base.to(residual.scalar_type()) + residual;
+  torch::Tensor points = base.to(residual.scalar_type()) + residual;
+  if (s.shiftedSets) {
+    // One offset per set, keyed by (seed, step, set); the loss wraps u.
+    std::vector<double> shift(2 * B);
+    for (std::size_t b = 0; b < B; ++b) {
+      Rng rng(s.seed, hash3(0x5A1F7, std::uint64_t(step), b));
+      shift[2 * b] = rng.uniform();
+      shift[2 * b + 1] = rng.uniform();
+    }
+    points = points + torch::from_blob(shift.data(), {std::int64_t(B), 1, 2}, torch::kFloat64)
+                          .to(points.scalar_type());
+  }
   torch::Tensor loss = SoftBoxLossFunction::apply(points, &batch);
   if (mode != Mode::Evaluate) {
     state_->adam->zero_grad();
@@ -224,6 +245,19 @@ Validation NeuralTrainer::validate() {
     double sum = 0;
     for (std::size_t k = 0; k < zs.size(); ++k) {
       const auto target = gen_.family().target(std::span(gs).subspan(k * g, g));
+      if (s.shiftedSets) {
+        // The shift the renderer applies: through the target's CDF map.
+        const auto *grid = dynamic_cast<const GridTarget *>(target.get());
+        if (!grid) throw std::invalid_argument("train: shifted sets need a tabulated target");
+        Rng rng(s.seed, hash3(0x5A1F7, 0xFFFFFFFFull, k + size * K));
+        const Point2 d{rng.uniform(), rng.uniform()};
+        for (Point2 &p : std::span(points).subspan(k * n, n)) {
+          Point2 u = grid->primaryOf(p);
+          u = {std::min(u.x + d.x - std::floor(u.x + d.x), std::nextafter(1.0, 0.0)),
+               std::min(u.y + d.y - std::floor(u.y + d.y), std::nextafter(1.0, 0.0))};
+          p = grid->invert(u).x;
+        }
+      }
       sum += nonuniformL2asd(std::span(points).subspan(k * n, n), *target, s.validationGrid);
     }
     const double mean = sum / double(zs.size());

@@ -61,6 +61,13 @@ struct TrainerSettings {
   // scored by the grid L2 discrepancy at this resolution; 0 sets: none.
   std::size_t validationSets = 8;
   int validationGrid = 128;
+  // Ours: train (and validate) the sets as the renderer deals them out for
+  // a lobe table, Cranley-Patterson shifted in the target's primary space
+  // by a random offset per set (mapped mode): the loss then rewards sets
+  // that stay good under any shift, the only randomization that keeps the
+  // estimate unbiased for any table (tools/experiments/README.md, "The
+  // graph generator in primary space").
+  bool shiftedSets = false;
 
   std::string describe() const;  // "key=value ..."; checkpoints must match it
   void validate() const;         // throws std::invalid_argument naming the setting

@@ -48,6 +48,9 @@ void addNetworkOptions(CLI::App &app, TrainOptions &o) {
   app.add_flag("--discrepancy-gradient", o.net.discrepancyGradient,
                "graph: each point also sees the gradient of its set's grid L2 discrepancy at "
                "its current position (a learned descent step)");
+  app.add_flag("--train-shifted", o.train.shiftedSets,
+               "mapped lobe families: train and validate the sets Cranley-Patterson shifted in "
+               "the table's primary space, as the renderer deals them out (see README)");
   app.add_flag("--centred", o.net.centred,
                "graph: each stage's residuals lose their mean over the set, so no set moves as "
                "a whole (see README)");
@@ -132,6 +135,10 @@ std::pair<NeuralSettings, TrainerSettings> settingsFrom(const TrainOptions &o,
   ns.family = o.target;
   ns.mapped = o.mapping == "mapped";
   TrainerSettings ts = o.train;
+  if (ts.shiftedSets && !ns.mapped)
+    throw std::invalid_argument(
+        "--train-shifted: shifts happen in the target's primary space, so the sets must be mapped "
+        "(drop --mapping unmapped)");
   ts.seed = ns.seed;
   ts.pullback = parseGradientPullback(o.pullback);
   return {ns, ts};
