@@ -181,13 +181,13 @@ LobeTables::LobeTables(const std::vector<std::shared_ptr<const Bsdf>> &materials
         spec.thetaRows = std::max(1, settings.phiCells / 2);
         spec.samplingMix = *settings.samplingMix;
         e.tables.push_back(makeDisneyTarget(spec));
-        // Columns a multiple of 12: the lobe-selection stripes of u.x (3 or
-        // 4) then end on cell edges, so no cell averages two lobes, and
-        // every material's tables have one size (as a family's do).
-        spec.space = LobeSpace::Primary;
-        spec.phiCells = (settings.primaryCells + 11) / 12 * 12;
-        spec.thetaRows = settings.primaryCells;
-        e.primaryTables.push_back(makeDisneyTarget(spec));
+        if (usesPrimaryTables(settings.routing)) {
+          DisneyTargetSpec primary = primaryTableLayout(settings);
+          primary.params = spec.params;
+          primary.thetaDegrees = spec.thetaDegrees;
+          primary.phiDegrees = spec.phiDegrees;
+          e.primaryTables.push_back(makeDisneyTarget(primary));
+        }
       }
     measureRoutes(e, entries_.size());
     entries_.push_back(std::move(e));
@@ -213,7 +213,7 @@ void LobeTables::measureRoutes(const Entry &e, std::size_t material) {
       routes_.push_back(route);
       continue;
     }
-    const bool tryPrimary = routing == LobeRouting::Measured;
+    const bool tryPrimary = usesPrimaryTables(routing);
     int view = 0;
     for (const double ft : {1.0 / 6, 0.5, 5.0 / 6})
       for (const double fp : e.anisotropic ? std::vector{0.25, 0.75} : std::vector{0.4}) {
@@ -230,8 +230,8 @@ void LobeTables::measureRoutes(const Entry &e, std::size_t material) {
         const Vec3 wo{flipX * std::sin(theta) * std::cos(phi),
                       flipY * std::sin(theta) * std::sin(phi), std::cos(theta)};
         std::size_t index = 0;
-        const LobeFrame sphere = binFrame(e, wo, index, false);
-        const LobeFrame primary = binFrame(e, wo, index, true);
+        const LobeFrame sphere = binFrame(e, wo, index);
+        const LobeFrame primary = tryPrimary ? primaryFrame(e, wo, index, sphere) : sphere;
         const RouteVariances v =
             measureAt(*e.material, wo, &sphere, tryPrimary ? &primary : nullptr,
                       hashCombine(material * 1000 + b, std::uint64_t(ft * 6)));
@@ -247,7 +247,7 @@ void LobeTables::measureRoutes(const Entry &e, std::size_t material) {
   }
 }
 
-LobeFrame LobeTables::binFrame(const Entry &e, Vec3 wo, std::size_t &index, bool primary) const {
+LobeFrame LobeTables::binFrame(const Entry &e, Vec3 wo, std::size_t &index) const {
   // The bins by comparisons with their edges' cosines and tangents (wo is a
   // unit vector): no atan2 per shading point.
   int t = 0;
@@ -267,14 +267,20 @@ LobeFrame LobeTables::binFrame(const Entry &e, Vec3 wo, std::size_t &index, bool
     index = std::size_t(t) * settings_.phiBins + p;
   }
   f.table = e.tables[index].get();
-  if (primary) {
-    // The primary table is made at the bin's view; the warp's symmetry
-    // carries its points to this view (DisneyBrdf::primaryUnderSymmetry).
-    f.primary = true;
-    f.table = e.primaryTables[index].get();
-    f.warp = e.material;
-    if (!e.anisotropic) f.turns = atan2Turns(wo.y, wo.x);
-  }
+  return f;
+}
+
+LobeFrame LobeTables::primaryFrame(const Entry &e, Vec3 wo, std::size_t index,
+                                   const LobeFrame &sphere) const {
+  // The primary table is made at the bin's view; the warp's symmetry
+  // carries its points to this view (DisneyBrdf::primaryUnderSymmetry):
+  // the sphere frame's folds for an anisotropic material, the view's
+  // azimuth for an isotropic one.
+  LobeFrame f = sphere;
+  f.primary = true;
+  f.table = e.primaryTables[index].get();
+  f.warp = e.material;
+  if (!e.anisotropic) f.turns = atan2Turns(wo.y, wo.x);
   return f;
 }
 
@@ -283,10 +289,10 @@ std::optional<LobeFrame> LobeTables::frame(const Bsdf *material, Vec3 wo) const 
                                [&](const Entry &e) { return e.material == material; });
   if (it == entries_.end() || !(wo.z > 0)) return std::nullopt;
   std::size_t index = 0;
-  const LobeFrame f = binFrame(*it, wo, index, false);
+  const LobeFrame f = binFrame(*it, wo, index);
   const LobeBinRoute &route = routes_[it->firstRoute + index];
   if (!route.table) return std::nullopt;  // the bin keeps the material's sampler
-  return route.primary ? binFrame(*it, wo, index, true) : f;
+  return route.primary ? primaryFrame(*it, wo, index, f) : f;
 }
 
 std::vector<const Target *> LobeTables::targets() const {
@@ -297,6 +303,18 @@ std::vector<const Target *> LobeTables::targets() const {
       if (route.table) out.push_back((route.primary ? e.primaryTables : e.tables)[b].get());
     }
   return out;
+}
+
+DisneyTargetSpec primaryTableLayout(const LobeTableSettings &settings) {
+  DisneyTargetSpec spec;
+  spec.space = LobeSpace::Primary;
+  // Columns a multiple of 12: the lobe-selection stripes of u.x (3 or 4)
+  // then end on cell edges, so no cell averages two lobes, and every
+  // material's tables have one size (as a family's do).
+  spec.phiCells = (settings.primaryCells + 11) / 12 * 12;
+  spec.thetaRows = settings.primaryCells;
+  spec.samplingMix = settings.samplingMix.value_or(0);
+  return spec;
 }
 
 std::shared_ptr<const LobeTables> LobeTableCache::get(

@@ -47,6 +47,7 @@
 
 #include "materials/bsdf.h"
 #include "materials/disney.h"
+#include "materials/disney_target.h"
 #include "sampler/enum_names.h"
 #include "sampler/targets/grid_target.h"
 
@@ -65,6 +66,11 @@ inline constexpr auto kLobeRoutingNames =
                                             {"table", LobeRouting::Table},
                                             {"primary", LobeRouting::Primary}});
 constexpr const auto &enumNames(LobeRouting) { return kLobeRoutingNames; }
+// Whether a routing may send a bin through its primary-space table (only
+// then are those tables built).
+constexpr bool usesPrimaryTables(LobeRouting r) {
+  return r == LobeRouting::Measured || r == LobeRouting::Primary;
+}
 
 struct LobeTableSettings {
   int thetaBins = 9;  // over theta_o in [0, 90) degrees
@@ -98,6 +104,11 @@ struct LobeTableSettings {
 
   friend bool operator==(const LobeTableSettings &, const LobeTableSettings &) = default;
 };
+
+// The layout of the renderer's primary-space tables under `settings`
+// (space, cells and mix; the material and the view left at their defaults):
+// the spec a model or a study integrand must match to serve them.
+DisneyTargetSpec primaryTableLayout(const LobeTableSettings &settings);
 
 // One shading point's table and the map from the table's frame to the
 // shading frame.
@@ -190,15 +201,18 @@ class LobeTables {
   struct Entry {
     const DisneyBrdf *material;
     bool anisotropic;
-    std::vector<std::unique_ptr<GridTarget>> tables;         // sphere, theta-major, then phi
-    std::vector<std::unique_ptr<GridTarget>> primaryTables;  // the same bins in primary space
-    std::size_t firstRoute;                                  // its tables' routes in routes_
+    std::vector<std::unique_ptr<GridTarget>> tables;  // sphere, theta-major, then phi
+    // The same bins in primary space; empty when the routing never uses them.
+    std::vector<std::unique_ptr<GridTarget>> primaryTables;
+    std::size_t firstRoute;  // its tables' routes in routes_
   };
   // Measures and sets the routes of e's bins (e is material `material`).
   void measureRoutes(const Entry &e, std::size_t material);
-  // The frame of bin `index` of `e` at wo through its sphere or its primary
-  // table, whatever its route.
-  LobeFrame binFrame(const Entry &e, Vec3 wo, std::size_t &index, bool primary) const;
+  // The frame of the bin of `e` that wo falls in (its index into `index`)
+  // through its sphere table, whatever its route; and the same bin's frame
+  // through its primary table, from that sphere frame.
+  LobeFrame binFrame(const Entry &e, Vec3 wo, std::size_t &index) const;
+  LobeFrame primaryFrame(const Entry &e, Vec3 wo, std::size_t index, const LobeFrame &sphere) const;
   LobeTableSettings settings_;
   // The inner edges of the theta bins as cosines and of the phi bins as
   // tangents, in increasing angle.

@@ -12,6 +12,7 @@
 #include <iterator>
 
 #include "materials/disney_target.h"
+#include "renderer/lobe_tables.h"
 #include "renderer/neural_backend.h"
 #include "renderer/render.h"
 #include "sampler/metrics/moment_spread.h"
@@ -36,12 +37,11 @@ std::string bytesOf(const std::string &path) {
 // A material and view no training batch drew exactly: the supplement's
 // instance at 33 degrees (gamma off every flat stretch but metallic's).
 std::vector<double> unseenGamma() {
-  DisneyTargetSpec s;
+  LobeTableSettings mis;
+  mis.samplingMix = 1.0;
+  DisneyTargetSpec s = primaryTableLayout(mis);
+  s.params = supplementDisneyParams();
   s.thetaDegrees = 33;
-  s.phiCells = 36;
-  s.thetaRows = 32;
-  s.samplingMix = 1;
-  s.space = LobeSpace::Primary;
   return *invertDisneyMaterialGamma(s);
 }
 

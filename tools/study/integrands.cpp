@@ -10,6 +10,7 @@
 
 #include "materials/disney_target.h"
 #include "materials/sphere_map.h"
+#include "renderer/lobe_tables.h"
 #include "sampler/sequences/rng.h"
 #include "sampler/targets/basic_targets.h"
 #include "sampler/targets/image_targets.h"
@@ -381,13 +382,11 @@ Integrand makeDisneyPrimaryCosines(double thetaDegrees, double roughness) {
   DisneyParams params = supplementDisneyParams();
   params.roughness = roughness;
   Integrand in = makeDisneyCosines(thetaDegrees, params);
-  DisneyTargetSpec spec;
+  LobeTableSettings mis;  // the tables a render under MIS builds
+  mis.samplingMix = 1.0;
+  DisneyTargetSpec spec = primaryTableLayout(mis);
   spec.params = params;
   spec.thetaDegrees = thetaDegrees;
-  spec.space = LobeSpace::Primary;
-  spec.phiCells = 36;
-  spec.thetaRows = 32;
-  spec.samplingMix = 1;
   in.name = disneyPrimaryCosinesName(thetaDegrees, roughness);
   in.target = makeDisneyTarget(spec);
   // On the primary square u is the variable: the material's own estimate

@@ -132,7 +132,7 @@ std::string disneyCosinesName(double thetaDegrees);
 // primary sample space of the material's own sample() (materials/
 // disney_target.h, LobeSpace::Primary): on the unit square f(u) = g(w) / p(w)
 // at w = sample(wo, u), importance-sampled by the renderer's primary table
-// under MIS (res 36, rows 32, mix 1); its classic route is the material's
+// under MIS (primaryTableLayout, renderer/lobe_tables.h); its classic route is the material's
 // sampler, its tabulated one the primary table. The supplement's instance
 // with roughness R; the study makes one per disneyCosinesThetas() and
 // disneyPrimaryRoughnesses().
