@@ -202,8 +202,7 @@ Point2 DisneyBrdf::primaryUnderSymmetry(Point2 u, double turns, bool flipX, bool
     if (flipY) y = -y;       // phi -> -phi
     y += turns;
   }
-  y -= std::floor(y);
-  return {u.x, y < 1 ? y : 0.0};  // a tiny negative y rounds to 1 above: the same azimuth as 0
+  return {u.x, wrapUnit(y)};
 }
 
 std::optional<BsdfSample> DisneyBrdf::sample(Vec3 wo, Point2 u) const {

@@ -355,9 +355,7 @@ class DisneyFamily final : public TargetFamily {
     return "family:" + s;
   }
   std::size_t gammaDimension() const override { return 2; }
-  Domain domain() const override {
-    return base_.space == LobeSpace::Primary ? Domain::Square : Domain::Hemisphere;
-  }
+  Domain domain() const override { return base_.domain(); }
   std::shared_ptr<const Target> target(std::span<const double> gamma) const override {
     checkGamma(*this, gamma);
     DisneyTargetSpec s = base_;
@@ -475,9 +473,7 @@ class DisneyMaterialFamily final : public TargetFamily {
     return "family:disney-material" + s.substr(std::string("disney").size());
   }
   std::size_t gammaDimension() const override { return 2 + kMaterialAxes.size(); }
-  Domain domain() const override {
-    return base_.space == LobeSpace::Primary ? Domain::Square : Domain::Hemisphere;
-  }
+  Domain domain() const override { return base_.domain(); }
   std::shared_ptr<const Target> target(std::span<const double> gamma) const override {
     checkGamma(*this, gamma);
     return makeDisneyTarget(disneyMaterialSpec(base_, gamma));

@@ -95,6 +95,10 @@ struct DisneyTargetSpec {
   int defaultRows() const {
     return space == LobeSpace::Primary ? phiCells : std::max(1, phiCells / 2);
   }
+  // Where its table lives: the hemisphere, or the primary square.
+  Domain domain() const {
+    return space == LobeSpace::Primary ? Domain::Square : Domain::Hemisphere;
+  }
 };
 
 // Parses the part after `disney:` (empty for plain `disney`). Throws

@@ -18,8 +18,7 @@ NeuralBackend::NeuralBackend(std::string name, const std::string &modelPath, std
       generator_(NeuralGenerator::load(modelPath)) {
   const std::string family = generator_.family().spec();
   lobeFamily_ = family.rfind("family:disney", 0) == 0;
-  // A lobe model's sets follow their table only roughly (bins of its
-  // primary square off by up to a fifth, measured: tools/experiments/
+  // A lobe model's sets follow their table only roughly (tools/experiments/
   // README.md, "The graph generator in primary space"), which would bias
   // every pixel; shifted in the table's primary space, every point follows
   // the table exactly and the estimate is unbiased.

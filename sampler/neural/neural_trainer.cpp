@@ -253,8 +253,7 @@ Validation NeuralTrainer::validate() {
         const Point2 d{rng.uniform(), rng.uniform()};
         for (Point2 &p : std::span(points).subspan(k * n, n)) {
           Point2 u = grid->primaryOf(p);
-          u = {std::min(u.x + d.x - std::floor(u.x + d.x), std::nextafter(1.0, 0.0)),
-               std::min(u.y + d.y - std::floor(u.y + d.y), std::nextafter(1.0, 0.0))};
+          u = {wrapUnit(u.x + d.x), wrapUnit(u.y + d.y)};
           p = grid->invert(u).x;
         }
       }

@@ -22,18 +22,7 @@ NeuralSettings tinyNet(const std::string &family, std::size_t n, int hidden, boo
   return test::tinyNeuralSettings(family, n, hidden, mapped, 3);
 }
 
-TrainerSettings tinyTraining(int steps) {
-  TrainerSettings t;
-  t.steps = steps;
-  t.batch = 4;
-  t.boxes = 256;
-  t.alphaStart = 10;
-  t.alphaEnd = 200;
-  t.lrStart = 3e-3;
-  t.lrEnd = 1e-4;
-  t.seed = 11;
-  return t;
-}
+TrainerSettings tinyTraining(int steps) { return test::tinyTrainerSettings(steps, 11); }
 
 // Central differences of the step loss in double precision against the
 // gradient the custom function hands to autograd, for weights and biases of

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "sampler/neural/neural_generator.h"
+#include "sampler/neural/neural_trainer.h"
 
 namespace nuld::test {
 
@@ -17,6 +18,20 @@ inline NeuralSettings tinyNeuralSettings(const std::string &family, std::size_t 
   s.family = family;
   s.seed = seed;
   return s;
+}
+
+// A few steps of small batches with few boxes and a gentle schedule.
+inline TrainerSettings tinyTrainerSettings(int steps, std::uint64_t seed) {
+  TrainerSettings t;
+  t.steps = steps;
+  t.batch = 4;
+  t.boxes = 256;
+  t.alphaStart = 10;
+  t.alphaEnd = 200;
+  t.lrStart = 3e-3;
+  t.lrEnd = 1e-4;
+  t.seed = seed;
+  return t;
 }
 
 }  // namespace nuld::test
