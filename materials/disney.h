@@ -85,6 +85,14 @@ class DisneyBrdf final : public Bsdf {
   // draws it about the stretched view, so a rotation leaves it in place and
   // either mirror reflects it about that frame's first axis.
   Point2 primaryUnderSymmetry(Point2 u, double turns, bool flipX, bool flipY) const;
+  // Its inverse: primaryBeforeSymmetry(primaryUnderSymmetry(u, ...), ...) = u.
+  Point2 primaryBeforeSymmetry(Point2 u, double turns, bool flipX, bool flipY) const;
+  // The inverse of sample() through lobe k: the primary point u, in lobe
+  // k's stripe of u.x, from which sample(wo, u) draws wi; nullopt where
+  // lobe k never draws wi. With it a density over sample()'s primary
+  // square becomes a density over directions (renderer/lobe_tables.h,
+  // LobeFrame::routePdf).
+  std::optional<Point2> lobePrimary(int k, Vec3 wo, Vec3 wi) const;
 
  private:
   // The angles every lobe reads, for wo and wi above the surface.

@@ -43,7 +43,7 @@ double GgxDistribution::visibleD(Vec3 wo, Vec3 m) const {
   return 2 / (wo.z + stretchedLength(wo)) * wom * D(m);
 }
 
-Vec3 GgxDistribution::sampleVisibleNormal(Vec3 wo, Point2 u) const {
+GgxDistribution::VisibleFrame GgxDistribution::visibleFrame(Vec3 wo) const {
   // Stretch the view so that the distribution becomes the hemisphere of
   // roughness 1: visible normals are then uniform on the disc that the
   // hemisphere projects to, seen from vh.
@@ -51,7 +51,11 @@ Vec3 GgxDistribution::sampleVisibleNormal(Vec3 wo, Point2 u) const {
   // A basis around vh; any tangent works at normal incidence.
   const double len2 = vh.x * vh.x + vh.y * vh.y;
   const Vec3 t1 = len2 > 0 ? Vec3{-vh.y, vh.x, 0} / std::sqrt(len2) : Vec3{1, 0, 0};
-  const Vec3 t2 = cross(vh, t1);
+  return {vh, t1, cross(vh, t1)};
+}
+
+Vec3 GgxDistribution::sampleVisibleNormal(Vec3 wo, Point2 u) const {
+  const auto [vh, t1, t2] = visibleFrame(wo);
   // A uniform point on the unit disc, then the half of the disc hidden by
   // the hemisphere's silhouette is squeezed into the visible ellipse.
   const double r = std::sqrt(std::clamp(u.x, 0.0, 1.0));
@@ -63,6 +67,20 @@ Vec3 GgxDistribution::sampleVisibleNormal(Vec3 wo, Point2 u) const {
   // which for this diagonal stretch is the same scaling of x and y).
   const Vec3 nh = p1 * t1 + p2 * t2 + std::sqrt(std::max(0.0, 1 - p1 * p1 - p2 * p2)) * vh;
   return normalize(Vec3{ax_ * nh.x, ay_ * nh.y, std::max(0.0, nh.z)});
+}
+
+std::optional<Point2> GgxDistribution::visibleNormalPrimary(Vec3 wo, Vec3 m) const {
+  if (!(m.z > 0)) return std::nullopt;
+  const auto [vh, t1, t2] = visibleFrame(wo);
+  // Stretch the normal back onto the hemisphere of roughness 1, project it
+  // onto the disc seen from vh, and undo the squeeze of its hidden half
+  // (s >= 1/2, since the view is above the surface).
+  const Vec3 nh = normalize(Vec3{m.x / ax_, m.y / ay_, m.z});
+  if (!(dot(nh, vh) >= 0)) return std::nullopt;
+  const double p1 = std::clamp(dot(nh, t1), -1.0, 1.0);
+  const double s = 0.5 * (1 + vh.z);
+  const double q = (dot(nh, t2) - (1 - s) * std::sqrt(std::max(0.0, 1 - p1 * p1))) / s;
+  return Point2{std::clamp(p1 * p1 + q * q, 0.0, 1.0), wrapUnit(atan2Turns(q, p1))};
 }
 
 double GgxDistribution::reflectionPdf(Vec3 wo, Vec3 wi) const {
@@ -102,6 +120,15 @@ Vec3 Gtr1Distribution::sampleNormal(Point2 u) const {
   const double cosTheta = std::sqrt(std::clamp(cos2, 0.0, 1.0));
   const double sinTheta = std::sqrt(std::max(0.0, 1 - cosTheta * cosTheta));
   return sphericalDirectionTurns(sinTheta, cosTheta, u.y);
+}
+
+Point2 Gtr1Distribution::normalPrimary(Vec3 m) const {
+  // sampleNormal's cos^2 solved for u.x; log1p keeps the peak's u.x, near
+  // 0, accurate for the smallest alphas.
+  const double cos2 = std::clamp(m.z * m.z, 0.0, 1.0);
+  const double a2 = alpha_ * alpha_;
+  const double ux = alpha_ >= 1 ? 1 - cos2 : 1 - std::log1p(-cos2 * (1 - a2)) / std::log(a2);
+  return {std::clamp(ux, 0.0, 1.0), wrapUnit(atan2Turns(m.y, m.x))};
 }
 
 double Gtr1Distribution::reflectionPdf(Vec3 wo, Vec3 wi) const {

@@ -36,6 +36,13 @@ inline Vec3 cosineHemisphere(Point2 u) {
   return sphericalDirectionTurns(sinTheta, cosTheta, u.y);
 }
 
+// The primary point u with cosineHemisphere(u) = w, for w above the
+// surface: the inverse that the renderer's route densities need
+// (renderer/lobe_tables.h, LobeFrame::routePdf).
+inline Point2 cosineHemispherePrimary(Vec3 w) {
+  return {std::clamp(w.x * w.x + w.y * w.y, 0.0, 1.0), wrapUnit(atan2Turns(w.y, w.x))};
+}
+
 // The density of cosineHemisphere per unit solid angle.
 inline double cosineHemispherePdf(double cosTheta) { return cosTheta > 0 ? cosTheta * kInvPi : 0; }
 

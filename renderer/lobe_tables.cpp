@@ -83,7 +83,7 @@ RouteVariances measureAt(const DisneyBrdf &m, Vec3 wo, const LobeFrame *lobe,
 }  // namespace
 
 std::optional<BsdfSample> sampleLobeRoute(const Bsdf &bsdf, Vec3 wo, const LobeFrame &lobe,
-                                          Point2 u, double *materialPdf) {
+                                          Point2 u, double *routeDensity) {
   BsdfSample s;
   double own = 0;
   // The defensive split, in the table's primary space, where a set that
@@ -130,8 +130,22 @@ std::optional<BsdfSample> sampleLobeRoute(const Bsdf &bsdf, Vec3 wo, const LobeF
     own = v.pdf;
   }
   if (!(s.pdf > 0) || !std::isfinite(s.pdf) || !s.f.isFinite()) return std::nullopt;
-  if (materialPdf) *materialPdf = own;
+  if (routeDensity) *routeDensity = lobe.primary ? lobe.routePdf(wo, s.wi, own) : s.pdf;
   return s;
+}
+
+double LobeFrame::routePdf(Vec3 wo, Vec3 wi, double materialPdf) const {
+  if (!primary) return pdf(wi, materialPdf);
+  double tabulated = 0;
+  for (int k = 0; k < warp->lobeCount(); ++k) {
+    const double lobeDensity = warp->lobePdf(k, wo, wi);
+    if (!(lobeDensity > 0)) continue;
+    if (const auto u = warp->lobePrimary(k, wo, wi))
+      tabulated +=
+          lobeDensity * table->pdf(warp->primaryBeforeSymmetry(*u, turns, flipX < 0, flipY < 0));
+  }
+  // sample() picks each lobe with probability 1 / lobeCount.
+  return (1 - defensive) * tabulated / warp->lobeCount() + defensive * materialPdf;
 }
 
 Vec3 LobeFrame::direction(Point2 x) const {

@@ -133,9 +133,17 @@ struct LobeFrame {
   // The density per unit solid angle with which direction(x) is drawn when x
   // follows the table; 0 below the surface.
   double tablePdf(Vec3 wi) const;
-  // The route's density: the defensive mixture of the table's and the
+  // A sphere route's density: the defensive mixture of the table's and the
   // material's (`materialPdf`, the material's pdf at wi).
   double pdf(Vec3 wi, double materialPdf) const { return mixture(tablePdf(wi), materialPdf); }
+  // The density per unit solid angle with which the route draws wi at the
+  // shading point's view wo, for either kind of table: the BSDF side of the
+  // MIS weights. A primary table's sums, over the lobes that can draw wi,
+  // the lobe's own density times the primary mixture's (1 - d) table + d at
+  // the point the lobe draws wi from (DisneyBrdf::lobePrimary, carried back
+  // to the table's view): weights from it follow where the route actually
+  // sends its samples, which the material's pdf does not.
+  double routePdf(Vec3 wo, Vec3 wi, double materialPdf) const;
   // The same from the two densities per unit solid angle.
   double mixture(double tableDensity, double materialPdf) const {
     return (1 - defensive) * tableDensity + defensive * materialPdf;
@@ -158,10 +166,11 @@ struct LobeFrame {
 //    there, and near the table's mean of w / (1 - d) wherever the table
 //    resolves w: the table evens out the warp's weights.
 // nullopt when no direction results.
-// `materialPdf`, when given, receives the material's own pdf at the drawn
-// direction (the path integrator's MIS weights use it).
+// `routeDensity`, when given, receives the route's density per unit solid
+// angle at the drawn direction (LobeFrame::routePdf; for a sphere table the
+// same as pdf), which the path integrator's MIS weights use.
 std::optional<BsdfSample> sampleLobeRoute(const Bsdf &bsdf, Vec3 wo, const LobeFrame &lobe,
-                                          Point2 u, double *materialPdf = nullptr);
+                                          Point2 u, double *routeDensity = nullptr);
 
 // What the route measurement found for one bin (renderer/README.md, "Lobe
 // routes"): the relative variance of a 16-point Owen-Sobol estimate of the

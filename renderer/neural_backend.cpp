@@ -51,14 +51,17 @@ void NeuralBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
   // The banks to make: one per gamma the scene asks for.
   std::vector<std::string> specs;
   std::vector<std::vector<double>> gammas;
+  std::vector<const Target *> members;  // the tables themselves, which the model need not rebuild
   if (!lobeFamily_) {
     specs.push_back(generator_.family().target({})->spec());
     gammas.emplace_back();
+    members.push_back(nullptr);
   } else {
     for (const Target *t : targets.lobes)
       if (const auto g = disneyFamilyGamma(generator_.family().spec(), t->spec())) {
         specs.push_back(t->spec());
         gammas.push_back(*g);
+        members.push_back(t);
       }
     if (specs.empty())
       throw BackendRefusal(
@@ -71,7 +74,7 @@ void NeuralBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
     const std::size_t each = lobeFamily_ ? std::min(total, kSetsPerGamma) : total;
     std::vector<SetBank> banks;
     for (std::size_t k = 0; k < specs.size(); ++k) {
-      SetBank bank{generator_.generateSets(each, seed() + k, gammas[k], n), source_};
+      SetBank bank{generator_.generateSets(each, seed() + k, gammas[k], n, members[k]), source_};
       setMeta(bank.sets, meta::kTarget, specs[k]);
       banks.push_back(std::move(bank));
     }

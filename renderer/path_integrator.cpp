@@ -235,12 +235,14 @@ void PathIntegrator::addLightSamples(std::span<PathState> path, int depth,
       if (scene_.geometry.occluded(shadow)) continue;
       const auto [f, classicPdf] = p.bsdf->evalWithPdf(p.wo, wi);
       if (f.isBlack()) continue;
-      // The MIS weights of both strategies use the material's own pdf for
-      // the BSDF side, also where a table draws the BSDF sample: any weights
-      // that sum to 1 keep the estimate unbiased (each sample still divides
-      // by the density that drew it), and this spares a table lookup per
-      // light sample.
-      const double w = lightOnly_ ? 1.0 : powerHeuristic(ls[k]->pdf, classicPdf);
+      // Where a table draws the BSDF sample, the MIS weights of both
+      // strategies use the route's density for the BSDF side, so that they
+      // follow where the route sends its samples (any weights that sum to 1
+      // would keep the estimate unbiased, since each sample still divides by
+      // what drew it; renderer/README.md, "Lobe routes", has the measured
+      // difference).
+      const double bsdfPdf = p.lobe.table ? p.lobe.routePdf(p.wo, wi, classicPdf) : classicPdf;
+      const double w = lightOnly_ ? 1.0 : powerHeuristic(ls[k]->pdf, bsdfPdf);
       p.L += (w * wi.z / ls[k]->pdf) * p.beta * f * ls[k]->radiance;
     }
   }
@@ -259,16 +261,17 @@ bool PathIntegrator::continuePaths(std::span<PathState> path, int depth,
     PathState &p = path[k];
     if (!p.alive) continue;
     p.alive = false;
-    double materialPdf = 0;
+    double routeDensity = 0;
     const auto bs =
-        p.lobe.table ? sampleLobeRoute(*p.bsdf, p.wo, p.lobe, p.lobePoint, &materialPdf)
+        p.lobe.table ? sampleLobeRoute(*p.bsdf, p.wo, p.lobe, p.lobePoint,
+                                       bsdfOnly_ ? nullptr : &routeDensity)
                      : p.bsdf->sample(p.wo, p.samples->primary(SamplePairs::bsdf(depth), p.index));
     if (!bs || !(bs->pdf > 0)) continue;
     if (!(bs->wi.z > 0)) continue;  // below the shading hemisphere: f = 0
     const Vec3 wiWorld = p.sh.frame.toWorld(bs->wi);
     p.beta *= (bs->wi.z / bs->pdf) * bs->f;
-    // The MIS weight's BSDF pdf: the material's own (see addLightSamples).
-    p.lastBsdfPdf = p.lobe.table ? materialPdf : bs->pdf;
+    // The MIS weight's BSDF pdf: the route's density (see addLightSamples).
+    p.lastBsdfPdf = p.lobe.table ? routeDensity : bs->pdf;
     p.ray = {p.sh.origin, wiWorld};
     if (p.beta.isBlack()) continue;
     p.alive = true;

@@ -71,7 +71,8 @@ void writeEdges(Point2 *pe, std::span<const Point2> u, std::span<const Point2> x
 
 std::pair<torch::Tensor, torch::Tensor> NeuralGenerator::Net::graphInputs(
     const NeuralGenerator &gen, std::span<const double> gamma, const torch::Tensor &points,
-    const std::vector<TorusGraph> &graphs) const {
+    const std::vector<TorusGraph> &graphs, std::span<const Target *const> members,
+    std::span<const NonuniformL2asd *const> objectives) const {
   const NeuralSettings &s = gen.settings();
   const std::size_t K = std::size_t(points.size(0)), n = std::size_t(points.size(1)),
                     g = gen.gammaDimension();
@@ -95,11 +96,10 @@ std::pair<torch::Tensor, torch::Tensor> NeuralGenerator::Net::graphInputs(
   const auto hf = harmonics.accessor<double, 2>();
   std::vector<Point2> x(n), u(n), gradient(s.discrepancyGradient ? n : 0);
   std::vector<Jacobian2> jacobian(n);
-  FamilyTargets targets(gen.family());
   for (std::size_t set = 0; set < K; ++set) {
     const std::vector<std::int64_t> &nb = graphOf(set).neighbours;
     const std::span<const double> gs = gamma.subspan(set * g, g);
-    const Target *target = &targets.at(gs);
+    const Target *target = members[set];
     std::vector<double> gammaCode;
     if (g > 0) {
       const torch::Tensor v =
@@ -113,13 +113,8 @@ std::pair<torch::Tensor, torch::Tensor> NeuralGenerator::Net::graphInputs(
       x[i] = gen.place(raw, *target, &jacobian[i]);
     }
     double gradientScale = 0;
-    if (s.discrepancyGradient) {
-      // One target: the objective built with the generator; a family: this
-      // set's member.
-      const auto objectiveHere =
-          g == 0 ? objective : std::make_shared<const NonuniformL2asd>(*target, kGradientGrid);
-      gradientScale = descentDirection(*objectiveHere, x, jacobian, gradient);
-    }
+    if (s.discrepancyGradient)
+      gradientScale = descentDirection(*objectives[set], x, jacobian, gradient);
     for (std::size_t i = 0; i < n; ++i) {
       double *f = pn + (set * n + i) * std::size_t(F);
       for (std::int64_t h = 0; h < H; ++h) {

@@ -36,9 +36,13 @@ struct NeuralGenerator::Net {
   const torch::nn::Module &module() const;
 
   // The residuals of K sets, [K, N, 2] in the module's dtype; they carry
-  // autograd unless a NoGradGuard is active. `base` is baseSets(gen, z).
+  // autograd unless a NoGradGuard is active. `base` is baseSets(gen, z);
+  // `members` the family's target at each set's gamma (K of them, made
+  // once by the caller: a Disney lobe's table costs milliseconds, and every
+  // stage reads it).
   torch::Tensor forward(const NeuralGenerator &gen, std::span<const Point2> z,
-                        std::span<const double> gamma, const torch::Tensor &base);
+                        std::span<const double> gamma, const torch::Tensor &base,
+                        std::span<const Target *const> members);
 
   // Supplement only: the network's outputs for input rows v (no autograd):
   // the same values as mlp->forward(v) up to single-precision summation order.
@@ -49,11 +53,13 @@ struct NeuralGenerator::Net {
   // Graph only: the per-point and per-edge inputs ([K, N, F], [K, N, k, E],
   // module dtype) of K sets whose current raw points are `points` ([K, N,
   // 2] double: the base set plus the residuals of earlier stages). `graphs`:
-  // each set's neighbour graph, or empty for the shared `torus`.
-  std::pair<torch::Tensor, torch::Tensor> graphInputs(const NeuralGenerator &gen,
-                                                      std::span<const double> gamma,
-                                                      const torch::Tensor &points,
-                                                      const std::vector<TorusGraph> &graphs) const;
+  // each set's neighbour graph, or empty for the shared `torus`; `members`
+  // and `objectives` each set's target and, with discrepancyGradient, the
+  // objective whose gradient its points see.
+  std::pair<torch::Tensor, torch::Tensor> graphInputs(
+      const NeuralGenerator &gen, std::span<const double> gamma, const torch::Tensor &points,
+      const std::vector<TorusGraph> &graphs, std::span<const Target *const> members,
+      std::span<const NonuniformL2asd *const> objectives) const;
 };
 
 // What the neural translation units share (neural_generator.cpp: the
@@ -62,12 +68,17 @@ struct NeuralGenerator::Net {
 
 // The targets of consecutive sets: a family's target is rebuilt only when
 // gamma changes (tabulating a Disney lobe costs milliseconds, and a bank
-// generates hundreds of sets per gamma).
+// generates hundreds of sets per gamma). `known`, when given, is the
+// family's target at `knownGamma` (a renderer's table of that content),
+// used instead of building it again.
 class FamilyTargets {
  public:
-  explicit FamilyTargets(const TargetFamily &family) : family_(family) {}
+  explicit FamilyTargets(const TargetFamily &family, const Target *known = nullptr,
+                         std::span<const double> knownGamma = {})
+      : family_(family), known_(known), knownGamma_(knownGamma.begin(), knownGamma.end()) {}
   const Target &at(std::span<const double> gamma) {
-    if (!target_ || !std::equal(gamma.begin(), gamma.end(), gamma_.begin(), gamma_.end())) {
+    if (known_ && std::ranges::equal(gamma, knownGamma_)) return *known_;
+    if (!target_ || !std::ranges::equal(gamma, gamma_)) {
       target_ = family_.target(gamma);
       gamma_.assign(gamma.begin(), gamma.end());
     }
@@ -76,7 +87,8 @@ class FamilyTargets {
 
  private:
   const TargetFamily &family_;
-  std::vector<double> gamma_;
+  const Target *known_;
+  std::vector<double> knownGamma_, gamma_;
   std::shared_ptr<const Target> target_;
 };
 

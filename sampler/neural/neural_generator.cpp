@@ -51,7 +51,8 @@ const torch::nn::Module &NeuralGenerator::Net::module() const {
 
 torch::Tensor NeuralGenerator::Net::forward(const NeuralGenerator &gen, std::span<const Point2> z,
                                             std::span<const double> gamma,
-                                            const torch::Tensor &base) {
+                                            const torch::Tensor &base,
+                                            std::span<const Target *const> members) {
   const std::int64_t K = std::int64_t(z.size()), n = base.size(1);
   if (!graph) return mlp->forward(inputs(z, gamma, gen.gammaDimension())).reshape({K, n, 2});
   // Residuals in units of the point spacing, 1 / sqrt(N). Each stage sees
@@ -78,10 +79,25 @@ torch::Tensor NeuralGenerator::Net::forward(const NeuralGenerator &gen, std::spa
                 index[set].data_ptr<std::int64_t>());
     }
   }
+  // The objectives whose gradients the points see: the generator's for a
+  // single target, else one per distinct member (consecutive sets share
+  // theirs), made once for all stages.
+  std::vector<std::shared_ptr<const NonuniformL2asd>> made;
+  std::vector<const NonuniformL2asd *> objectives;
+  if (gen.settings().discrepancyGradient)
+    for (std::size_t set = 0; set < std::size_t(K); ++set) {
+      if (gen.gammaDimension() == 0) {
+        objectives.push_back(objective.get());
+      } else {
+        if (set == 0 || members[set] != members[set - 1])
+          made.push_back(std::make_shared<const NonuniformL2asd>(*members[set], kGradientGrid));
+        objectives.push_back(made.back().get());
+      }
+    }
   torch::Tensor total;
   torch::Tensor current = base;
   for (int stage = 0; stage < gen.settings().stages; ++stage) {
-    const auto [nodes, edges] = graphInputs(gen, gamma, current, graphs);
+    const auto [nodes, edges] = graphInputs(gen, gamma, current, graphs, members, objectives);
     torch::Tensor r = graph->forward(nodes, edges, index) * (1 / std::sqrt(double(n)));
     if (gen.settings().centred) r = r - r.mean(1, /*keepdim=*/true);
     total = stage == 0 ? r : total + r;
@@ -226,7 +242,8 @@ void NeuralGenerator::generate(std::span<const Point2> z, std::span<const double
 }
 
 void NeuralGenerator::generate(std::span<const Point2> z, std::span<const double> gamma,
-                               std::size_t n, std::span<Point2> out) const {
+                               std::size_t n, std::span<Point2> out, const Target *member,
+                               std::span<const double> memberGamma) const {
   const std::size_t K = z.size(), g = gammaDimension();
   checkSize(n);
   if (gamma.size() != K * g || out.size() != K * n)
@@ -234,27 +251,28 @@ void NeuralGenerator::generate(std::span<const Point2> z, std::span<const double
   for (std::size_t k = 0; k < K; ++k) checkGamma(*family_, gamma.subspan(k * g, g));
   if (K == 0) return;
   torch::NoGradGuard noGrad;
+  FamilyTargets targets(*family_, member, memberGamma);
+  std::vector<const Target *> members(K);
+  for (std::size_t k = 0; k < K; ++k) members[k] = &targets.at(gamma.subspan(k * g, g));
   const torch::Tensor base = baseSets(*this, z, n);
   const torch::Tensor r = settings_.arch == NetworkArch::Supplement
                               ? net_->residuals(net_->inputs(z, gamma, g))
-                              : net_->forward(*this, z, gamma, base);
+                              : net_->forward(*this, z, gamma, base, members);
   const torch::Tensor residual =
       r.to(torch::kFloat64).reshape({std::int64_t(K), std::int64_t(n), 2}).contiguous();
   const torch::Tensor points = (base + residual).contiguous();
   const auto *p = reinterpret_cast<const Point2 *>(points.data_ptr<double>());
-  FamilyTargets targets(*family_);
-  for (std::size_t k = 0; k < K; ++k) {
-    const Target *target = &targets.at(gamma.subspan(k * g, g));
+  for (std::size_t k = 0; k < K; ++k)
     for (std::size_t i = k * n; i < (k + 1) * n; ++i) {
       if (!isFinite(p[i]))
         throw std::runtime_error("neural: the network produced a non-finite point");
-      out[i] = place(p[i], *target);
+      out[i] = place(p[i], *members[k]);
     }
-  }
 }
 
 PointSet NeuralGenerator::generateSets(std::size_t instances, std::uint64_t seed,
-                                       std::span<const double> gamma, std::size_t n) const {
+                                       std::span<const double> gamma, std::size_t n,
+                                       const Target *member) const {
   if (n == 0) n = settings_.n;
   std::vector<Point2> z(instances);
   Rng rng(seed, 0x2);
@@ -265,7 +283,7 @@ PointSet NeuralGenerator::generateSets(std::size_t instances, std::uint64_t seed
   PointSet set;
   set.n = n;
   set.points.resize(instances * n);
-  generate(z, gammas, n, set.points);
+  generate(z, gammas, n, set.points, member, gamma);
   return set;
 }
 

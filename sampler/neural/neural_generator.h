@@ -202,12 +202,16 @@ class NeuralGenerator {
   // checkSize).
   void generate(std::span<const Point2> z, std::span<const double> gamma,
                 std::span<Point2> out) const;
+  // `member`, when given, is the family's target at `memberGamma`, which the
+  // sets with that gamma use instead of building it again (a renderer has
+  // its tables already).
   void generate(std::span<const Point2> z, std::span<const double> gamma, std::size_t n,
-                std::span<Point2> out) const;
+                std::span<Point2> out, const Target *member = nullptr,
+                std::span<const double> memberGamma = {}) const;
   // K sets of n points (0: settings().n) for K offsets drawn from `seed`,
-  // all with the same gamma.
+  // all with the same gamma (and `member`, when given, its target).
   PointSet generateSets(std::size_t instances, std::uint64_t seed, std::span<const double> gamma,
-                        std::size_t n = 0) const;
+                        std::size_t n = 0, const Target *member = nullptr) const;
 
   struct Net;  // LibTorch internals
   Net &net() { return *net_; }

@@ -160,7 +160,9 @@ double NeuralTrainer::stepLoss(int step, Mode mode) {
   const auto netStart = Clock::now();
   const double kernelBefore = lossSeconds_;
   const torch::Tensor base = baseSets(gen_, batch.z, sizeAt(step));
-  const torch::Tensor residual = gen_.net().forward(gen_, batch.z, batch.gamma, base);
+  std::vector<const Target *> members(B);
+  for (std::size_t b = 0; b < B; ++b) members[b] = batch.targets[b].get();
+  const torch::Tensor residual = gen_.net().forward(gen_, batch.z, batch.gamma, base, members);
   torch::Tensor points = base.to(residual.scalar_type()) + residual;
   if (s.shiftedSets) {
     // One offset per set, keyed by (seed, step, set); the loss wraps u.

@@ -262,5 +262,59 @@ TEST(DisneySampling, PrimaryUnderSymmetryCarriesSamplesToTheMovedView) {
     }
 }
 
+// lobePrimary inverts sample() lobe by lobe: the point it returns lies in
+// the lobe's stripe and draws the same direction again, for every lobe
+// (cosine, visible-normal GGX, GTR1), from roughness 0 (alpha at its floor)
+// to 1, anisotropic or not, clear coat from sharp to broad, at views from
+// the normal to 89.9 degrees; where the warp is well conditioned (not the
+// floor alpha) it also returns u itself. primaryBeforeSymmetry undoes
+// primaryUnderSymmetry.
+TEST(DisneySampling, LobePrimaryInvertsEachLobesWarp) {
+  Rng rng(5150);
+  for (const double roughness : {0.0, 0.05, 0.5, 1.0})
+    for (const double anisotropic : {0.0, 0.9})
+      for (const double gloss : {0.0, 1.0}) {
+        DisneyParams p = test::allParametersNonZero(roughness);
+        p.anisotropic = anisotropic;
+        p.clearcoatGloss = gloss;
+        const DisneyBrdf brdf(p);
+        ASSERT_EQ(brdf.lobeCount(), 4);
+        for (int trial = 0; trial < 2000; ++trial) {
+          const double cosTheta = trial % 10 == 0 ? std::cos(89.9 * std::numbers::pi / 180)
+                                                  : std::max(1e-3, rng.uniform());
+          const Vec3 wo =
+              fromAngles(std::acos(cosTheta) * 180 / std::numbers::pi, 360 * rng.uniform());
+          const Point2 u{rng.uniform(), rng.uniform()};
+          const auto s = brdf.sample(wo, u);
+          const int k = std::min(int(u.x * 4), 3);
+          const auto back = brdf.lobePrimary(k, wo, s ? s->wi : Vec3{0, 0, 1});
+          if (!s) continue;
+          const std::string where = "roughness " + std::to_string(roughness) + " anisotropic " +
+                                    std::to_string(anisotropic) + " gloss " +
+                                    std::to_string(gloss) + " lobe " + std::to_string(k) +
+                                    " trial " + std::to_string(trial);
+          ASSERT_TRUE(back) << where;
+          ASSERT_EQ(std::min(int(back->x * 4), 3), k) << where;
+          ASSERT_TRUE(back->y >= 0 && back->y < 1) << where;
+          const auto again = brdf.sample(wo, *back);
+          ASSERT_TRUE(again) << where;
+          EXPECT_GT(dot(again->wi, s->wi), 1 - 1e-9) << where;
+          const bool wellConditioned = !(k == 2 && roughness == 0);
+          if (wellConditioned && s->wi.z > 1e-3) {
+            EXPECT_NEAR(back->x, u.x, 1e-6) << where;
+            const double dy = std::abs(back->y - u.y);
+            EXPECT_LT(std::min(dy, 1 - dy), 1e-6) << where;
+          }
+          const double turns = rng.uniform();
+          const bool flipX = trial & 1, flipY = trial & 2;
+          const Point2 moved = brdf.primaryUnderSymmetry(u, turns, flipX, flipY);
+          const Point2 undone = brdf.primaryBeforeSymmetry(moved, turns, flipX, flipY);
+          EXPECT_EQ(undone.x, u.x);
+          const double dy = std::abs(undone.y - u.y);
+          EXPECT_LT(std::min(dy, 1 - dy), 1e-12) << where;
+        }
+      }
+}
+
 }  // namespace
 }  // namespace nuld
