@@ -68,13 +68,16 @@ const std::vector<BackendEntry> &backendRegistry() {
        1},
       {BackendKind::Neural,
        "neural",
-       {},
+       {"neural-bsdf"},
        "MODEL",
        "sets a trained model (nuld train) generates for the map or, for a "
-       "family:disney model, for each lobe table; the first bounce",
+       "family:disney model, for each lobe table; the first bounce. Without "
+       "MODEL: the shipped Disney-family model (models/README.md), which "
+       "serves every scene's lobe tables with no per-scene setup",
        true,
        true,
-       1},
+       1,
+       true},
   };
   return registry;
 }
@@ -87,7 +90,7 @@ const BackendEntry &backendEntry(BackendKind kind) {
 
 std::string BackendSpec::text() const {
   const BackendEntry &e = entry();
-  return e.argument.empty() ? e.name : e.name + ":" + argument;
+  return argument.empty() ? e.name : e.name + ":" + argument;
 }
 
 std::string backendSpellings() {
@@ -105,7 +108,7 @@ BackendSpec parseBackend(const std::string &word) {
     const std::string argument = colon == std::string::npos ? "" : word.substr(colon + 1);
     if (e.argument.empty() && colon != std::string::npos)
       throw std::invalid_argument("backend '" + word + "': " + e.name + " takes no argument");
-    if (!e.argument.empty() && argument.empty())
+    if (!e.argument.empty() && argument.empty() && !e.optionalArgument)
       throw std::invalid_argument("backend '" + word + "': expected " + e.spelling() +
                                   " (nuld help backends)");
     return {e.kind, argument};
@@ -131,7 +134,8 @@ std::unique_ptr<SamplerBackend> makeBackend(const BackendSpec &spec, std::uint64
                                            0x6f7074696d697a65ull,
                                            spec.kind == BackendKind::Shifted);
     case BackendKind::Neural:
-      return std::make_unique<NeuralBackend>(spec.text(), spec.argument, seed);
+      return std::make_unique<NeuralBackend>(
+          spec.text(), spec.argument.empty() ? shippedLobeModel() : spec.argument, seed);
   }
   throw std::logic_error("makeBackend: a kind without a factory");
 }

@@ -30,8 +30,15 @@ struct BackendEntry {
   // serves the bounces the lobe tables are set to (LobeTableSettings).
   bool light = false, lobes = false;
   int bounces = 0;
+  // Whether the word may go without its argument (neural: the shipped
+  // model); the spec's argument is then empty and the factory supplies it.
+  bool optionalArgument = false;
 
-  std::string spelling() const { return argument.empty() ? name : name + ":" + argument; }
+  // NAME, NAME:ARGUMENT or, for an optional argument, NAME[:ARGUMENT].
+  std::string spelling() const {
+    if (argument.empty()) return name;
+    return optionalArgument ? name + "[:" + argument + "]" : name + ":" + argument;
+  }
 };
 
 // Every backend kind, in the order `nuld help backends` lists them.
@@ -45,7 +52,8 @@ struct BackendSpec {
   std::string argument;
 
   const BackendEntry &entry() const { return backendEntry(kind); }
-  // The canonical word: NAME or NAME:ARGUMENT.
+  // The canonical word: NAME or NAME:ARGUMENT (NAME alone for an optional
+  // argument left out).
   std::string text() const;
   friend bool operator==(const BackendSpec &, const BackendSpec &) = default;
 };
@@ -56,7 +64,7 @@ std::unique_ptr<SamplerBackend> makeClassicBackend(BackendKind kind, std::uint64
 
 // Throws std::invalid_argument quoting the word and listing the spellings
 // (an alias parses to its kind; a kind with an argument needs a non-empty
-// one, one without takes none).
+// one unless it is optional, one without takes none).
 BackendSpec parseBackend(const std::string &word);
 
 // The backend a spec names, seeded. Reads the files a bank or model names

@@ -1,6 +1,7 @@
 #include "renderer/neural_backend.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <stdexcept>
 
 #include "materials/disney_target.h"
@@ -10,6 +11,11 @@ namespace nuld {
 
 namespace {
 constexpr std::uint64_t kNeuralSalt = 0x6e657572616cull;
+}
+
+std::string shippedLobeModel() {
+  if (const char *env = std::getenv("NULD_LOBE_MODEL"); env && *env) return env;
+  return std::string(NULD_SOURCE_DIR) + "/models/disney-primary.nuldnet";
 }
 
 NeuralBackend::NeuralBackend(std::string name, const std::string &modelPath, std::uint64_t seed)

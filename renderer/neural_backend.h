@@ -29,6 +29,11 @@
 
 namespace nuld {
 
+// The model the word `neural` names without a file: $NULD_LOBE_MODEL when
+// set, else the tracked models/disney-primary.nuldnet of this checkout
+// (models/README.md says how it was trained).
+std::string shippedLobeModel();
+
 class NeuralBackend final : public BankBackend {
  public:
   // The banks hold at most this many sets in all (fewer when N is large: at

@@ -66,32 +66,6 @@ struct NeuralGenerator::Net {
 // network and generation; graph_inputs.cpp: the graph generator's inputs;
 // neural_generator_file.cpp: the model file).
 
-// The targets of consecutive sets: a family's target is rebuilt only when
-// gamma changes (tabulating a Disney lobe costs milliseconds, and a bank
-// generates hundreds of sets per gamma). `known`, when given, is the
-// family's target at `knownGamma` (a renderer's table of that content),
-// used instead of building it again.
-class FamilyTargets {
- public:
-  explicit FamilyTargets(const TargetFamily &family, const Target *known = nullptr,
-                         std::span<const double> knownGamma = {})
-      : family_(family), known_(known), knownGamma_(knownGamma.begin(), knownGamma.end()) {}
-  const Target &at(std::span<const double> gamma) {
-    if (known_ && std::ranges::equal(gamma, knownGamma_)) return *known_;
-    if (!target_ || !std::ranges::equal(gamma, gamma_)) {
-      target_ = family_.target(gamma);
-      gamma_.assign(gamma.begin(), gamma.end());
-    }
-    return *target_;
-  }
-
- private:
-  const TargetFamily &family_;
-  const Target *known_;
-  std::vector<double> knownGamma_, gamma_;
-  std::shared_ptr<const Target> target_;
-};
-
 // The graph generator's input widths: per point the torus harmonics of u,
 // the placed point x, three Jacobian features, log N, and gamma raw and
 // Fourier-encoded; per edge the neighbour's offset in u and in x.

@@ -251,9 +251,23 @@ void NeuralGenerator::generate(std::span<const Point2> z, std::span<const double
   for (std::size_t k = 0; k < K; ++k) checkGamma(*family_, gamma.subspan(k * g, g));
   if (K == 0) return;
   torch::NoGradGuard noGrad;
-  FamilyTargets targets(*family_, member, memberGamma);
+  // Each set's member of the family: the caller's where given, else built
+  // once per run of sets with the same gamma (tabulating a Disney lobe costs
+  // milliseconds, and a bank has many sets per gamma) and kept alive for
+  // the whole call.
+  std::vector<std::shared_ptr<const Target>> built;
   std::vector<const Target *> members(K);
-  for (std::size_t k = 0; k < K; ++k) members[k] = &targets.at(gamma.subspan(k * g, g));
+  for (std::size_t k = 0; k < K; ++k) {
+    const std::span<const double> gk = gamma.subspan(k * g, g);
+    if (member && std::ranges::equal(gk, memberGamma)) {
+      members[k] = member;
+    } else if (k > 0 && std::ranges::equal(gk, gamma.subspan((k - 1) * g, g))) {
+      members[k] = members[k - 1];
+    } else {
+      built.push_back(family_->target(gk));
+      members[k] = built.back().get();
+    }
+  }
   const torch::Tensor base = baseSets(*this, z, n);
   const torch::Tensor r = settings_.arch == NetworkArch::Supplement
                               ? net_->residuals(net_->inputs(z, gamma, g))

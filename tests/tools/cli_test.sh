@@ -141,11 +141,19 @@ ok "render optimized:FILE" "$nuld" render default --backend optimized:"$dir/u4.t
 "$nuld" help backends >"$dir/backends.txt"
 words=$( (sed -n '/^nuld study render/q;/^  [a-z]/p' "$dir/backends.txt" | awk '{print $1}'
   tr '\n' ' ' <"$dir/backends.txt" | grep -o 'also: [^)]*' | cut -d' ' -f2-) |
-  sed -e "s|PATHS|$dir/u4.txt|" -e "s|MODEL|$dir/u4.nuldnet|" | tr ' ' '\n' | grep -v '^$')
+  sed -e 's|\[:MODEL\]|:MODEL|g' -e "s|PATHS|$dir/u4.txt|" -e "s|MODEL|$dir/u4.nuldnet|" | tr ' ' '\n' | grep -v '^$')
 [[ $(echo "$words" | wc -l) -ge 9 ]] || { echo "FAIL: help backends lists the registry's words"; echo "$words"; failures=$((failures + 1)); }
 for word in $words; do
   ok "render --backend $word" "$nuld" render default --backend "$word" --spp 4 --res 8 -q -o "$dir/w.exr"
 done
+# `neural` alone is the shipped Disney-family model, in renders and in the
+# integration study (its lobe integrands, its sets raw and shifted).
+ok "render --backend neural (shipped model)" "$nuld" render default --backend neural --spp 4 --res 8 -q -o "$dir/w.exr"
+ok "study integrate neural (shipped model)" "$nuld" study integrate \
+  --integrands 'disney-primary*cosines:theta=45:roughness=0.58' --samplers sobol-tabulated,neural,neural+shift \
+  --n 16 --instances 4 --optimized-instances 4 --no-plots -q -o "$dir/neural.integrate"
+[[ $(grep -c '^disney-primary.*,neural:disney-primary\(+shift\)\?,' "$dir/neural.integrate/integrate.csv") -eq 2 ]] ||
+  { echo "FAIL: the integration study has the shipped model's raw and shifted rows"; cat "$dir/neural.integrate/integrate.csv"; failures=$((failures + 1)); }
 # The study's own words render too, making their sets into the set cache
 # (the second time finding them there) and saying per pair what they served.
 sets=(--opt-instances 2 --opt-epochs 5 --opt-lobe-epochs 5)
@@ -170,7 +178,7 @@ ok "study render every backend word" "$nuld" study render default --backends "$(
 # quarterdisc model stands for MODEL.
 "$nuld" train --target quarterdisc --n 4 --hidden 8 --steps 2 --batch 2 --boxes 64 -q -o "$dir/q4.nuldnet" >/dev/null 2>&1
 ok "study integrate every backend word" "$nuld" study integrate --integrands 'quarterdisc*bilinear' \
-  --samplers "$(echo $words | sed "s|$dir/u4.nuldnet|$dir/q4.nuldnet|" | tr ' ' ',')" --n 4 \
+  --samplers "$(echo $words | sed "s|$dir/u4.nuldnet|$dir/q4.nuldnet|g" | tr ' ' ',')" --n 4 \
   --instances 4 --optimized-instances 4 --no-plots -q -o "$dir/words.integrate"
 
 fails_with "render spp mismatch" "use --spp 4" "$nuld" render default --backend optimized:"$dir/u4.txt" --spp 8 --res 8 -q -o "$dir/x.exr"

@@ -90,8 +90,11 @@ bool printTopic(const std::string &topic) {
       std::string help = e.help;
       if (!e.aliases.empty()) {
         help += " (also:";
-        for (const auto &a : e.aliases)
-          help += " " + a + (e.argument.empty() ? "" : ":" + e.argument);
+        for (const auto &a : e.aliases) {
+          nuld::BackendEntry alias = e;
+          alias.name = a;
+          help += " " + alias.spelling();
+        }
         help += ")";
       }
       printEntry(e.spelling(), help);

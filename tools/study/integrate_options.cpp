@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "renderer/backend_registry.h"
+#include "renderer/neural_backend.h"
 #include "sampler/bluenoise/blue_noise_sets.h"
 #include "sampler/enum_names.h"
 #include "sampler/targets/target_spec.h"
@@ -73,6 +74,23 @@ std::optional<BackendSpec> bankWord(const std::string &word) {
   return std::nullopt;
 }
 
+// The renderer's neural words (neural[:MODEL] and its alias), each also
+// with the suffix +shift: the model file (the shipped model for none), the
+// suffix kept; nullopt for any other word.
+std::optional<std::string> neuralWord(const std::string &word) {
+  constexpr std::string_view kShift = "+shift";
+  const bool shifted = word.size() > kShift.size() && word.ends_with(kShift);
+  const std::string base = shifted ? word.substr(0, word.size() - kShift.size()) : word;
+  try {
+    const BackendSpec spec = parseBackend(base);
+    if (spec.kind != BackendKind::Neural) return std::nullopt;
+    return (spec.argument.empty() ? shippedLobeModel() : spec.argument) +
+           (shifted ? std::string(kShift) : "");
+  } catch (const std::invalid_argument &) {
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 std::vector<SamplerChoice> parseSamplers(const std::vector<std::string> &tokens,
@@ -123,8 +141,8 @@ std::vector<SamplerChoice> parseSamplers(const std::vector<std::string> &tokens,
       add({"optimized", K::Optimized, false, {}, {}, false});
     else if (kBlueNoiseNames.find(t))
       add({t, K::BlueNoise, false, {}, {}, false});
-    else if (t.rfind("neural:", 0) == 0 && t.size() > 7)
-      modelList.push_back(t.substr(7));
+    else if (const auto model = neuralWord(t))
+      modelList.push_back(*model);
     else if (const auto bank = bankWord(t)) {
       // Named by the files' stems, as neural models are: the CSV does not
       // carry this machine's paths.
@@ -140,12 +158,22 @@ std::vector<SamplerChoice> parseSamplers(const std::vector<std::string> &tokens,
           "--samplers: unknown sampler '" + t +
           "' (expected independent, sobol, halton, their -tabulated variants such as "
           "sobol-tabulated, optimized, optimized:PATHS, shifted:PATHS, sot, sot-mapped, gbn, "
-          "gbn-mapped, or neural:MODEL)");
+          "gbn-mapped, neural or neural:MODEL, the last two also with +shift)");
   }
   modelList.insert(modelList.end(), models.begin(), models.end());
-  for (const auto &m : modelList) {
+  for (std::string m : modelList) {
+    // MODEL+shift: the sets shifted in the target's primary space, as the
+    // renderer deals out a lobe model's sets.
+    constexpr std::string_view kShift = "+shift";
+    const bool shifted = m.size() > kShift.size() && m.ends_with(kShift);
+    if (shifted) m.resize(m.size() - kShift.size());
     if (m.empty()) throw std::invalid_argument("--neural: empty model path");
-    add({"neural:" + fs::path(m).stem().string(), K::Neural, false, m, {}, false});
+    add({"neural:" + fs::path(m).stem().string() + (shifted ? "+shift" : ""),
+         K::Neural,
+         false,
+         m,
+         {},
+         shifted});
   }
   return out;
 }

@@ -292,8 +292,21 @@ class StudyRunner {
                      std::size_t n) const {
     const std::size_t K = o_.optimizedInstances;
     const auto start = Clock::now();
-    const PointSet sets =
+    PointSet sets =
         model.generator->generateSets(K, seedFor(in, s, n), model.gammaFor.at(in.name), n);
+    if (s.shifted) {
+      // As the renderer shifts a lobe model's sets: each set by its own
+      // offset in the table's primary space, so every point follows it.
+      const auto *grid = dynamic_cast<const GridTarget *>(in.target.get());
+      if (!grid)
+        throw std::runtime_error("--samplers '" + s.name + "': integrand '" + in.name +
+                                 "' has no CDF map to shift the sets in");
+      for (std::size_t k = 0; k < K; ++k) {
+        const std::uint64_t key = hash3(seedFor(in, s, n), k, 0);
+        for (Point2 &p : std::span(sets.points).subspan(k * n, n))
+          p = grid->invert(cranleyPatterson(grid->primaryOf(p), key)).x;
+      }
+    }
     Measurement m;
     m.genSeconds = secondsSince(start) / double(K);
     for (std::size_t k = 0; k < K; ++k)

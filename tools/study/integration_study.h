@@ -84,7 +84,8 @@ struct SamplerChoice {
   bool tabulated = false;  // a lobe integrand's table, not the BRDF's own sample()
   std::string model;       // Neural: the model file
   // Bank: the renderer's optimized:PATHS / points:PATHS / shifted:PATHS, the
-  // point-set files or directories, and whether sets are shifted.
+  // point-set files or directories; for banks and neural models, whether
+  // sets are shifted.
   std::string paths;
   bool shifted = false;
 };
@@ -94,7 +95,10 @@ struct SamplerChoice {
 // halton-tabulated, optimized, the renderer's bank words optimized:PATHS,
 // points:PATHS and shifted:PATHS (sets from files, on the integrands whose
 // target they follow; uniform sets on every integrand, shifted per instance
-// and mapped by its inverse CDF), and neural:PATH (added to `models`). Throws
+// and mapped by its inverse CDF), and neural:PATH (added to `models`) or
+// neural:PATH+shift (its sets shifted in primary space per instance, as the
+// renderer deals them out; targets with a CDF map only); `neural` alone is
+// the renderer's shipped model (shippedLobeModel). Throws
 // std::invalid_argument naming --samplers and the accepted names; the old
 // -lobes spellings are refused with their new names.
 std::vector<SamplerChoice> parseSamplers(const std::vector<std::string> &tokens,
