@@ -43,6 +43,15 @@ inline Point2 cosineHemispherePrimary(Vec3 w) {
   return {std::clamp(w.x * w.x + w.y * w.y, 0.0, 1.0), wrapUnit(atan2Turns(w.y, w.x))};
 }
 
+// The MIS weight of strategy A against B (Veach's power heuristic, exponent
+// 2); written with the ratio so that pdfs whose squares underflow (or
+// overflow) still give weights that sum to one.
+inline double powerHeuristic(double pdfA, double pdfB) {
+  if (!(pdfA > 0)) return 0.0;
+  const double r = pdfB / pdfA;
+  return 1 / (1 + r * r);
+}
+
 // The density of cosineHemisphere per unit solid angle.
 inline double cosineHemispherePdf(double cosTheta) { return cosTheta > 0 ? cosTheta * kInvPi : 0; }
 

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "materials/disney_target.h"
+#include "materials/sampling.h"
 #include "materials/sphere_map.h"
 #include "materials/turns.h"
 #include "renderer/padding.h"
@@ -35,36 +36,72 @@ double smoothLight(int k, Vec3 wi) {
   }
 }
 
+// The light strategy that stands in for the scene's under MIS: uniform
+// directions over the hemisphere (a smooth light needs no better), whose
+// weights leave to BSDF sampling what is sharper than the light's density.
+constexpr double kProxyLightPdf = 0.5 * kInvPi;
+Vec3 proxyLightDirection(Point2 u) {
+  const double z = u.x, r = std::sqrt(std::max(0.0, 1 - z * z));
+  const SinCos phi = sinCosTurns(u.y);
+  return {r * phi.cos, r * phi.sin, z};
+}
+
 // The relative variances (variance / mean^2, summed over the lights) of the
 // classic route (the material's sample()) and of `lobe`'s route, both fed
-// the same Owen-Sobol points as the sobol-tabulated backend feeds them.
+// the same Owen-Sobol points as the sobol-tabulated backend feeds them;
+// `underMis`: each estimate combined with as many proxy light samples by
+// the power heuristic, with the route's density on the BSDF side as the
+// path integrator weighs them.
 struct RouteVariances {
   double classic = 0, table = 0, primary = 0;
 };
 RouteVariances measureAt(const DisneyBrdf &m, Vec3 wo, const LobeFrame *lobe,
-                         const LobeFrame *primaryLobe, std::uint64_t seed) {
+                         const LobeFrame *primaryLobe, bool underMis, std::uint64_t seed) {
   std::array<std::array<double, kMeasureRepeats>, kLights> classic{}, table{}, primary{};
-  std::array<Point2, kMeasurePoints> u;
+  std::array<Point2, kMeasurePoints> u, ul;
+  // Each route's density at a direction, for the MIS weights.
+  const auto classicPdf = [&](Vec3 wi) { return m.pdf(wo, wi); };
+  const auto routePdf = [&](const LobeFrame *f) {
+    return [&m, &wo, f](Vec3 wi) { return f->routePdf(wo, wi, m.pdf(wo, wi)); };
+  };
   for (std::size_t r = 0; r < kMeasureRepeats; ++r) {
     const std::uint64_t key = mix64(seed + r);
     generateSet({SequenceKind::Sobol, Scramble::Owen, key}, 0, u, 0);
     shufflePoints(u, key);
+    if (underMis) generateSet({SequenceKind::Sobol, Scramble::Owen, mix64(key)}, 0, ul, 0);
+    const auto add = [&](const std::optional<BsdfSample> &s, double pdf, double density,
+                         auto &sums) {
+      if (!s || !(pdf > 0)) return;
+      const double w = (underMis ? powerHeuristic(density, kProxyLightPdf) : 1.0) *
+                       s->f.luminance() * s->wi.z / pdf / double(kMeasurePoints);
+      for (int k = 0; k < kLights; ++k) sums[k][r] += w * smoothLight(k, s->wi);
+    };
+    // The proxy light's samples, weighted against the route's density.
+    const auto addLight = [&](auto bsdfPdf, auto &sums) {
+      for (const Point2 &p : ul) {
+        const Vec3 wi = proxyLightDirection(p);
+        const double w = powerHeuristic(kProxyLightPdf, bsdfPdf(wi)) * m.eval(wo, wi).luminance() *
+                         wi.z / kProxyLightPdf / double(kMeasurePoints);
+        for (int k = 0; k < kLights; ++k) sums[k][r] += w * smoothLight(k, wi);
+      }
+    };
     for (std::size_t i = 0; i < kMeasurePoints; ++i) {
-      const auto add = [&](const std::optional<BsdfSample> &s, double pdf, auto &sums) {
-        if (!s || !(pdf > 0)) return;
-        const double w = s->f.luminance() * s->wi.z / pdf / double(kMeasurePoints);
-        for (int k = 0; k < kLights; ++k) sums[k][r] += w * smoothLight(k, s->wi);
-      };
       const auto c = m.sample(wo, u[i]);
-      add(c, c ? c->pdf : 0, classic);
+      add(c, c ? c->pdf : 0, c ? c->pdf : 0, classic);
       if (lobe) {
         const auto t = sampleLobeRoute(m, wo, *lobe, u[i]);
-        add(t, t ? t->pdf : 0, table);
+        add(t, t ? t->pdf : 0, t ? t->pdf : 0, table);
       }
       if (primaryLobe) {
-        const auto t = sampleLobeRoute(m, wo, *primaryLobe, u[i]);
-        add(t, t ? t->pdf : 0, primary);
+        double density = 0;
+        const auto t = sampleLobeRoute(m, wo, *primaryLobe, u[i], &density);
+        add(t, t ? t->pdf : 0, density, primary);
       }
+    }
+    if (underMis) {
+      addLight(classicPdf, classic);
+      if (lobe) addLight(routePdf(lobe), table);
+      if (primaryLobe) addLight(routePdf(primaryLobe), primary);
     }
   }
   const auto relativeVariance = [](const auto &sums) {
@@ -247,7 +284,7 @@ void LobeTables::measureRoutes(const Entry &e, std::size_t material) {
         const LobeFrame sphere = binFrame(e, wo, index);
         const LobeFrame primary = tryPrimary ? primaryFrame(e, wo, index, sphere) : sphere;
         const RouteVariances v =
-            measureAt(*e.material, wo, &sphere, tryPrimary ? &primary : nullptr,
+            measureAt(*e.material, wo, &sphere, tryPrimary ? &primary : nullptr, settings_.underMis,
                       hashCombine(material * 1000 + b, std::uint64_t(ft * 6)));
         route.classicVariance += v.classic;
         route.tableVariance += v.table;

@@ -101,6 +101,14 @@ struct LobeTableSettings {
   // (3 or 4 of them); their mix is samplingMix. The square holds a smooth
   // function (the warp keeps the peaks), which a coarse table holds.
   int primaryCells = 32;
+  // Whether a BSDF sample's whole contribution is weighed against light
+  // samples by MIS, as in the direct integrator (lobeTablesFor sets it):
+  // the routes are then measured under MIS, since a route that is best
+  // alone need not be best once light sampling covers the lobe's broad
+  // parts. In path tracing a BSDF sample also carries the indirect light at
+  // full weight, and routes measured by BSDF sampling alone render better
+  // there (renderer/README.md, "Lobe routes").
+  bool underMis = false;
 
   friend bool operator==(const LobeTableSettings &, const LobeTableSettings &) = default;
 };

@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "materials/rgb.h"
+#include "materials/sampling.h"
 #include "renderer/lobe_tables.h"
 #include "renderer/pixel_samples.h"
 #include "renderer/scene.h"
@@ -115,13 +116,5 @@ class PathIntegrator {
   int maxDepth_, rouletteDepth_;
   bool lightOnly_, bsdfOnly_;
 };
-
-// The weight of strategy A; written with the ratio so that pdfs whose
-// squares underflow (or overflow) still give weights that sum to one.
-inline double powerHeuristic(double pdfA, double pdfB) {
-  if (!(pdfA > 0)) return 0.0;
-  const double r = pdfB / pdfA;
-  return 1 / (1 + r * r);
-}
 
 }  // namespace nuld

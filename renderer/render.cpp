@@ -159,6 +159,7 @@ RenderSettings RenderOverrides::appliedTo(RenderSettings s, const OverrideNames 
 LobeTableSettings lobeTablesFor(const RenderSettings &s) {
   LobeTableSettings out = s.lobeTables;
   if (!out.samplingMix) out.samplingMix = s.integrator == IntegratorKind::Bsdf ? 0.0 : 1.0;
+  out.underMis = s.integrator == IntegratorKind::Direct;
   return out;
 }
 

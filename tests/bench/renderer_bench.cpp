@@ -7,6 +7,10 @@
 //  - BM_MaterialSample, BM_LobeRouteSample, BM_LobeRoutePrimarySample: one BSDF sample through the
 //    material's own sampler and through a tabulated route (table inverse CDF
 //    and the defensive split), at the dragon's material;
+//  - BM_LobeRoutePrimaryPdf: a primary route's density at a direction (the
+//    MIS weights' BSDF side);
+//  - BM_NeuralLobeBank/N: one lobe table's bank of 16 sets from the shipped
+//    model (the neural backend's inference per table);
 //  - EmbreeRaw/SCENE/spp:N: the same rays, recorded from one such render,
 //    replayed through rtcIntersect1 alone with the same TBB parallelism.
 // Their ratio (renderer rays/s over raw rays/s) is what the renderer issue
@@ -23,8 +27,10 @@
 #include <memory>
 
 #include "materials/disney.h"
+#include "materials/disney_target.h"
 #include "renderer/backend_registry.h"
 #include "renderer/lobe_tables.h"
+#include "renderer/neural_backend.h"
 #include "renderer/render.h"
 #include "scenes/scene_file.h"
 #include "tests/bench/bench_points.h"
@@ -156,6 +162,54 @@ void BM_LobeRoutePrimarySample(benchmark::State &state) {
 }
 BENCHMARK(BM_LobeRouteSample)->Arg(0)->Arg(10);
 BENCHMARK(BM_LobeRoutePrimarySample)->Arg(0)->Arg(10);
+
+// The primary route's density at a direction (LobeFrame::routePdf: every
+// lobe's inverse warp and a table lookup), which each light sample's MIS
+// weight pays where a primary table draws the BSDF sample; directions from
+// the material's own sampler.
+void BM_LobeRoutePrimaryPdf(benchmark::State &state) {
+  const auto brdf = std::make_shared<const DisneyBrdf>(dragonMaterial());
+  LobeTableSettings settings;
+  settings.samplingMix = 1.0;
+  settings.routing = LobeRouting::Primary;
+  const LobeTables tables({brdf}, settings);
+  const LobeFrame lobe = *tables.frame(brdf.get(), kWo);
+  std::vector<std::pair<Vec3, double>> dirs;
+  for (const Point2 &u : uniformPoints(4096))
+    if (const auto s = brdf->sample(kWo, u)) dirs.emplace_back(s->wi, s->pdf);
+  std::size_t k = 0;
+  for (auto _ : state) {
+    const auto &[wi, pdf] = dirs[k++ % dirs.size()];
+    benchmark::DoNotOptimize(lobe.routePdf(kWo, wi, pdf));
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_LobeRoutePrimaryPdf);
+
+// One lobe table's bank from the shipped model, as the neural backend makes
+// it per table and render (16 sets of N = spp points, the renderer's table
+// given): the inference cost of a `neural` render is this times the scene's
+// primary tables.
+void BM_NeuralLobeBank(benchmark::State &state) {
+  registerMaterialTargets();
+  const auto brdf = std::make_shared<const DisneyBrdf>(dragonMaterial());
+  LobeTableSettings settings;
+  settings.samplingMix = 1.0;
+  settings.routing = LobeRouting::Primary;
+  const LobeTables tables({brdf}, settings);
+  const Target *table = tables.targets().front();
+  const NeuralGenerator model = NeuralGenerator::load(shippedLobeModel());
+  const auto gamma = disneyFamilyGamma(model.family().spec(), table->spec());
+  if (!gamma) {
+    state.SkipWithError("the shipped model does not serve the table");
+    return;
+  }
+  const std::size_t n = std::size_t(state.range(0));
+  std::uint64_t seed = 0;
+  for (auto _ : state) benchmark::DoNotOptimize(model.generateSets(16, ++seed, *gamma, n, table));
+  state.SetItemsProcessed(state.iterations() * 16);
+}
+BENCHMARK(BM_NeuralLobeBank)->Arg(16)->Arg(64)->Unit(benchmark::kMillisecond);
 
 bool haveAssets() {
   return std::filesystem::exists(std::filesystem::path(resolveAssetRoot("")) / "lte_orb");

@@ -354,6 +354,41 @@ TEST(LobeRoutes, PrimaryRouteDensityIsTheDensityOfItsDirections) {
   }
 }
 
+// Under MIS (the direct integrator) each route is measured with a proxy
+// light strategy beside it, weighted as the integrator weighs them: the
+// cup's glazed porcelain (a broad diffuse lobe under a glossy coat), whose
+// bins BSDF sampling alone sends through tables, keeps the material's own
+// sampler in most of them once light sampling covers the broad lobe; and
+// every bin's route is the one of least measured variance.
+TEST(LobeRoutes, RoutesUnderMisAreMeasuredWithLightSamplingBeside) {
+  DisneyParams p;
+  p.baseColor = {0.92, 0.9, 0.86};
+  p.roughness = 0.15;
+  p.clearcoat = 1;
+  p.clearcoatGloss = 0.9;
+  const auto glaze = std::make_shared<DisneyBrdf>(p);
+  LobeTableSettings settings;
+  settings.samplingMix = 1.0;
+  const auto tabulated = [&](bool underMis) {
+    settings.underMis = underMis;
+    const LobeTables tables({glaze}, settings);
+    std::size_t count = 0;
+    for (const LobeBinRoute &r : tables.routes()) {
+      const double best = std::min({r.classicVariance, r.tableVariance, r.primaryVariance});
+      EXPECT_TRUE(std::isfinite(best) && best > 0) << r.thetaDegrees;
+      const double chosen = !r.table    ? r.classicVariance
+                            : r.primary ? r.primaryVariance
+                                        : r.tableVariance;
+      EXPECT_EQ(chosen, best) << "MIS " << underMis << " bin " << r.thetaDegrees;
+      count += r.table;
+    }
+    return count;
+  };
+  const std::size_t alone = tabulated(false), mis = tabulated(true);
+  EXPECT_GE(alone, 8u) << "of 9 bins";
+  EXPECT_LE(mis, 2u) << "of 9 bins";
+}
+
 // A primary table is made at its bin's view and serves the bin's views in
 // every quadrant (the warp's symmetry carries its points there): a
 // 16-point Owen-Sobol estimate through it varies as little at the mirrored
