@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 
 #include "materials/disney_target.h"
 #include "renderer/backend_registry.h"
@@ -121,7 +122,25 @@ TEST(NeuralBackend, RefusesModelsThatNeedGammaAndUnreadableFiles) {
   const std::string model = saveModel(dir, "g.nuldnet", "family:gaussian", 4);
   EXPECT_NE(errorOf([&] { makeBackend("neural:" + model, 0); }).find("gamma"), std::string::npos);
   EXPECT_THROW(makeBackend("neural:" + (dir / "absent").string(), 0), std::runtime_error);
-  EXPECT_NE(errorOf([&] { makeBackend("neural", 0); }).find("neural:MODEL"), std::string::npos);
+  // `neural` alone is the shipped model; $NULD_LOBE_MODEL names another,
+  // and one that cannot be read is refused naming it.
+  registerMaterialTargets();
+  const char *before = std::getenv("NULD_LOBE_MODEL");
+  const std::string saved = before ? before : "";
+  unsetenv("NULD_LOBE_MODEL");
+  EXPECT_NO_THROW(makeBackend("neural", 0));
+  setenv("NULD_LOBE_MODEL", (dir / "absent.nuldnet").c_str(), 1);
+  try {
+    makeBackend("neural", 0);
+    ADD_FAILURE() << "an absent $NULD_LOBE_MODEL was accepted";
+  } catch (const std::runtime_error &e) {
+    EXPECT_NE(std::string(e.what()).find("absent.nuldnet"), std::string::npos) << e.what();
+  }
+  if (before) {
+    setenv("NULD_LOBE_MODEL", saved.c_str(), 1);
+  } else {
+    unsetenv("NULD_LOBE_MODEL");
+  }
 
   // A model whose offsets do not span the torus makes unrandomized sets.
   NeuralSettings narrow;
