@@ -514,14 +514,14 @@ TEST(LobeRoutes, GlossyAnisotropicMetalConvergesWithEveryBackend) {
 }
 
 // Multiple importance sampling where a table draws the BSDF sample: both
-// strategies weigh by the material's own pdf, so the weights sum to 1 at
-// every direction and the estimate is unbiased. A rough lobe under a
+// strategies weigh by the route's own density (LobeFrame::routePdf), so the
+// weights sum to 1 at every direction and the estimate is unbiased. A rough lobe under a
 // constant map (light and BSDF pdfs of the same size, so both weights
 // matter), every bin forced through a coarse sphere or primary table (whose pdf is far from
 // the material's): direct lighting against light sampling alone, which has
-// no BSDF strategy and no weights. Weights from the table's pdf on one side
-// and the material's on the other fail it (tools/experiments/README.md,
-// "Lobe routes").
+// no BSDF strategy and no weights. Weights from the route's density on one
+// side and the material's pdf on the other fail it (tools/experiments/
+// README.md, "Lobe routes").
 TEST(LobeRoutes, MisWeightsSumToOneWhereTablesDrawTheBsdfSample) {
   const Scene scene =
       test::sceneWith({test::unitSphere()}, {material(1.0, 0.0, 0.0)}, test::constantMap(1.0f),
