@@ -2,9 +2,13 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <map>
+#include <mutex>
 #include <stdexcept>
+#include <tuple>
 
 #include "materials/disney_target.h"
+#include "sampler/io/content_hash.h"
 #include "sampler/io/pointset_metadata.h"
 
 namespace nuld {
@@ -12,6 +16,44 @@ namespace nuld {
 namespace {
 constexpr std::uint64_t kNeuralSalt = 0x6e657572616cull;
 }
+
+namespace {
+
+// The lobe banks every NeuralBackend of this process has made. A lobe bank
+// is a function of the model, the table and N alone (its offsets come from
+// the table's spec, not from the render's seed: the renderer's shift and
+// the per-pixel choice of set randomize each render), so the repeats of a
+// study and the renders of a session generate each table's bank once, as
+// the study's optimized banks are made once into the set cache.
+class LobeBankCache {
+ public:
+  using Key = std::tuple<std::uint64_t, std::string, std::size_t>;  // model, table, N
+  template <class Make>
+  PointSet get(const Key &key, Make make) {
+    {
+      const std::lock_guard lock(mutex_);
+      if (const auto it = banks_.find(key); it != banks_.end()) return it->second;
+    }
+    PointSet made = make();  // outside the lock: other tables go on meanwhile
+    const std::lock_guard lock(mutex_);
+    // A bank is small (16 sets of N points); a long session of renders of
+    // many scenes at many spp keeps at most this many.
+    if (banks_.size() >= kMaxBanks) banks_.clear();
+    return banks_.try_emplace(key, std::move(made)).first->second;
+  }
+
+ private:
+  static constexpr std::size_t kMaxBanks = 4096;
+  std::mutex mutex_;
+  std::map<Key, PointSet> banks_;
+};
+
+LobeBankCache &lobeBankCache() {
+  static LobeBankCache cache;
+  return cache;
+}
+
+}  // namespace
 
 std::string shippedLobeModel() {
   if (const char *env = std::getenv("NULD_LOBE_MODEL"); env && *env) return env;
@@ -80,7 +122,15 @@ void NeuralBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
     const std::size_t each = lobeFamily_ ? std::min(total, kSetsPerGamma) : total;
     std::vector<SetBank> banks;
     for (std::size_t k = 0; k < specs.size(); ++k) {
-      SetBank bank{generator_.generateSets(each, seed() + k, gammas[k], n, members[k]), source_};
+      const auto make = [&] {
+        // A lobe bank's offsets are keyed by its table (see LobeBankCache).
+        const std::uint64_t offsets = lobeFamily_ ? hashString(specs[k]) : seed() + k;
+        return generator_.generateSets(each, offsets, gammas[k], n, members[k]);
+      };
+      SetBank bank{lobeFamily_ && generator_.fileChecksum() != 0
+                       ? lobeBankCache().get({generator_.fileChecksum(), specs[k], n}, make)
+                       : make(),
+                   source_};
       setMeta(bank.sets, meta::kTarget, specs[k]);
       banks.push_back(std::move(bank));
     }

@@ -124,6 +124,7 @@ ModelFile readModelFile(const std::string &path) {
                              ": checksum mismatch (the model file is truncated or corrupted)");
 
   ModelFile model;
+  model.checksum = stored;
   const auto metaBytes = r.get<std::uint32_t>("the metadata size");
   if (metaBytes > kMaxMetadataBytes) r.fail("implausible metadata size");
   std::istringstream meta(std::string(r.take(metaBytes, "the metadata"), metaBytes));

@@ -27,6 +27,9 @@ struct ModelTensor {
 struct ModelFile {
   std::map<std::string, std::string> metadata;
   std::vector<ModelTensor> tensors;
+  // The closing checksum readModelFile found (and verified); 0 for a model
+  // not read from a file. It names the file's content: caches key by it.
+  std::uint64_t checksum = 0;
 
   const ModelTensor &tensor(const std::string &name, const std::string &path) const;
   // Throws naming the file and the key when it is missing.

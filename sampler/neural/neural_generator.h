@@ -170,6 +170,9 @@ class NeuralGenerator {
   std::size_t parameterCount() const;
   // Metadata read from the file by load() (empty for a new generator).
   const std::map<std::string, std::string> &fileMetadata() const { return fileMetadata_; }
+  // The checksum of the file load() read (ModelFile::checksum; 0 for a new
+  // generator): the same value means the same weights.
+  std::uint64_t fileChecksum() const { return fileChecksum_; }
 
   // Whether generate() makes sets of any size (the graph generator) or of
   // settings().n only (the supplement's network).
@@ -223,6 +226,7 @@ class NeuralGenerator {
   std::vector<Point2> sobol_;  // the first n Sobol points (the rotated base)
   std::unique_ptr<Net> net_;
   std::map<std::string, std::string> fileMetadata_;
+  std::uint64_t fileChecksum_ = 0;
 };
 
 }  // namespace nuld

@@ -92,6 +92,7 @@ NeuralGenerator NeuralGenerator::load(const std::string &path) {
     NeuralGenerator gen(std::move(s));
     gen.loadWeights(file, path);
     gen.fileMetadata_ = file.metadata;
+    gen.fileChecksum_ = file.checksum;
     return gen;
   } catch (const std::invalid_argument &e) {
     throw std::runtime_error(path + ": " + e.what());

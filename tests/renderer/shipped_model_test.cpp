@@ -86,10 +86,28 @@ TEST(ShippedModel, ServedSetsFollowTheirTargetAtUnseenOffsetsAndMaterials) {
                               << chi.note;
 }
 
+// A lobe bank depends on the model, the table and N, not on the render's
+// seed, so a process makes it once (a study's repeats share it); the seed
+// still changes every pixel's points, through their shift and set.
+TEST(ShippedModel, LobeBanksDependOnTheTableNotTheSeed) {
+  registerMaterialTargets();
+  const auto target = NeuralGenerator::load(kModel).family().target(unseenGamma());
+  NeuralBackend a("neural", kModel, 1), b("neural", kModel, 2);
+  a.prepare(16, {nullptr, {target.get()}});
+  b.prepare(16, {nullptr, {target.get()}});
+  ASSERT_EQ(a.banks().size(), 1u);
+  ASSERT_EQ(b.banks().size(), 1u);
+  EXPECT_EQ(a.banks()[0].sets.points, b.banks()[0].sets.points);
+  std::vector<Point2> pa(16), pb(16);
+  ASSERT_TRUE(a.distributed(*target, 7, SamplePairs::bsdf(0), pa));
+  ASSERT_TRUE(b.distributed(*target, 7, SamplePairs::bsdf(0), pb));
+  EXPECT_NE(pa, pb);
+}
+
 // Sets of different materials and views generated in one call equal each
-// set generated alone, up to single-precision rounding (the call builds each gamma's table once and keeps
-// them all), and a table the caller already has (the renderer's) gives the
-// same points as the one the model builds.
+// set generated alone, up to single-precision rounding (the call builds each gamma's table once and
+// keeps them all), and a table the caller already has (the renderer's) gives the same points as the
+// one the model builds.
 TEST(ShippedModel, OneCallOverManyGammasEqualsOneCallPerGamma) {
   registerMaterialTargets();
   const NeuralGenerator model = NeuralGenerator::load(kModel);
