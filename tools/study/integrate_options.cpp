@@ -16,6 +16,7 @@
 #include "scenes/default_scene.h"
 #include "tools/study/integrate_internal.h"
 #include "tools/study/integration_study.h"
+#include "tools/study/shift_suffix.h"
 
 namespace nuld::study {
 namespace fs = std::filesystem;
@@ -75,17 +76,14 @@ std::optional<BackendSpec> bankWord(const std::string &word) {
 }
 
 // The renderer's neural words (neural[:MODEL] and its alias), each also
-// with the suffix +shift: the model file (the shipped model for none), the
-// suffix kept; nullopt for any other word.
-std::optional<std::string> neuralWord(const std::string &word) {
-  constexpr std::string_view kShift = "+shift";
-  const bool shifted = word.size() > kShift.size() && word.ends_with(kShift);
-  const std::string base = shifted ? word.substr(0, word.size() - kShift.size()) : word;
+// with the suffix +shift: the model file (the shipped model for none) and
+// whether its sets are shifted; nullopt for any other word.
+std::optional<ShiftSuffix> neuralWord(const std::string &word) {
+  const auto [base, shifted] = splitShiftSuffix(word);
   try {
     const BackendSpec spec = parseBackend(base);
     if (spec.kind != BackendKind::Neural) return std::nullopt;
-    return (spec.argument.empty() ? shippedLobeModel() : spec.argument) +
-           (shifted ? std::string(kShift) : "");
+    return ShiftSuffix{spec.argument.empty() ? shippedLobeModel() : spec.argument, shifted};
   } catch (const std::invalid_argument &) {
   }
   return std::nullopt;
@@ -117,7 +115,7 @@ std::vector<SamplerChoice> parseSamplers(const std::vector<std::string> &tokens,
     if (which & 1) add({base, kind, false, {}, {}, false});
     if (which & 2) add({base + "-tabulated", kind, true, {}, {}, false});
   };
-  std::vector<std::string> modelList;
+  std::vector<ShiftSuffix> modelList;  // each model and whether its sets are shifted
   for (const std::string &t : tokens.empty() ? defaults : tokens) {
     std::string base = t;
     int which = 3;
@@ -160,13 +158,8 @@ std::vector<SamplerChoice> parseSamplers(const std::vector<std::string> &tokens,
           "sobol-tabulated, optimized, optimized:PATHS, shifted:PATHS, sot, sot-mapped, gbn, "
           "gbn-mapped, neural or neural:MODEL, the last two also with +shift)");
   }
-  modelList.insert(modelList.end(), models.begin(), models.end());
-  for (std::string m : modelList) {
-    // MODEL+shift: the sets shifted in the target's primary space, as the
-    // renderer deals out a lobe model's sets.
-    constexpr std::string_view kShift = "+shift";
-    const bool shifted = m.size() > kShift.size() && m.ends_with(kShift);
-    if (shifted) m.resize(m.size() - kShift.size());
+  for (const std::string &m : models) modelList.push_back({m, false});
+  for (const auto &[m, shifted] : modelList) {
     if (m.empty()) throw std::invalid_argument("--neural: empty model path");
     add({"neural:" + fs::path(m).stem().string() + (shifted ? "+shift" : ""),
          K::Neural,

@@ -11,6 +11,7 @@
 #include "tools/study/csv_table.h"
 #include "tools/study/ranks.h"
 #include "tools/study/set_cache.h"
+#include "tools/study/shift_suffix.h"
 #include "tools/study/stopwatch.h"
 
 namespace nuld::study {
@@ -41,14 +42,10 @@ const std::vector<StudyBackendDescription> &studyBackendDescriptions() {
 StudyBackend parseStudyBackend(const std::string &word) {
   // A study word may carry the suffix "+shift": its non-uniform sets are
   // then randomized in primary space (the renderer's shifted:PATHS).
-  constexpr std::string_view kShift = "+shift";
   StudyBackend b;
   b.word = word;
-  std::string base = word;
-  if (base.size() > kShift.size() && base.ends_with(kShift)) {
-    base.resize(base.size() - kShift.size());
-    b.shifted = true;
-  }
+  const auto [base, shifted] = splitShiftSuffix(word);
+  b.shifted = shifted;
   for (const StudyBackendDescription &d : studyBackendDescriptions())
     if (base == d.spelling) {
       b.sets = d.sets;
