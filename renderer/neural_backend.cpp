@@ -14,10 +14,8 @@
 namespace nuld {
 
 namespace {
-constexpr std::uint64_t kNeuralSalt = 0x6e657572616cull;
-}
 
-namespace {
+constexpr std::uint64_t kNeuralSalt = 0x6e657572616cull;
 
 // The lobe banks every NeuralBackend of this process has made. A lobe bank
 // is a function of the model, the table and N alone (its offsets come from
