@@ -34,10 +34,12 @@ struct BackendEntry {
   // model); the spec's argument is then empty and the factory supplies it.
   bool optionalArgument = false;
 
-  // NAME, NAME:ARGUMENT or, for an optional argument, NAME[:ARGUMENT].
-  std::string spelling() const {
-    if (argument.empty()) return name;
-    return optionalArgument ? name + "[:" + argument + "]" : name + ":" + argument;
+  // NAME, NAME:ARGUMENT or, for an optional argument, NAME[:ARGUMENT];
+  // the same for an alias as `word`.
+  std::string spelling() const { return spelling(name); }
+  std::string spelling(const std::string &word) const {
+    if (argument.empty()) return word;
+    return optionalArgument ? word + "[:" + argument + "]" : word + ":" + argument;
   }
 };
 

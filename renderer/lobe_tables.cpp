@@ -59,16 +59,25 @@ RouteVariances measureAt(const DisneyBrdf &m, Vec3 wo, const LobeFrame *lobe,
                          const LobeFrame *primaryLobe, bool underMis, std::uint64_t seed) {
   std::array<std::array<double, kMeasureRepeats>, kLights> classic{}, table{}, primary{};
   std::array<Point2, kMeasurePoints> u, ul;
-  // Each route's density at a direction, for the MIS weights.
-  const auto classicPdf = [&](Vec3 wi) { return m.pdf(wo, wi); };
-  const auto routePdf = [&](const LobeFrame *f) {
-    return [&m, &wo, f](Vec3 wi) { return f->routePdf(wo, wi, m.pdf(wo, wi)); };
+  // A proxy light sample: its direction, f cos / (pdf N) there, and the
+  // material's pdf (each route's MIS weight starts from it).
+  struct LightSample {
+    Vec3 wi;
+    double value, materialPdf;
   };
+  std::array<LightSample, kMeasurePoints> light;
   for (std::size_t r = 0; r < kMeasureRepeats; ++r) {
     const std::uint64_t key = mix64(seed + r);
     generateSet({SequenceKind::Sobol, Scramble::Owen, key}, 0, u, 0);
     shufflePoints(u, key);
-    if (underMis) generateSet({SequenceKind::Sobol, Scramble::Owen, mix64(key)}, 0, ul, 0);
+    if (underMis) {
+      generateSet({SequenceKind::Sobol, Scramble::Owen, mix64(key)}, 0, ul, 0);
+      for (std::size_t i = 0; i < kMeasurePoints; ++i) {
+        const Vec3 wi = proxyLightDirection(ul[i]);
+        const BsdfValue v = m.evalWithPdf(wo, wi);
+        light[i] = {wi, v.f.luminance() * wi.z / kProxyLightPdf / double(kMeasurePoints), v.pdf};
+      }
+    }
     const auto add = [&](const std::optional<BsdfSample> &s, double pdf, double density,
                          auto &sums) {
       if (!s || !(pdf > 0)) return;
@@ -76,13 +85,13 @@ RouteVariances measureAt(const DisneyBrdf &m, Vec3 wo, const LobeFrame *lobe,
                        s->f.luminance() * s->wi.z / pdf / double(kMeasurePoints);
       for (int k = 0; k < kLights; ++k) sums[k][r] += w * smoothLight(k, s->wi);
     };
-    // The proxy light's samples, weighted against the route's density.
-    const auto addLight = [&](auto bsdfPdf, auto &sums) {
-      for (const Point2 &p : ul) {
-        const Vec3 wi = proxyLightDirection(p);
-        const double w = powerHeuristic(kProxyLightPdf, bsdfPdf(wi)) * m.eval(wo, wi).luminance() *
-                         wi.z / kProxyLightPdf / double(kMeasurePoints);
-        for (int k = 0; k < kLights; ++k) sums[k][r] += w * smoothLight(k, wi);
+    // The proxy light's samples, weighted against the density of `route`
+    // (nullptr: the material's sampler).
+    const auto addLight = [&](const LobeFrame *route, auto &sums) {
+      for (const LightSample &l : light) {
+        const double bsdfPdf = route ? route->routePdf(wo, l.wi, l.materialPdf) : l.materialPdf;
+        const double w = powerHeuristic(kProxyLightPdf, bsdfPdf) * l.value;
+        for (int k = 0; k < kLights; ++k) sums[k][r] += w * smoothLight(k, l.wi);
       }
     };
     for (std::size_t i = 0; i < kMeasurePoints; ++i) {
@@ -93,15 +102,16 @@ RouteVariances measureAt(const DisneyBrdf &m, Vec3 wo, const LobeFrame *lobe,
         add(t, t ? t->pdf : 0, t ? t->pdf : 0, table);
       }
       if (primaryLobe) {
+        // The route's density only where the MIS weight needs it.
         double density = 0;
-        const auto t = sampleLobeRoute(m, wo, *primaryLobe, u[i], &density);
+        const auto t = sampleLobeRoute(m, wo, *primaryLobe, u[i], underMis ? &density : nullptr);
         add(t, t ? t->pdf : 0, density, primary);
       }
     }
     if (underMis) {
-      addLight(classicPdf, classic);
-      if (lobe) addLight(routePdf(lobe), table);
-      if (primaryLobe) addLight(routePdf(primaryLobe), primary);
+      addLight(nullptr, classic);
+      if (lobe) addLight(lobe, table);
+      if (primaryLobe) addLight(primaryLobe, primary);
     }
   }
   const auto relativeVariance = [](const auto &sums) {

@@ -143,17 +143,30 @@ BENCHMARK(BM_MaterialSample);
 // Arg: the defensive share in percent. From the table's primary point, as
 // sobol-tabulated's are; through the sphere table (BM_LobeRouteSample) or
 // the primary-space table (BM_LobeRoutePrimarySample).
+// The dragon's material with its lobe tables under MIS (mix 1), every bin
+// through one kind of table.
+struct DragonTables {
+  explicit DragonTables(LobeRouting routing, double defensive = LobeTableSettings{}.defensive)
+      : brdf(std::make_shared<const DisneyBrdf>(dragonMaterial())), tables({brdf}, [&] {
+          LobeTableSettings s;
+          s.samplingMix = 1.0;
+          s.routing = routing;
+          s.defensive = defensive;
+          return s;
+        }()) {}
+  LobeFrame frame() const { return *tables.frame(brdf.get(), kWo); }
+
+  std::shared_ptr<const DisneyBrdf> brdf;
+  LobeTables tables;
+};
+
 void lobeRouteSample(benchmark::State &state, LobeRouting routing) {
-  const auto brdf = std::make_shared<const DisneyBrdf>(dragonMaterial());
-  LobeTableSettings settings;
-  settings.samplingMix = 1.0;
-  settings.routing = routing;
-  settings.defensive = double(state.range(0)) / 100;
-  const LobeTables tables({brdf}, settings);
-  const LobeFrame lobe = *tables.frame(brdf.get(), kWo);
+  const DragonTables dragon(routing, double(state.range(0)) / 100);
+  const LobeFrame lobe = dragon.frame();
   const auto us = uniformPoints(4096);
   std::size_t k = 0;
-  for (auto _ : state) benchmark::DoNotOptimize(sampleLobeRoute(*brdf, kWo, lobe, us[k++ & 4095]));
+  for (auto _ : state)
+    benchmark::DoNotOptimize(sampleLobeRoute(*dragon.brdf, kWo, lobe, us[k++ & 4095]));
   state.SetItemsProcessed(state.iterations());
 }
 void BM_LobeRouteSample(benchmark::State &state) { lobeRouteSample(state, LobeRouting::Table); }
@@ -168,15 +181,11 @@ BENCHMARK(BM_LobeRoutePrimarySample)->Arg(0)->Arg(10);
 // weight pays where a primary table draws the BSDF sample; directions from
 // the material's own sampler.
 void BM_LobeRoutePrimaryPdf(benchmark::State &state) {
-  const auto brdf = std::make_shared<const DisneyBrdf>(dragonMaterial());
-  LobeTableSettings settings;
-  settings.samplingMix = 1.0;
-  settings.routing = LobeRouting::Primary;
-  const LobeTables tables({brdf}, settings);
-  const LobeFrame lobe = *tables.frame(brdf.get(), kWo);
+  const DragonTables dragon(LobeRouting::Primary);
+  const LobeFrame lobe = dragon.frame();
   std::vector<std::pair<Vec3, double>> dirs;
   for (const Point2 &u : uniformPoints(4096))
-    if (const auto s = brdf->sample(kWo, u)) dirs.emplace_back(s->wi, s->pdf);
+    if (const auto s = dragon.brdf->sample(kWo, u)) dirs.emplace_back(s->wi, s->pdf);
   std::size_t k = 0;
   for (auto _ : state) {
     const auto &[wi, pdf] = dirs[k++ % dirs.size()];
@@ -192,12 +201,8 @@ BENCHMARK(BM_LobeRoutePrimaryPdf);
 // primary tables.
 void BM_NeuralLobeBank(benchmark::State &state) {
   registerMaterialTargets();
-  const auto brdf = std::make_shared<const DisneyBrdf>(dragonMaterial());
-  LobeTableSettings settings;
-  settings.samplingMix = 1.0;
-  settings.routing = LobeRouting::Primary;
-  const LobeTables tables({brdf}, settings);
-  const Target *table = tables.targets().front();
+  const DragonTables dragon(LobeRouting::Primary);
+  const Target *table = dragon.tables.targets().front();
   const NeuralGenerator model = NeuralGenerator::load(shippedLobeModel());
   const auto gamma = disneyFamilyGamma(model.family().spec(), table->spec());
   if (!gamma) {

@@ -90,11 +90,7 @@ bool printTopic(const std::string &topic) {
       std::string help = e.help;
       if (!e.aliases.empty()) {
         help += " (also:";
-        for (const auto &a : e.aliases) {
-          nuld::BackendEntry alias = e;
-          alias.name = a;
-          help += " " + alias.spelling();
-        }
+        for (const auto &a : e.aliases) help += " " + e.spelling(a);
         help += ")";
       }
       printEntry(e.spelling(), help);
