@@ -118,5 +118,37 @@ TEST(CsvTableDerived, AnOlderFileWithoutDerivedColumnsLoadsAndFills) {
   }
 }
 
+// A file older than some of the derived columns (render.csv with the
+// equal-time columns but not the baselines) loads with just those empty; a
+// missing column that is not derived is still refused.
+TEST(CsvTableDerived, AFileMissingSomeDerivedColumnsLoads) {
+  TempDir dir;
+  const fs::path csv = dir / "t.csv";
+  std::ofstream(csv) << "key,value,ratio,file\na,1,0.5,x.exr\n";
+  CsvTable t(csv, {"key", "value", "ratio", "file", "extra"}, {"ratio", "extra"});
+  t.loadExisting();
+  ASSERT_EQ(t.rows().size(), 1u);
+  EXPECT_EQ(t.rows()[0], (std::vector<std::string>{"a", "1", "0.5", "x.exr", ""}));
+  CsvTable strict(csv, {"key", "value", "ratio", "file", "extra"}, {"extra"});
+  strict.loadExisting();  // ratio is in the file
+  CsvTable lacking(csv, {"key", "value", "ratio", "file", "must"}, {"ratio"});
+  EXPECT_THROW(lacking.loadExisting(), std::runtime_error);
+}
+
+// putRow replaces the row of its key (rewriting the file) or appends one.
+TEST(CsvTable, PutRowReplacesTheRowOfItsKey) {
+  TempDir dir;
+  const fs::path csv = dir / "t.csv";
+  CsvTable t(csv, {"key", "value"});
+  t.putRow({"a", "1"}, 1);
+  t.putRow({"b", "2"}, 1);
+  t.putRow({"a", "3"}, 1);
+  EXPECT_EQ(t.rows(), (std::vector<std::vector<std::string>>{{"a", "3"}, {"b", "2"}}));
+  CsvTable again(csv, {"key", "value"});
+  again.loadExisting();
+  EXPECT_EQ(again.rows(), t.rows());
+  EXPECT_THROW(t.putRow({"a"}, 1), std::logic_error);
+}
+
 }  // namespace
 }  // namespace nuld::study

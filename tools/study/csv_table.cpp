@@ -74,15 +74,19 @@ void CsvTable::loadExisting() {
   if (!in) return;
   std::string line;
   if (!std::getline(in, line)) return;
-  // The file's columns: ours, or ours without the derived ones (an older
-  // file), whose values are then left empty.
+  // The file's columns: ours, or ours without some derived ones (a file
+  // older than they are), whose values are then left empty.
   const std::vector<std::string> header = splitRow(line);
-  std::vector<std::string> withoutDerived;
-  for (const auto &c : columns_)
-    if (std::find(derived_.begin(), derived_.end(), c) == derived_.end())
-      withoutDerived.push_back(c);
-  const bool older = header != columns_ && !derived_.empty() && header == withoutDerived;
-  if (header != columns_ && !older)
+  std::vector<std::size_t> from(columns_.size(), header.size());  // header index per column
+  bool matches = true;
+  std::size_t k = 0;
+  for (std::size_t c = 0; c < columns_.size() && matches; ++c) {
+    if (k < header.size() && header[k] == columns_[c])
+      from[c] = k++;
+    else
+      matches = std::find(derived_.begin(), derived_.end(), columns_[c]) != derived_.end();
+  }
+  if (!matches || k != header.size())
     throw std::runtime_error(path_.string() + ": header '" + line + "' differs from '" +
                              joinRow(columns_) +
                              "' (a study of another kind or version; use a new directory)");
@@ -95,14 +99,10 @@ void CsvTable::loadExisting() {
       throw std::runtime_error(path_.string() + ":" + std::to_string(lineNo) + ": " +
                                std::to_string(row.size()) + " values, expected " +
                                std::to_string(header.size()));
-    if (older) {
-      std::vector<std::string> full;
-      for (std::size_t c = 0, k = 0; c < columns_.size(); ++c)
-        full.push_back(k < withoutDerived.size() && columns_[c] == withoutDerived[k]
-                           ? std::move(row[k++])
-                           : std::string());
-      row = std::move(full);
-    }
+    std::vector<std::string> full(columns_.size());
+    for (std::size_t c = 0; c < columns_.size(); ++c)
+      if (from[c] < header.size()) full[c] = std::move(row[from[c]]);
+    row = std::move(full);
     rows_.push_back(std::move(row));
   }
 }
@@ -141,15 +141,33 @@ bool CsvTable::hasRow(const std::vector<std::string> &key) const {
   return false;
 }
 
-void CsvTable::addRow(std::vector<std::string> values) {
+void CsvTable::checkRow(const std::vector<std::string> &values) const {
   if (values.size() != columns_.size())
-    throw std::logic_error("CsvTable::addRow: " + std::to_string(values.size()) + " values for " +
+    throw std::logic_error("CsvTable: " + std::to_string(values.size()) + " values for " +
                            std::to_string(columns_.size()) + " columns");
   for (const auto &v : values)
     if (v.find_first_of(",\n\"") != std::string::npos)
       throw std::invalid_argument("CSV value '" + v + "' contains a comma, quote or newline");
+}
+
+void CsvTable::addRow(std::vector<std::string> values) {
+  checkRow(values);
   rows_.push_back(std::move(values));
   write();
+}
+
+void CsvTable::putRow(std::vector<std::string> values, std::size_t keySize) {
+  const std::vector<std::string> key(values.begin(),
+                                     values.begin() + std::min(keySize, values.size()));
+  for (auto &row : rows_)
+    if (std::equal(key.begin(), key.end(), row.begin())) {
+      if (row == values) return;
+      checkRow(values);
+      row = std::move(values);
+      write();
+      return;
+    }
+  addRow(std::move(values));
 }
 
 void CsvTable::setColumn(const std::string &name, const std::vector<std::string> &values) {

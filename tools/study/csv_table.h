@@ -36,6 +36,9 @@ class CsvTable {
 
   // Appends a row (as many values as columns, or throws) and rewrites the file.
   void addRow(std::vector<std::string> values);
+  // Replaces the row whose first `keySize` values are these, or appends it;
+  // rewrites the file when that changed anything.
+  void putRow(std::vector<std::string> values, std::size_t keySize);
 
   // Sets a column's value in every row (as many values as rows, or throws)
   // and rewrites the file.
@@ -48,6 +51,7 @@ class CsvTable {
   const std::filesystem::path &path() const { return path_; }
 
  private:
+  void checkRow(const std::vector<std::string> &values) const;
   void write() const;
 
   std::filesystem::path path_;
