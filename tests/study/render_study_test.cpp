@@ -60,7 +60,7 @@ std::map<std::string, std::string> asMap(const std::vector<std::string> &columns
 }
 
 CsvTable readTable(const fs::path &dir) {
-  CsvTable t(dir / "render.csv", renderStudyColumns(), equalTimeColumns());
+  CsvTable t(dir / "render.csv", renderStudyColumns(), renderStudyDerivedColumns());
   t.loadExisting();
   return t;
 }
@@ -92,7 +92,9 @@ TEST_F(TinyStudy, CsvHasItsColumnsAndUnits) {
   EXPECT_EQ(header,
             "scene,backend,spp,repeats,mse,mse_stderr,relmse,relmse_stderr,seconds,"
             "setup_seconds,total_seconds,equal_time_ratio,equal_time_ratio_stderr,amortize,"
-            "rays_per_second,nonfinite_pixels,rejected_samples,image,error_map");
+            "rays_per_second,nonfinite_pixels,rejected_samples,image,error_map,"
+            "mse_less_reference,relmse_less_reference,reference_too_noisy,best_classic,"
+            "mse_ratio_best_classic,mse_ratio_best_classic_stderr");
   const CsvTable t = readTable(*dir_);
   ASSERT_EQ(t.rows().size(), 10u) << "5 backends x 2 spp";
   EXPECT_TRUE(result_->skipped.empty());
@@ -224,13 +226,52 @@ TEST_F(TinyStudy, EqualTimeRatioIsMseTimesTotalSecondsOverSobols) {
       EXPECT_GT(amortized, 0) << "the optimized rows carry setup";
     }
     // The verdicts name, per spp, a backend of the table.
-    CsvTable verdicts(dir / "verdicts.csv", {"scene", "spp", "best", "tied", "runner_up",
-                                             "separation", "separation_stderr", "equal_time_ratio",
-                                             "equal_time_ratio_stderr", "amortize"});
+    CsvTable verdicts(dir / "verdicts.csv", verdictColumns());
     verdicts.loadExisting();
     EXPECT_EQ(verdicts.rows().size(), 2u);
   }
   fs::remove_all(copy);
+}
+
+// The reference's noise and the best classic row, recomputed from the
+// CSVs' own strings: references.csv's variance, each row's MSE less it and
+// its flag, and each learned row's ratio to the classic row of lowest MSE.
+TEST_F(TinyStudy, RowsAreScoredAgainstTheReferenceNoiseAndTheBestClassic) {
+  CsvTable refs(*dir_ / "references.csv", referenceColumns());
+  refs.loadExisting();
+  ASSERT_EQ(refs.rows().size(), 1u);
+  const auto ref = asMap(refs.columns(), refs.rows()[0]);
+  const double variance = std::stod(ref.at("variance"));
+  EXPECT_GT(variance, 0);
+  EXPECT_GT(std::stod(ref.at("relvariance")), 0);
+  EXPECT_EQ(ref.at("spp"), "1024");
+  EXPECT_TRUE(fs::exists(*dir_ / "default" / "reference.half0.exr"));
+  EXPECT_TRUE(fs::exists(*dir_ / "default" / "reference.half1.exr"));
+
+  const CsvTable t = readTable(*dir_);
+  std::map<std::string, std::pair<std::string, double>> bestClassic;  // by spp
+  for (const auto &row : t.rows()) {
+    auto r = asMap(t.columns(), row);
+    const double mse = std::stod(r["mse"]);
+    EXPECT_NEAR(std::stod(r["mse_less_reference"]), mse - variance, 1e-5 * mse);
+    EXPECT_EQ(r["reference_too_noisy"], mse < 10 * variance ? "1" : "0") << r["backend"];
+    if (r["backend"].rfind("optimized", 0) == 0) continue;
+    auto &best = bestClassic[r["spp"]];
+    if (best.first.empty() || mse < best.second) best = {r["backend"], mse};
+  }
+  ASSERT_EQ(bestClassic.size(), 2u);
+  for (const auto &row : t.rows()) {
+    auto r = asMap(t.columns(), row);
+    EXPECT_EQ(r["best_classic"], bestClassic[r["spp"]].first);
+    const double q = std::stod(r["mse_ratio_best_classic"]);
+    if (r["backend"].rfind("optimized", 0) != 0) {
+      EXPECT_TRUE(std::isnan(q)) << r["backend"];
+      continue;
+    }
+    const double expected = std::stod(r["mse"]) / bestClassic[r["spp"]].second;
+    EXPECT_NEAR(q, expected, 1e-5 * expected) << r["backend"];
+    EXPECT_GT(std::stod(r["mse_ratio_best_classic_stderr"]), 0) << r["backend"];
+  }
 }
 
 // --opt-nested: one bank per target at the largest spp serves every spp;
@@ -318,7 +359,15 @@ TEST(ReferenceRender, ResumedEqualsUninterruptedBitForBit) {
   s.render.integrator = IntegratorKind::Path;
   const ReferenceResult whole = renderReference(scene.scene, "default", s, tmp / "whole");
   ASSERT_TRUE(whole.complete);
-  EXPECT_EQ(whole.passesRun, 3u);
+  EXPECT_EQ(whole.passesRun, 4u) << "12 spp: two pairs of passes of 4";
+  EXPECT_EQ(s.totalSpp(), 16u);
+  EXPECT_GT(whole.noise.variance, 0);
+  // The reference is the mean of its halves.
+  const Image h0 = readImage((tmp / "whole" / "reference.half0.exr").string()),
+              h1 = readImage((tmp / "whole" / "reference.half1.exr").string());
+  for (std::size_t i = 0; i < whole.image.pixels.size(); ++i)
+    ASSERT_NEAR(whole.image.pixels[i], 0.5f * (h0.pixels[i] + h1.pixels[i]),
+                1e-6f * (1 + whole.image.pixels[i]));
 
   const ReferenceResult first = renderReference(scene.scene, "default", s, tmp / "split", {}, 1);
   EXPECT_FALSE(first.complete);
@@ -326,14 +375,51 @@ TEST(ReferenceRender, ResumedEqualsUninterruptedBitForBit) {
   EXPECT_FALSE(fs::exists(tmp / "split" / "reference.exr"));
   const ReferenceResult rest = renderReference(scene.scene, "default", s, tmp / "split");
   ASSERT_TRUE(rest.complete);
-  EXPECT_EQ(rest.passesRun, 2u);
+  EXPECT_EQ(rest.passesRun, 3u);
   EXPECT_EQ(rest.image.pixels, whole.image.pixels);
+  EXPECT_EQ(rest.noise.variance, whole.noise.variance);
+  EXPECT_EQ(readImage((tmp / "split" / "reference.half1.exr").string()).pixels, h1.pixels);
   EXPECT_EQ(readImage((tmp / "split" / "reference.exr").string()).pixels, whole.image.pixels);
 
   // Complete: read back, nothing rendered.
   const ReferenceResult again = renderReference(scene.scene, "default", s, tmp / "split");
   EXPECT_EQ(again.passesRun, 0u);
   EXPECT_EQ(again.image.pixels, whole.image.pixels);
+  EXPECT_EQ(again.noise.variance, whole.noise.variance);
+}
+
+// A reference made before the halves (its state's description has none) is
+// refused with the reason, complete or in progress, and left as it was.
+TEST(ReferenceRender, OldReferenceWithoutHalvesIsRefusedNotReused) {
+  TempDir tmp;
+  const LoadedScene scene = loadScene("default", resolveAssetRoot(""));
+  ReferenceSettings s;
+  s.spp = 8, s.passSpp = 4;
+  s.render.width = 8, s.render.height = 8;
+  for (const bool complete : {true, false}) {
+    const fs::path dir = tmp / (complete ? "complete" : "partial");
+    renderReference(scene.scene, "default", s, dir, {}, complete ? 0 : 1);
+    // What an older nuld left: one sum or image, a state without halves.
+    std::string description = s.describe("default");
+    description.erase(description.find(" halves="));
+    std::ofstream(dir / "reference.state")
+        << "description=" << description << "\npasses_done=" << (complete ? 2 : 1)
+        << "\nseconds=1\n";
+    for (const char *half : {"reference.half0.exr", "reference.half1.exr",
+                             "reference.half0.partial.exr", "reference.half1.partial.exr"})
+      fs::remove(dir / half);
+    const auto before = fs::last_write_time(dir / "reference.state");
+    try {
+      renderReference(scene.scene, "default", s, dir);
+      ADD_FAILURE() << "an old reference was reused";
+    } catch (const std::runtime_error &e) {
+      EXPECT_NE(std::string(e.what()).find("without two independent halves"), std::string::npos)
+          << e.what();
+      EXPECT_NE(std::string(e.what()).find("reference.state"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(fs::last_write_time(dir / "reference.state"), before);
+    EXPECT_FALSE(fs::exists(dir / "reference.half0.exr"));
+  }
 }
 
 TEST(ReferenceRender, OtherSettingsAreRefusedNamingTheStateFile) {

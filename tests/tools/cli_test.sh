@@ -269,6 +269,20 @@ fails_with "study bad spp" "spp" "$nuld" study render default --spp 4,x -o "$dir
 fails_with "study bad resolution" "expected W or WxH" "$nuld" study render default --res 12by4 -o "$dir/s2"
 fails_with "study rerun with other options" "reference-spp 16 there, 32 now" "$nuld" study render default --res 16x12 --spp 2 --reference-spp 32 --integrator direct --backends sobol -q -o "$dir/study"
 fails_with "study rerun with other repeats" "repeats 1 there, 3 now" "$nuld" study render default --res 16x12 --spp 2 --reference-spp 16 --integrator direct --backends sobol --repeats 3 -q -o "$dir/study"
+# The baselines: references.csv has the reference's own noise; a learned row
+# gets its ratio to the best classic row; rows within 10x of the noise say so
+# (a 16-spp reference against 4-spp rows); a reference without halves (an
+# older nuld's) is refused, not reused.
+grep -q '^scene,backend,spp,resolution,integrator,variance,relvariance,seconds,image$' "$dir/study/references.csv" ||
+  { echo "FAIL: references.csv has the reference's variance"; cat "$dir/study/references.csv"; failures=$((failures + 1)); }
+grep -q "reference too noisy for this row" "$dir/study/index.html" ||
+  { echo "FAIL: the page flags rows the reference is too noisy for"; failures=$((failures + 1)); }
+ok "study render classic baselines" "$nuld" study render default --res 16x12 --spp 4 --reference-spp 16 --integrator direct --backends sobol,sobol-tabulated,optimized-uniform --opt-epochs 5 --opt-instances 2 --repeats 2 -q --no-report -o "$dir/classic"
+grep -q 'mse/classic.*best_classic' "$dir/out" && grep -q '^optimized-uniform .*[0-9]+-[0-9].*[0-9]+-[0-9].*[0-9]+-[0-9]' "$dir/out" &&
+  grep -q "reference too noisy for this row" "$dir/out" ||
+  { echo "FAIL: the table gives learned rows their ratio to the best classic and flags noisy references"; cat "$dir/out"; failures=$((failures + 1)); }
+sed -i 's/ halves=2//' "$dir/classic/default/reference.state"
+fails_with "study render refuses a reference without halves" "without two independent halves" "$nuld" study render default --res 16x12 --spp 4 --reference-spp 16 --integrator direct --backends sobol,sobol-tabulated,optimized-uniform --opt-epochs 5 --opt-instances 2 --repeats 2 -q --no-report -o "$dir/classic"
 fails_with "study report of an empty directory" "neither render.csv nor integrate.csv" "$nuld" study report "$dir/empty_study"
 
 # Integration study: the 2D integrands need no files.

@@ -14,6 +14,7 @@
 #include "tools/nuld/cli_util.h"
 #include "tools/nuld/commands.h"
 #include "tools/nuld/progress.h"
+#include "tools/study/baselines.h"
 #include "tools/study/csv_table.h"
 #include "tools/study/equal_time.h"
 #include "tools/study/ranks.h"
@@ -56,16 +57,24 @@ const char *verdictOf(double q, double se) {
 }
 
 // MSE per (scene, backend, spp), with the ratio to sobol at the same spp,
-// the comparison the studies are about, and at equal time (MSE x total
-// seconds, setup amortized: tools/study/equal_time.h); then, per scene and
-// spp, the backend with the lowest error for the time.
-void printTable(const study::CsvTable &table, double amortize) {
+// the comparison the studies are about, to the best classic backend there
+// (the baseline a learned backend must beat: tools/study/baselines.h), and
+// at equal time (MSE x total seconds, setup amortized:
+// tools/study/equal_time.h); then, per scene and spp, the backend with the
+// lowest error for the time. Each scene's heading gives its reference's own
+// noise; a row within 10x of it says so.
+void printTable(const study::CsvTable &table, const study::CsvTable &references, double amortize) {
   const std::vector<study::TimedRow> rows = study::timedRows(table);
   const std::vector<study::EqualTime> times = study::equalTime(rows, amortize);
-  const std::size_t relmse = table.column("relmse");
+  const std::size_t relmse = table.column("relmse"), classic = table.column("best_classic"),
+                    classicRatio = table.column("mse_ratio_best_classic"),
+                    classicStderr = table.column("mse_ratio_best_classic_stderr"),
+                    tooNoisy = table.column("reference_too_noisy");
   std::map<std::pair<std::string, std::size_t>, const study::TimedRow *> sobol;
   for (const auto &r : rows)
     if (r.backend == "sobol") sobol[{r.scene, r.spp}] = &r;
+  std::map<std::string, const std::vector<std::string> *> reference;
+  for (const auto &r : references.rows()) reference[r[references.column("scene")]] = &r;
   // Rows are made spp by spp; the table reads backend by backend.
   std::map<std::string, std::size_t> sceneOrder, backendOrder;
   for (const auto &r : rows) {
@@ -81,23 +90,32 @@ void printTable(const study::CsvTable &table, double amortize) {
   std::string lastScene;
   for (const std::size_t i : order) {
     const study::TimedRow &r = rows[i];
+    const std::vector<std::string> &csv = table.rows()[i];
     if (r.scene != lastScene) {
-      std::printf("\n%s\n%-22s %5s %11s %11s %13s %6s %8s %8s %8s %13s %6s\n", r.scene.c_str(),
-                  "backend", "spp", "mse", "relmse", "mse/sobol", "vs", "seconds", "setup_s",
-                  "total_s", "time/sobol", "vs");
+      std::printf("\n%s", r.scene.c_str());
+      if (const auto ref = reference.find(r.scene); ref != reference.end()) {
+        const auto value = [&](const char *column) {
+          return (*ref->second)[references.column(column)];
+        };
+        std::printf(" (reference: %s, %s spp, own variance %.4e, relMSE %.4e)",
+                    value("backend").c_str(), value("spp").c_str(),
+                    study::parseNumber(value("variance")),
+                    study::parseNumber(value("relvariance")));
+      }
+      std::printf("\n%-22s %5s %11s %11s %13s %6s %13s %6s %-15s %8s %8s %8s %13s %6s\n", "backend",
+                  "spp", "mse", "relmse", "mse/sobol", "vs", "mse/classic", "vs", "best_classic",
+                  "seconds", "setup_s", "total_s", "time/sobol", "vs");
       lastScene = r.scene;
     }
     const auto it = sobol.find({r.scene, r.spp});
-    char ratio[48] = "-", timeRatio[48] = "-";
-    const char *verdict = "-", *timeVerdict = "-";
+    char ratio[48] = "-", timeRatio[48] = "-", classicText[48] = "-";
+    const char *verdict = "-", *timeVerdict = "-", *classicVerdict = "-";
     if (it != sobol.end() && it->second->mse > 0 && r.backend != "sobol") {
-      // The ratio's standard error from the two means' relative ones; a
-      // verdict needs two of them between the ratio and 1.
-      const double q = r.mse / it->second->mse;
-      const double a = r.mseStderr / r.mse, b = it->second->mseStderr / it->second->mse;
-      const double se = q * std::sqrt((std::isfinite(a) ? a * a : 0) + b * b);
-      std::snprintf(ratio, sizeof ratio, "%.3f+-%.3f", q, se);
-      verdict = verdictOf(q, se);
+      // A verdict needs two standard errors between the ratio and 1.
+      const study::Ratio q =
+          study::ratioOfMeans(r.mse, r.mseStderr, it->second->mse, it->second->mseStderr);
+      std::snprintf(ratio, sizeof ratio, "%.3f+-%.3f", q.value, q.stderr_);
+      verdict = verdictOf(q.value, q.stderr_);
       std::snprintf(timeRatio, sizeof timeRatio, "%.3f+-%.3f", times[i].ratio,
                     times[i].ratioStderr);
       timeVerdict = verdictOf(times[i].ratio, times[i].ratioStderr);
@@ -105,11 +123,22 @@ void printTable(const study::CsvTable &table, double amortize) {
       std::snprintf(ratio, sizeof ratio, "1");
       std::snprintf(timeRatio, sizeof timeRatio, "1");
     }
-    std::string name = r.backend;
-    if (name.size() > 22) name = "..." + name.substr(name.size() - 19);
-    std::printf("%-22s %5zu %11.4e %11.4e %13s %6s %8.3f %8.2f %8.3f %13s %6s\n", name.c_str(),
-                r.spp, r.mse, study::parseNumber(table.rows()[i][relmse]), ratio, verdict,
-                r.seconds, r.setupSeconds, times[i].totalSeconds, timeRatio, timeVerdict);
+    // Learned rows only (classic ones have no ratio to the best classic).
+    const double cq = study::parseNumber(csv[classicRatio]),
+                 cse = study::parseNumber(csv[classicStderr]);
+    if (std::isfinite(cq)) {
+      std::snprintf(classicText, sizeof classicText, "%.3f+-%.3f", cq, cse);
+      classicVerdict = verdictOf(cq, cse);
+    }
+    const auto shortened = [](std::string name, std::size_t width) {
+      return name.size() > width ? "..." + name.substr(name.size() - (width - 3)) : name;
+    };
+    std::printf("%-22s %5zu %11.4e %11.4e %13s %6s %13s %6s %-15s %8.3f %8.2f %8.3f %13s %6s%s\n",
+                shortened(r.backend, 22).c_str(), r.spp, r.mse, study::parseNumber(csv[relmse]),
+                ratio, verdict, classicText, classicVerdict,
+                csv[classic].empty() ? "-" : shortened(csv[classic], 15).c_str(), r.seconds,
+                r.setupSeconds, times[i].totalSeconds, timeRatio, timeVerdict,
+                csv[tooNoisy] == "1" ? "  reference too noisy for this row" : "");
   }
   std::printf("\nLowest error for the time (MSE x total seconds, setup over %s render%s):\n",
               study::formatNumber(amortize).c_str(), amortize == 1 ? "" : "s");
@@ -191,8 +220,10 @@ Runner addStudyRender(CLI::App &app) {
   app.footer(
       "Writes OUT/render.csv (one row per scene, backend, spp: mse, relmse with standard errors\n"
       "over the repeats, seconds per render including the backend's sample generation,\n"
-      "setup_seconds of one-off optimization), OUT/references.csv, OUT/SCENE/*.exr|png and,\n"
-      "unless --no-report, OUT/plots/*.png and OUT/index.html (open it in a browser).");
+      "setup_seconds of one-off optimization, the MSE less the reference's own variance, the\n"
+      "ratio to the best classic backend), OUT/verdicts.csv, OUT/references.csv (with the\n"
+      "reference's variance from its two halves), OUT/SCENE/*.exr|png and, unless\n"
+      "--no-report, OUT/plots/*.png and OUT/index.html (open it in a browser).");
   return [o, &app] {
     study::RenderStudySettings s = o->s;
     s.out = o->out;
@@ -254,18 +285,26 @@ Runner addStudyRender(CLI::App &app) {
     for (const auto &scene : result.referencesIncomplete)
       std::cerr << "note: " << scene << ": the reference stopped after --reference-stop-after "
                 << s.referenceStopAfter << " passes; run the same command again to continue it\n";
-    study::CsvTable table(result.csv, study::renderStudyColumns(), study::equalTimeColumns());
+    study::CsvTable table(result.csv, study::renderStudyColumns(),
+                          study::renderStudyDerivedColumns());
     table.loadExisting();
     if (table.rows().empty()) return 0;
-    printTable(table, s.amortize);
+    study::CsvTable references(result.csv.parent_path() / "references.csv",
+                               study::referenceColumns());
+    references.loadExisting();
+    printTable(table, references, s.amortize);
     std::printf(
         "\n(MSE against the reference; mse/sobol < 1 beats Owen-Sobol at equal spp, +- its\n"
         " standard error over the repeats; vs: better or worse than sobol by more than two\n"
-        " standard errors, else tie. seconds: one render incl. the backend's sample\n"
+        " standard errors, else tie. mse/classic, vs: a learned row against the classic\n"
+        " backend (best_classic) with the lowest MSE at that spp. A row whose MSE is below\n"
+        " %gx the reference's own variance is marked: there the reference's noise, part of\n"
+        " every MSE, decides the comparison. seconds: one render incl. the backend's sample\n"
         " generation; setup_s: making this row's sets and lobe tables in this run (0 when\n"
         " cached); total_s: seconds + setup_s / --amortize; time/sobol: MSE x total_s over\n"
         " sobol's, below 1 reaching sobol's error sooner. CSV: %s)\n",
-        result.csv.string().c_str());
+        study::kTooNoisyFactor, result.csv.string().c_str());
+    std::fflush(stdout);  // the table before the report script's own lines
     return o->noReport ? 0 : runReport(o->out);
   };
 }

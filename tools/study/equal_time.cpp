@@ -6,25 +6,24 @@
 #include <map>
 #include <stdexcept>
 
+#include "tools/study/baselines.h"
 #include "tools/study/csv_table.h"
 
 namespace nuld::study {
 
 namespace {
 
-double relativeError(const TimedRow &r) {
-  return r.mse > 0 && std::isfinite(r.mseStderr) ? r.mseStderr / r.mse : 0;
-}
-
 double product(const TimedRow &r, double amortize) {
   return r.mse * (r.seconds + r.setupSeconds / amortize);
 }
 
-// The ratio a / b of two rows' products, with its standard error.
+// The ratio a / b of two rows' products, with its standard error: the
+// times are exact, so a product's relative error is its MSE's.
 std::pair<double, double> ratioOf(const TimedRow &a, const TimedRow &b, double amortize) {
-  const double q = product(a, amortize) / product(b, amortize);
-  const double ea = relativeError(a), eb = relativeError(b);
-  return {q, q * std::sqrt(ea * ea + eb * eb)};
+  const double ta = a.seconds + a.setupSeconds / amortize,
+               tb = b.seconds + b.setupSeconds / amortize;
+  const Ratio q = ratioOfMeans(a.mse * ta, a.mseStderr * ta, b.mse * tb, b.mseStderr * tb);
+  return {q.value, q.stderr_};
 }
 
 }  // namespace
@@ -56,6 +55,7 @@ std::vector<EqualTime> equalTime(const std::vector<TimedRow> &rows, double amort
 
 std::vector<TimeVerdict> timeVerdicts(const std::vector<TimedRow> &rows, double amortize) {
   const std::vector<EqualTime> times = equalTime(rows, amortize);
+  const std::vector<ClassicBaseline> classic = classicBaselines(rows);
   // Groups in the order the rows first name them.
   std::vector<std::pair<std::string, std::size_t>> order;
   std::map<std::pair<std::string, std::size_t>, std::vector<std::size_t>> groups;
@@ -75,6 +75,8 @@ std::vector<TimeVerdict> timeVerdicts(const std::vector<TimedRow> &rows, double 
     v.scene = key.first;
     v.spp = key.second;
     v.bestTime = times[g[0]];
+    v.bestClassic = classic[g[0]].backend;
+    v.toBestClassic = classic[g[0]].ratio;
     v.separation = v.separationStderr = NAN;
     const TimedRow &best = rows[g[0]];
     v.best.push_back(best.backend);
@@ -114,6 +116,11 @@ std::string describe(const TimeVerdict &v) {
                   v.separationStderr);
     s += "; ahead of " + v.runnerUp + buf;
   }
+  if (std::isfinite(v.toBestClassic.value)) {
+    std::snprintf(buf, sizeof buf, "; MSE %.3f+-%.3f of the best classic's", v.toBestClassic.value,
+                  v.toBestClassic.stderr_);
+    s += buf + (" (" + v.bestClassic + ")");
+  }
   return s;
 }
 
@@ -135,6 +142,23 @@ const std::vector<std::string> &equalTimeColumns() {
   return names;
 }
 
+const std::vector<std::string> &verdictColumns() {
+  static const std::vector<std::string> names{"scene",
+                                              "spp",
+                                              "best",
+                                              "tied",
+                                              "runner_up",
+                                              "separation",
+                                              "separation_stderr",
+                                              "equal_time_ratio",
+                                              "equal_time_ratio_stderr",
+                                              "amortize",
+                                              "best_classic",
+                                              "mse_ratio_best_classic",
+                                              "mse_ratio_best_classic_stderr"};
+  return names;
+}
+
 void fillEqualTime(CsvTable &table, double amortize) {
   const std::vector<EqualTime> times = equalTime(timedRows(table), amortize);
   std::vector<std::string> total, ratio, stderr_, k;
@@ -150,16 +174,15 @@ void fillEqualTime(CsvTable &table, double amortize) {
   table.setColumn(names[2], stderr_);
   table.setColumn(names[3], k);
 
-  CsvTable verdicts(table.path().parent_path() / "verdicts.csv",
-                    {"scene", "spp", "best", "tied", "runner_up", "separation", "separation_stderr",
-                     "equal_time_ratio", "equal_time_ratio_stderr", "amortize"});
+  CsvTable verdicts(table.path().parent_path() / "verdicts.csv", verdictColumns());
   for (const TimeVerdict &v : timeVerdicts(timedRows(table), amortize)) {
     std::string tied;
     for (std::size_t i = 1; i < v.best.size(); ++i) tied += (i > 1 ? " " : "") + v.best[i];
     verdicts.addRow({v.scene, std::to_string(v.spp), v.best[0], tied, v.runnerUp,
                      formatNumber(v.separation), formatNumber(v.separationStderr),
                      formatNumber(v.bestTime.ratio), formatNumber(v.bestTime.ratioStderr),
-                     formatNumber(amortize)});
+                     formatNumber(amortize), v.bestClassic, formatNumber(v.toBestClassic.value),
+                     formatNumber(v.toBestClassic.stderr_)});
   }
 }
 

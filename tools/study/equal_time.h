@@ -11,11 +11,14 @@
 //
 // equal_time_ratio is a row's MSE x total seconds over sobol's on the same
 // scene and spp: below 1, the backend reaches sobol's error in less time.
-// Its standard error comes from the two MSEs' (the times are taken as exact).
+// Its standard error comes from the two MSEs' (the times are taken as exact;
+// ratioOfMeans, statistics.h).
 
 #include <cstddef>
 #include <string>
 #include <vector>
+
+#include "tools/study/statistics.h"
 
 namespace nuld::study {
 
@@ -47,11 +50,16 @@ struct TimeVerdict {
   std::string runnerUp;           // the next backend beyond the tie ("" if none)
   double separation = 0, separationStderr = 0;
   EqualTime bestTime;  // best[0]'s
+  // The best classic backend at the scene and spp (baselines.h) and, when
+  // best[0] is learned, best[0]'s MSE over its (else NaN).
+  std::string bestClassic;
+  Ratio toBestClassic;
 };
 std::vector<TimeVerdict> timeVerdicts(const std::vector<TimedRow> &rows, double amortize);
 
-// The verdict as one line: "dragon, 64 spp: optimized-both (0.71+-0.02 of
-// sobol's MSE x time), ahead of sobol-tabulated by 0.83+-0.03".
+// The verdict as one line: "dragon, 64 spp: optimized-both, at 0.71+-0.02
+// of sobol's MSE x time; ahead of sobol-tabulated at 0.83+-0.03 of its MSE x
+// time; MSE 0.80+-0.03 of the best classic's (sobol-tabulated)".
 std::string describe(const TimeVerdict &v);
 
 // A render study table's rows as TimedRows (the columns of render.csv).
@@ -60,9 +68,12 @@ std::vector<TimedRow> timedRows(const CsvTable &table);
 // The names of render.csv's columns that equalTime fills.
 const std::vector<std::string> &equalTimeColumns();
 // Fills them in every row of the table (rewriting its file), and writes the
-// verdicts beside it (verdicts.csv: scene, spp, best, tied (space-separated),
-// runner_up, separation, separation_stderr, equal_time_ratio,
-// equal_time_ratio_stderr, amortize), which the study's page shows.
+// verdicts beside it (verdictColumns: scene, spp, best, tied
+// (space-separated), runner_up, separation, separation_stderr,
+// equal_time_ratio, equal_time_ratio_stderr, amortize, best_classic,
+// mse_ratio_best_classic, mse_ratio_best_classic_stderr), which the study's
+// page shows.
+const std::vector<std::string> &verdictColumns();
 void fillEqualTime(CsvTable &table, double amortize);
 
 }  // namespace nuld::study

@@ -22,8 +22,25 @@ std::string ReferenceSettings::describe(const std::string &sceneName) const {
   s << "scene=" << sceneName << " backend=" << backend << " spp=" << totalSpp()
     << " pass_spp=" << samplesPerPass() << " seed=" << seed << " res=" << render.width << "x"
     << render.height << " integrator=" << toString(render.integrator)
-    << " max_depth=" << render.maxDepth << " renderer=" << kRendererRevision;
+    << " max_depth=" << render.maxDepth << " renderer=" << kRendererRevision << " halves=2";
   return s.str();
+}
+
+ReferenceNoise referenceNoise(const Image &half0, const Image &half1) {
+  if (half0.width != half1.width || half0.height != half1.height ||
+      half0.channels != half1.channels || half0.pixels.size() != half1.pixels.size())
+    throw std::invalid_argument("referenceNoise: the halves differ in size");
+  // relMSE's weight, as compareImages has it (renderer/image_metrics.h).
+  constexpr double kRelEpsilon = 0.01;
+  double sum = 0, relSum = 0;
+  for (std::size_t i = 0; i < half0.pixels.size(); ++i) {
+    const double a = half0.pixels[i], b = half1.pixels[i], r = 0.5 * (a + b);
+    const double v = 0.25 * (a - b) * (a - b);
+    sum += v;
+    relSum += v / (r * r + kRelEpsilon);
+  }
+  const double n = double(std::max<std::size_t>(1, half0.pixels.size()));
+  return {sum / n, relSum / n};
 }
 
 namespace {
@@ -71,6 +88,15 @@ void writeState(const fs::path &path, const State &s) {
 }
 
 void checkDescription(const fs::path &stateFile, const State &s, const std::string &expected) {
+  // Without halves its noise cannot be measured, and rows scored against it
+  // would stand beside rows flagged by that noise: refused, not reused.
+  if (s.description.find(" halves=") == std::string::npos)
+    throw std::runtime_error(
+        stateFile.string() +
+        ": this reference was rendered by an older nuld without two independent halves, so "
+        "its own noise cannot be estimated; use a new output directory (the rows beside it "
+        "were scored against it), or delete " +
+        (stateFile.parent_path() / "reference.*").string() + " to render it again");
   if (s.description != expected)
     throw std::runtime_error(stateFile.string() + ": made with '" + s.description +
                              "', but this study asks for '" + expected +
@@ -86,8 +112,12 @@ ReferenceResult renderReference(const Scene &scene, const std::string &sceneName
   if (settings.passSpp == 0 || settings.spp == 0)
     throw std::invalid_argument("reference: spp and pass spp must be positive");
   const Ranks &ranks = Ranks::world();
-  const fs::path finalPath = dir / "reference.exr", partialPath = dir / "reference.partial.exr",
-                 statePath = dir / "reference.state";
+  const fs::path finalPath = dir / "reference.exr", statePath = dir / "reference.state";
+  // Half h holds the passes p with p % 2 == h: their sum while in progress,
+  // their mean when complete.
+  const fs::path halfPath[2] = {dir / "reference.half0.exr", dir / "reference.half1.exr"};
+  const fs::path partialPath[2] = {dir / "reference.half0.partial.exr",
+                                   dir / "reference.half1.partial.exr"};
   const std::string description = settings.describe(sceneName);
   const std::size_t passes = settings.passes();
   RenderSettings rs = settings.render;
@@ -97,7 +127,7 @@ ReferenceResult renderReference(const Scene &scene, const std::string &sceneName
   // reference is and, at the end, receive the image.
   State state{description, 0};
   ReferenceResult result;
-  Image sum;
+  Image sum[2];
   bool alreadyComplete = false;
   if (ranks.root()) {
     fs::create_directories(dir);
@@ -107,14 +137,25 @@ ReferenceResult renderReference(const Scene &scene, const std::string &sceneName
     }
     alreadyComplete = state.passesDone >= passes && fs::exists(finalPath);
     if (alreadyComplete) {
+      for (const fs::path &half : halfPath)
+        if (!fs::exists(half))
+          throw std::runtime_error(half.string() + ": missing beside its complete reference; " +
+                                   "delete " + (dir / "reference.*").string() +
+                                   " to render it again");
       result.image = readImage(finalPath.string());
-    } else if (state.passesDone > 0) {
-      sum = readImage(partialPath.string());
-      if (sum.width != rs.width || sum.height != rs.height || sum.channels != 3)
-        throw std::runtime_error(partialPath.string() + ": size differs from the state's");
+      result.noise =
+          referenceNoise(readImage(halfPath[0].string()), readImage(halfPath[1].string()));
     } else {
-      sum = Image{rs.width, rs.height, 3,
-                  std::vector<float>(std::size_t(rs.width) * rs.height * 3, 0.0f)};
+      for (int h = 0; h < 2; ++h) {
+        if (state.passesDone > std::size_t(h)) {
+          sum[h] = readImage(partialPath[h].string());
+          if (sum[h].width != rs.width || sum[h].height != rs.height || sum[h].channels != 3)
+            throw std::runtime_error(partialPath[h].string() + ": size differs from the state's");
+        } else {
+          sum[h] = Image{rs.width, rs.height, 3,
+                         std::vector<float>(std::size_t(rs.width) * rs.height * 3, 0.0f)};
+        }
+      }
     }
   }
   {
@@ -128,7 +169,7 @@ ReferenceResult renderReference(const Scene &scene, const std::string &sceneName
 
   if (!alreadyComplete) {
     // Rounds of one pass per rank; rank 0 adds the passes in their order, so
-    // the sum is the one a single process makes.
+    // the sums are the ones a single process makes.
     const std::size_t K = std::size_t(ranks.size());
     const std::size_t first = state.passesDone;
     const std::size_t last = stopAfterPasses ? std::min(passes, first + stopAfterPasses) : passes;
@@ -152,16 +193,17 @@ ReferenceResult renderReference(const Scene &scene, const std::string &sceneName
               std::chrono::duration<double>(std::chrono::steady_clock::now() - passStart).count();
           return ByteWriter().put(seconds).put(image).take();
         },
-        [&](std::size_t, const std::string &bytes) {
+        [&](std::size_t i, const std::string &bytes) {
           ByteReader r(bytes);
           state.seconds += r.get<double>();
           const Image image = r.get<Image>();
-          for (std::size_t i = 0; i < sum.pixels.size(); ++i) sum.pixels[i] += image.pixels[i];
+          Image &half = sum[(first + i) % 2];
+          for (std::size_t k = 0; k < half.pixels.size(); ++k) half.pixels[k] += image.pixels[k];
         },
         [&](std::size_t collected) {
           state.passesDone = first + collected;
-          // The image first: a state that counts a pass always has its sum on disk.
-          writeImage(partialPath.string(), sum);
+          // The images first: a state that counts a pass always has its sum on disk.
+          for (int h = 0; h < 2; ++h) writeImage(partialPath[h].string(), sum[h]);
           writeState(statePath, state);
           if (progress) progress({state.passesDone, passes, double(state.passesDone) / passes});
         });
@@ -176,10 +218,17 @@ ReferenceResult renderReference(const Scene &scene, const std::string &sceneName
   state.seconds = fromBytes<double>(ranks.broadcast(ByteWriter().put(state.seconds).take()));
   result.totalSeconds = state.seconds;
   if (ranks.root() && !alreadyComplete) {
-    const float scale = 1.0f / float(state.passesDone);
-    result.image = sum;
-    for (float &v : result.image.pixels) v *= scale;
+    // The mean of all passes so far, and of each half's (even: the extra one).
+    const std::size_t done = state.passesDone;
+    const std::size_t count[2] = {(done + 1) / 2, done / 2};
+    result.image = sum[0];
+    for (std::size_t k = 0; k < result.image.pixels.size(); ++k)
+      result.image.pixels[k] = (sum[0].pixels[k] + sum[1].pixels[k]) / float(done);
     if (result.complete) {
+      Image mean[2] = {sum[0], sum[1]};
+      for (int h = 0; h < 2; ++h)
+        for (float &v : mean[h].pixels) v /= float(count[h]);
+      result.noise = referenceNoise(mean[0], mean[1]);
       RenderSettings whole = rs;
       whole.spp = settings.totalSpp();
       RenderStats stats;
@@ -187,14 +236,25 @@ ReferenceResult renderReference(const Scene &scene, const std::string &sceneName
       ImageAttributes attributes =
           renderAttributes(sceneName, whole, settings.backend, settings.seed, stats);
       attributes.emplace_back("nuld:reference", description);
+      // The halves before the reference: a reference on disk has its halves.
+      for (int h = 0; h < 2; ++h) writeImage(halfPath[h].string(), mean[h], attributes);
       writeRender(finalPath.string(), result.image, attributes);
-      fs::remove(partialPath);
+      for (const fs::path &partial : partialPath) fs::remove(partial);
     }
   }
   // Every rank scores its renders against the same image.
-  if (ranks.distributed())
-    result.image = fromBytes<Image>(
-        ranks.broadcast(ranks.root() ? ByteWriter().put(result.image).take() : std::string()));
+  if (ranks.distributed()) {
+    const std::string bytes = ranks.broadcast(ranks.root() ? ByteWriter()
+                                                                 .put(result.image)
+                                                                 .put(result.noise.variance)
+                                                                 .put(result.noise.relVariance)
+                                                                 .take()
+                                                           : std::string());
+    ByteReader r(bytes);
+    r.get(result.image);
+    r.get(result.noise.variance);
+    r.get(result.noise.relVariance);
+  }
   return result;
 }
 

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -18,6 +19,7 @@
 #include "sampler/io/input_file.h"
 #include "sampler/targets/target_spec.h"
 #include "scenes/scene_file.h"
+#include "tools/study/baselines.h"
 #include "tools/study/csv_table.h"
 #include "tools/study/equal_time.h"
 #include "tools/study/optimized_sets.h"
@@ -38,12 +40,33 @@ ReferenceSettings referenceFor(const RenderStudySettings &s, const RenderSetting
   return r;
 }
 
-void appendReferenceRow(CsvTable &refs, const std::string &scene, const ReferenceSettings &r,
-                        const ReferenceResult &result, const fs::path &image) {
-  if (refs.hasRow({scene})) return;
-  refs.addRow({scene, r.backend, std::to_string(r.totalSpp()),
-               std::to_string(r.render.width) + "x" + std::to_string(r.render.height),
-               toString(r.render.integrator), formatNumber(result.totalSeconds), image.string()});
+// The scene's row, replacing one of an earlier reference (one rendered
+// again after the old one was refused).
+void putReferenceRow(CsvTable &refs, const std::string &scene, const ReferenceSettings &r,
+                     const ReferenceResult &result, const fs::path &image) {
+  refs.putRow(
+      {scene, r.backend, std::to_string(r.totalSpp()),
+       std::to_string(r.render.width) + "x" + std::to_string(r.render.height),
+       toString(r.render.integrator), formatNumber(result.noise.variance),
+       formatNumber(result.noise.relVariance), formatNumber(result.totalSeconds), image.string()},
+      1);
+}
+
+// Each scene's reference noise, as references.csv records it (also for
+// scenes of earlier runs).
+std::map<std::string, ReferenceNoise> referenceNoiseByScene(const CsvTable &refs) {
+  std::map<std::string, ReferenceNoise> out;
+  const std::size_t scene = refs.column("scene"), variance = refs.column("variance"),
+                    relVariance = refs.column("relvariance");
+  for (const auto &row : refs.rows())
+    out[row[scene]] = {parseNumber(row[variance]), parseNumber(row[relVariance])};
+  return out;
+}
+
+// The columns computed over the whole table, after every row.
+void fillDerivedColumns(CsvTable &table, const CsvTable &refs, double amortize) {
+  fillEqualTime(table, amortize);
+  fillBaselineColumns(table, referenceNoiseByScene(refs));
 }
 
 // Where a cell's first render and its error map go.
@@ -153,6 +176,7 @@ CellOutcome renderCell(
              std::to_string(rejected),
              fs::relative(c.files().image, s.out).string(),
              fs::relative(c.files().errorMap, s.out).string()};
+  out.row.resize(renderStudyColumns().size());  // baselineColumns: fillBaselineColumns
   return out;
 }
 
@@ -178,6 +202,29 @@ const std::vector<std::string> &renderStudyColumns() {
                                                 "rejected_samples",
                                                 "image",
                                                 "error_map"};
+  // Later columns at the end, so that readers of the earlier ones by
+  // position keep working.
+  static const std::vector<std::string> all = [] {
+    std::vector<std::string> c = columns;
+    c.insert(c.end(), baselineColumns().begin(), baselineColumns().end());
+    return c;
+  }();
+  return all;
+}
+
+const std::vector<std::string> &renderStudyDerivedColumns() {
+  static const std::vector<std::string> derived = [] {
+    std::vector<std::string> d = equalTimeColumns();
+    d.insert(d.end(), baselineColumns().begin(), baselineColumns().end());
+    return d;
+  }();
+  return derived;
+}
+
+const std::vector<std::string> &referenceColumns() {
+  static const std::vector<std::string> columns{"scene",       "backend",    "spp",
+                                                "resolution",  "integrator", "variance",
+                                                "relvariance", "seconds",    "image"};
   return columns;
 }
 
@@ -356,8 +403,8 @@ std::set<fs::path> makeSceneSets(const Ranks &ranks, const SceneStudy &scene, co
 // their rows in cell order, or notes why a cell was skipped.
 void renderCells(const Ranks &ranks, const SceneStudy &scene, const ScenePlan &plan,
                  const std::set<fs::path> &madeNow, const Image &reference,
-                 const RenderStudySettings &s, CsvTable &table, RenderStudyResult &result,
-                 const StudyProgress &progress) {
+                 const RenderStudySettings &s, CsvTable &table, const CsvTable &refs,
+                 RenderStudyResult &result, const StudyProgress &progress) {
   double totalWork = 0, work = 0;
   for (const PlannedCell &c : plan.cells) totalWork += double(c.spp) * double(s.repeats);
   runInRounds(
@@ -398,7 +445,7 @@ void renderCells(const Ranks &ranks, const SceneStudy &scene, const ScenePlan &p
         writeRender(files.image.string(), outcome.image, outcome.attributes);
         writeImage(files.errorMap.string(), errorMap(outcome.image, reference));
         table.addRow(outcome.row);
-        fillEqualTime(table, s.amortize);
+        fillDerivedColumns(table, refs, s.amortize);
       });
 }
 
@@ -410,11 +457,12 @@ RenderStudyResult runRenderStudy(const RenderStudySettings &s, const StudyProgre
   if (ranks.root()) fs::create_directories(s.out);
   RenderStudyResult result;
   result.csv = s.out / "render.csv";
-  CsvTable table(result.csv, renderStudyColumns(), equalTimeColumns());
+  CsvTable table(result.csv, renderStudyColumns(), renderStudyDerivedColumns());
   table.loadExisting();
   table.requireOptions(s.rowOptions(), ranks.root());
-  CsvTable refs(s.out / "references.csv",
-                {"scene", "backend", "spp", "resolution", "integrator", "seconds", "image"});
+  // The noise columns load empty from an older file, whose references are
+  // then refused with the reason (reference_render.h), not its header.
+  CsvTable refs(s.out / "references.csv", referenceColumns(), {"variance", "relvariance"});
   refs.loadExisting();
 
   // Every rank has read the CSV before rank 0 first adds to it.
@@ -440,17 +488,17 @@ RenderStudyResult runRenderStudy(const RenderStudySettings &s, const StudyProgre
       continue;
     }
     if (ranks.root())
-      appendReferenceRow(refs, scene.slug, refSettings, ref,
-                         fs::relative(scene.dir / "reference.exr", s.out));
+      putReferenceRow(refs, scene.slug, refSettings, ref,
+                      fs::relative(scene.dir / "reference.exr", s.out));
 
     const ScenePlan plan = planScene(scene, table, s);
     if (!plan.lobeNote.empty()) result.notes.push_back(plan.lobeNote);
     const std::set<fs::path> madeNow = makeSceneSets(ranks, scene, plan, progress);
-    renderCells(ranks, scene, plan, madeNow, ref.image, s, table, result, progress);
+    renderCells(ranks, scene, plan, madeNow, ref.image, s, table, refs, result, progress);
     ranks.barrier();
   }
-  // Rows kept from an earlier run take this run's K too.
-  if (ranks.root() && !table.rows().empty()) fillEqualTime(table, s.amortize);
+  // Rows kept from an earlier run take this run's K and references too.
+  if (ranks.root() && !table.rows().empty()) fillDerivedColumns(table, refs, s.amortize);
   return result;
 }
 

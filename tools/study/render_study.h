@@ -4,7 +4,9 @@
 // (scene, backend, spp) with MSE and relMSE (mean and standard error over the
 // repeats) and the wall time of a render including the backend's own sample
 // generation. One-off costs (optimizing the `optimized` sets) are recorded
-// separately as setup seconds.
+// separately as setup seconds. Each row is also scored against the
+// reference's own noise and the best classic backend (baselines.h), and at
+// equal time (equal_time.h).
 //
 // Study backends: the renderer's `independent`, `sobol`, `halton`,
 // `sobol-tabulated`, `neural:MODEL`, `optimized:PATHS` and `shifted:PATHS`, plus four that the
@@ -107,7 +109,14 @@ using StudyProgress =
     std::function<void(const std::string &task, double fraction, const std::string &status)>;
 
 // The CSV's columns, in order (render.csv); units: seconds of wall time.
+// The columns computed over the whole table (equalTimeColumns,
+// baselineColumns) are renderStudyDerivedColumns: a file written before one
+// existed loads with it empty, and the study fills it.
 const std::vector<std::string> &renderStudyColumns();
+const std::vector<std::string> &renderStudyDerivedColumns();
+// references.csv's columns: scene, backend, spp, resolution, integrator,
+// variance, relvariance (ReferenceNoise), seconds, image.
+const std::vector<std::string> &referenceColumns();
 
 // A --backends word, parsed once: one of the study's own sets (optimized,
 // optimized-uniform, optimized-bsdf, optimized-both, each maybe with +shift)

@@ -27,6 +27,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import plot_integrate  # noqa: E402  (the integrate study's plots, drawn once)
 
 CROP_SCALE_PX = 192  # a zoomed crop is drawn this wide
+TOO_NOISY_FACTOR = 10  # baselines.h, kTooNoisyFactor: render.csv's reference_too_noisy
 
 
 def read_csv(path):
@@ -59,7 +60,8 @@ def backend_label(name):
 
 
 def ratio_to_sobol(row, sobol_row):
-    """MSE over sobol's with its standard error from the two relative ones."""
+    """MSE over sobol's with its standard error from the two relative ones
+    (as ratioOfMeans in statistics.h, which fills render.csv's other ratios)."""
     if not sobol_row or not num(sobol_row["mse"]) > 0:
         return math.nan, math.nan
     q = num(row["mse"]) / num(sobol_row["mse"])
@@ -196,7 +198,10 @@ def render_section(root, scene, rows, ref, plots_dir, scale):
     if ref:
         out.append(f"<p>Reference: {html.escape(ref['backend'])}, {ref['spp']} spp, "
                    f"{ref['resolution']}, {ref['integrator']} integrator, "
-                   f"{num(ref['seconds']):.1f} s of rendering.</p>")
+                   f"{num(ref['seconds']):.1f} s of rendering; its own variance "
+                   f"{fmt(ref.get('variance'))} (relMSE {fmt(ref.get('relvariance'))}), "
+                   "estimated from its two independent halves, is part of every MSE below "
+                   "(mse_less_reference in render.csv removes it).</p>")
         # A reference's own noise adds about max spp / reference spp to every
         # MSE ratio's denominator: below 16x it blurs the comparison.
         top = max(int(num(r["spp"])) for r in rows)
@@ -232,11 +237,17 @@ def render_section(root, scene, rows, ref, plots_dir, scale):
             tip = (f"relMSE {fmt(r['relmse'])}, {num(r['seconds']):.3f} s, "
                    f"{int(num(r['repeats']))} repeat(s)")
             eq = num(r.get("equal_time_ratio"))
+            cq, cse = num(r.get("mse_ratio_best_classic")), num(r.get("mse_ratio_best_classic_stderr"))
             tds.append(f'<td class="{cls}" title="{html.escape(tip)}">{fmt(r["mse"])}'
                        + (f"<br><small>×{ratio:.2f}±{se:.2f} sobol</small>"
                           if math.isfinite(ratio) else "")
+                       + (f"<br><small>×{cq:.2f}±{cse:.2f} best classic "
+                          f"({html.escape(backend_label(r['best_classic']))})</small>"
+                          if math.isfinite(cq) else "")
                        + (f"<br><small>×{eq:.2f} at equal time</small>"
                           if math.isfinite(eq) and b != "sobol" else "")
+                       + ("<br><small class='bad'>reference too noisy for this row</small>"
+                          if r.get("reference_too_noisy") == "1" else "")
                        + "</td>")
         setup = max(num(cell[(b, s)]["setup_seconds"]) for s in spps if (b, s) in cell)
         out.append(f"<tr><th>{html.escape(backend_label(b))}</th>{''.join(tds)}"
@@ -245,8 +256,12 @@ def render_section(root, scene, rows, ref, plots_dir, scale):
     out.append("</table><p class='note'>MSE against the reference (hover for relMSE, seconds "
                "and repeats) and its ratio to Owen-Sobol's at the same spp with its standard "
                "error: green where it beats Owen-Sobol by two standard errors, red where it "
-               "loses by two; 'at equal time': MSE × (seconds + setup / "
-               f"{amortize:g}) over Owen-Sobol's.</p>")
+               "loses by two; a learned backend's ratio to the best classic one (the classic "
+               "backend with the lowest MSE at that spp: independent, sobol, halton, "
+               "sobol-tabulated, whichever ran); 'at equal time': MSE × (seconds + setup / "
+               f"{amortize:g}) over Owen-Sobol's. 'Reference too noisy for this row': its "
+               f"MSE is less than {TOO_NOISY_FACTOR}× the reference's own variance, which then decides the "
+               "comparison.</p>")
     verdicts = [v for v in read_csv(os.path.join(root, "verdicts.csv")) if v["scene"] == scene]
     if verdicts:
         out.append("<p><b>Lowest error for the time</b> (MSE × total seconds, setup spread "
@@ -263,6 +278,10 @@ def render_section(root, scene, rows, ref, plots_dir, scale):
             if v["runner_up"]:
                 line += (f"; ahead of {html.escape(v['runner_up'])} at ×"
                          f"{num(v['separation']):.2f}±{num(v['separation_stderr']):.2f}")
+            if math.isfinite(num(v.get("mse_ratio_best_classic"))):
+                line += (f"; MSE ×{num(v['mse_ratio_best_classic']):.2f}±"
+                         f"{num(v['mse_ratio_best_classic_stderr']):.2f} of the best classic's "
+                         f"({html.escape(backend_label(v['best_classic']))})")
             out.append(line + "</li>")
         out.append("</ul>")
 

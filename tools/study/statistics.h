@@ -1,7 +1,9 @@
 #pragma once
 // The one summary of repeated measurements that both studies report: the
 // mean, the sample standard deviation (n - 1) and the standard error of the
-// mean (the deviation over sqrt n).
+// mean (the deviation over sqrt n); and the one ratio of two such means that
+// the render study reports (to sobol, to the best classic backend, at equal
+// time).
 
 #include <cmath>
 #include <span>
@@ -24,6 +26,23 @@ inline MeanAndError meanAndError(std::span<const double> v) {
     s.stderr_ = std::sqrt(ss / (n - 1) / n);
   }
   return s;
+}
+
+// a / b of two independent means with the ratio's standard error to first
+// order: q sqrt((ea / a)^2 + (eb / b)^2). A relative error that is not a
+// number (a mean of 0, an error of one repeat) counts as 0. NaN when b is
+// not positive.
+struct Ratio {
+  double value = NAN, stderr_ = NAN;
+};
+inline Ratio ratioOfMeans(double a, double aStderr, double b, double bStderr) {
+  if (!(b > 0)) return {};
+  const auto relative = [](double m, double e) {
+    const double r = e / m;
+    return m > 0 && std::isfinite(r) ? r : 0.0;
+  };
+  const double q = a / b, ra = relative(a, aStderr), rb = relative(b, bStderr);
+  return {q, q * std::sqrt(ra * ra + rb * rb)};
 }
 
 }  // namespace nuld::study

@@ -1,0 +1,78 @@
+#include "tools/study/baselines.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "tools/study/csv_table.h"
+#include "tools/study/render_study.h"
+
+namespace nuld::study {
+
+bool isClassicBackend(const std::string &word) {
+  try {
+    const StudyBackend b = parseStudyBackend(word);
+    // A kind that takes no argument reads no sets and no model.
+    return b.sets == StudyBackend::Sets::None && b.renderer.entry().argument.empty();
+  } catch (const std::invalid_argument &) {
+    return false;
+  }
+}
+
+std::vector<ClassicBaseline> classicBaselines(const std::vector<TimedRow> &rows) {
+  std::vector<bool> classic;
+  std::map<std::pair<std::string, std::size_t>, const TimedRow *> best;
+  for (const TimedRow &r : rows) {
+    classic.push_back(isClassicBackend(r.backend));
+    if (!classic.back() || !std::isfinite(r.mse)) continue;
+    const TimedRow *&b = best[{r.scene, r.spp}];
+    if (!b || r.mse < b->mse) b = &r;
+  }
+  std::vector<ClassicBaseline> out;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const TimedRow &r = rows[i];
+    ClassicBaseline c;
+    if (const auto it = best.find({r.scene, r.spp}); it != best.end()) {
+      c.backend = it->second->backend;
+      if (!classic[i])
+        c.ratio = ratioOfMeans(r.mse, r.mseStderr, it->second->mse, it->second->mseStderr);
+    }
+    out.push_back(c);
+  }
+  return out;
+}
+
+NoiseCorrected lessReferenceNoise(double mse, double relmse, const ReferenceNoise &noise) {
+  NoiseCorrected c;
+  c.mse = mse - noise.variance;
+  c.relmse = relmse - noise.relVariance;
+  c.tooNoisy = mse < kTooNoisyFactor * noise.variance;
+  return c;
+}
+
+const std::vector<std::string> &baselineColumns() {
+  static const std::vector<std::string> names{
+      "mse_less_reference", "relmse_less_reference",  "reference_too_noisy",
+      "best_classic",       "mse_ratio_best_classic", "mse_ratio_best_classic_stderr"};
+  return names;
+}
+
+void fillBaselineColumns(CsvTable &table, const std::map<std::string, ReferenceNoise> &noise) {
+  const std::vector<TimedRow> rows = timedRows(table);
+  const std::vector<ClassicBaseline> classic = classicBaselines(rows);
+  const std::size_t relmseColumn = table.column("relmse");
+  std::vector<std::vector<std::string>> values(baselineColumns().size());
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    NoiseCorrected c;
+    if (const auto it = noise.find(rows[i].scene); it != noise.end())
+      c = lessReferenceNoise(rows[i].mse, parseNumber(table.rows()[i][relmseColumn]), it->second);
+    values[0].push_back(formatNumber(c.mse));
+    values[1].push_back(formatNumber(c.relmse));
+    values[2].push_back(c.tooNoisy ? "1" : "0");
+    values[3].push_back(classic[i].backend);
+    values[4].push_back(formatNumber(classic[i].ratio.value));
+    values[5].push_back(formatNumber(classic[i].ratio.stderr_));
+  }
+  for (std::size_t k = 0; k < values.size(); ++k) table.setColumn(baselineColumns()[k], values[k]);
+}
+
+}  // namespace nuld::study

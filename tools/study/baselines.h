@@ -1,0 +1,67 @@
+#pragma once
+// What a render study's row is measured against, beyond Owen-Sobol:
+//
+// * the reference's own noise (reference_render.h, ReferenceNoise). Every
+//   MSE against a reference of variance v is, in expectation, the row's own
+//   error plus v, so a row reports its MSE less v too, and a row whose MSE
+//   is below kTooNoisyFactor x v is flagged: there the comparison measures
+//   the reference more than the row.
+// * the strongest classic backend at the row's scene and spp (the study's
+//   integrator is one for every row): the lowest mean MSE among the classic
+//   rows present, those whose points come from a fixed construction rather
+//   than from learned sets (isClassicBackend). A learned backend is worth
+//   its setup only where it beats that, not merely sobol. Picking the lowest
+//   of several noisy means favours the classic side a little: the
+//   comparison errs against the learned row.
+//
+// Both fill columns of render.csv (baselineColumns), recomputed over the
+// whole table after every row, as the equal-time columns are.
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "tools/study/equal_time.h"
+#include "tools/study/reference_render.h"
+#include "tools/study/statistics.h"
+
+namespace nuld::study {
+
+class CsvTable;
+
+// A row whose MSE is below this many times the reference's variance is
+// flagged "reference too noisy for this row".
+inline constexpr double kTooNoisyFactor = 10;
+
+// Whether a study backend word makes no learned sets: a renderer backend
+// whose registry entry takes no argument (no point-set files, no model:
+// independent, sobol, halton, sobol-tabulated and any such kind added to
+// renderer/backend_registry.h). The study's own sets (optimized*), banks
+// (optimized:, shifted:) and models (neural) are learned. A word that no
+// longer parses counts as learned.
+bool isClassicBackend(const std::string &word);
+
+// Per row: the best classic backend at its scene and spp ("" when there is
+// none) and, for a learned row, its MSE over that backend's (NaN for a
+// classic row, and when there is none).
+struct ClassicBaseline {
+  std::string backend;
+  Ratio ratio;
+};
+std::vector<ClassicBaseline> classicBaselines(const std::vector<TimedRow> &rows);
+
+// Per row: MSE and relMSE less the reference's noise, and the flag.
+struct NoiseCorrected {
+  double mse = NAN, relmse = NAN;
+  bool tooNoisy = false;
+};
+NoiseCorrected lessReferenceNoise(double mse, double relmse, const ReferenceNoise &noise);
+
+// The names of render.csv's columns that fillBaselineColumns fills.
+const std::vector<std::string> &baselineColumns();
+// Fills them in every row of the table (rewriting its file), from the
+// rows themselves and each scene's reference noise (a scene missing from
+// `noise` gets NaN and no flag).
+void fillBaselineColumns(CsvTable &table, const std::map<std::string, ReferenceNoise> &noise);
+
+}  // namespace nuld::study
