@@ -78,8 +78,10 @@ grep -q "passes_done=1" "$dir/resumed/default/reference.state" || fail "the firs
 run stop2 env NULD_CACHE="$dir/resumed/cache" "${launch[@]}" -np 2 "$nuld" "${study[@]}" -o "$dir/resumed" --reference-stop-after 3
 grep -q "passes_done=4" "$dir/resumed/default/reference.state" || fail "the second run did not stop after 4 passes"
 run finish env NULD_CACHE="$dir/resumed/cache" "${mpi[@]}" "$nuld" "${study[@]}" -o "$dir/resumed"
-idiff -q -fail 0 -warn 0 "$dir/one/default/reference.exr" "$dir/resumed/default/reference.exr" \
-  >/dev/null 2>&1 || fail "the resumed reference differs from the single process's"
+for f in reference.exr reference.half0.exr reference.half1.exr; do
+  idiff -q -fail 0 -warn 0 "$dir/one/default/$f" "$dir/resumed/default/$f" \
+    >/dev/null 2>&1 || fail "the resumed reference ($f) differs from the single process's"
+done
 cmp -s <(csv_without "$dir/one/render.csv" 9,10,11,12,13,15) <(csv_without "$dir/resumed/render.csv" 9,10,11,12,13,15) ||
   fail "the resumed study's render.csv differs"
 

@@ -103,6 +103,54 @@ void checkDescription(const fs::path &stateFile, const State &s, const std::stri
                              "' (use another output directory, or delete the reference)");
 }
 
+// The sums of both halves in one six-channel image that also records the
+// passes and seconds it holds: one atomic write, so that a job killed
+// between two writes never leaves a sum and its count apart (the image is
+// what a resume believes; the state file may lag it by a round).
+struct PartialSums {
+  Image sum[2];
+  std::size_t passesDone = 0;
+  double seconds = 0;
+};
+
+void writePartial(const fs::path &path, const PartialSums &p, const std::string &description) {
+  const Image &a = p.sum[0], &b = p.sum[1];
+  Image both{a.width, a.height, 6, std::vector<float>(a.pixels.size() * 2)};
+  for (std::size_t i = 0; i < a.pixels.size() / 3; ++i)
+    for (int c = 0; c < 3; ++c) {
+      both.pixels[6 * i + c] = a.pixels[3 * i + c];
+      both.pixels[6 * i + 3 + c] = b.pixels[3 * i + c];
+    }
+  writeImage(path.string(), both,
+             {{"nuld:reference", description},
+              {"nuld:passes_done", std::to_string(p.passesDone)},
+              {"nuld:seconds", std::to_string(p.seconds)}});
+}
+
+PartialSums readPartial(const fs::path &path, int width, int height) {
+  const Image both = readImage(path.string());
+  if (both.width != width || both.height != height || both.channels != 6)
+    throw std::runtime_error(path.string() + ": size differs from the state's");
+  PartialSums p;
+  for (Image &sum : p.sum)
+    sum = Image{width, height, 3, std::vector<float>(std::size_t(width) * height * 3)};
+  for (std::size_t i = 0; i < p.sum[0].pixels.size() / 3; ++i)
+    for (int c = 0; c < 3; ++c) {
+      p.sum[0].pixels[3 * i + c] = both.pixels[6 * i + c];
+      p.sum[1].pixels[3 * i + c] = both.pixels[6 * i + 3 + c];
+    }
+  std::map<std::string, std::string> kv;
+  for (const auto &[name, value] : readImageAttributes(path.string())) kv[name] = value;
+  try {
+    p.passesDone = std::stoul(kv.at("nuld:passes_done"));
+    p.seconds = std::stod(kv.at("nuld:seconds"));
+  } catch (...) {
+    throw std::runtime_error(
+        path.string() + ": attributes nuld:passes_done and nuld:seconds missing or not numbers");
+  }
+  return p;
+}
+
 }  // namespace
 
 ReferenceResult renderReference(const Scene &scene, const std::string &sceneName,
@@ -116,8 +164,7 @@ ReferenceResult renderReference(const Scene &scene, const std::string &sceneName
   // Half h holds the passes p with p % 2 == h: their sum while in progress,
   // their mean when complete.
   const fs::path halfPath[2] = {dir / "reference.half0.exr", dir / "reference.half1.exr"};
-  const fs::path partialPath[2] = {dir / "reference.half0.partial.exr",
-                                   dir / "reference.half1.partial.exr"};
+  const fs::path partialPath = dir / "reference.partial.exr";
   const std::string description = settings.describe(sceneName);
   const std::size_t passes = settings.passes();
   RenderSettings rs = settings.render;
@@ -127,7 +174,8 @@ ReferenceResult renderReference(const Scene &scene, const std::string &sceneName
   // reference is and, at the end, receive the image.
   State state{description, 0};
   ReferenceResult result;
-  Image sum[2];
+  PartialSums partial;
+  Image(&sum)[2] = partial.sum;
   bool alreadyComplete = false;
   if (ranks.root()) {
     fs::create_directories(dir);
@@ -145,17 +193,14 @@ ReferenceResult renderReference(const Scene &scene, const std::string &sceneName
       result.image = readImage(finalPath.string());
       result.noise =
           referenceNoise(readImage(halfPath[0].string()), readImage(halfPath[1].string()));
+    } else if (state.passesDone > 0) {
+      partial = readPartial(partialPath, rs.width, rs.height);
+      state.passesDone = partial.passesDone;
+      state.seconds = partial.seconds;
     } else {
-      for (int h = 0; h < 2; ++h) {
-        if (state.passesDone > std::size_t(h)) {
-          sum[h] = readImage(partialPath[h].string());
-          if (sum[h].width != rs.width || sum[h].height != rs.height || sum[h].channels != 3)
-            throw std::runtime_error(partialPath[h].string() + ": size differs from the state's");
-        } else {
-          sum[h] = Image{rs.width, rs.height, 3,
-                         std::vector<float>(std::size_t(rs.width) * rs.height * 3, 0.0f)};
-        }
-      }
+      for (Image &half : sum)
+        half = Image{rs.width, rs.height, 3,
+                     std::vector<float>(std::size_t(rs.width) * rs.height * 3, 0.0f)};
     }
   }
   {
@@ -202,8 +247,10 @@ ReferenceResult renderReference(const Scene &scene, const std::string &sceneName
         },
         [&](std::size_t collected) {
           state.passesDone = first + collected;
-          // The images first: a state that counts a pass always has its sum on disk.
-          for (int h = 0; h < 2; ++h) writeImage(partialPath[h].string(), sum[h]);
+          // The sums first: a state that counts a pass always has its sum on disk.
+          partial.passesDone = state.passesDone;
+          partial.seconds = state.seconds;
+          writePartial(partialPath, partial, description);
           writeState(statePath, state);
           if (progress) progress({state.passesDone, passes, double(state.passesDone) / passes});
         });
@@ -239,7 +286,7 @@ ReferenceResult renderReference(const Scene &scene, const std::string &sceneName
       // The halves before the reference: a reference on disk has its halves.
       for (int h = 0; h < 2; ++h) writeImage(halfPath[h].string(), mean[h], attributes);
       writeRender(finalPath.string(), result.image, attributes);
-      for (const fs::path &partial : partialPath) fs::remove(partial);
+      fs::remove(partialPath);
     }
   }
   // Every rank scores its renders against the same image.

@@ -79,8 +79,8 @@ struct ReferenceResult {
 // Renders (or resumes, or simply reads) the reference in `dir`:
 // dir/reference.exr (+ .png) and its halves dir/reference.half0.exr and
 // .half1.exr (the means of the even and the odd passes) when complete,
-// dir/reference.half0.partial.exr, .half1.partial.exr (their sums) and
-// dir/reference.state while in progress. A state or image of another
+// dir/reference.partial.exr (both sums, six channels, with the passes they
+// hold) and dir/reference.state while in progress. A state or image of another
 // description, or of a reference without halves, is refused, naming it. `stopAfterPasses` (0: no
 // limit) ends the run early with the partial state saved, for tests and for long references spread
 // over several sessions.
