@@ -42,7 +42,7 @@ for integrator in $integrators; do
       slug=$(basename "$scene" .json)
       if [[ -f "$refs/$slug/reference.exr" && ! -f "$dir/$slug/reference.exr" ]]; then
         mkdir -p "$dir/$slug"
-        cp "$refs/$slug"/reference.{exr,state} "$dir/$slug/"
+        cp "$refs/$slug"/reference.{exr,state,half0.exr,half1.exr} "$dir/$slug/"
       fi
       # shellcheck disable=SC2086  # flags are words
       "$nuld" study render "$scene" --integrator "$integrator" --res-scale 0.25 --spp "$spp" \
@@ -50,7 +50,7 @@ for integrator in $integrators; do
         --no-report -q -o "$dir" >/dev/null
       if [[ ! -f "$refs/$slug/reference.exr" ]]; then
         mkdir -p "$refs/$slug"
-        cp "$dir/$slug"/reference.{exr,state} "$refs/$slug/"
+        cp "$dir/$slug"/reference.{exr,state,half0.exr,half1.exr} "$refs/$slug/"
       fi
     done
   done
