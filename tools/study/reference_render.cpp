@@ -185,7 +185,7 @@ ReferenceResult renderReference(const Scene &scene, const std::string &sceneName
       RenderStats stats;
       stats.seconds = state.seconds;
       ImageAttributes attributes =
-          renderAttributes(sceneName, whole, settings.backend, settings.seed, stats);
+          renderAttributes(sceneName, scene.lobeChoice, whole, settings.backend, settings.seed, stats);
       attributes.emplace_back("nuld:reference", description);
       writeRender(finalPath.string(), result.image, attributes);
       fs::remove(partialPath);
