@@ -47,8 +47,9 @@ void validate(const DisneyParams &p) {
   check("clearcoatGloss", p.clearcoatGloss);
 }
 
-DisneyBrdf::DisneyBrdf(const DisneyParams &params)
+DisneyBrdf::DisneyBrdf(const DisneyParams &params, LobeChoice choice)
     : params_(validated(params)),
+      choice_(choice),
       lobeCount_(params.clearcoat > 0 ? 4 : 3),
       specular_(burleyGgx(params)),
       clearcoat_(lerp(params.clearcoatGloss, 0.1, 0.001)),
@@ -63,6 +64,83 @@ DisneyBrdf::DisneyBrdf(const DisneyParams &params)
   specular0_ = lerp(params.metallic,
                     params.specular * 0.08 * lerp(params.specularTint, Rgb::grey(1), tint_), base);
   sheenColor_ = lerp(params.sheenTint, Rgb::grey(1), tint_);
+  const double dielectric = 1 - params.metallic;
+  if (choice == LobeChoice::Weight)
+    lobeWeight_ = {dielectric * (1 - params.subsurface), dielectric * params.subsurface, 1,
+                   params.clearcoat / 4};
+  else if (choice == LobeChoice::Albedo)
+    lobeWeight_ = {dielectric * (1 - params.subsurface) * lum, dielectric * params.subsurface * lum,
+                   specular0_.luminance(), 0.25 * params.clearcoat};
+}
+
+DisneyBrdf::LobeProbabilities DisneyBrdf::lobeProbabilities(Vec3 wo) const {
+  LobeProbabilities p{};
+  if (choice_ == LobeChoice::Uniform) {
+    for (int k = 0; k < lobeCount_; ++k) p[k] = 1.0 / lobeCount_;
+    return p;
+  }
+  LobeProbabilities estimate = lobeWeight_;
+  if (choice_ == LobeChoice::Albedo) {
+    // Schlick's Fresnel at the view: the specular lobe from Cspec0, the
+    // coat from its fixed F0 = 0.04.
+    const double fo = schlickWeight(std::clamp(wo.z, 0.0, 1.0));
+    estimate[2] = lerp(fo, estimate[2], 1.0);
+    estimate[3] *= lerp(fo, 0.04, 1.0);
+  }
+  double total = 0;
+  int valued = 0;
+  for (int k = 0; k < lobeCount_; ++k) {
+    total += estimate[k];
+    valued += lobeHasValue_[k];
+  }
+  if (!(total > 0)) {  // nothing estimated (a black, non-specular Albedo at normal view)
+    for (int k = 0; k < lobeCount_; ++k) p[k] = lobeHasValue_[k] ? 1.0 / valued : 0;
+    return p;
+  }
+  // Albedo keeps a tenth for the lobes with a value, since an estimate can
+  // vanish where the lobe does not (a specular 0 still reflects at grazing
+  // half-angles); Weight is Mitsuba's as it is, and never vanishes there.
+  const double even = choice_ == LobeChoice::Albedo ? 0.1 : 0.0;
+  for (int k = 0; k < lobeCount_; ++k)
+    p[k] = (1 - even) * estimate[k] / total + (lobeHasValue_[k] ? even / valued : 0);
+  return p;
+}
+
+DisneyBrdf::LobePick DisneyBrdf::pickLobe(const LobeProbabilities &p, double x) const {
+  x = std::clamp(x, 0.0, 1.0);
+  const double below1 = std::nextafter(1.0, 0.0);
+  if (choice_ == LobeChoice::Uniform) {
+    // The supplement's arithmetic, kept so that its renders are reproduced.
+    const double scaled = x * lobeCount_;
+    const int k = std::min(int(scaled), lobeCount_ - 1);
+    return {k, std::clamp(scaled - k, 0.0, below1)};
+  }
+  double start = 0;
+  int k = 0, last = 0;
+  for (; k < lobeCount_; ++k) {
+    if (!(p[k] > 0)) continue;
+    last = k;
+    if (x < start + p[k]) break;
+    start += p[k];
+  }
+  if (k == lobeCount_) {  // x at the top edge (or lost to rounding): the last stripe
+    k = last;
+    start = 0;
+    for (int j = 0; j < k; ++j) start += p[j];
+  }
+  return {k, std::clamp((x - start) / p[k], 0.0, below1)};
+}
+
+template <class LobePdf>
+double DisneyBrdf::mixturePdf(const LobeProbabilities &p, LobePdf &&lobePdf) const {
+  double sum = 0;
+  if (choice_ == LobeChoice::Uniform) {
+    for (int k = 0; k < lobeCount_; ++k) sum += lobePdf(k);
+    return sum / lobeCount_;
+  }
+  for (int k = 0; k < lobeCount_; ++k)
+    if (p[k] > 0) sum += p[k] * lobePdf(k);
+  return sum;
 }
 
 // Forced inline into its two callers (this file only): the call and the
@@ -149,9 +227,8 @@ double DisneyBrdf::lobePdf(int k, Vec3 wo, Vec3 wi) const {
 }
 
 double DisneyBrdf::pdf(Vec3 wo, Vec3 wi) const {
-  double sum = 0;
-  for (int k = 0; k < lobeCount_; ++k) sum += lobePdf(k, wo, wi);
-  return sum / lobeCount_;
+  if (!(wo.z > 0) || !(wi.z > 0)) return 0;
+  return mixturePdf(lobeProbabilities(wo), [&](int k) { return lobePdf(k, wo, wi); });
 }
 
 double DisneyBrdf::lobePdf(DisneyLobe lobe, Vec3 wo, Vec3 wi, const Geometry &g, double d) const {
@@ -170,13 +247,13 @@ BsdfValue DisneyBrdf::evalWithPdf(Vec3 wo, Vec3 wi) const {
   const auto g = geometry(wo, wi);
   if (!g) return {Rgb{}, pdf(wo, wi)};  // a direction below the surface: f = 0
   BsdfValue out;
-  double sum = 0;
+  std::array<double, 4> d{};
   for (int k = 0; k < lobeCount_; ++k) {
-    const double d = microfacetD(lobe(k), g->h);
-    if (lobeHasValue_[k]) out.f += lobeValue(lobe(k), wo, wi, *g, d);
-    sum += lobePdf(lobe(k), wo, wi, *g, d);
+    d[k] = microfacetD(lobe(k), g->h);
+    if (lobeHasValue_[k]) out.f += lobeValue(lobe(k), wo, wi, *g, d[k]);
   }
-  out.pdf = sum / lobeCount_;
+  out.pdf = mixturePdf(lobeProbabilities(wo),
+                       [&](int k) { return lobePdf(lobe(k), wo, wi, *g, d[k]); });
   return out;
 }
 
@@ -191,8 +268,9 @@ std::optional<Vec3> DisneyBrdf::sampleLobe(int k, Vec3 wo, Point2 u) const {
   return std::nullopt;
 }
 
-Point2 DisneyBrdf::primaryUnderSymmetry(Point2 u, double turns, bool flipX, bool flipY) const {
-  const int k = std::min(int(std::clamp(u.x, 0.0, 1.0) * lobeCount_), lobeCount_ - 1);
+Point2 DisneyBrdf::primaryUnderSymmetry(Point2 u, Vec3 wo, double turns, bool flipX,
+                                        bool flipY) const {
+  const int k = pickLobe(lobeProbabilities(wo), u.x).k;
   double y = u.y;
   if (lobe(k) == DisneyLobe::Specular) {
     // phi -> pi - phi about (t1, t2) for one mirror; both: the identity.
@@ -205,8 +283,9 @@ Point2 DisneyBrdf::primaryUnderSymmetry(Point2 u, double turns, bool flipX, bool
   return {u.x, wrapUnit(y)};
 }
 
-Point2 DisneyBrdf::primaryBeforeSymmetry(Point2 u, double turns, bool flipX, bool flipY) const {
-  const int k = std::min(int(std::clamp(u.x, 0.0, 1.0) * lobeCount_), lobeCount_ - 1);
+Point2 DisneyBrdf::primaryBeforeSymmetry(Point2 u, Vec3 wo, double turns, bool flipX,
+                                         bool flipY) const {
+  const int k = pickLobe(lobeProbabilities(wo), u.x).k;
   double y = u.y;
   if (lobe(k) == DisneyLobe::Specular) {
     if (flipX != flipY) y = 0.5 - y;  // its own inverse
@@ -238,16 +317,18 @@ std::optional<Point2> DisneyBrdf::lobePrimary(int k, Vec3 wo, Vec3 wi) const {
   // Into lobe k's stripe, as sample() reads it (u.x just below 1 stays in
   // the stripe).
   const double ux = std::min(u->x, std::nextafter(1.0, 0.0));
-  return Point2{(k + ux) / lobeCount_, u->y};
+  if (choice_ == LobeChoice::Uniform) return Point2{(k + ux) / lobeCount_, u->y};
+  const LobeProbabilities p = lobeProbabilities(wo);
+  if (!(p[k] > 0)) return std::nullopt;
+  double start = 0;
+  for (int j = 0; j < k; ++j) start += p[j];
+  return Point2{start + ux * p[k], u->y};
 }
 
 std::optional<BsdfSample> DisneyBrdf::sample(Vec3 wo, Point2 u) const {
   if (!(wo.z > 0)) return std::nullopt;
-  // The supplement's mapping: u.x chooses the lobe and, rescaled, stays the
-  // lobe's first coordinate.
-  const double scaled = std::clamp(u.x, 0.0, 1.0) * lobeCount_;
-  const int k = std::min(int(scaled), lobeCount_ - 1);
-  const double ux = std::clamp(scaled - k, 0.0, std::nextafter(1.0, 0.0));
+  // u.x chooses the lobe and, rescaled, stays the lobe's first coordinate.
+  const auto [k, ux] = pickLobe(lobeProbabilities(wo), u.x);
   const auto wi = sampleLobe(k, wo, {ux, u.y});
   if (!wi || !(wi->z > 0)) return std::nullopt;
   const auto [f, p] = evalWithPdf(wo, *wi);

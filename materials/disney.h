@@ -8,11 +8,13 @@
 //               (the two sum to Burley's lerp(Fd, ss, subsurface) term)
 //   specular    anisotropic GGX, D F G2 / (4 cos cos), Schlick F from Cspec0
 //   clearcoat   GTR1, present only when clearcoat > 0
-// Sampling follows the supplement (§3): u.x picks one lobe uniformly and is
-// rescaled to [0,1); diffuse and subsurface sample the cosine-weighted
+// Sampling: u.x picks one lobe (LobeChoice says with which probabilities)
+// and, rescaled to [0,1) within the lobe's stripe of u.x, stays the lobe's
+// first coordinate; diffuse and subsurface sample the cosine-weighted
 // hemisphere, specular the GGX visible normals (Heitz 2018), clearcoat the
-// GTR1 normals; the pdf is the plain average of the lobe pdfs. The per-lobe
-// functions let a caller combine the lobes differently (MIS over lobes).
+// GTR1 normals; the pdf is the mixture of the lobe pdfs with the choice's
+// probabilities. The per-lobe functions let a caller combine the lobes
+// differently (MIS over lobes).
 
 #include <array>
 #include <optional>
@@ -45,17 +47,38 @@ inline constexpr auto kDisneyLobeNames =
                                           {"clearcoat", DisneyLobe::Clearcoat}});
 constexpr const auto &enumNames(DisneyLobe) { return kDisneyLobeNames; }
 
+// With which probabilities sample() picks a lobe (materials/README.md,
+// "Lobe choice"). The supplement picks lobes uniformly, which spends two
+// thirds of a metal's samples on lobes it lacks; renderers pick them by
+// what each lobe reflects.
+enum class LobeChoice {
+  Uniform,  // each lobe alike: the supplement's mapping (the paper's configuration)
+  Weight,   // static weights, as Mitsuba 3's principled BSDF: diffuse and subsurface
+            // (1 - metallic) split by subsurface, specular 1, clearcoat clearcoat / 4
+  Albedo,   // each lobe's reflectance estimated at the view, as Cycles weighs its
+            // closures: (1 - metallic) base luminance for the diffuse lobes, Schlick's
+            // Fresnel at the view for the specular and the coat's; a tenth of the
+            // choice is shared evenly by the lobes that have a value
+};
+inline constexpr auto kLobeChoiceNames =
+    enumTable<LobeChoice>("lobe choice", {{"uniform", LobeChoice::Uniform},
+                                          {"weight", LobeChoice::Weight},
+                                          {"albedo", LobeChoice::Albedo}});
+constexpr const auto &enumNames(LobeChoice) { return kLobeChoiceNames; }
+// The classic samplers' choice, and the references'.
+inline constexpr LobeChoice kDefaultLobeChoice = LobeChoice::Albedo;
+
 class DisneyBrdf final : public Bsdf {
  public:
   // Validates the parameters (see validate).
-  explicit DisneyBrdf(const DisneyParams &params);
+  explicit DisneyBrdf(const DisneyParams &params, LobeChoice choice = kDefaultLobeChoice);
 
   const DisneyParams &params() const { return params_; }
-  const GgxDistribution &specularDistribution() const { return specular_; }
+  LobeChoice lobeChoice() const { return choice_; }
 
   std::string name() const override { return "disney"; }
   Rgb eval(Vec3 wo, Vec3 wi) const override;
-  // The average of lobePdf over the lobes.
+  // The mixture of lobePdf over the lobes with lobeProbabilities(wo).
   double pdf(Vec3 wo, Vec3 wi) const override;
   // One half vector and one D per microfacet lobe for both.
   BsdfValue evalWithPdf(Vec3 wo, Vec3 wi) const override;
@@ -65,6 +88,14 @@ class DisneyBrdf final : public Bsdf {
   // Lobes in sampling order: diffuse, subsurface, specular, then clearcoat
   // when clearcoat > 0.
   int lobeCount() const { return lobeCount_; }
+  // The probability with which sample() picks each lobe at the view wo
+  // (0 beyond lobeCount); they sum to 1 and depend on wo only through wo.z,
+  // so every symmetry of f that moves the view keeps them. Lobe k's stripe
+  // of u.x is [sum of those before k, that plus its own).
+  using LobeProbabilities = std::array<double, 4>;
+  LobeProbabilities lobeProbabilities(Vec3 wo) const;
+  // The lobe whose stripe of u.x holds x at a view with probabilities p.
+  int lobeStripe(const LobeProbabilities &p, double x) const { return pickLobe(p, x).k; }
   DisneyLobe lobe(int k) const { return DisneyLobe(k); }
   // Lobe k's term of f; the terms sum to eval.
   Rgb evalLobe(int k, Vec3 wo, Vec3 wi) const;
@@ -84,12 +115,13 @@ class DisneyBrdf final : public Bsdf {
   // the azimuth in the shading frame, which S moves; the visible-normal warp
   // draws it about the stretched view, so a rotation leaves it in place and
   // either mirror reflects it about that frame's first axis.
-  Point2 primaryUnderSymmetry(Point2 u, double turns, bool flipX, bool flipY) const;
+  // wo is either view (the stripes of u.x are the same at both).
+  Point2 primaryUnderSymmetry(Point2 u, Vec3 wo, double turns, bool flipX, bool flipY) const;
   // Its inverse: primaryBeforeSymmetry(primaryUnderSymmetry(u, ...), ...) = u.
-  Point2 primaryBeforeSymmetry(Point2 u, double turns, bool flipX, bool flipY) const;
+  Point2 primaryBeforeSymmetry(Point2 u, Vec3 wo, double turns, bool flipX, bool flipY) const;
   // The inverse of sample() through lobe k: the primary point u, in lobe
   // k's stripe of u.x, from which sample(wo, u) draws wi; nullopt where
-  // lobe k never draws wi. With it a density over sample()'s primary
+  // lobe k never draws wi (or is never picked at wo). With it a density over sample()'s primary
   // square becomes a density over directions (renderer/lobe_tables.h,
   // LobeFrame::routePdf).
   std::optional<Point2> lobePrimary(int k, Vec3 wo, Vec3 wi) const;
@@ -102,6 +134,16 @@ class DisneyBrdf final : public Bsdf {
     double fo, fi, fd;        // Schlick weights of those cosines
   };
   static std::optional<Geometry> geometry(Vec3 wo, Vec3 wi);
+  // The lobe whose stripe of u.x holds x under `p`, and x rescaled to [0, 1)
+  // within the stripe.
+  struct LobePick {
+    int k;
+    double x;
+  };
+  LobePick pickLobe(const LobeProbabilities &p, double x) const;
+  // The mixture of the lobes' pdfs with `p`, given each lobe's pdf.
+  template <class LobePdf>
+  double mixturePdf(const LobeProbabilities &p, LobePdf &&lobePdf) const;
   // The lobe's microfacet D(h) (0 for the diffuse lobes).
   double microfacetD(DisneyLobe lobe, Vec3 h) const;
   // Lobe values and pdfs given the geometry and the lobe's microfacetD.
@@ -109,12 +151,17 @@ class DisneyBrdf final : public Bsdf {
   double lobePdf(DisneyLobe lobe, Vec3 wo, Vec3 wi, const Geometry &g, double d) const;
 
   DisneyParams params_;
+  LobeChoice choice_;
   int lobeCount_;
   // Whether lobe k's term of f can be non-zero: a metal has no diffuse or
   // subsurface term, a material without subsurface no subsurface term.
   // evalWithPdf skips the others (adding their exact zeros changes nothing);
-  // their pdfs still count, since sampling picks every lobe.
+  // their pdfs still count wherever the choice picks them.
   std::array<bool, 4> lobeHasValue_;
+  // The parts of lobeProbabilities that do not depend on the view: the
+  // static weights (Weight), or the diffuse lobes' reflectance estimates
+  // and the specular and coat Fresnel's normal-incidence luminances (Albedo).
+  std::array<double, 4> lobeWeight_{};
   Rgb tint_;        // base colour normalized to luminance 1
   Rgb specular0_;   // Cspec0: specular colour at normal incidence
   Rgb sheenColor_;  // Csheen

@@ -41,7 +41,7 @@ constexpr std::array<ParamKey, 10> kParamKeys{{
 }};
 constexpr const char *kKnownKeys =
     "basecolor, metallic, subsurface, specular, roughness, speculartint, anisotropic, sheen, "
-    "sheentint, clearcoat, clearcoatgloss, theta, phi, res, rows, mix, space";
+    "sheentint, clearcoat, clearcoatgloss, theta, phi, res, rows, mix, space, lobes";
 
 class ArgsParser {
  public:
@@ -145,6 +145,11 @@ DisneyTargetSpec parseDisneyTargetArgs(const std::string &args) {
       if (!space)
         parser.fail("space = " + value + " (expected " + kLobeSpaceNames.expected() + ")");
       out.space = *space;
+    } else if (key == "lobes") {
+      const auto choice = kLobeChoiceNames.find(value);
+      if (!choice)
+        parser.fail("lobes = " + value + " (expected " + kLobeChoiceNames.expected() + ")");
+      out.lobeChoice = *choice;
     } else if (key == "rows") {
       out.thetaRows = parser.cells(key, value, 1);
       rowsGiven = true;
@@ -180,6 +185,7 @@ std::string toSpec(const DisneyTargetSpec &s) {
   if (s.thetaRows != s.defaultRows()) add("rows", std::to_string(s.thetaRows));
   if (s.samplingMix != d.samplingMix) add("mix", formatRoundTrip(s.samplingMix));
   if (s.space != d.space) add("space", toString(s.space));
+  if (s.lobeChoice != d.lobeChoice) add("lobes", toString(s.lobeChoice));
   return args.empty() ? "disney" : "disney:" + args;
 }
 
@@ -196,11 +202,10 @@ void checkTableArgs(int cols, int rows, Vec3 wo, const std::string &name) {
 
 // f(wo, .) cos tabulated on the layout described in the header; `name` is
 // the spec the target reports.
-std::unique_ptr<GridTarget> tabulate(const DisneyParams &params, Vec3 wo, int phiCells,
-                                     int thetaRows, double samplingMix, const std::string &name) {
+std::unique_ptr<GridTarget> tabulate(const DisneyBrdf &brdf, Vec3 wo, int phiCells, int thetaRows,
+                                     double samplingMix, const std::string &name) {
   checkTableArgs(phiCells, thetaRows, wo, name);
   wo = normalize(wo);
-  const DisneyBrdf brdf(params);
 
   std::vector<double> yEdges(thetaRows + 2);
   for (int j = 0; j <= thetaRows; ++j) yEdges[j] = 0.5 * j / thetaRows;
@@ -242,11 +247,10 @@ std::unique_ptr<GridTarget> tabulate(const DisneyParams &params, Vec3 wo, int ph
 // w(u) = luminance(f) cos / p at wi = sample(wo, u) on a uniform grid over
 // the primary square (LobeSpace::Primary), each cell the average over 4 x 4
 // sub-cell midpoints, with the lobes' stripes weighted by samplingMix.
-std::unique_ptr<GridTarget> tabulatePrimary(const DisneyParams &params, Vec3 wo, int cols, int rows,
+std::unique_ptr<GridTarget> tabulatePrimary(const DisneyBrdf &brdf, Vec3 wo, int cols, int rows,
                                             double samplingMix, const std::string &name) {
   checkTableArgs(cols, rows, wo, name);
   wo = normalize(wo);
-  const DisneyBrdf brdf(params);
   std::vector<double> xEdges = GridTarget::uniformEdges(cols),
                       yEdges = GridTarget::uniformEdges(rows);
   std::vector<double> density(std::size_t(cols) * rows, 0.0);
@@ -264,15 +268,16 @@ std::unique_ptr<GridTarget> tabulatePrimary(const DisneyParams &params, Vec3 wo,
     }
   });
   // The stripes of u.x that pick each lobe (DisneyBrdf::sample): stripe k
-  // gets the mass (1 - mix) w_k + mix max(w_k, own_k / lobes), renormalized,
-  // w_k its share of w's mass and own_k 1 if lobe k is a term of this
-  // material's f (else 0: a metal's diffuse stripes, whose points carry
-  // only what they see of the specular lobe). Inside a stripe the density
-  // follows w. A cell belongs to the stripe of its centre (the renderer's
-  // tables align their columns with the stripes).
+  // gets the mass (1 - mix) w_k + mix max(w_k, own_k p_k), renormalized,
+  // w_k its share of w's mass, p_k the material's own probability of lobe k
+  // and own_k 1 if lobe k is a term of this material's f (else 0: a metal's
+  // diffuse stripes, whose points carry only what they see of the specular
+  // lobe). Inside a stripe the density follows w. A cell belongs to the
+  // stripe of its centre.
   const int lobes = brdf.lobeCount();
+  const DisneyBrdf::LobeProbabilities own = brdf.lobeProbabilities(wo);
   std::vector<double> stripeMass(lobes, 0.0), ownValue(lobes, 0.0);
-  const auto stripeOf = [&](int i) { return std::min(int((i + 0.5) / cols * lobes), lobes - 1); };
+  const auto stripeOf = [&](int i) { return brdf.lobeStripe(own, (i + 0.5) / cols); };
   for (int j = 0; j < rows; ++j)
     for (int i = 0; i < cols; ++i) stripeMass[stripeOf(i)] += density[std::size_t(j) * cols + i];
   for (int k = 0; k < lobes; ++k)  // lobe k's own term at a few of its own directions
@@ -289,7 +294,7 @@ std::unique_ptr<GridTarget> tabulatePrimary(const DisneyParams &params, Vec3 wo,
     for (int k = 0; k < lobes; ++k) {
       const double share = stripeMass[k] / total;
       want[k] = (1 - samplingMix) * share +
-                samplingMix * std::max(share, ownValue[k] > 0 ? 1.0 / lobes : 0.0);
+                samplingMix * std::max(share, ownValue[k] > 0 ? own[k] : 0.0);
       wantTotal += want[k];
     }
     std::vector<int> stripeCells(lobes, 0);
@@ -316,15 +321,16 @@ std::unique_ptr<GridTarget> makeDisneyTarget(const DisneyParams &params, Vec3 wo
   spec.phiDegrees = std::atan2(wo.y, wo.x) * kDegrees;
   spec.phiCells = phiCells;
   spec.thetaRows = thetaRows;
-  return tabulate(params, wo, phiCells, thetaRows, spec.samplingMix, toSpec(spec));
+  return tabulate(DisneyBrdf(params, spec.lobeChoice), wo, phiCells, thetaRows, spec.samplingMix,
+                  toSpec(spec));
 }
 
 std::unique_ptr<GridTarget> makeDisneyTarget(const DisneyTargetSpec &spec) {
+  const DisneyBrdf brdf(spec.params, spec.lobeChoice);
   if (spec.space == LobeSpace::Primary)
-    return tabulatePrimary(spec.params, spec.wo(), spec.phiCells, spec.thetaRows, spec.samplingMix,
+    return tabulatePrimary(brdf, spec.wo(), spec.phiCells, spec.thetaRows, spec.samplingMix,
                            toSpec(spec));
-  return tabulate(spec.params, spec.wo(), spec.phiCells, spec.thetaRows, spec.samplingMix,
-                  toSpec(spec));
+  return tabulate(brdf, spec.wo(), spec.phiCells, spec.thetaRows, spec.samplingMix, toSpec(spec));
 }
 
 DisneyView disneyFamilyView(std::array<double, 2> gamma) {
@@ -463,10 +469,11 @@ class DisneyMaterialFamily final : public TargetFamily {
     layout.thetaRows = base_.thetaRows;
     layout.samplingMix = base_.samplingMix;
     layout.space = base_.space;
+    layout.lobeChoice = base_.lobeChoice;
     if (toSpec(layout) != toSpec(base_))
       throw std::invalid_argument("target family 'family:disney-material:" + args +
                                   "': the view and the material are its gamma; its keys are the "
-                                  "table's layout only (res, rows, mix, space)");
+                                  "table's layout only (res, rows, mix, space, lobes)");
   }
   std::string spec() const override {
     const std::string s = toSpec(base_);  // "disney" or "disney:ARGS"
@@ -539,7 +546,7 @@ void registerMaterialTargets() {
       [](const std::string &args) -> std::unique_ptr<TargetFamily> {
         return std::make_unique<DisneyMaterialFamily>(args);
       },
-      "family:disney-material[:res=..,rows=..,mix=..,space=..]",
+      "family:disney-material[:res=..,rows=..,mix=..,space=..,lobes=..]",
       "gamma = the view (as family:disney), then base colour r, g, b, metallic, subsurface, "
       "specular, roughness, speculartint, anisotropic, sheen, sheentint, clearcoat, "
       "clearcoatgloss; metallic is 0 or 1, and subsurface, the tints, anisotropic, sheen and "

@@ -67,11 +67,12 @@ Vec3 supplementWo();
 //    density at u (unbiased whatever the table, since p is the density of
 //    sample()'s directions for uniform u). mix keeps the material's own
 //    lobe choice where it matters: the stripe of u.x that picks lobe k has
-//    the mass (1 - mix) w_k + mix max(w_k, 1 / lobes), renormalized, w_k
-//    its share of w, the second term only for the lobes that are terms of
-//    this material's f. At mix 1 a clear coat keeps its quarter of the
-//    points (under MIS, the reflections of bright texels in it are what
-//    light sampling misses, and w gives it its small albedo), while a
+//    the mass (1 - mix) w_k + mix max(w_k, p_k), renormalized, w_k its
+//    share of w and p_k the material's own probability of lobe k, the
+//    second term only for the lobes that are terms of this material's f.
+//    At mix 1 a clear coat keeps at least its own share of the points
+//    (under MIS, the reflections of bright texels in it are what light
+//    sampling misses, and w gives it its small albedo), while a
 //    metal's diffuse stripes, lobes it lacks, keep only what they see of its
 //    specular lobe. Inside a stripe w shapes the density.
 enum class LobeSpace { Sphere, Primary };
@@ -88,6 +89,9 @@ struct DisneyTargetSpec {
   // mapping's); between: the mixture of the two, each of mass one.
   double samplingMix = 0;
   LobeSpace space = LobeSpace::Sphere;
+  // The material's own lobe choice, which its sampling pdf (mix > 0) and
+  // its primary space follow.
+  LobeChoice lobeChoice = kDefaultLobeChoice;
 
   Vec3 wo() const;
   // rows when the spec names none: res / 2 on the sphere (the hemisphere is

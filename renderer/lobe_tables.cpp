@@ -154,7 +154,7 @@ std::optional<BsdfSample> sampleLobeRoute(const Bsdf &bsdf, Vec3 wo, const LobeF
       tableDensity = lobe.table->cellDensity(cell.i, cell.j);
     }
     const auto drawn = bsdf.sample(
-        wo, lobe.warp->primaryUnderSymmetry(x, lobe.turns, lobe.flipX < 0, lobe.flipY < 0));
+        wo, lobe.warp->primaryUnderSymmetry(x, wo, lobe.turns, lobe.flipX < 0, lobe.flipY < 0));
     if (!drawn) return std::nullopt;
     s = *drawn;
     own = s.pdf;
@@ -183,16 +183,17 @@ std::optional<BsdfSample> sampleLobeRoute(const Bsdf &bsdf, Vec3 wo, const LobeF
 
 double LobeFrame::routePdf(Vec3 wo, Vec3 wi, double materialPdf) const {
   if (!primary) return pdf(wi, materialPdf);
+  // Each lobe's share: sample() picks lobe k with probability p_k.
+  const DisneyBrdf::LobeProbabilities p = warp->lobeProbabilities(wo);
   double tabulated = 0;
   for (int k = 0; k < warp->lobeCount(); ++k) {
     const double lobeDensity = warp->lobePdf(k, wo, wi);
-    if (!(lobeDensity > 0)) continue;
+    if (!(lobeDensity > 0) || !(p[k] > 0)) continue;
     if (const auto u = warp->lobePrimary(k, wo, wi))
-      tabulated +=
-          lobeDensity * table->pdf(warp->primaryBeforeSymmetry(*u, turns, flipX < 0, flipY < 0));
+      tabulated += p[k] * lobeDensity *
+                   table->pdf(warp->primaryBeforeSymmetry(*u, wo, turns, flipX < 0, flipY < 0));
   }
-  // sample() picks each lobe with probability 1 / lobeCount.
-  return (1 - defensive) * tabulated / warp->lobeCount() + defensive * materialPdf;
+  return (1 - defensive) * tabulated + defensive * materialPdf;
 }
 
 Vec3 LobeFrame::direction(Point2 x) const {
@@ -241,12 +242,14 @@ LobeTables::LobeTables(const std::vector<std::shared_ptr<const Bsdf>> &materials
         spec.phiCells = settings.phiCells;
         spec.thetaRows = std::max(1, settings.phiCells / 2);
         spec.samplingMix = *settings.samplingMix;
+        spec.lobeChoice = disney->lobeChoice();
         e.tables.push_back(makeDisneyTarget(spec));
         if (usesPrimaryTables(settings.routing)) {
           DisneyTargetSpec primary = primaryTableLayout(settings);
           primary.params = spec.params;
           primary.thetaDegrees = spec.thetaDegrees;
           primary.phiDegrees = spec.phiDegrees;
+          primary.lobeChoice = spec.lobeChoice;
           e.primaryTables.push_back(makeDisneyTarget(primary));
         }
       }

@@ -75,9 +75,9 @@ void renderTile(const Scene &scene, const RenderSettings &s, SamplerBackend &bac
 
 }  // namespace
 
-ImageAttributes renderAttributes(const std::string &scene, const RenderSettings &s,
-                                 const std::string &backend, std::uint64_t seed,
-                                 const RenderStats &stats) {
+ImageAttributes renderAttributes(const std::string &scene, LobeChoice lobeChoice,
+                                 const RenderSettings &s, const std::string &backend,
+                                 std::uint64_t seed, const RenderStats &stats) {
   const LobeTableSettings lobes = lobeTablesFor(s);
   return {{"nuld:scene", scene},
           {"nuld:backend", backend},
@@ -86,6 +86,7 @@ ImageAttributes renderAttributes(const std::string &scene, const RenderSettings 
           {"nuld:integrator", toString(s.integrator)},
           {"nuld:resolution", std::to_string(s.width) + "x" + std::to_string(s.height)},
           {"nuld:max_depth", std::to_string(s.maxDepth)},
+          {"nuld:lobe_choice", toString(lobeChoice)},
           {"nuld:lobe_mix", formatRoundTrip(*lobes.samplingMix)},
           {"nuld:lobe_routes", toString(lobes.routing)},
           {"nuld:lobe_defensive", formatRoundTrip(lobes.defensive)},

@@ -89,12 +89,12 @@ struct RenderStats {
 };
 
 // What a render's files say about it (EXR and PNG attributes, "nuld:" names):
-// scene, backend, seed, spp, integrator, resolution, max depth, the lobe
-// tables' mix, render and setup seconds, the renderer's revision and the
-// program's version.
-ImageAttributes renderAttributes(const std::string &scene, const RenderSettings &s,
-                                 const std::string &backend, std::uint64_t seed,
-                                 const RenderStats &stats);
+// scene, the materials' lobe choice (Scene::lobeChoice), backend, seed, spp,
+// integrator, resolution, max depth, the lobe tables' settings, render and
+// setup seconds, the renderer's revision and the program's version.
+ImageAttributes renderAttributes(const std::string &scene, LobeChoice lobeChoice,
+                                 const RenderSettings &s, const std::string &backend,
+                                 std::uint64_t seed, const RenderStats &stats);
 
 // Called after each finished tile with (tiles done, tiles in all); calls are
 // serialized.

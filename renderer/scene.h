@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "materials/bsdf.h"
+#include "materials/disney.h"
 #include "renderer/camera.h"
 #include "renderer/embree_scene.h"
 #include "renderer/environment_light.h"
@@ -20,6 +21,8 @@ struct Scene {
   std::vector<std::shared_ptr<const Bsdf>> materials;  // materials[i] shades mesh i
   std::optional<EnvironmentLight> environment;
   CameraSettings camera;
+  // How its Disney materials pick their lobes (each was built with it).
+  LobeChoice lobeChoice = kDefaultLobeChoice;
   // The lobe tables its renders build, kept for the next render (only
   // backends that sample lobes ask for them).
   std::shared_ptr<LobeTableCache> lobeTables = std::make_shared<LobeTableCache>();

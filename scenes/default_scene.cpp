@@ -38,7 +38,7 @@ Image proceduralSky(int width, int height, double sunRadiance) {
   return sky;
 }
 
-LoadedScene makeDefaultScene() {
+LoadedScene makeDefaultScene(LobeChoice lobes) {
   std::vector<TriangleMesh> meshes;
   std::vector<std::shared_ptr<const Bsdf>> materials;
   const auto add = [&](TriangleMesh mesh, std::shared_ptr<const Bsdf> bsdf) {
@@ -50,19 +50,19 @@ LoadedScene makeDefaultScene() {
   glossy.roughness = 0.25;
   glossy.specular = 0.5;
   glossy.clearcoat = 0.5;
-  add(makeSphere({-1.1, 0.5, 0}, 0.5, 48, 96, "glossy"), std::make_shared<DisneyBrdf>(glossy));
+  add(makeSphere({-1.1, 0.5, 0}, 0.5, 48, 96, "glossy"), std::make_shared<DisneyBrdf>(glossy, lobes));
   DisneyParams metal;
   metal.baseColor = {0.95, 0.8, 0.5};
   metal.metallic = 1;
   metal.roughness = 0.35;
   metal.anisotropic = 0.5;
-  add(makeSphere({0, 0.5, 0}, 0.5, 48, 96, "metal"), std::make_shared<DisneyBrdf>(metal));
+  add(makeSphere({0, 0.5, 0}, 0.5, 48, 96, "metal"), std::make_shared<DisneyBrdf>(metal, lobes));
   DisneyParams skin;
   skin.baseColor = {0.9, 0.85, 0.8};
   skin.roughness = 0.6;
   skin.subsurface = 0.8;
   skin.sheen = 0.5;
-  add(makeSphere({1.1, 0.5, 0}, 0.5, 48, 96, "subsurface"), std::make_shared<DisneyBrdf>(skin));
+  add(makeSphere({1.1, 0.5, 0}, 0.5, 48, 96, "subsurface"), std::make_shared<DisneyBrdf>(skin, lobes));
   add(makeFloor(20, 0, "floor"), std::make_shared<Lambertian>(Rgb::grey(0.5)));
 
   LoadedScene out{"default",
@@ -70,6 +70,7 @@ LoadedScene makeDefaultScene() {
                   {},
                   "sobol",
                   0};
+  out.scene.lobeChoice = lobes;
   out.scene.environment.emplace(proceduralSky(512, 256), 1.0, 0.0, "procedural-sky");
   out.scene.camera = {{0, 1.6, 4.2}, {0, 0.45, 0}, {0, 1, 0}, 36, false};
   out.settings.width = 192;
@@ -80,14 +81,14 @@ LoadedScene makeDefaultScene() {
   return out;
 }
 
-LoadedScene makeStressScene() {
-  LoadedScene out = makeDefaultScene();
+LoadedScene makeStressScene(LobeChoice lobes) {
+  LoadedScene out = makeDefaultScene(lobes);
   out.name = "stress";
   std::vector<TriangleMesh> meshes;
   std::vector<std::shared_ptr<const Bsdf>> materials;
   const auto add = [&](TriangleMesh mesh, DisneyParams p) {
     meshes.push_back(std::move(mesh));
-    materials.push_back(std::make_shared<DisneyBrdf>(p));
+    materials.push_back(std::make_shared<DisneyBrdf>(p, lobes));
   };
   DisneyParams mirror;  // roughness 0: the GGX lobe at its smallest width
   mirror.baseColor = {0.95, 0.95, 0.95};
@@ -113,6 +114,7 @@ LoadedScene makeStressScene() {
   floor.specular = 1;
   add(makeFloor(20, 0, "floor"), floor);
   out.scene = Scene{EmbreeScene(std::move(meshes)), std::move(materials), std::nullopt, {}};
+  out.scene.lobeChoice = lobes;
   // Scaled so the sun lights the scene about as the default one does; the
   // map keeps its 1e6 dynamic range.
   out.scene.environment.emplace(proceduralSky(512, 256, 1e6), 1e-3, 0.0, "procedural-sun-1e6");

@@ -7,7 +7,7 @@
 
 namespace nuld {
 
-std::shared_ptr<const Bsdf> makeMaterial(const JsonReader &m) {
+std::shared_ptr<const Bsdf> makeMaterial(const JsonReader &m, LobeChoice lobes) {
   const std::string type = m["type"].string();
   if (type == "lambertian") {
     m.allowOnly({"type", "albedo"});
@@ -33,7 +33,7 @@ std::shared_ptr<const Bsdf> makeMaterial(const JsonReader &m) {
   unit("clearcoat_gloss", p.clearcoatGloss);
   // The checks above are the model's own; any it adds later still names the field.
   try {
-    return std::make_shared<DisneyBrdf>(p);
+    return std::make_shared<DisneyBrdf>(p, lobes);
   } catch (const std::invalid_argument &e) {
     m.refuse(e.what());
   }

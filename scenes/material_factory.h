@@ -10,10 +10,12 @@
 #include <memory>
 
 #include "materials/bsdf.h"
+#include "materials/disney.h"
 #include "scenes/json_reader.h"
 
 namespace nuld {
 
-std::shared_ptr<const Bsdf> makeMaterial(const JsonReader &description);
+// A Disney material samples its lobes by `lobes` (materials/disney.h).
+std::shared_ptr<const Bsdf> makeMaterial(const JsonReader &description, LobeChoice lobes);
 
 }  // namespace nuld

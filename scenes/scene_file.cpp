@@ -150,9 +150,9 @@ void readRender(const JsonReader &r, LoadedScene &out) {
 
 bool isBuiltInScene(const std::string &name) { return name == "default" || name == "stress"; }
 
-LoadedScene loadScene(const std::string &path, const std::string &assetRoot) {
-  if (path == "default") return makeDefaultScene();
-  if (path == "stress") return makeStressScene();
+LoadedScene loadScene(const std::string &path, const std::string &assetRoot, LobeChoice lobes) {
+  if (path == "default") return makeDefaultScene(lobes);
+  if (path == "stress") return makeStressScene(lobes);
 
   requireInputFile(path, "the scene file");
   std::ifstream in(path);
@@ -172,6 +172,7 @@ LoadedScene loadScene(const std::string &path, const std::string &assetRoot) {
   root.allowOnly({"camera", "film", "render", "environment", "materials", "meshes", "comment"});
 
   LoadedScene out{path, Scene{EmbreeScene({}), {}, std::nullopt, {}}, {}, "sobol", 0};
+  out.scene.lobeChoice = lobes;
   out.scene.camera = readCamera(root["camera"]);
   if (root.has("film")) {
     const JsonReader film = root["film"];
@@ -214,7 +215,7 @@ LoadedScene loadScene(const std::string &path, const std::string &assetRoot) {
                                     "' (material '" + mesh.material + "') from '" + file +
                                     "': add it to 'materials', add a \"default\" material, or "
                                     "set \"material\" in its 'meshes' entry");
-      if (!built.count(name)) built[name] = makeMaterial(materials[name]);
+      if (!built.count(name)) built[name] = makeMaterial(materials[name], lobes);
       if (entry.has("transform")) applyTransform(mesh, entry["transform"]);
       checkGeometry(mesh, entry, file.empty() ? "" : " from " + quotedInput(file));
       out.scene.materials.push_back(built[name]);

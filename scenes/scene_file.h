@@ -62,6 +62,8 @@ bool isBuiltInScene(const std::string &name);
 // `path` is a JSON scene file, "default" or "stress" (built in, see
 // default_scene.h). Throws std::invalid_argument or
 // std::runtime_error naming the file, the field and what was expected.
-LoadedScene loadScene(const std::string &path, const std::string &assetRoot);
+// Its Disney materials pick their lobes by `lobes` (materials/disney.h).
+LoadedScene loadScene(const std::string &path, const std::string &assetRoot,
+                      LobeChoice lobes = kDefaultLobeChoice);
 
 }  // namespace nuld

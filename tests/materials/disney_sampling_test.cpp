@@ -1,9 +1,10 @@
-// Tests of DisneyBrdf's sampling (materials/disney.h): chi-square of sample()
-// against pdf() over roughness, anisotropy, metallic, subsurface, clearcoat
-// and view angles up to 89 degrees; the mass the pdf leaves out equals the
-// fraction of failed samples; sample() agrees with eval() and pdf(); the
-// per-lobe API composes into the mixture exactly as the supplement's
-// lobe-selection rule says.
+// Tests of DisneyBrdf's sampling (materials/disney.h), under every lobe
+// choice: chi-square of sample() against pdf() over roughness, anisotropy,
+// metallic, subsurface, clearcoat and view angles up to 89 degrees; the mass
+// the pdf leaves out equals the fraction of failed samples; sample() agrees
+// with eval() and pdf(), and pdf() with evalWithPdf() bit for bit; the
+// per-lobe API composes into the mixture exactly as the lobe choice's
+// probabilities say.
 
 #include <gtest/gtest.h>
 
@@ -27,6 +28,7 @@ namespace nuld {
 namespace {
 
 constexpr int kSamples = 400000;
+constexpr LobeChoice kChoices[] = {LobeChoice::Uniform, LobeChoice::Weight, LobeChoice::Albedo};
 
 using test::fromAngles;
 
@@ -90,11 +92,12 @@ test::DirectionTest runCase(const DisneyBrdf &brdf, Vec3 wo, std::uint64_t seed)
       test::peakAt(reflect(wo, Vec3{0, 0, 1})));
 }
 
-TEST(DisneySampling, ChiSquareAgainstPdf) {
-  std::uint64_t seed = 1000;
+// One lobe choice's cases (a test per choice, so that ctest runs them side
+// by side).
+void chiSquareAgainstPdf(LobeChoice choice, std::uint64_t seed) {
   double minP = 1;
   for (const Case &c : samplingCases()) {
-    const DisneyBrdf brdf(c.params);
+    const DisneyBrdf brdf(c.params, choice);
     const Vec3 wo = fromAngles(c.theta, c.phi);
     const auto t = runCase(brdf, wo, seed++);
     minP = std::min(minP, t.chi.pValue);
@@ -107,7 +110,18 @@ TEST(DisneySampling, ChiSquareAgainstPdf) {
     EXPECT_NEAR(t.failedFraction, missing, 5 * std::sqrt(missing / kSamples) + 2e-5)
         << c.name << ": " << t.describe();
   }
-  std::cout << "[ info ] smallest chi-square p-value over Disney cases: " << minP << "\n";
+  std::cout << "[ info ] smallest chi-square p-value over Disney cases (" << toString(choice)
+            << "): " << minP << "\n";
+}
+
+TEST(DisneySampling, ChiSquareAgainstPdfUniformChoice) {
+  chiSquareAgainstPdf(LobeChoice::Uniform, 1000);
+}
+TEST(DisneySampling, ChiSquareAgainstPdfWeightChoice) {
+  chiSquareAgainstPdf(LobeChoice::Weight, 2000);
+}
+TEST(DisneySampling, ChiSquareAgainstPdfAlbedoChoice) {
+  chiSquareAgainstPdf(LobeChoice::Albedo, 3000);
 }
 
 // The test has power: sampling one roughness while claiming another fails,
@@ -141,53 +155,69 @@ TEST(DisneySampling, ChiSquareRejectsWrongPdfAndDroppedSamples) {
 
 TEST(DisneySampling, SampleReturnsFullEvalAndMixturePdf) {
   Rng rng(21);
-  for (const Case &c : samplingCases()) {
-    const DisneyBrdf brdf(c.params);
-    const Vec3 wo = fromAngles(c.theta, c.phi);
-    for (int k = 0; k < 2000; ++k) {
-      const auto s = brdf.sample(wo, {rng.uniform(), rng.uniform()});
-      if (!s) continue;
-      ASSERT_GT(s->pdf, 0) << c.name;
-      EXPECT_NEAR(std::sqrt(lengthSquared(s->wi)), 1, 1e-12);
-      EXPECT_EQ(s->pdf, brdf.pdf(wo, s->wi)) << c.name;
-      EXPECT_EQ(s->f, brdf.eval(wo, s->wi)) << c.name;
+  for (const LobeChoice choice : kChoices)
+    for (const Case &c : samplingCases()) {
+      const DisneyBrdf brdf(c.params, choice);
+      const Vec3 wo = fromAngles(c.theta, c.phi);
+      for (int k = 0; k < 2000; ++k) {
+        const auto s = brdf.sample(wo, {rng.uniform(), rng.uniform()});
+        if (!s) continue;
+        ASSERT_GT(s->pdf, 0) << c.name;
+        EXPECT_NEAR(std::sqrt(lengthSquared(s->wi)), 1, 1e-12);
+        EXPECT_EQ(s->pdf, brdf.pdf(wo, s->wi)) << c.name << " " << toString(choice);
+        EXPECT_EQ(s->f, brdf.eval(wo, s->wi)) << c.name << " " << toString(choice);
+      }
+      // pdf() and evalWithPdf() agree bit for bit at any direction,
+      // below the surface included.
+      for (int k = 0; k < 200; ++k) {
+        const Vec3 wi = k % 10 == 0 ? Vec3{0.6, 0, -0.8} : test::randomUpper(rng);
+        EXPECT_EQ(brdf.evalWithPdf(wo, wi).pdf, brdf.pdf(wo, wi))
+            << c.name << " " << toString(choice);
+      }
     }
-  }
 }
 
 TEST(DisneySampling, LobeApiComposesIntoTheMixture) {
   Rng rng(22);
-  for (const Case &c : samplingCases()) {
-    const DisneyBrdf brdf(c.params);
-    EXPECT_EQ(brdf.lobeCount(), c.params.clearcoat > 0 ? 4 : 3) << c.name;
-    EXPECT_EQ(brdf.params(), c.params);
-    const Vec3 wo = fromAngles(c.theta, c.phi);
-    for (int n = 0; n < 500; ++n) {
-      const Vec3 wi = test::randomUpper(rng);
-      Rgb f;
-      double pdf = 0;
-      for (int k = 0; k < brdf.lobeCount(); ++k) {
-        f += brdf.evalLobe(k, wo, wi);
-        pdf += brdf.lobePdf(k, wo, wi);
+  for (const LobeChoice choice : kChoices)
+    for (const Case &c : samplingCases()) {
+      const DisneyBrdf brdf(c.params, choice);
+      const std::string name = c.name + " (" + toString(choice) + ")";
+      EXPECT_EQ(brdf.lobeCount(), c.params.clearcoat > 0 ? 4 : 3) << name;
+      EXPECT_EQ(brdf.params(), c.params);
+      EXPECT_EQ(brdf.lobeChoice(), choice);
+      const Vec3 wo = fromAngles(c.theta, c.phi);
+      const DisneyBrdf::LobeProbabilities p = brdf.lobeProbabilities(wo);
+      for (int n = 0; n < 500; ++n) {
+        const Vec3 wi = test::randomUpper(rng);
+        Rgb f;
+        double pdf = 0;
+        for (int k = 0; k < brdf.lobeCount(); ++k) {
+          f += brdf.evalLobe(k, wo, wi);
+          pdf += p[k] * brdf.lobePdf(k, wo, wi);
+        }
+        const Rgb e = brdf.eval(wo, wi);
+        EXPECT_NEAR(f.r, e.r, 1e-12 * (1 + e.r)) << name;
+        EXPECT_NEAR(f.b, e.b, 1e-12 * (1 + e.b)) << name;
+        EXPECT_NEAR(pdf, brdf.pdf(wo, wi), 1e-12 * (1 + pdf)) << name;
       }
-      const Rgb e = brdf.eval(wo, wi);
-      EXPECT_NEAR(f.r, e.r, 1e-12 * (1 + e.r)) << c.name;
-      EXPECT_NEAR(f.b, e.b, 1e-12 * (1 + e.b)) << c.name;
-      EXPECT_NEAR(pdf / brdf.lobeCount(), brdf.pdf(wo, wi), 1e-12 * (1 + pdf)) << c.name;
+      // sample() is sampleLobe(k) with u.x = start_k + u' p_k, start_k the
+      // sum of the probabilities before k.
+      for (int n = 0; n < 500; ++n) {
+        const int k = int(rng.uniformInt(brdf.lobeCount()));
+        if (!(p[k] > 0)) continue;
+        double start = 0;
+        for (int j = 0; j < k; ++j) start += p[j];
+        const double u0 = 0.001 + 0.998 * rng.uniform(), u1 = rng.uniform();
+        const auto lobeDir = brdf.sampleLobe(k, wo, {u0, u1});
+        const auto s = brdf.sample(wo, {start + u0 * p[k], u1});
+        ASSERT_EQ(lobeDir.has_value(), s.has_value()) << name << " lobe " << k;
+        if (!s) continue;
+        EXPECT_NEAR(lobeDir->x, s->wi.x, 1e-6) << name;
+        EXPECT_NEAR(lobeDir->y, s->wi.y, 1e-6) << name;
+        EXPECT_NEAR(lobeDir->z, s->wi.z, 1e-6) << name;
+      }
     }
-    // sample() is sampleLobe(k) with u.x = (k + u') / lobeCount.
-    for (int n = 0; n < 500; ++n) {
-      const int k = int(rng.uniformInt(brdf.lobeCount()));
-      const double u0 = rng.uniform(), u1 = rng.uniform();
-      const auto lobeDir = brdf.sampleLobe(k, wo, {u0, u1});
-      const auto s = brdf.sample(wo, {(k + u0) / brdf.lobeCount(), u1});
-      ASSERT_EQ(lobeDir.has_value(), s.has_value()) << c.name << " lobe " << k;
-      if (!s) continue;
-      EXPECT_NEAR(lobeDir->x, s->wi.x, 1e-9);
-      EXPECT_NEAR(lobeDir->y, s->wi.y, 1e-9);
-      EXPECT_NEAR(lobeDir->z, s->wi.z, 1e-9);
-    }
-  }
   const DisneyBrdf brdf(supplementDisneyParams());
   EXPECT_EQ(toString(brdf.lobe(0)), "diffuse");
   EXPECT_EQ(toString(brdf.lobe(1)), "subsurface");
@@ -231,7 +261,7 @@ TEST(DisneySampling, PrimaryUnderSymmetryCarriesSamplesToTheMovedView) {
     for (const double anisotropic : {0.0, 0.8}) {
       DisneyParams p = test::allParametersNonZero(roughness);
       p.anisotropic = anisotropic;
-      const DisneyBrdf brdf(p);
+      const DisneyBrdf brdf(p, kChoices[(roughness > 0.1) + (anisotropic > 0)]);
       for (int trial = 0; trial < 400; ++trial) {
         const double theta = std::acos(std::max(1e-3, rng.uniform())),
                      phi = 2 * std::numbers::pi * rng.uniform();
@@ -245,7 +275,7 @@ TEST(DisneySampling, PrimaryUnderSymmetryCarriesSamplesToTheMovedView) {
           const double x = flipX ? -v.x : v.x, y = flipY ? -v.y : v.y;
           return Vec3{r.cos * x - r.sin * y, r.sin * x + r.cos * y, v.z};
         };
-        const Point2 moved = brdf.primaryUnderSymmetry(u, turns, flipX, flipY);
+        const Point2 moved = brdf.primaryUnderSymmetry(u, wo, turns, flipX, flipY);
         ASSERT_TRUE(moved.y >= 0 && moved.y < 1 && moved.x == u.x);
         const auto a = brdf.sample(wo, u), b = brdf.sample(move(wo), moved);
         // A direction at the horizon may fall on either side by rounding.
@@ -277,7 +307,7 @@ TEST(DisneySampling, LobePrimaryInvertsEachLobesWarp) {
         DisneyParams p = test::allParametersNonZero(roughness);
         p.anisotropic = anisotropic;
         p.clearcoatGloss = gloss;
-        const DisneyBrdf brdf(p);
+        const DisneyBrdf brdf(p, kChoices[(roughness > 0.1) + (anisotropic > 0)]);
         ASSERT_EQ(brdf.lobeCount(), 4);
         for (int trial = 0; trial < 2000; ++trial) {
           const double cosTheta = trial % 10 == 0 ? std::cos(89.9 * std::numbers::pi / 180)
@@ -286,7 +316,8 @@ TEST(DisneySampling, LobePrimaryInvertsEachLobesWarp) {
               fromAngles(std::acos(cosTheta) * 180 / std::numbers::pi, 360 * rng.uniform());
           const Point2 u{rng.uniform(), rng.uniform()};
           const auto s = brdf.sample(wo, u);
-          const int k = std::min(int(u.x * 4), 3);
+          const DisneyBrdf::LobeProbabilities lobeP = brdf.lobeProbabilities(wo);
+          const int k = brdf.lobeStripe(lobeP, u.x);
           const auto back = brdf.lobePrimary(k, wo, s ? s->wi : Vec3{0, 0, 1});
           if (!s) continue;
           const std::string where = "roughness " + std::to_string(roughness) + " anisotropic " +
@@ -294,7 +325,7 @@ TEST(DisneySampling, LobePrimaryInvertsEachLobesWarp) {
                                     std::to_string(gloss) + " lobe " + std::to_string(k) +
                                     " trial " + std::to_string(trial);
           ASSERT_TRUE(back) << where;
-          ASSERT_EQ(std::min(int(back->x * 4), 3), k) << where;
+          ASSERT_EQ(brdf.lobeStripe(lobeP, back->x), k) << where;
           ASSERT_TRUE(back->y >= 0 && back->y < 1) << where;
           const auto again = brdf.sample(wo, *back);
           ASSERT_TRUE(again) << where;
@@ -307,13 +338,82 @@ TEST(DisneySampling, LobePrimaryInvertsEachLobesWarp) {
           }
           const double turns = rng.uniform();
           const bool flipX = trial & 1, flipY = trial & 2;
-          const Point2 moved = brdf.primaryUnderSymmetry(u, turns, flipX, flipY);
-          const Point2 undone = brdf.primaryBeforeSymmetry(moved, turns, flipX, flipY);
+          const Point2 moved = brdf.primaryUnderSymmetry(u, wo, turns, flipX, flipY);
+          const Point2 undone = brdf.primaryBeforeSymmetry(moved, wo, turns, flipX, flipY);
           EXPECT_EQ(undone.x, u.x);
           const double dy = std::abs(undone.y - u.y);
           EXPECT_LT(std::min(dy, 1 - dy), 1e-12) << where;
         }
       }
+}
+
+}  // namespace
+}  // namespace nuld
+
+namespace nuld {
+namespace {
+
+// The lobe choices' probabilities: a distribution over the lobes (none
+// beyond lobeCount), positive for every lobe that is a term of f under
+// every choice, uniform as the supplement's, Mitsuba's static weights for
+// `weight`, and for `albedo` a function of the view's cos theta alone (so
+// a table's symmetries keep it) that favours the specular lobe at grazing
+// views.
+TEST(DisneySampling, LobeChoiceProbabilities) {
+  const std::vector<DisneyParams> materials = [] {
+    std::vector<DisneyParams> out{supplementDisneyParams(), test::allParametersNonZero(0.3)};
+    DisneyParams metal;
+    metal.metallic = 1;
+    out.push_back(metal);
+    DisneyParams black;  // nothing for the albedo estimate but grazing Fresnel
+    black.baseColor = {0, 0, 0};
+    black.specular = 0;
+    out.push_back(black);
+    return out;
+  }();
+  for (const LobeChoice choice : kChoices)
+    for (const DisneyParams &params : materials) {
+      const DisneyBrdf brdf(params, choice);
+      for (const double theta : {0.0, 30.0, 60.0, 85.0, 89.9}) {
+        const DisneyBrdf::LobeProbabilities p = brdf.lobeProbabilities(fromAngles(theta, 10));
+        EXPECT_EQ(p, brdf.lobeProbabilities(fromAngles(theta, 250))) << toString(choice);
+        double sum = 0;
+        for (int k = 0; k < 4; ++k) {
+          EXPECT_GE(p[k], 0);
+          if (k >= brdf.lobeCount()) EXPECT_EQ(p[k], 0);
+          sum += p[k];
+        }
+        EXPECT_NEAR(sum, 1, 1e-12) << toString(choice);
+        EXPECT_GT(p[2], 0) << toString(choice);  // the specular lobe is a term of every f
+        if (params.metallic < 1) EXPECT_GT(p[0] + p[1], 0) << toString(choice);
+        if (params.clearcoat > 0) EXPECT_GT(p[3], 0) << toString(choice);
+        if (choice == LobeChoice::Uniform)
+          for (int k = 0; k < brdf.lobeCount(); ++k) EXPECT_EQ(p[k], 1.0 / brdf.lobeCount());
+      }
+    }
+  const Vec3 wo = supplementWo();
+  DisneyParams plastic;  // Mitsuba: diffuse 1 - metallic, specular 1
+  plastic.roughness = 0.4;
+  const auto weight = DisneyBrdf(plastic, LobeChoice::Weight).lobeProbabilities(wo);
+  EXPECT_DOUBLE_EQ(weight[0], 0.5);
+  EXPECT_EQ(weight[1], 0);
+  EXPECT_DOUBLE_EQ(weight[2], 0.5);
+  DisneyParams metal;
+  metal.metallic = 1;
+  metal.clearcoat = 1;
+  const auto metalWeight = DisneyBrdf(metal, LobeChoice::Weight).lobeProbabilities(wo);
+  EXPECT_EQ(metalWeight[0] + metalWeight[1], 0);
+  EXPECT_DOUBLE_EQ(metalWeight[3], 0.25 / 1.25);
+  // Albedo: a metal without coat samples its specular lobe only; a white
+  // plastic mostly its diffuse lobe near the normal, and more of its
+  // specular lobe toward grazing, where Fresnel rises.
+  metal.clearcoat = 0;
+  EXPECT_EQ(DisneyBrdf(metal, LobeChoice::Albedo).lobeProbabilities(wo)[2], 1);
+  const DisneyBrdf albedo(plastic, LobeChoice::Albedo);
+  const double normal = albedo.lobeProbabilities(fromAngles(0, 0))[2],
+               grazing = albedo.lobeProbabilities(fromAngles(85, 0))[2];
+  EXPECT_LT(normal, 0.2);
+  EXPECT_GT(grazing, 2 * normal);
 }
 
 }  // namespace

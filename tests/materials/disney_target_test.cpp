@@ -259,11 +259,16 @@ TEST(DisneyTargetSpec, BadArgumentsNameSpecKeyAndExpectation) {
 // sub-cell points per cell (the table takes 4 x 4): each lobe-selection
 // stripe of u.x holds the same mass, most of it the specular stripe (the two
 // diffuse stripes sample lobes a metal lacks), and cells agree within what
-// 4 x 4 points resolve.
+// 4 x 4 points resolve. Under the uniform lobe choice, whose stripes are
+// the widest a metal's absent lobes get.
 TEST(DisneyTargetSpec, PrimarySpaceTablesHoldTheWarpsResidualWeight) {
   registerMaterialTargets();
-  const auto metal = makeTarget("disney:metallic=1,roughness=0.2,res=12,space=primary");
-  EXPECT_EQ(metal->spec(), "disney:metallic=1,roughness=0.2,res=12,space=primary");
+  const auto metal =
+      makeTarget("disney:metallic=1,roughness=0.2,res=12,space=primary,lobes=uniform");
+  EXPECT_EQ(metal->spec(), "disney:metallic=1,roughness=0.2,res=12,space=primary,lobes=uniform");
+  EXPECT_EQ(parseDisneyTargetArgs("lobes=weight").lobeChoice, LobeChoice::Weight);
+  EXPECT_EQ(parseDisneyTargetArgs("").lobeChoice, kDefaultLobeChoice);
+  EXPECT_THROW(parseDisneyTargetArgs("lobes=random"), std::invalid_argument);
   EXPECT_EQ(metal->domain(), Domain::Square);
   EXPECT_EQ(parseDisneyTargetArgs("space=primary,res=12").thetaRows, 12);
   EXPECT_EQ(parseDisneyTargetArgs("res=12").thetaRows, 6);
@@ -271,7 +276,7 @@ TEST(DisneyTargetSpec, PrimarySpaceTablesHoldTheWarpsResidualWeight) {
   DisneyParams p;
   p.metallic = 1;
   p.roughness = 0.2;
-  const DisneyBrdf brdf(p);
+  const DisneyBrdf brdf(p, LobeChoice::Uniform);
   const Vec3 wo = DisneyTargetSpec{p, 45, 0}.wo();
   const auto &grid = dynamic_cast<const GridTarget &>(*metal);
   constexpr int kSub = 32;

@@ -48,6 +48,17 @@ def test_render_is_the_clis_image(tmp_path, nuld_bin):
     assert attributes["nuld:backend"] == "sobol" and attributes["nuld:spp"] == "2"
     assert attributes["nuld:seed"] == "3" and attributes["nuld:integrator"] == "direct"
     assert attributes["nuld:scene"] == "default" and "nuld:version" in attributes
+    assert attributes["nuld:lobe_choice"] == "albedo" and stats["lobe_choice"] == "albedo"
+    # The paper's configuration, one argument away: the CLI's flag, the same image.
+    uniform, uniform_stats = nuld.render("default", backend="sobol", spp=2, resolution=(24, 16),
+                                         seed=3, integrator="direct", lobe_choice="uniform",
+                                         stats=True)
+    assert uniform_stats["lobe_choice"] == "uniform" and not np.array_equal(uniform, img)
+    subprocess.run([nuld_bin, "render", "default", "--backend", "sobol", "--spp", "2", "--res",
+                    "24x16", "--seed", "3", "--integrator", "direct", "--lobe-choice", "uniform",
+                    "-q", "-o", exr], check=True, capture_output=True)
+    assert np.array_equal(nuld.read_image(exr), uniform)
+    assert nuld.read_image_attributes(exr)["nuld:lobe_choice"] == "uniform"
 
 
 def test_compare_and_image_files(tmp_path):
@@ -74,6 +85,8 @@ def test_bad_render_arguments():
         nuld.render("default", max_depth=0, resolution=(4, 4))
     with pytest.raises(ValueError, match="lobe_mix"):
         nuld.render("default", lobe_mix=1.5, resolution=(4, 4))
+    with pytest.raises(ValueError, match="unknown lobe choice 'random'"):
+        nuld.render("default", lobe_choice="random", resolution=(4, 4))
     with pytest.raises(RuntimeError, match="missing.json"):
         nuld.render("missing.json")
 

@@ -67,7 +67,7 @@ TEST(ImageMetrics, RenderFilesCarryTheirAttributes) {
   s.integrator = IntegratorKind::Direct;
   RenderStats stats;
   stats.seconds = 1.5;
-  const ImageAttributes attributes = renderAttributes("default", s, "sobol", 7, stats);
+  const ImageAttributes attributes = renderAttributes("default", LobeChoice::Uniform, s, "sobol", 7, stats);
   const std::string exr = (dir.path() / "r.exr").string();
   writeRender(exr, img, attributes);
   for (const std::string &path : {exr, (dir.path() / "r.png").string()}) {
@@ -85,6 +85,7 @@ TEST(ImageMetrics, RenderFilesCarryTheirAttributes) {
   EXPECT_TRUE(has("nuld:spp", "8"));
   EXPECT_TRUE(has("nuld:seed", "7"));
   EXPECT_TRUE(has("nuld:integrator", "direct"));
+  EXPECT_TRUE(has("nuld:lobe_choice", "uniform"));
   EXPECT_TRUE(has("nuld:lobe_mix", "1"));  // MIS: the sampling pdf
   EXPECT_TRUE(has("nuld:render_seconds", "1.5"));
   EXPECT_THROW(readImageAttributes((dir.path() / "absent.exr").string()), std::runtime_error);

@@ -32,13 +32,14 @@ Vec3 direction(double thetaDegrees, double phiDegrees) {
   return {std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)};
 }
 
-std::shared_ptr<const DisneyBrdf> material(double roughness, double anisotropic, double metallic) {
+std::shared_ptr<const DisneyBrdf> material(double roughness, double anisotropic, double metallic,
+                                           LobeChoice choice = kDefaultLobeChoice) {
   DisneyParams p;
   p.roughness = roughness;
   p.anisotropic = anisotropic;
   p.metallic = metallic;
   p.baseColor = {0.9, 0.8, 0.6};
-  return std::make_shared<DisneyBrdf>(p);
+  return std::make_shared<DisneyBrdf>(p, choice);
 }
 
 // A half-anisotropic dielectric under a full clear coat: four lobes.
@@ -203,9 +204,11 @@ TEST(LobeRoutes, MeasurementKeepsTheMaterialsSamplerForNarrowLobes) {
 // warp and evens out the rest (a metal's lobe-selection stripes, of which
 // two sample a diffuse lobe it does not have): it measures several times
 // below the material's own variance. A broad lobe keeps its sphere table.
-// Every route is the measured best of the three.
+// Every route is the measured best of the three. Under the uniform lobe
+// choice, whose stripes are what the primary tables even out.
 TEST(LobeRoutes, MeasurementSendsNarrowLobesThroughTheirPrimaryTables) {
-  const auto shell = material(0.2, 0.15, 1.0), rough = material(0.9, 0.0, 0.0);
+  const auto shell = material(0.2, 0.15, 1.0, LobeChoice::Uniform),
+             rough = material(0.9, 0.0, 0.0, LobeChoice::Uniform);
   const LobeTables tables({shell, rough}, {9, 3, 64, 1.0});
   std::size_t shellPrimary = 0, roughSphere = 0, tabulated = 0;
   double shellClassic = 0, shellRoute = 0;
@@ -359,14 +362,15 @@ TEST(LobeRoutes, PrimaryRouteDensityIsTheDensityOfItsDirections) {
 // cup's glazed porcelain (a broad diffuse lobe under a glossy coat), whose
 // bins BSDF sampling alone sends through tables, keeps the material's own
 // sampler in most of them once light sampling covers the broad lobe; and
-// every bin's route is the one of least measured variance.
+// every bin's route is the one of least measured variance (under the
+// uniform lobe choice, where BSDF sampling alone gains from the tables).
 TEST(LobeRoutes, RoutesUnderMisAreMeasuredWithLightSamplingBeside) {
   DisneyParams p;
   p.baseColor = {0.92, 0.9, 0.86};
   p.roughness = 0.15;
   p.clearcoat = 1;
   p.clearcoatGloss = 0.9;
-  const auto glaze = std::make_shared<DisneyBrdf>(p);
+  const auto glaze = std::make_shared<DisneyBrdf>(p, LobeChoice::Uniform);
   LobeTableSettings settings;
   settings.samplingMix = 1.0;
   const auto tabulated = [&](bool underMis) {

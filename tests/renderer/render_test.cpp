@@ -124,26 +124,30 @@ TEST(Render, RussianRouletteKeepsTheExpectation) {
 
 // A white, non-metallic Disney material with no specular reflects at most
 // what comes in; its furnace value is bounded by 1 (Burley's diffuse is not
-// exactly energy conserving, so only the bound is asserted).
+// exactly energy conserving, so only the bound is asserted), whichever way
+// the material picks its lobes.
 TEST(Render, DisneySphereInFurnaceStaysBelowOne) {
   DisneyParams p;
   p.specular = 0;
   p.roughness = 0.5;
-  const Scene scene = sceneWith({unitSphere()}, {std::make_shared<DisneyBrdf>(p)},
-                                constantMap(1.0f), kLookAtSphere);
-  RenderSettings s{24, 24, 64, IntegratorKind::Path, 5};
-  auto backend = makeBackend("sobol", 2);
-  const Image img = render(scene, s, *backend);
-  EXPECT_TRUE(allFinite(img));
-  double sum = 0;
-  for (int y = 9; y < 15; ++y)
-    for (int x = 9; x < 15; ++x) sum += img.at(x, y, 1);
-  EXPECT_LT(sum / 36, 1.05);
-  EXPECT_GT(sum / 36, 0.5);
+  for (const LobeChoice choice : {LobeChoice::Uniform, LobeChoice::Weight, LobeChoice::Albedo}) {
+    const Scene scene = sceneWith({unitSphere()}, {std::make_shared<DisneyBrdf>(p, choice)},
+                                  constantMap(1.0f), kLookAtSphere);
+    RenderSettings s{24, 24, 64, IntegratorKind::Path, 5};
+    auto backend = makeBackend("sobol", 2);
+    const Image img = render(scene, s, *backend);
+    EXPECT_TRUE(allFinite(img));
+    double sum = 0;
+    for (int y = 9; y < 15; ++y)
+      for (int x = 9; x < 15; ++x) sum += img.at(x, y, 1);
+    EXPECT_LT(sum / 36, 1.05) << toString(choice);
+    EXPECT_GT(sum / 36, 0.5) << toString(choice);
+  }
 }
 
 // Stiff cases: mirror-like and fully rough materials, every lobe, grazing
-// views, a black sky and a sun 1e6 times brighter than the sky.
+// views, a black sky and a sun 1e6 times brighter than the sky, under every
+// lobe choice.
 TEST(Render, StiffCasesStayFinite) {
   Image sun = constantMap(1.0f, 64, 32);
   for (int c = 0; c < 3; ++c) sun.at(40, 6, c) = 1e6f;
@@ -166,9 +170,11 @@ TEST(Render, StiffCasesStayFinite) {
                                                {{0, 0, 0.5}, {0, 0, -1}, {0, 1, 0}, 90, false}};
   for (const auto &[name, map] : maps)
     for (const DisneyParams &p : materials)
-      for (const CameraSettings &cam : cameras) {
+      for (const CameraSettings &cam : cameras)
+        for (const LobeChoice choice :
+             {LobeChoice::Uniform, LobeChoice::Weight, LobeChoice::Albedo}) {
         const Scene scene =
-            sceneWith({unitSphere(8, 16)}, {std::make_shared<DisneyBrdf>(p)}, map, cam);
+            sceneWith({unitSphere(8, 16)}, {std::make_shared<DisneyBrdf>(p, choice)}, map, cam);
         // The classic mapping, and tabulated lobes (small tables: the
         // stiff lobes alias in any table, which must cost only variance).
         for (const auto &[backendName, kind] : {std::pair{"independent", IntegratorKind::Path},

@@ -169,7 +169,7 @@ TEST_F(TinyStudy, RerunResumesWithoutDuplicates) {
   for (std::size_t i = 0; i + 1 < again.rows().size(); ++i)
     EXPECT_EQ(again.rows()[i], t.rows()[i]) << "kept rows are not rewritten";
 
-  // Other repeats or other lobe options would add rows unlike the kept ones:
+  // Other repeats, lobe options or lobe choice would add rows unlike the kept ones:
   // refused before anything renders, naming the option.
   for (const auto &[option, edit] :
        std::vector<std::pair<std::string, std::function<void(RenderStudySettings &)>>>{
@@ -177,7 +177,8 @@ TEST_F(TinyStudy, RerunResumesWithoutDuplicates) {
            {"--lobe-mix", [](RenderStudySettings &s) { s.lobeMix = 0.5; }},
            {"--lobe-routes", [](RenderStudySettings &s) { s.lobeRouting = LobeRouting::Table; }},
            {"--lobe-defensive", [](RenderStudySettings &s) { s.lobeDefensive = 0.2; }},
-           {"--lobe-bounces", [](RenderStudySettings &s) { s.lobeBounces = 0; }}}) {
+           {"--lobe-bounces", [](RenderStudySettings &s) { s.lobeBounces = 0; }},
+           {"--lobe-choice", [](RenderStudySettings &s) { s.lobeChoice = LobeChoice::Uniform; }}}) {
     RenderStudySettings s = tinyStudy(copy);
     edit(s);
     try {

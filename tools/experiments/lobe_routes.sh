@@ -2,7 +2,8 @@
 # BSDF sampling routes against the material's own sampler (tools/experiments/
 # README.md, "Lobe routes"): render studies of the four shipped scenes under
 # both MIS integrators, 16 and 64 spp, 8 repeats, seed 9173 (no test uses
-# it), 1/4 resolution, 1024-spp references, once per variant of the lobe
+# it), 1/4 resolution, REFERENCE_SPP-spp references (default 1024), once per
+# variant of the lobe
 # options. Every variant of a (scene, integrator) scores against the same
 # reference (made once, copied). Writes OUT/VARIANT/INTEGRATOR/render.csv and
 # OUT/summary.csv (the rows with each backend's MSE ratio to sobol, its
@@ -46,7 +47,7 @@ for integrator in $integrators; do
       fi
       # shellcheck disable=SC2086  # flags are words
       "$nuld" study render "$scene" --integrator "$integrator" --res-scale 0.25 --spp "$spp" \
-        --repeats 8 --reference-spp 1024 --seed 9173 --backends "$backends" $flags \
+        --repeats 8 --reference-spp "${REFERENCE_SPP:-1024}" --seed 9173 --backends "$backends" $flags \
         --no-report -q -o "$dir" >/dev/null
       if [[ ! -f "$refs/$slug/reference.exr" ]]; then
         mkdir -p "$refs/$slug"

@@ -186,6 +186,16 @@ std::string targetOptionHelp(const std::string &what) {
   return what + ": " + list + " (nuld help targets)";
 }
 
+void addLobeChoiceOption(CLI::App &app, LobeChoice &choice) {
+  app.add_option_function<std::string>(
+         "--lobe-choice", [&choice](const std::string &v) { choice = kLobeChoiceNames.parse(v); },
+         "how Disney materials pick the lobe they sample, at every bounce and in references: "
+         "albedo (by each lobe's reflectance estimated at the view, as Cycles; the default), "
+         "weight (by Mitsuba 3's static weights) or uniform (each lobe alike: the paper's "
+         "configuration)")
+      ->check(oneOf(kLobeChoiceNames));
+}
+
 void addLobeOptions(CLI::App &app, LobeOptions &o) {
   app.add_option("--lobe-mix", o.mix,
                  "density of the lobe tables that sobol-tabulated and lobe banks sample: 0 f "

@@ -103,6 +103,11 @@ void applyLobeOptions(const LobeOptions &o, RenderOverrides &change);
 inline constexpr std::initializer_list<const char *> kLobeOptionNames = {
     "--lobe-mix", "--lobe-routes", "--lobe-defensive", "--lobe-bounces"};
 
+// --lobe-choice: how the scene's Disney materials pick a lobe to sample
+// (materials/disney.h, LobeChoice), read into `choice` (left as it is when
+// the option is not given).
+void addLobeChoiceOption(CLI::App &app, LobeChoice &choice);
+
 // "WHAT: uniform, bilinear:w00,w10,w01,w11, ... (nuld help targets)": every
 // target grammar makeTarget knows, for a --target option's help.
 std::string targetOptionHelp(const std::string &what);

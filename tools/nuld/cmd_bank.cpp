@@ -40,6 +40,7 @@ Runner addBank(CLI::App &app) {
   app.add_option("--seed", o->seed, "seed of the optimization (a study's --seed; default 1)")
       ->check(wholeNumber());
   addSetOptions(app, o->sets);
+  addLobeChoiceOption(app, o->sets.lobeChoice);
   app.add_option("--assets", o->assets,
                  "asset root (default: $NULD_ASSETS, else ../shared/assets)");
   app.add_option("-o,--output", o->output,
@@ -55,7 +56,7 @@ Runner addBank(CLI::App &app) {
                                   "': nuld bank makes the study's sets (optimized, "
                                   "optimized-uniform, optimized-bsdf, optimized-both)");
     checkAssets(app, o->assets, !isBuiltInScene(o->scene), kSceneFilesOnly);
-    LoadedScene loaded = loadScene(o->scene, resolveAssetRoot(o->assets));
+    LoadedScene loaded = loadScene(o->scene, resolveAssetRoot(o->assets), o->sets.lobeChoice);
     RenderOverrides change;
     applyResolution(app, o->res, o->resScale, change);
     if (!o->integrator.empty()) change.integrator = parseIntegrator(o->integrator);

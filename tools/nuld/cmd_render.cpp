@@ -25,6 +25,7 @@ Runner addRender(CLI::App &app) {
     std::size_t spp = 0;
     int maxDepth = 0;
     LobeOptions lobes;
+    LobeChoice lobeChoice = kDefaultLobeChoice;
     std::int64_t seed = -1;
     study::RenderStudySettings sets;  // --opt-*: the study backends' sets
     double resScale = 1;
@@ -56,6 +57,7 @@ Runner addRender(CLI::App &app) {
   app.add_option("--max-depth", o->maxDepth, "maximum path length in bounces")
       ->check(wholeNumberIn(1, kMaxDepthLimit));
   addLobeOptions(app, o->lobes);
+  addLobeChoiceOption(app, o->lobeChoice);
   addSetOptions(app, o->sets);
   app.add_option("--seed", o->seed, "seed of the backend's randomization")
       ->check(wholeNumberIn(0, std::int64_t(1) << 62));
@@ -65,7 +67,7 @@ Runner addRender(CLI::App &app) {
   return [o, &app] {
     checkRenderOutputs(o->output);
     checkAssets(app, o->assets, !isBuiltInScene(o->scene), kSceneFilesOnly);
-    LoadedScene loaded = loadScene(o->scene, resolveAssetRoot(o->assets));
+    LoadedScene loaded = loadScene(o->scene, resolveAssetRoot(o->assets), o->lobeChoice);
     RenderOverrides change;
     if (o->spp) change.spp = o->spp;
     applyResolution(app, o->res, o->resScale, change);
@@ -119,7 +121,8 @@ Runner addRender(CLI::App &app) {
           "backend '" + (o->backend.empty() ? loaded.backend : o->backend) +
           "': its sets served no first-bounce sample of this render (every context fell back "
           "to Owen-Sobol); its sets are for other targets, bins or sample counts");
-    writeRender(o->output, image, renderAttributes(loaded.name, s, backend->name(), seed, stats));
+    writeRender(o->output, image,
+                renderAttributes(loaded.name, loaded.scene.lobeChoice, s, backend->name(), seed, stats));
     std::printf(
         "scene %s\nbackend %s\nspp %zu\nresolution %dx%d\nintegrator %s\n", loaded.name.c_str(),
         (word.sets == study::StudyBackend::Sets::None ? backend->name() : word.word).c_str(), s.spp,

@@ -50,13 +50,14 @@ void bindRender(py::module_ &m) {
          std::optional<std::string> integrator, std::optional<int> maxDepth,
          std::optional<std::uint64_t> seed, const std::string &assets,
          std::optional<double> lobeMix, bool stats, std::size_t optInstances, int optEpochs,
-         int optLobeEpochs, std::optional<int> threads) {
+         int optLobeEpochs, std::optional<int> threads, const std::string &lobeChoice) {
         if (threads && *threads < 1) throw std::invalid_argument("render: threads must be >= 1");
         // Cores for this call (as the CLI's --threads), released on return.
         std::optional<tbb::global_control> limit;
         if (threads) limit.emplace(tbb::global_control::max_allowed_parallelism, *threads);
         const bool builtIn = isBuiltInScene(scene);
-        LoadedScene loaded = loadScene(scene, builtIn ? std::string() : resolveAssetRoot(assets));
+        LoadedScene loaded = loadScene(scene, builtIn ? std::string() : resolveAssetRoot(assets),
+                                       kLobeChoiceNames.parse(lobeChoice));
         RenderOverrides change;
         change.spp = spp;
         if (resolution) change.width = resolution->first, change.height = resolution->second;
@@ -74,6 +75,7 @@ void bindRender(py::module_ &m) {
         options.optimizedInstances = optInstances;
         options.optimizedEpochs = optEpochs;
         options.lobeEpochs = optLobeEpochs;
+        options.lobeChoice = loaded.scene.lobeChoice;
         study::PreparedBackend prepared;
         RenderStats st;
         Image img;
@@ -88,6 +90,7 @@ void bindRender(py::module_ &m) {
         if (!stats) return py::object(out);
         py::dict d;
         d["backend"] = b->name(), d["spp"] = s.spp, d["integrator"] = toString(s.integrator);
+        d["lobe_choice"] = toString(loaded.scene.lobeChoice);
         d["seconds"] = st.seconds, d["setup_seconds"] = st.setupSeconds, d["rays"] = st.rays;
         d["rejected_samples"] = st.rejectedSamples, d["classic_fallbacks"] = st.classicFallbacks;
         if (word.sets != study::StudyBackend::Sets::None)
@@ -104,6 +107,7 @@ void bindRender(py::module_ &m) {
       py::arg("max_depth") = py::none(), py::arg("seed") = py::none(), py::arg("assets") = "",
       py::arg("lobe_mix") = py::none(), py::arg("stats") = false, py::arg("opt_instances") = 16,
       py::arg("opt_epochs") = 0, py::arg("opt_lobe_epochs") = 0, py::arg("threads") = py::none(),
+      py::arg("lobe_choice") = std::string(toString(kDefaultLobeChoice)),
       R"(Renders a scene file (or 'default', 'stress') as `nuld render` does, to a
 linear float32 (H, W, 3) array, row 0 at the top. Unset arguments take the
 scene's values; resolution is (width, height); assets defaults to
@@ -111,7 +115,8 @@ $NULD_ASSETS, else ../shared/assets. backend: any word `nuld help backends`
 lists, the study's optimized, optimized-bsdf, ... included (their sets made
 into the set cache, $NULD_CACHE, or found there; opt_instances, opt_epochs and
 opt_lobe_epochs as nuld render's --opt-*, 0 for the defaults; threads: the cores to
-use, default all). With stats=True returns
+use, default all; lobe_choice: how Disney materials pick a lobe, 'albedo' (the
+default), 'weight' or 'uniform' (the paper's configuration), as --lobe-choice). With stats=True returns
 (image, dict), the dict with what a learned backend's sets served per pair.)");
 
   m.def(

@@ -151,7 +151,8 @@ CellOutcome renderCell(
     nonFinite += e.nonFinitePixels;
     rejected += stats.rejectedSamples;
     if (r == 0) {
-      out.attributes = renderAttributes(c.sceneSlug, c.settings, b->name(), s.seed, stats);
+      out.attributes =
+          renderAttributes(c.sceneSlug, c.scene.lobeChoice, c.settings, b->name(), s.seed, stats);
       out.image = std::move(img);
     }
   }
@@ -276,6 +277,7 @@ std::string RenderStudySettings::rowOptions() const {
     << " lobe-routes=" << toString(lobeRouting.value_or(LobeRouting::Measured))
     << " lobe-defensive=" << formatNumber(lobeDefensive.value_or(LobeTableSettings{}.defensive))
     << " lobe-bounces=" << lobeBounces.value_or(LobeTableSettings{}.bounces)
+    << " lobe-choice=" << toString(lobeChoice)
     << " opt-instances=" << optimizedInstances << " opt-epochs=" << optimizedEpochs
     << " opt-lobe-epochs=" << lobeBankEpochs()
     << " opt-union-weight=" << formatNumber(lobeUnionWeight)
@@ -470,7 +472,7 @@ RenderStudyResult runRenderStudy(const RenderStudySettings &s, const StudyProgre
 
   const std::string assets = resolveAssetRoot(s.assets);
   for (const std::string &scenePath : s.scenes) {
-    SceneStudy scene{loadScene(scenePath, assets), {}, slug(scenePath), {}};
+    SceneStudy scene{loadScene(scenePath, assets, s.lobeChoice), {}, slug(scenePath), {}};
     scene.settings = s.overrides().appliedTo(scene.loaded.settings);
     scene.dir = s.out / scene.slug;
 

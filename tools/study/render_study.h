@@ -86,6 +86,9 @@ struct RenderStudySettings {
   std::optional<LobeRouting> lobeRouting;  // --lobe-routes (unset: measured)
   std::optional<double> lobeDefensive;     // --lobe-defensive (unset: the default share)
   std::optional<int> lobeBounces;          // --lobe-bounces (unset: the default)
+  // How the scenes' Disney materials pick lobes, in every row and the
+  // references (--lobe-choice).
+  LobeChoice lobeChoice = kDefaultLobeChoice;
   std::filesystem::path out;
   // The set cache's directory (tools/study/set_cache.h); empty:
   // SetCache::fromEnvironment ($NULD_CACHE, ...).
