@@ -1,16 +1,24 @@
 #!/usr/bin/env bash
-# The material's own lobe choice (materials/README.md, "Lobe choice"): render
-# studies of the four shipped scenes under both MIS integrators with the
-# classic backends, once per --lobe-choice, 16 and 64 spp, 8 repeats, seed
-# 9173 (no test uses it), 1/4 resolution. Every choice of a (scene,
-# integrator) scores against the same reference (REFERENCE_SPP, default
-# 4096 spp, rendered once with the default choice and copied). Writes
-# OUT/CHOICE/INTEGRATOR/render.csv and OUT/summary.csv: each row's MSE
-# relative to the uniform choice's sobol, with its standard error.
+# The classic baseline and what survives it (tools/experiments/README.md,
+# "The material's lobe choice" and "Routes against the new baseline"):
+# render studies of the four shipped scenes under both MIS integrators, once
+# per --lobe-choice, 16 and 64 spp, 8 repeats, seed 9173 (no test uses it),
+# 1/4 resolution. Every choice of a (scene, integrator) scores against the
+# same reference (REFERENCE_SPP, default 4096 spp, rendered once with the
+# default choice, in two halves that measure its own variance, and copied).
+# Each choice has its own set cache, empty at its start, so setup seconds
+# are what the sets cost from nothing.
+#
+# Writes OUT/CHOICE/INTEGRATOR/render.csv (with references.csv and
+# verdicts.csv) and OUT/summary.csv: each row's MSE relative to sobol under
+# BASELINE_CHOICE (default albedo, the default choice) and to the best
+# classic row of its own study, with standard errors, the reference's
+# variance and whether the reference is too noisy for the row.
 #
 # Usage: tools/experiments/lobe_choice.sh OUT
 #   CHOICES (default "uniform weight albedo"), BACKENDS (default sobol,halton),
-#   SCENES, INTEGRATORS (default "direct path"), SPP (16,64), REFERENCE_SPP.
+#   SCENES, INTEGRATORS (default "direct path"), SPP (16,64), REFERENCE_SPP,
+#   BASELINE_CHOICE.
 source "$(dirname "$0")/common.sh"
 out=${1:?usage: lobe_choice.sh OUT}
 choices=${CHOICES:-"uniform weight albedo"}
@@ -19,55 +27,70 @@ scenes=${SCENES:-"default scenes/lte-orb.json scenes/dragon.json scenes/cup.json
 integrators=${INTEGRATORS:-"direct path"}
 spp=${SPP:-16,64}
 reference_spp=${REFERENCE_SPP:-4096}
+baseline=${BASELINE_CHOICE:-albedo}
 mkdir -p "$out"
+out=$(cd "$out" && pwd)
 cd "$root"
+files=reference.{exr,state,half0.exr,half1.exr}
 
 for integrator in $integrators; do
   refs="$out/references/$integrator"
   for scene in $scenes; do
     slug=$(basename "$scene" .json)
     if [[ ! -f "$refs/$slug/reference.exr" ]]; then
-      # The reference alone: a study with no cell to render.
+      # The reference alone: a study with one tiny cell.
       "$nuld" study render "$scene" --integrator "$integrator" --res-scale 0.25 --spp 1 \
         --repeats 1 --reference-spp "$reference_spp" --seed 9173 --backends sobol \
         --no-report -q -o "$refs/study" >/dev/null
       mkdir -p "$refs/$slug"
-      cp "$refs/study/$slug"/reference.{exr,state} "$refs/$slug/"
+      eval cp "$refs/study/$slug/$files" "$refs/$slug/"
     fi
     for choice in $choices; do
       dir="$out/$choice/$integrator"
       mkdir -p "$dir/$slug"
-      [[ -f "$dir/$slug/reference.exr" ]] || cp "$refs/$slug"/reference.{exr,state} "$dir/$slug/"
-      "$nuld" study render "$scene" --integrator "$integrator" --res-scale 0.25 --spp "$spp" \
-        --repeats 8 --reference-spp "$reference_spp" --seed 9173 --backends "$backends" \
+      [[ -f "$dir/$slug/reference.exr" ]] || eval cp "$refs/$slug/$files" "$dir/$slug/"
+      NULD_CACHE="$out/$choice/set-cache" "$nuld" study render "$scene" \
+        --integrator "$integrator" --res-scale 0.25 --spp "$spp" --repeats 8 \
+        --reference-spp "$reference_spp" --seed 9173 --backends "$backends" \
         --lobe-choice "$choice" --no-report -q -o "$dir" >/dev/null
     done
   done
 done
 
-"$python" - "$out" <<'PY'
+"$python" - "$out" "$baseline" <<'PY'
 import csv, glob, os, sys
-out = sys.argv[1]
-rows, tables = [], {}
+out, baseline = sys.argv[1], sys.argv[2]
+rows, tables, refs = [], {}, {}
 for path in sorted(glob.glob(os.path.join(out, "*", "*", "render.csv"))):
     choice, integrator = path.split(os.sep)[-3:-1]
     if choice == "references":
         continue
     for r in csv.DictReader(open(path)):
-        tables[(choice, integrator, r["scene"], r["backend"], r["spp"])] = r
-for (choice, integrator, scene, backend, spp), r in sorted(tables.items()):
-    base = tables.get(("uniform", integrator, scene, "sobol", spp))
+        tables[(integrator, r["scene"], r["spp"], choice, r["backend"])] = r
+    for r in csv.DictReader(open(os.path.join(os.path.dirname(path), "references.csv"))):
+        refs[(integrator, r["scene"])] = r["variance"]
+
+def ratio(r, base):
+    m, b = float(r["mse"]), float(base["mse"])
+    return m / b, m / b * ((float(r["mse_stderr"]) / m) ** 2 + (float(base["mse_stderr"]) / b) ** 2) ** 0.5
+
+for key, r in sorted(tables.items()):
+    integrator, scene, spp, choice, backend = key
+    base = tables.get((integrator, scene, spp, baseline, "sobol"))
     if not base:
         continue
-    m, b = float(r["mse"]), float(base["mse"])
-    ratio = m / b
-    se = ratio * ((float(r["mse_stderr"]) / m) ** 2 + (float(base["mse_stderr"]) / b) ** 2) ** 0.5
-    rows.append([scene, integrator, spp, choice, backend, f"{m:.4g}", f"{ratio:.3f}", f"{se:.3f}",
+    q, se = ratio(r, base)
+    rows.append([scene, integrator, spp, choice, backend, f"{float(r['mse']):.4g}", f"{q:.3f}",
+                 f"{se:.3f}", r.get("best_classic", ""), r.get("mse_ratio_best_classic", ""),
+                 r.get("mse_ratio_best_classic_stderr", ""), refs.get((integrator, scene), ""),
+                 r.get("reference_too_noisy", ""), r["setup_seconds"],
                  f"{float(r['seconds']) / float(base['seconds']):.2f}"])
 with open(os.path.join(out, "summary.csv"), "w", newline="") as f:
     w = csv.writer(f)
     w.writerow(["scene", "integrator", "spp", "lobe_choice", "backend", "mse",
-                "mse_ratio_to_uniform_sobol", "stderr", "seconds_ratio"])
+                f"mse_ratio_{baseline}_sobol", "stderr", "best_classic", "mse_ratio_best_classic",
+                "mse_ratio_best_classic_stderr", "reference_variance", "reference_too_noisy",
+                "setup_seconds", "seconds_ratio"])
     w.writerows(rows)
 for r in rows:
     print(" ".join(f"{c:>10}" for c in r))
