@@ -1,8 +1,8 @@
 // The render study's baselines (tools/study/baselines.h): the reference's
 // own noise against a known variance, on synthetic halves and on rendered
 // references against the spread of many independent ones; the best classic
-// row, its ratio and the noise flag by hand from a small CSV; and which
-// backend words count as classic.
+// row, its ratio, the noise flag and the break-even renders by hand from a
+// small CSV; and which backend words count as classic.
 
 #include "tools/study/baselines.h"
 
@@ -203,6 +203,87 @@ TEST(Baselines, BestClassicRatioAndFlagByHandFromASmallStudy) {
   fillBaselineColumns(table, {});
   EXPECT_TRUE(std::isnan(number(4, "mse_less_reference")));
   EXPECT_EQ(value(4, "reference_too_noisy"), "0");
+}
+
+// break_even_renders by hand: the smallest K with MSE x (seconds + setup /
+// K) below the best classic row's, each paying its own setup.
+TEST(Baselines, BreakEvenRendersByHand) {
+  const auto row = [](double mse, double stderr_, double seconds, double setup) {
+    TimedRow r;
+    r.scene = "s", r.spp = 16, r.mse = mse, r.mseStderr = stderr_;
+    r.seconds = seconds, r.setupSeconds = setup;
+    return r;
+  };
+  const TimedRow classic = row(1.0, 0.01, 2.0, 0.5);
+  // Finite: gain 1 x 2 - 0.5 x 2.2 = 0.9 per render, extra setup 0.5 x 30 -
+  // 1 x 0.5 = 14.5; crossing at 16.11, so K = 17 (K = 16 still loses:
+  // 0.5 (2.2 + 30 / 16) = 2.0375 > 1 x (2 + 0.5 / 16) = 2.03125).
+  const TimedRow learned = row(0.5, 0.01, 2.2, 30);
+  const Ratio k = breakEvenRenders(learned, classic);
+  EXPECT_EQ(k.value, 17);
+  EXPECT_GT(0.5 * (2.2 + 30.0 / 16), 1.0 * (2 + 0.5 / 16));
+  EXPECT_LT(0.5 * (2.2 + 30.0 / 17), 1.0 * (2 + 0.5 / 17));
+  // Its standard error by the delta method, against finite differences.
+  const auto crossing = [&](double m, double b) {
+    return (m * 30 - b * 0.5) / (b * 2.0 - m * 2.2);
+  };
+  const double h = 1e-6,
+               dm = (crossing(0.5 + h, 1.0) - crossing(0.5 - h, 1.0)) / (2 * h),
+               db = (crossing(0.5, 1.0 + h) - crossing(0.5, 1.0 - h)) / (2 * h);
+  EXPECT_NEAR(k.stderr_, std::hypot(dm * 0.01, db * 0.01), 1e-6);
+  // Setup cheaper than the classic's and ahead per render: the first render.
+  EXPECT_EQ(breakEvenRenders(row(0.5, 0.01, 2.0, 0.1), classic).value, 1);
+  // Never ahead per render: infinity, whatever its setup...
+  const TimedRow sobol = row(1.0, 0.01, 2.0, 0.0);
+  EXPECT_TRUE(std::isinf(breakEvenRenders(row(1.2, 0.01, 2.0, 0.0), sobol).value));
+  EXPECT_TRUE(std::isinf(breakEvenRenders(row(0.5, 0.01, 4.5, 10), classic).value));
+  // ... unless the classic row's own setup makes it lose the first render
+  // (1.2 x 2 < 1 x (2 + 0.5)).
+  EXPECT_EQ(breakEvenRenders(row(1.2, 0.01, 2.0, 0.0), classic).value, 1);
+  // A tie within standard errors: gain 1 x 2 - 0.95 x 2 = 0.1 against a
+  // standard error of hypot(2 x 0.1, 2 x 0.1) = 0.28: K is finite but its
+  // standard error is infinite.
+  const Ratio tie = breakEvenRenders(row(0.95, 0.1, 2.0, 5), row(1.0, 0.1, 2.0, 0.5));
+  EXPECT_EQ(tie.value, std::floor((0.95 * 5 - 0.5) / 0.1) + 1);
+  EXPECT_TRUE(std::isinf(tie.stderr_));
+}
+
+// The column from a study's CSV: a learned row's break_even_renders against
+// its best classic row, a classic row's NaN, and the verdict's the same.
+TEST(Baselines, BreakEvenRendersColumnsFromACsv) {
+  TempDir tmp;
+  CsvTable table(tmp / "render.csv", renderStudyColumns(), renderStudyDerivedColumns());
+  const auto add = [&](const std::string &backend, double mse, double seconds, double setup) {
+    std::vector<std::string> row(renderStudyColumns().size());
+    const auto set = [&](const char *column, const std::string &value) {
+      row[table.column(column)] = value;
+    };
+    set("scene", "s");
+    set("backend", backend);
+    set("spp", "16");
+    set("mse", formatNumber(mse));
+    set("mse_stderr", formatNumber(mse / 100));
+    set("relmse", formatNumber(mse));
+    set("seconds", formatNumber(seconds));
+    set("setup_seconds", formatNumber(setup));
+    table.addRow(row);
+  };
+  add("sobol", 1.0, 2.0, 0);
+  add("optimized", 0.5, 2.0, 10);  // gain 1 per render: K > 5, so 6
+  add("neural", 1.5, 1.0, 0);      // gain 0.5 per render, no setup: K = 1
+  fillBaselineColumns(table, {});
+  fillEqualTime(table, 1);
+  const auto number = [&](std::size_t row, const char *column) {
+    return parseNumber(table.rows()[row][table.column(column)]);
+  };
+  EXPECT_TRUE(std::isnan(number(0, "break_even_renders")));
+  EXPECT_EQ(number(1, "break_even_renders"), 6);
+  EXPECT_EQ(number(2, "break_even_renders"), 1);
+  CsvTable verdicts(tmp / "verdicts.csv", verdictColumns());
+  verdicts.loadExisting();
+  ASSERT_EQ(verdicts.rows().size(), 1u);
+  EXPECT_EQ(verdicts.rows()[0][verdicts.column("best")], "neural");
+  EXPECT_EQ(parseNumber(verdicts.rows()[0][verdicts.column("break_even_renders")]), 1);
 }
 
 TEST(Baselines, RatioOfMeansPropagatesRelativeErrors) {

@@ -69,7 +69,8 @@ void printTable(const study::CsvTable &table, const study::CsvTable &references,
   const std::size_t relmse = table.column("relmse"), classic = table.column("best_classic"),
                     classicRatio = table.column("mse_ratio_best_classic"),
                     classicStderr = table.column("mse_ratio_best_classic_stderr"),
-                    tooNoisy = table.column("reference_too_noisy");
+                    tooNoisy = table.column("reference_too_noisy"),
+                    breakEven = table.column("break_even_renders");
   std::map<std::pair<std::string, std::size_t>, const study::TimedRow *> sobol;
   for (const auto &r : rows)
     if (r.backend == "sobol") sobol[{r.scene, r.spp}] = &r;
@@ -102,13 +103,13 @@ void printTable(const study::CsvTable &table, const study::CsvTable &references,
                     study::parseNumber(value("variance")),
                     study::parseNumber(value("relvariance")));
       }
-      std::printf("\n%-22s %5s %11s %11s %13s %6s %13s %6s %-15s %8s %8s %8s %13s %6s\n", "backend",
-                  "spp", "mse", "relmse", "mse/sobol", "vs", "mse/classic", "vs", "best_classic",
-                  "seconds", "setup_s", "total_s", "time/sobol", "vs");
+      std::printf("\n%-22s %5s %11s %11s %13s %6s %13s %6s %-15s %8s %8s %8s %13s %6s %6s\n",
+                  "backend", "spp", "mse", "relmse", "mse/sobol", "vs", "mse/classic", "vs",
+                  "best_classic", "seconds", "setup_s", "total_s", "time/sobol", "vs", "pays@");
       lastScene = r.scene;
     }
     const auto it = sobol.find({r.scene, r.spp});
-    char ratio[48] = "-", timeRatio[48] = "-", classicText[48] = "-";
+    char ratio[48] = "-", timeRatio[48] = "-", classicText[48] = "-", paysAt[24] = "-";
     const char *verdict = "-", *timeVerdict = "-", *classicVerdict = "-";
     if (it != sobol.end() && it->second->mse > 0 && r.backend != "sobol") {
       // A verdict needs two standard errors between the ratio and 1.
@@ -129,15 +130,20 @@ void printTable(const study::CsvTable &table, const study::CsvTable &references,
     if (std::isfinite(cq)) {
       std::snprintf(classicText, sizeof classicText, "%.3f+-%.3f", cq, cse);
       classicVerdict = verdictOf(cq, cse);
+      const double k = study::parseNumber(csv[breakEven]);
+      if (std::isinf(k))
+        std::snprintf(paysAt, sizeof paysAt, "never");
+      else if (std::isfinite(k))
+        std::snprintf(paysAt, sizeof paysAt, "%.0f", k);
     }
     const auto shortened = [](std::string name, std::size_t width) {
       return name.size() > width ? "..." + name.substr(name.size() - (width - 3)) : name;
     };
-    std::printf("%-22s %5zu %11.4e %11.4e %13s %6s %13s %6s %-15s %8.3f %8.2f %8.3f %13s %6s%s\n",
+    std::printf("%-22s %5zu %11.4e %11.4e %13s %6s %13s %6s %-15s %8.3f %8.2f %8.3f %13s %6s %6s%s\n",
                 shortened(r.backend, 22).c_str(), r.spp, r.mse, study::parseNumber(csv[relmse]),
                 ratio, verdict, classicText, classicVerdict,
                 csv[classic].empty() ? "-" : shortened(csv[classic], 15).c_str(), r.seconds,
-                r.setupSeconds, times[i].totalSeconds, timeRatio, timeVerdict,
+                r.setupSeconds, times[i].totalSeconds, timeRatio, timeVerdict, paysAt,
                 csv[tooNoisy] == "1" ? "  reference too noisy for this row" : "");
   }
   std::printf("\nLowest error for the time (MSE x total seconds, setup over %s render%s):\n",
@@ -303,7 +309,9 @@ Runner addStudyRender(CLI::App &app) {
         " every MSE, decides the comparison. seconds: one render incl. the backend's sample\n"
         " generation; setup_s: making this row's sets and lobe tables in this run (0 when\n"
         " cached); total_s: seconds + setup_s / --amortize; time/sobol: MSE x total_s over\n"
-        " sobol's, below 1 reaching sobol's error sooner. CSV: %s)\n",
+        " sobol's, below 1 reaching sobol's error sooner. pays@: a learned row's\n"
+        " break_even_renders, the fewest renders sharing its setup after which it reaches\n"
+        " the best classic row's error sooner (never: it is not ahead per render). CSV: %s)\n",
         study::kTooNoisyFactor, result.csv.string().c_str());
     std::fflush(stdout);  // the table before the report script's own lines
     return o->noReport ? 0 : runReport(o->out);

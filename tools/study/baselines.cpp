@@ -1,6 +1,7 @@
 #include "tools/study/baselines.h"
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "tools/study/csv_table.h"
@@ -33,12 +34,34 @@ std::vector<ClassicBaseline> classicBaselines(const std::vector<TimedRow> &rows)
     ClassicBaseline c;
     if (const auto it = best.find({r.scene, r.spp}); it != best.end()) {
       c.backend = it->second->backend;
-      if (!classic[i])
+      if (!classic[i]) {
         c.ratio = ratioOfMeans(r.mse, r.mseStderr, it->second->mse, it->second->mseStderr);
+        c.breakEven = breakEvenRenders(r, *it->second);
+      }
     }
     out.push_back(c);
   }
   return out;
+}
+
+Ratio breakEvenRenders(const TimedRow &learned, const TimedRow &classic) {
+  const double m = learned.mse, b = classic.mse;
+  if (!(m > 0) || !(b > 0)) return {};
+  // K (b T - m s) > m U - b V: the learned row's gain per render against
+  // its extra setup.
+  const double gain = b * classic.seconds - m * learned.seconds;
+  const double extra = m * learned.setupSeconds - b * classic.setupSeconds;
+  const double gainStderr = std::hypot(classic.seconds * classic.mseStderr,
+                                       learned.seconds * learned.mseStderr);
+  const double inf = std::numeric_limits<double>::infinity();
+  if (!(gain > 0)) return {gain > extra ? 1.0 : inf, inf};
+  const double crossing = extra / gain;
+  const double k = crossing < 1 ? 1.0 : std::floor(crossing) + 1;
+  if (gain < 2 * gainStderr) return {k, inf};
+  // d crossing / d m and d / d b.
+  const double dm = (learned.setupSeconds * gain + extra * learned.seconds) / (gain * gain),
+               db = -(classic.setupSeconds * gain + extra * classic.seconds) / (gain * gain);
+  return {k, std::hypot(dm * learned.mseStderr, db * classic.mseStderr)};
 }
 
 NoiseCorrected lessReferenceNoise(double mse, double relmse, const ReferenceNoise &noise) {
@@ -52,7 +75,8 @@ NoiseCorrected lessReferenceNoise(double mse, double relmse, const ReferenceNois
 const std::vector<std::string> &baselineColumns() {
   static const std::vector<std::string> names{
       "mse_less_reference", "relmse_less_reference",  "reference_too_noisy",
-      "best_classic",       "mse_ratio_best_classic", "mse_ratio_best_classic_stderr"};
+      "best_classic",       "mse_ratio_best_classic", "mse_ratio_best_classic_stderr",
+      "break_even_renders", "break_even_renders_stderr"};
   return names;
 }
 
@@ -71,6 +95,8 @@ void fillBaselineColumns(CsvTable &table, const std::map<std::string, ReferenceN
     values[3].push_back(classic[i].backend);
     values[4].push_back(formatNumber(classic[i].ratio.value));
     values[5].push_back(formatNumber(classic[i].ratio.stderr_));
+    values[6].push_back(formatNumber(classic[i].breakEven.value));
+    values[7].push_back(formatNumber(classic[i].breakEven.stderr_));
   }
   for (std::size_t k = 0; k < values.size(); ++k) table.setColumn(baselineColumns()[k], values[k]);
 }

@@ -42,12 +42,23 @@ inline constexpr double kTooNoisyFactor = 10;
 bool isClassicBackend(const std::string &word);
 
 // Per row: the best classic backend at its scene and spp ("" when there is
-// none) and, for a learned row, its MSE over that backend's (NaN for a
-// classic row, and when there is none).
+// none) and, for a learned row, its MSE over that backend's and the renders
+// after which it has paid for its setup (breakEvenRenders); NaN for a
+// classic row, and when there is none.
 struct ClassicBaseline {
   std::string backend;
   Ratio ratio;
+  Ratio breakEven;  // breakEvenRenders, with its standard error
 };
+
+// The smallest number of renders K >= 1 for which the learned row reaches
+// the classic row's error sooner: MSE x (seconds + setup / K) below the
+// classic row's MSE x (seconds + setup / K) (each pays its own setup, a
+// table's too). Infinity where no K does (the learned row is not ahead per
+// render). The standard error is that of the real-valued K at which the two
+// cross, from the two MSEs' (delta method; the times are taken as exact),
+// infinite where the crossing is within two of them of never happening.
+Ratio breakEvenRenders(const TimedRow &learned, const TimedRow &classic);
 std::vector<ClassicBaseline> classicBaselines(const std::vector<TimedRow> &rows);
 
 // Per row: MSE and relMSE less the reference's noise, and the flag.

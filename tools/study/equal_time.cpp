@@ -77,6 +77,7 @@ std::vector<TimeVerdict> timeVerdicts(const std::vector<TimedRow> &rows, double 
     v.bestTime = times[g[0]];
     v.bestClassic = classic[g[0]].backend;
     v.toBestClassic = classic[g[0]].ratio;
+    v.breakEven = classic[g[0]].breakEven;
     v.separation = v.separationStderr = NAN;
     const TimedRow &best = rows[g[0]];
     v.best.push_back(best.backend);
@@ -155,7 +156,9 @@ const std::vector<std::string> &verdictColumns() {
                                               "amortize",
                                               "best_classic",
                                               "mse_ratio_best_classic",
-                                              "mse_ratio_best_classic_stderr"};
+                                              "mse_ratio_best_classic_stderr",
+                                              "break_even_renders",
+                                              "break_even_renders_stderr"};
   return names;
 }
 
@@ -182,7 +185,8 @@ void fillEqualTime(CsvTable &table, double amortize) {
                      formatNumber(v.separation), formatNumber(v.separationStderr),
                      formatNumber(v.bestTime.ratio), formatNumber(v.bestTime.ratioStderr),
                      formatNumber(amortize), v.bestClassic, formatNumber(v.toBestClassic.value),
-                     formatNumber(v.toBestClassic.stderr_)});
+                     formatNumber(v.toBestClassic.stderr_), formatNumber(v.breakEven.value),
+                     formatNumber(v.breakEven.stderr_)});
   }
 }
 

@@ -54,6 +54,7 @@ struct TimeVerdict {
   // best[0] is learned, best[0]'s MSE over its (else NaN).
   std::string bestClassic;
   Ratio toBestClassic;
+  Ratio breakEven;  // best[0]'s break-even renders against it (baselines.h), NaN if classic
 };
 std::vector<TimeVerdict> timeVerdicts(const std::vector<TimedRow> &rows, double amortize);
 
@@ -71,8 +72,8 @@ const std::vector<std::string> &equalTimeColumns();
 // verdicts beside it (verdictColumns: scene, spp, best, tied
 // (space-separated), runner_up, separation, separation_stderr,
 // equal_time_ratio, equal_time_ratio_stderr, amortize, best_classic,
-// mse_ratio_best_classic, mse_ratio_best_classic_stderr), which the study's
-// page shows.
+// mse_ratio_best_classic, mse_ratio_best_classic_stderr, break_even_renders,
+// break_even_renders_stderr), which the study's page shows.
 const std::vector<std::string> &verdictColumns();
 void fillEqualTime(CsvTable &table, double amortize);
 

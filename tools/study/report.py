@@ -131,6 +131,13 @@ def render_plots(scene, rows, plots_dir):
             axes[2].plot(xs, ys, "o", mfc="none", ms=5, color=f"C{i % 10}",
                          label="K = 1" if i == 0 else None)
         axes[2].legend(fontsize=7)
+    # Each learned row's break-even renders against the best classic row.
+    for r in rows:
+        k = num(r.get("break_even_renders"))
+        if not math.isnan(k):
+            axes[2].annotate("never" if math.isinf(k) else f"pays@{k:.0f}",
+                             (num(r[xkey]), num(r["mse"])), fontsize=6,
+                             textcoords="offset points", xytext=(3, 3))
     fig.suptitle(f"{scene}: error against a reference")
     fig.tight_layout()
     name = f"render_{scene}.png"
@@ -184,6 +191,16 @@ def error_scale(plots_dir):
     fig.savefig(os.path.join(plots_dir, name), dpi=110)
     plt.close(fig)
     return "plots/" + name
+
+
+def pays_after(row):
+    """break_even_renders in words: 'after K renders' or 'never'."""
+    k = num(row.get("break_even_renders"))
+    if math.isinf(k):
+        return "never (not ahead per render)"
+    se = num(row.get("break_even_renders_stderr"))
+    spread = f" (±{se:.0f})" if math.isfinite(se) else " (±∞: a tie per render)"
+    return f"after {k:.0f} render{'s' if k != 1 else ''}{spread}"
 
 
 def fmt(v, digits=3):
@@ -246,6 +263,8 @@ def render_section(root, scene, rows, ref, plots_dir, scale):
                           if math.isfinite(cq) else "")
                        + (f"<br><small>×{eq:.2f} at equal time</small>"
                           if math.isfinite(eq) and b != "sobol" else "")
+                       + (f"<br><small>pays for its setup {pays_after(r)}</small>"
+                          if r.get("break_even_renders", "nan") != "nan" else "")
                        + ("<br><small class='bad'>reference too noisy for this row</small>"
                           if r.get("reference_too_noisy") == "1" else "")
                        + "</td>")
@@ -261,7 +280,9 @@ def render_section(root, scene, rows, ref, plots_dir, scale):
                "sobol-tabulated, whichever ran); 'at equal time': MSE × (seconds + setup / "
                f"{amortize:g}) over Owen-Sobol's. 'Reference too noisy for this row': its "
                f"MSE is less than {TOO_NOISY_FACTOR}× the reference's own variance, which then decides the "
-               "comparison.</p>")
+               "comparison. 'Pays for its setup after K renders': the fewest renders sharing "
+               "its setup after which the learned row reaches the best classic row's error "
+               "sooner (break_even_renders).</p>")
     verdicts = [v for v in read_csv(os.path.join(root, "verdicts.csv")) if v["scene"] == scene]
     if verdicts:
         out.append("<p><b>Lowest error for the time</b> (MSE × total seconds, setup spread "
@@ -281,7 +302,8 @@ def render_section(root, scene, rows, ref, plots_dir, scale):
             if math.isfinite(num(v.get("mse_ratio_best_classic"))):
                 line += (f"; MSE ×{num(v['mse_ratio_best_classic']):.2f}±"
                          f"{num(v['mse_ratio_best_classic_stderr']):.2f} of the best classic's "
-                         f"({html.escape(backend_label(v['best_classic']))})")
+                         f"({html.escape(backend_label(v['best_classic']))}), pays for its "
+                         f"setup {pays_after(v)}")
             out.append(line + "</li>")
         out.append("</ul>")
 
