@@ -17,15 +17,6 @@ struct Frame {
     const double a = -1 / (sign + n.z), b = n.x * n.y * a;
     return {{1 + sign * n.x * n.x * a, sign * b, -sign * n.x}, {b, sign + n.y * n.y * a, -n.y}, n};
   }
-  // The tangent projected into the plane of n (Gram-Schmidt); falls back to
-  // fromNormal when the tangent is parallel to n or not finite.
-  static Frame fromNormalTangent(Vec3 n, Vec3 tangent) {
-    const Vec3 s = tangent - dot(tangent, n) * n;
-    const double len = length(s);
-    if (!(len > 1e-9)) return fromNormal(n);
-    const Vec3 su = s / len;
-    return {su, cross(n, su), n};
-  }
 
   Vec3 toLocal(Vec3 v) const { return {dot(v, s), dot(v, t), dot(v, n)}; }
   Vec3 toWorld(Vec3 v) const { return v.x * s + v.y * t + v.z * n; }

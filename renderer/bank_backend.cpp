@@ -5,7 +5,6 @@
 #include <stdexcept>
 
 #include "renderer/backend_registry.h"
-#include "renderer/neural_backend.h"
 #include "renderer/padding.h"
 #include "sampler/enum_names.h"
 #include "sampler/io/pointset_io.h"

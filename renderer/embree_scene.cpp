@@ -31,9 +31,6 @@ void throwOnError(RTCDevice device, const char *what) {
 
 EmbreeScene::EmbreeScene(std::vector<TriangleMesh> meshes)
     : handles_(std::make_unique<Handles>()), meshes_(std::move(meshes)) {
-  const double inf = std::numeric_limits<double>::infinity();
-  lo_ = {inf, inf, inf};
-  hi_ = -lo_;
   handles_->device = rtcNewDevice(nullptr);
   if (!handles_->device) throw std::runtime_error("Embree: cannot create a device");
   handles_->scene = rtcNewScene(handles_->device);
@@ -56,8 +53,6 @@ EmbreeScene::EmbreeScene(std::vector<TriangleMesh> meshes)
         throw std::invalid_argument("mesh '" + mesh.name + "': vertex " + std::to_string(i) +
                                     " is not finite");
       v[3 * i] = float(p.x), v[3 * i + 1] = float(p.y), v[3 * i + 2] = float(p.z);
-      lo_ = min(lo_, p);
-      hi_ = max(hi_, p);
     }
     auto *idx = static_cast<unsigned *>(
         rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,

@@ -60,8 +60,6 @@ class EmbreeScene {
 
   const std::vector<TriangleMesh> &meshes() const { return meshes_; }
   std::size_t triangleCount() const;
-  Vec3 boundsMin() const { return lo_; }
-  Vec3 boundsMax() const { return hi_; }
 
   // The raw Embree query, for the benchmark that compares the renderer with
   // Embree alone: returns the hit distance or infinity.
@@ -76,7 +74,6 @@ class EmbreeScene {
   struct Handles;
   std::unique_ptr<Handles> handles_;
   std::vector<TriangleMesh> meshes_;
-  Vec3 lo_, hi_;
 };
 
 // Moves a ray origin off the surface along the geometric normal, on the side

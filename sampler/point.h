@@ -57,7 +57,6 @@ inline constexpr auto kDomainNames = enumTable<Domain>(
     "domain",
     {{"square", Domain::Square}, {"sphere", Domain::Sphere}, {"hemisphere", Domain::Hemisphere}});
 constexpr const auto &enumNames(Domain) { return kDomainNames; }
-inline Domain parseDomain(const std::string &s) { return kDomainNames.parse(s); }
 
 // Maps a point into its domain. On the sphere (and hemisphere) longitude is
 // periodic and a point past a pole comes back on the other side, (u + 1/2,

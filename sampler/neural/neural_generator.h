@@ -168,8 +168,6 @@ class NeuralGenerator {
   Domain domain() const { return family_->domain(); }
   std::size_t gammaDimension() const { return family_->gammaDimension(); }
   std::size_t parameterCount() const;
-  // Metadata read from the file by load() (empty for a new generator).
-  const std::map<std::string, std::string> &fileMetadata() const { return fileMetadata_; }
   // The checksum of the file load() read (ModelFile::checksum; 0 for a new
   // generator): the same value means the same weights.
   std::uint64_t fileChecksum() const { return fileChecksum_; }
@@ -225,7 +223,6 @@ class NeuralGenerator {
   std::unique_ptr<const TargetFamily> family_;
   std::vector<Point2> sobol_;  // the first n Sobol points (the rotated base)
   std::unique_ptr<Net> net_;
-  std::map<std::string, std::string> fileMetadata_;
   std::uint64_t fileChecksum_ = 0;
 };
 

@@ -91,7 +91,6 @@ NeuralGenerator NeuralGenerator::load(const std::string &path) {
   try {
     NeuralGenerator gen(std::move(s));
     gen.loadWeights(file, path);
-    gen.fileMetadata_ = file.metadata;
     gen.fileChecksum_ = file.checksum;
     return gen;
   } catch (const std::invalid_argument &e) {

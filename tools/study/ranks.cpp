@@ -45,7 +45,6 @@ int toInt(std::size_t n, const char *what) {
 
 const Ranks &Ranks::world() { return worldRanks(); }
 
-bool builtWithMpi() { return NULD_HAVE_MPI != 0; }
 
 void Ranks::barrier() const {
 #if NULD_HAVE_MPI

@@ -71,8 +71,6 @@ class MpiSession {
   ThreadLimit *threads_ = nullptr;
 };
 
-// Whether this build can run under MPI (CMake found it).
-bool builtWithMpi();
 
 // Runs tasks [0, count) over the ranks, in rounds of size() tasks: `run(i)`
 // runs on the rank owning task i and returns its result as bytes;
