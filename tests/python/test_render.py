@@ -109,5 +109,5 @@ def test_threads_limit_the_cores_and_change_no_pixel():
     one = nuld.render("default", spp=4, resolution=(16, 12), seed=2, threads=1)
     every = nuld.render("default", spp=4, resolution=(16, 12), seed=2)
     assert np.array_equal(one, every)
-    with pytest.raises(ValueError, match="threads must be >= 1"):
+    with pytest.raises(ValueError, match=r"render: threads: expected a whole number >= 1 \(got 0\)"):
         nuld.render("default", threads=0)
