@@ -165,6 +165,13 @@ grep -q '^sets_made 0$' "$dir/out" && grep -q '^served_light [1-9]' "$dir/out" &
   { echo "FAIL: a second optimized-both render finds its sets and serves both pairs"; cat "$dir/out"; failures=$((failures + 1)); }
 ok "bank" "$nuld" bank default --backend optimized-both --spp 4 --res 8 "${sets[@]}" -q -o "$dir/bankdir"
 ok "render a bank directory" "$nuld" render default --backend optimized:"$dir/bankdir" --spp 4 --res 8 -q -o "$dir/w.exr"
+# One seed default: with no --seed, a render finds the sets a bank made (a
+# fresh cache, so that nothing above made them), and says so in a sentence.
+NULD_CACHE="$dir/seed-cache" "$nuld" bank default --spp 4 --res 8 "${sets[@]}" -q >/dev/null 2>&1
+NULD_CACHE="$dir/seed-cache" "$nuld" render default --backend optimized-both --spp 4 --res 8 "${sets[@]}" -q -o "$dir/w.exr" >"$dir/out" 2>"$dir/err"
+grep -q '^sets_made 0$' "$dir/out" && grep -q '^setup_seconds ' "$dir/out" && ! grep -q '^sets_seconds' "$dir/out" &&
+  grep -q '^nuld: optimized-both: its [1-9][0-9]* sets came from the set cache$' "$dir/err" ||
+  { echo "FAIL: a render after nuld bank makes no set and says they came from the cache"; cat "$dir/out" "$dir/err"; failures=$((failures + 1)); }
 # Sets for the MIS tables serve nothing under BSDF sampling alone through the
 # sphere tables, whose density differs between the two (a primary table can
 # be the same table under both: a metal's, whose lobe choice mix leaves alone).

@@ -125,11 +125,13 @@ void bindRender(py::module_ &m) {
         py::dict d;
         d["backend"] = b->name(), d["spp"] = s.spp, d["integrator"] = toString(s.integrator);
         d["lobe_choice"] = toString(loaded.scene.lobeChoice);
-        d["seconds"] = st.seconds, d["setup_seconds"] = st.setupSeconds, d["rays"] = st.rays;
+        // One setup time, as the studies count it: tables, backend and sets made.
+        d["seconds"] = st.seconds, d["setup_seconds"] = st.setupSeconds + prepared.setupSeconds;
+        d["rays"] = st.rays;
         d["rejected_samples"] = st.rejectedSamples, d["classic_fallbacks"] = st.classicFallbacks;
         if (word.sets != study::StudyBackend::Sets::None)
           d["backend"] = word.word, d["sets_made"] = prepared.setsMade,
-          d["sets_cached"] = prepared.setsCached, d["sets_seconds"] = prepared.setupSeconds;
+          d["sets_cached"] = prepared.setsCached;
         for (const auto &u : b->pairUse()) {
           d[py::str("served_" + u.pair)] = u.served;
           d[py::str("fell_back_" + u.pair)] = u.fellBack;
