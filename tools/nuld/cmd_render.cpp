@@ -32,6 +32,36 @@ std::string setsSentence(const std::string &word, const study::PreparedBackend &
          (p.setsCached ? ", " + std::to_string(p.setsCached) + " came from the cache" : "");
 }
 
+// The pairs a learned backend serves: those whose sets served a context
+// (sets that follow none of the scene's targets are refused when the
+// backend is prepared, so a pair that served nothing has no sets).
+std::vector<SamplerBackend::PairUse> servedPairs(std::vector<SamplerBackend::PairUse> use) {
+  std::erase_if(use, [](const SamplerBackend::PairUse &u) { return u.served == 0; });
+  return use;
+}
+
+// One note when the served pairs fell back for some first-bounce contexts:
+// the share served and why the rest fell back ("" when all were served).
+std::string fallbackNote(const std::string &backend,
+                         const std::vector<SamplerBackend::PairUse> &served,
+                         const std::string &why) {
+  std::uint64_t ok = 0, all = 0;
+  std::string parts;
+  for (const auto &u : served) {
+    ok += u.served, all += u.served + u.fellBack;
+    parts += (parts.empty() ? "" : ", ") + u.pair + " " + std::to_string(u.served) + " of " +
+             std::to_string(u.served + u.fellBack);
+  }
+  if (ok == all) return "";
+  char share[16];
+  std::snprintf(share, sizeof share, "%.0f %%", 100.0 * double(ok) / double(all));
+  return backend + " served " + share + " of its first-bounce contexts (" + parts +
+         "); the rest sampled the classic Owen-Sobol route: " +
+         (why.empty() ? "no set of the backend follows their target (the map, or the lobe "
+                        "bin of their material)"
+                      : why);
+}
+
 }  // namespace
 
 Runner addRender(CLI::App &app) {
@@ -117,7 +147,6 @@ Runner addRender(CLI::App &app) {
     }
     if (word.sets != study::StudyBackend::Sets::None)
       std::cerr << "nuld: " << setsSentence(word.word, prepared) << "\n";
-    if (!prepared.note.empty()) std::cerr << "nuld: note: " << prepared.note << "\n";
     const auto backend = makeBackend(prepared.spec, seed);
     onlyWhen(app, backend->samplesLobes() && s.integrator != IntegratorKind::Light,
              kLobeOptionNames,
@@ -144,6 +173,10 @@ Runner addRender(CLI::App &app) {
           "backend '" + (o->backend.empty() ? loaded.backend : o->backend) +
           "': its sets served no first-bounce sample of this render (every context fell back "
           "to Owen-Sobol); its sets are for other targets, bins or sample counts");
+    const std::string backendWord = o->backend.empty() ? loaded.backend : o->backend;
+    if (const std::string note = fallbackNote(backendWord, servedPairs(use), prepared.note);
+        !note.empty())
+      std::cerr << "nuld: note: " << note << "\n";
     writeRender(
         o->output, image,
         renderAttributes(loaded.name, loaded.scene.lobeChoice, s, backend->name(), seed, stats));
@@ -163,8 +196,8 @@ Runner addRender(CLI::App &app) {
     if (word.sets != study::StudyBackend::Sets::None)
       std::printf("sets_made %zu\nsets_cached %zu\n", prepared.setsMade, prepared.setsCached);
     // Per pair, the first-bounce contexts the sets served and those that
-    // fell back to the classic sampler.
-    for (const auto &u : use)
+    // fell back to the classic sampler; not the pairs it has no sets for.
+    for (const auto &u : servedPairs(use))
       std::printf("served_%s %llu\nfell_back_%s %llu\n", u.pair.c_str(),
                   (unsigned long long)u.served, u.pair.c_str(), (unsigned long long)u.fellBack);
     return 0;

@@ -133,6 +133,7 @@ void bindRender(py::module_ &m) {
           d["backend"] = word.word, d["sets_made"] = prepared.setsMade,
           d["sets_cached"] = prepared.setsCached;
         for (const auto &u : b->pairUse()) {
+          if (u.served == 0) continue;  // a pair the backend has no sets for
           d[py::str("served_" + u.pair)] = u.served;
           d[py::str("fell_back_" + u.pair)] = u.fellBack;
         }
