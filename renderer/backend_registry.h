@@ -72,6 +72,12 @@ BackendSpec parseBackend(const std::string &word);
 // The backend a spec names, seeded. Reads the files a bank or model names
 // (throwing naming the file when one cannot be read).
 std::unique_ptr<SamplerBackend> makeBackend(const BackendSpec &spec, std::uint64_t seed);
+
+// The seed when none is given, the same for every command that makes or
+// reads learned sets (nuld render, nuld bank, the studies, Python's render),
+// so that sets a bank or a study made serve a later render from the set
+// cache: it seeds the backend's randomization and the sets' optimization.
+inline constexpr std::uint64_t kDefaultSeed = 1;
 std::unique_ptr<SamplerBackend> makeBackend(const std::string &word, std::uint64_t seed);
 
 // "independent, sobol, ..., neural:MODEL": every spelling, for option help.

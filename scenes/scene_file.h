@@ -9,7 +9,7 @@
 //                     "mirror_x": false},
 //     "film":        {"width": 512, "height": 512},
 //     "render":      {"spp": 64, "integrator": "path", "max_depth": 5,
-//                     "backend": "sobol", "seed": 0},
+//                     "backend": "sobol", "seed": 1},
 //     "environment": {"file": "envmaps/grace_latlong.exr", "scale": 1, "rotation": 0,
 //                     "up": [0,1,0], "importance": "luminance"},
 //     "materials":   {"OuterMat": {"type": "disney", "base_color": [.9,.9,.9],
@@ -38,6 +38,7 @@
 #include <string>
 #include <vector>
 
+#include "renderer/backend_registry.h"
 #include "renderer/render.h"
 #include "renderer/scene.h"
 
@@ -48,7 +49,7 @@ struct LoadedScene {
   Scene scene;
   RenderSettings settings;  // the file's defaults; the CLI may override them
   std::string backend = "sobol";
-  std::uint64_t seed = 0;
+  std::uint64_t seed = kDefaultSeed;  // "seed" of the file, else the common default
 };
 
 // The asset root: `explicitRoot` if not empty, else $NULD_ASSETS, else

@@ -31,13 +31,6 @@ std::string trim(const std::string &s) {
   return s.substr(b, e - b + 1);
 }
 
-// Point sets live in the unit square (their domain's parameterization);
-// a coordinate outside it (inUnitSquare) is a foreign or corrupted file.
-std::string outsideMessage(Point2 p) {
-  return "point (" + formatRoundTrip(p.x) + ", " + formatRoundTrip(p.y) +
-         ") lies outside the unit square; expected coordinates in [0, 1]";
-}
-
 [[noreturn]] void fail(const std::string &path, std::size_t line, const std::string &what) {
   throw std::runtime_error(path + (line ? ":" + std::to_string(line) : std::string()) + ": " +
                            what);
@@ -89,7 +82,6 @@ PointSet readText(const std::string &path, std::istream &in) {
       const auto [next, ec] = std::from_chars(p, end, v[count]);
       if (ec != std::errc() || (next < end && *next != ' ' && *next != '\t' && *next != ','))
         fail(path, lineNo, quotedInput(t) + " is not a list of numbers");
-      if (!std::isfinite(v[count])) fail(path, lineNo, "coordinate is not finite");
       ++count;
       p = next;
     }
@@ -97,7 +89,7 @@ PointSet readText(const std::string &path, std::istream &in) {
       fail(path, lineNo,
            "expected 2 coordinates per point, found " +
                std::string(count == 3 ? "more than 2" : std::to_string(count)));
-    if (!inUnitSquare({v[0], v[1]})) fail(path, lineNo, outsideMessage({v[0], v[1]}));
+    if (const std::string why = pointProblem({v[0], v[1]}); !why.empty()) fail(path, lineNo, why);
     sets.back().push_back({v[0], v[1]});
   }
   finishSets(set, sets, path);
@@ -152,15 +144,21 @@ PointSet readBinary(const std::string &path, std::istream &in, std::uintmax_t fi
           std::streamsize(n * instances * sizeof(Point2)));
   if (!in) fail(path, 0, "truncated binary file while reading points");
   for (std::size_t i = 0; i < set.points.size(); ++i)
-    if (!isFinite(set.points[i])) {
-      fail(path, 0, "point " + std::to_string(i) + " is not finite");
-    } else if (!inUnitSquare(set.points[i])) {
-      fail(path, 0, "point " + std::to_string(i) + ": " + outsideMessage(set.points[i]));
-    }
+    if (const std::string why = pointProblem(set.points[i]); !why.empty())
+      fail(path, 0, "point " + std::to_string(i) + ": " + why);
   return set;
 }
 
 }  // namespace
+
+// Point sets live in the unit square (their domain's parameterization);
+// a coordinate outside it (inUnitSquare) is a foreign or corrupted file.
+std::string pointProblem(Point2 p) {
+  if (!isFinite(p)) return "coordinate is not finite";
+  if (inUnitSquare(p)) return "";
+  return "point (" + formatRoundTrip(p.x) + ", " + formatRoundTrip(p.y) +
+         ") lies outside the unit square; expected coordinates in [0, 1]";
+}
 
 PointSet readPointSet(const std::string &path) {
   requireInputFile(path, "point-set file");

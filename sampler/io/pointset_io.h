@@ -19,6 +19,12 @@
 namespace nuld {
 
 PointSet readPointSet(const std::string &path);
+
+// The check every reader of points makes (these files, `nuld eval`, and the
+// Python module's arrays): "" for a point with finite coordinates in the
+// unit square, else what is wrong ("coordinate is not finite", "point (x, y)
+// lies outside the unit square; expected coordinates in [0, 1]").
+std::string pointProblem(Point2 p);
 void writePointSet(const std::string &path, const PointSet &set);  // atomic
 
 void writePointSetText(std::ostream &out, const PointSet &set);

@@ -163,8 +163,24 @@ done
 "$nuld" render default --backend optimized-both --spp 4 --res 8 "${sets[@]}" -q -o "$dir/w.exr" >"$dir/out" 2>&1
 grep -q '^sets_made 0$' "$dir/out" && grep -q '^served_light [1-9]' "$dir/out" && grep -q '^served_bsdf [1-9]' "$dir/out" ||
   { echo "FAIL: a second optimized-both render finds its sets and serves both pairs"; cat "$dir/out"; failures=$((failures + 1)); }
+# Fallbacks in words: a BSDF-only backend prints no light counters, and a
+# learned backend that served less than all of its contexts says so once.
+"$nuld" render default --backend optimized-bsdf --spp 4 --res 8 "${sets[@]}" -q -o "$dir/w.exr" >"$dir/out" 2>&1
+grep -q '^served_bsdf [1-9]' "$dir/out" && ! grep -q '_light ' "$dir/out" ||
+  { echo "FAIL: optimized-bsdf prints its bsdf counters and no light ones"; cat "$dir/out"; failures=$((failures + 1)); }
+"$nuld" render default --backend neural --spp 4 --res 16 -q -o "$dir/w.exr" >"$dir/out" 2>"$dir/err"
+[[ $(grep -c '^nuld: note: neural served [0-9]* % of its first-bounce contexts (bsdf [0-9]* of [0-9]*); the rest' "$dir/err") -eq 1 &&
+   $(grep -c 'note' "$dir/err") -eq 1 ]] && grep -q '^fell_back_bsdf [1-9]' "$dir/out" ||
+  { echo "FAIL: neural, serving part of its contexts, says so in one note"; cat "$dir/out" "$dir/err"; failures=$((failures + 1)); }
 ok "bank" "$nuld" bank default --backend optimized-both --spp 4 --res 8 "${sets[@]}" -q -o "$dir/bankdir"
 ok "render a bank directory" "$nuld" render default --backend optimized:"$dir/bankdir" --spp 4 --res 8 -q -o "$dir/w.exr"
+# One seed default: with no --seed, a render finds the sets a bank made (a
+# fresh cache, so that nothing above made them), and says so in a sentence.
+NULD_CACHE="$dir/seed-cache" "$nuld" bank default --spp 4 --res 8 "${sets[@]}" -q >/dev/null 2>&1
+NULD_CACHE="$dir/seed-cache" "$nuld" render default --backend optimized-both --spp 4 --res 8 "${sets[@]}" -q -o "$dir/w.exr" >"$dir/out" 2>"$dir/err"
+grep -q '^sets_made 0$' "$dir/out" && grep -q '^setup_seconds ' "$dir/out" && ! grep -q '^sets_seconds' "$dir/out" &&
+  grep -q '^nuld: optimized-both: its [1-9][0-9]* sets came from the set cache$' "$dir/err" ||
+  { echo "FAIL: a render after nuld bank makes no set and says they came from the cache"; cat "$dir/out" "$dir/err"; failures=$((failures + 1)); }
 # Sets for the MIS tables serve nothing under BSDF sampling alone through the
 # sphere tables, whose density differs between the two (a primary table can
 # be the same table under both: a metal's, whose lobe choice mix leaves alone).

@@ -20,7 +20,7 @@ Runner addBank(CLI::App &app) {
     std::string scene, backend = "optimized-both", res, assets, integrator, output;
     std::vector<std::size_t> spp;
     double resScale = 1;
-    std::uint64_t seed = 1;
+    std::int64_t seed = -1;
     study::RenderStudySettings sets;
     bool quiet = false;
   };
@@ -37,8 +37,11 @@ Runner addBank(CLI::App &app) {
   app.add_option("--integrator", o->integrator,
                  "path, direct, light or bsdf (default: the scene's)")
       ->check(oneOf(kIntegratorNames));
-  app.add_option("--seed", o->seed, "seed of the optimization (a study's --seed; default 1)")
-      ->check(wholeNumber());
+  app.add_option("--seed", o->seed,
+                 "seed of the optimization (a study's or nuld render's --seed; default: the "
+                 "scene's, else " +
+                     std::to_string(kDefaultSeed) + ", as theirs)")
+      ->check(wholeNumberIn(0, std::int64_t(1) << 62));
   addSetOptions(app, o->sets);
   addLobeChoiceOption(app, o->sets.lobeChoice);
   app.add_option("--assets", o->assets,
@@ -63,7 +66,7 @@ Runner addBank(CLI::App &app) {
     RenderSettings s = change.appliedTo(loaded.settings);
     if (o->spp.empty()) o->spp = {s.spp};
     study::RenderStudySettings options = o->sets;
-    options.seed = o->seed;
+    options.seed = o->seed >= 0 ? std::uint64_t(o->seed) : loaded.seed;
     options.spp = o->spp;
     if (!o->output.empty()) std::filesystem::create_directories(o->output);
     std::printf("%-5s %-6s %-44s %-6s %s\n", "spp", "pair", "target", "state", "file");

@@ -19,6 +19,51 @@
 
 namespace nuld::cli {
 
+namespace {
+
+// Where a study word's sets came from, in one sentence.
+std::string setsSentence(const std::string &word, const study::PreparedBackend &p) {
+  const std::string all = std::to_string(p.setsMade + p.setsCached);
+  if (p.setsMade == 0) return word + ": its " + all + " sets came from the set cache";
+  char seconds[32];
+  std::snprintf(seconds, sizeof seconds, "%.1f", p.setupSeconds);
+  return word + ": " + std::to_string(p.setsMade) + " of its " + all + " sets were made in " +
+         seconds + " s (now in the set cache)" +
+         (p.setsCached ? ", " + std::to_string(p.setsCached) + " came from the cache" : "");
+}
+
+// The pairs a learned backend serves: those whose sets served a context
+// (sets that follow none of the scene's targets are refused when the
+// backend is prepared, so a pair that served nothing has no sets).
+std::vector<SamplerBackend::PairUse> servedPairs(std::vector<SamplerBackend::PairUse> use) {
+  std::erase_if(use, [](const SamplerBackend::PairUse &u) { return u.served == 0; });
+  return use;
+}
+
+// One note when the served pairs fell back for some first-bounce contexts:
+// the share served and why the rest fell back ("" when all were served).
+std::string fallbackNote(const std::string &backend,
+                         const std::vector<SamplerBackend::PairUse> &served,
+                         const std::string &why) {
+  std::uint64_t ok = 0, all = 0;
+  std::string parts;
+  for (const auto &u : served) {
+    ok += u.served, all += u.served + u.fellBack;
+    parts += (parts.empty() ? "" : ", ") + u.pair + " " + std::to_string(u.served) + " of " +
+             std::to_string(u.served + u.fellBack);
+  }
+  if (ok == all) return "";
+  char share[16];
+  std::snprintf(share, sizeof share, "%.0f %%", 100.0 * double(ok) / double(all));
+  return backend + " served " + share + " of its first-bounce contexts (" + parts +
+         "); the rest sampled the classic Owen-Sobol route: " +
+         (why.empty() ? "no set of the backend follows their target (the map, or the lobe "
+                        "bin of their material)"
+                      : why);
+}
+
+}  // namespace
+
 Runner addRender(CLI::App &app) {
   struct Options {
     std::string scene, backend, res, assets, integrator, output;
@@ -59,7 +104,10 @@ Runner addRender(CLI::App &app) {
   addLobeOptions(app, o->lobes);
   addLobeChoiceOption(app, o->lobeChoice);
   addSetOptions(app, o->sets);
-  app.add_option("--seed", o->seed, "seed of the backend's randomization")
+  app.add_option("--seed", o->seed,
+                 "seed of the backend's randomization and of the sets it makes (default: the "
+                 "scene's, else " +
+                     std::to_string(kDefaultSeed) + ", as nuld bank's and the studies')")
       ->check(wholeNumberIn(0, std::int64_t(1) << 62));
   app.add_option("-o,--output", o->output, "output EXR (a tone-mapped PNG is written beside it)")
       ->required();
@@ -97,7 +145,8 @@ Runner addRender(CLI::App &app) {
       setsBar.finish(std::to_string(prepared.setsMade) + " made, " +
                      std::to_string(prepared.setsCached) + " from the cache");
     }
-    if (!prepared.note.empty()) std::cerr << "nuld: note: " << prepared.note << "\n";
+    if (word.sets != study::StudyBackend::Sets::None)
+      std::cerr << "nuld: " << setsSentence(word.word, prepared) << "\n";
     const auto backend = makeBackend(prepared.spec, seed);
     onlyWhen(app, backend->samplesLobes() && s.integrator != IntegratorKind::Light,
              kLobeOptionNames,
@@ -111,6 +160,9 @@ Runner addRender(CLI::App &app) {
           bar.update(long(1000 * d / n), std::to_string(d) + "/" + std::to_string(n) + " tiles");
         });
     bar.finish(formatDuration(stats.seconds));
+    // One setup time, as the studies count it: the lobe tables, the backend
+    // and the sets made for it.
+    stats.setupSeconds += prepared.setupSeconds;
     // A backend of learned sets that served nothing rendered the classic
     // sampler's image under its name: refused, not written.
     const auto use = backend->pairUse();
@@ -121,8 +173,13 @@ Runner addRender(CLI::App &app) {
           "backend '" + (o->backend.empty() ? loaded.backend : o->backend) +
           "': its sets served no first-bounce sample of this render (every context fell back "
           "to Owen-Sobol); its sets are for other targets, bins or sample counts");
-    writeRender(o->output, image,
-                renderAttributes(loaded.name, loaded.scene.lobeChoice, s, backend->name(), seed, stats));
+    const std::string backendWord = o->backend.empty() ? loaded.backend : o->backend;
+    if (const std::string note = fallbackNote(backendWord, servedPairs(use), prepared.note);
+        !note.empty())
+      std::cerr << "nuld: note: " << note << "\n";
+    writeRender(
+        o->output, image,
+        renderAttributes(loaded.name, loaded.scene.lobeChoice, s, backend->name(), seed, stats));
     std::printf(
         "scene %s\nbackend %s\nspp %zu\nresolution %dx%d\nintegrator %s\n", loaded.name.c_str(),
         (word.sets == study::StudyBackend::Sets::None ? backend->name() : word.word).c_str(), s.spp,
@@ -137,11 +194,10 @@ Runner addRender(CLI::App &app) {
       std::printf("lobe_bins %zu\nlobe_bins_tabulated %zu\nlobe_bins_primary %zu\n", stats.lobeBins,
                   stats.lobeBinsTabulated, stats.lobeBinsPrimary);
     if (word.sets != study::StudyBackend::Sets::None)
-      std::printf("sets_made %zu\nsets_cached %zu\nsets_seconds %.3f\n", prepared.setsMade,
-                  prepared.setsCached, prepared.setupSeconds);
+      std::printf("sets_made %zu\nsets_cached %zu\n", prepared.setsMade, prepared.setsCached);
     // Per pair, the first-bounce contexts the sets served and those that
-    // fell back to the classic sampler.
-    for (const auto &u : use)
+    // fell back to the classic sampler; not the pairs it has no sets for.
+    for (const auto &u : servedPairs(use))
       std::printf("served_%s %llu\nfell_back_%s %llu\n", u.pair.c_str(),
                   (unsigned long long)u.served, u.pair.c_str(), (unsigned long long)u.fellBack);
     return 0;

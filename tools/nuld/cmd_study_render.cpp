@@ -209,7 +209,10 @@ Runner addStudyRender(CLI::App &app) {
   app.add_option("--repeats", o->s.repeats,
                  "renders per (backend, spp) with seeds seed, seed+1, ...; MSE is their mean")
       ->check(positiveNumber());
-  app.add_option("--seed", o->s.seed, "seed of the backends (default 1)")->check(wholeNumber());
+  app.add_option("--seed", o->s.seed,
+                 "seed of the backends (default " + std::to_string(kDefaultSeed) +
+                     ", as nuld render's and nuld bank's)")
+      ->check(wholeNumber());
   app.add_option("--amortize", o->s.amortize,
                  "renders the setup of a backend's sets is spread over in total_seconds and "
                  "equal_time_ratio (default 1: every render pays it all; pass the number of "

@@ -17,27 +17,10 @@
 #include "sampler/optimize/optimizer.h"
 #include "sampler/sequences/sequence.h"
 #include "sampler/targets/target_spec.h"
+#include "tools/python/args.h"
 #include "tools/python/bindings.h"
 
 namespace nuld::python {
-
-std::vector<Point2> pointsOf(const DoubleArray &a, const std::string &what, std::size_t &n) {
-  static_assert(sizeof(Point2) == 2 * sizeof(double));
-  const bool set = a.ndim() == 2 && a.shape(1) == 2;
-  const bool bank = a.ndim() == 3 && a.shape(2) == 2;
-  if (!set && !bank) {
-    std::string shape;
-    for (py::ssize_t d = 0; d < a.ndim(); ++d)
-      shape += (d ? ", " : "") + std::to_string(a.shape(d));
-    throw std::invalid_argument(what + ": expected an array of shape (N, 2) or (K, N, 2), got (" +
-                                shape + ")");
-  }
-  n = std::size_t(set ? a.shape(0) : a.shape(1));
-  std::vector<Point2> points(std::size_t(a.size()) / 2);
-  if (!points.empty())
-    std::memcpy(static_cast<void *>(points.data()), a.data(), points.size() * sizeof(Point2));
-  return points;
-}
 
 DoubleArray arrayOf(const std::vector<Point2> &points, std::size_t n, std::size_t instances) {
   DoubleArray out = instances == 0
@@ -54,13 +37,29 @@ using TargetPtr = std::shared_ptr<Target>;
 
 TargetPtr targetOf(const std::string &spec) { return TargetPtr(makeTarget(spec)); }
 
+// A Target or a SPEC string; None gives nullptr.
+TargetPtr targetArg(py::handle h, const Arg &a) {
+  if (h.is_none()) return nullptr;
+  if (py::isinstance<py::str>(h)) return targetOf(h.cast<std::string>());
+  if (py::isinstance<Target>(h)) return h.cast<TargetPtr>();
+  a.typeError("a nuld.Target or a SPEC string", h);
+}
+
+// Two numbers (lo, hi), a box corner or a schedule's ends.
+std::pair<double, double> pairArg(py::handle h, const Arg &a) {
+  const std::vector<double> v = numbers(h, a);
+  if (v.size() != 2) a.valueError("two numbers", h);
+  return {v[0], v[1]};
+}
+
 // One value per point of a (N, 2) or (K, N, 2) array, in the array's shape
 // without its last axis.
 template <class F>
-DoubleArray perPoint(const DoubleArray &a, const std::string &what, F f) {
-  std::size_t n;
-  const std::vector<Point2> points = pointsOf(a, what, n);
-  std::vector<py::ssize_t> shape(a.shape(), a.shape() + a.ndim() - 1);
+DoubleArray perPoint(py::handle h, const Arg &arg, F f) {
+  std::size_t n, instances;
+  const std::vector<Point2> points = python::points(h, arg, n, &instances);
+  std::vector<py::ssize_t> shape{py::ssize_t(n)};
+  if (instances) shape.insert(shape.begin(), py::ssize_t(instances));
   DoubleArray out(shape);
   double *o = out.mutable_data();
   for (std::size_t i = 0; i < points.size(); ++i) o[i] = f(points[i]);
@@ -76,37 +75,45 @@ OptimizerSettings optimizerSettingsFor(const Target &target, std::size_t n, std:
   s.instances = instances;
   for (const auto &[key, value] : knobs) {
     const std::string k = py::cast<std::string>(key);
+    const Arg a{"optimize", k};
     if (k == "epochs")
-      s.epochs = value.cast<int>();
+      s.epochs = int(wholeNumber(value, a, 1, INT_MAX));
     else if (k == "boxes")
-      s.boxes = value.cast<std::size_t>();
+      s.boxes = count(value, a, 1);
     else if (k == "box_kind")
-      s.boxKind = parseEnum<BoxKind>(value.cast<std::string>());
+      s.boxKind = parseEnum<BoxKind>(text(value, a));
     else if (k == "mc_samples")
-      s.mcSamples = value.cast<std::size_t>();
+      s.mcSamples = count(value, a, 1);
     else if (k == "mapping")
-      s.mapping = parseMapping(value.cast<std::string>());
+      s.mapping = parseMapping(text(value, a));
     else if (k == "objective")
-      s.objective = parseObjective(value.cast<std::string>());
+      s.objective = parseObjective(text(value, a));
     else if (k == "lr")
-      std::tie(s.lrStart, s.lrEnd) = value.cast<std::pair<double, double>>();
+      std::tie(s.lrStart, s.lrEnd) = pairArg(value, a);
     else if (k == "alpha")
-      std::tie(s.alphaStart, s.alphaEnd) = value.cast<std::pair<double, double>>();
+      std::tie(s.alphaStart, s.alphaEnd) = pairArg(value, a);
     else if (k == "ramp_fraction")
-      s.rampFraction = value.cast<double>();
+      s.rampFraction = number(value, a);
     else if (k == "cutoff")
-      s.cutoff = value.cast<double>();
+      s.cutoff = number(value, a);
     else if (k == "seed")
-      s.seed = value.cast<std::uint64_t>();
+      s.seed = seed(value, a);
     else if (k == "union_weight")
-      s.unionWeight = value.cast<double>();
+      s.unionWeight = number(value, a);
     else if (k == "union_group")
-      s.unionGroup = value.cast<std::size_t>();
-    else if (k == "nested")  // one size: the chain m, 2m, ... below n; a list: those
-      s.nestedSizes = py::isinstance<py::int_>(value) ? nestedChain(value.cast<std::size_t>(), s.n)
-                                                      : value.cast<std::vector<std::size_t>>();
-    else if (k == "nested_power")
-      s.nestedPower = value.cast<double>();
+      s.unionGroup = count(value, a);
+    else if (k == "nested") {  // one size: the chain m, 2m, ... below n; a list: those
+      if (py::isinstance<py::int_>(value)) {
+        s.nestedSizes = nestedChain(count(value, a, 1), s.n);
+      } else {
+        s.nestedSizes.clear();
+        for (double v : numbers(value, a)) {
+          if (v < 1 || v != std::floor(v)) a.valueError("a size >= 1 or a list of them", value);
+          s.nestedSizes.push_back(std::size_t(v));
+        }
+      }
+    } else if (k == "nested_power")
+      s.nestedPower = number(value, a);
     else
       throw std::invalid_argument(
           "optimize: unknown setting '" + k +
@@ -123,32 +130,37 @@ void bindPoints(py::module_ &m) {
   py::class_<Target, TargetPtr>(m, "Target", R"(A density on the unit square (or the sphere
 through the equal-area map), made from the same SPEC strings as the CLI's
 --target (`nuld help targets`).)")
-      .def(py::init(&targetOf), py::arg("spec"))
+      .def(py::init([](py::object spec) {
+             return targetOf(text(spec, {"Target", "spec"}));
+           }),
+           py::arg("spec"))
       .def_property_readonly("spec", &Target::spec, "the SPEC string that rebuilds it")
       .def_property_readonly("domain", [](const Target &t) { return toString(t.domain()); })
       .def_property_readonly("is_uniform", &Target::isUniform)
       .def(
           "pdf",
-          [](const Target &t, const DoubleArray &x) {
-            return perPoint(x, "Target.pdf", [&](Point2 p) { return t.pdf(p); });
+          [](const Target &t, py::object x) {
+            return perPoint(x, {"Target.pdf", "points"}, [&](Point2 p) { return t.pdf(p); });
           },
           py::arg("points"), "density at each point of an (N, 2) or (K, N, 2) array")
       .def(
           "mass",
-          [](const Target &t, std::pair<double, double> lo, std::pair<double, double> hi) {
-            return t.mass({{lo.first, lo.second}, {hi.first, hi.second}});
+          [](const Target &t, py::object lo, py::object hi) {
+            const auto [x0, y0] = pairArg(lo, {"Target.mass", "lo"});
+            const auto [x1, y1] = pairArg(hi, {"Target.mass", "hi"});
+            return t.mass({{x0, y0}, {x1, y1}});
           },
           py::arg("lo"), py::arg("hi"), "exact probability of the box [lo, hi)")
       .def(
           "invert",
-          [](const Target &t, const DoubleArray &u) {
+          [](const Target &t, py::object u) {
             if (!t.hasInverse())
               throw std::invalid_argument("Target.invert: '" + t.spec() +
                                           "' has no inverse-CDF map");
-            std::size_t n;
-            std::vector<Point2> p = pointsOf(u, "Target.invert", n);
+            std::size_t n, instances;
+            std::vector<Point2> p = points(u, {"Target.invert", "u"}, n, &instances);
             for (Point2 &q : p) q = t.invert(q).x;
-            return arrayOf(p, n, u.ndim() == 3 ? std::size_t(u.shape(0)) : 0);
+            return arrayOf(p, n, instances);
           },
           py::arg("u"), "the inverse-CDF map of uniform points u in [0, 1)^2")
       .def("__repr__", [](const Target &t) { return "nuld.Target('" + t.spec() + "')"; });
@@ -157,14 +169,20 @@ through the equal-area map), made from the same SPEC strings as the CLI's
 
   m.def(
       "sequence",
-      [](std::size_t n, const std::string &kind, const std::string &scramble, std::uint64_t seed,
-         std::optional<std::size_t> instances, const TargetPtr &target) {
-        if (n == 0) throw std::invalid_argument("sequence: n must be at least 1");
-        SequenceOptions o{parseSequenceKind(kind), parseScramble(scramble), seed};
-        PointSet set = generatePointSet(o, n, instances.value_or(1));
-        if (target)
-          for (Point2 &p : set.points) p = target->invert(p).x;
-        return arrayOf(set.points, n, instances ? *instances : 0);
+      [](py::object n, py::object kind, py::object scramble, py::object seedArg,
+         py::object instances, py::object target) {
+        const std::string f = "sequence";
+        const std::size_t size = count(n, {f, "n"}, 1);
+        const auto k = optional(instances, {f, "instances"},
+                                [](py::handle h, const Arg &a) { return count(h, a, 1); });
+        const TargetPtr t = targetArg(target, {f, "target"});
+        SequenceOptions o{parseSequenceKind(text(kind, {f, "kind"})),
+                          parseScramble(text(scramble, {f, "scramble"})),
+                          seed(seedArg, {f, "seed"})};
+        PointSet set = generatePointSet(o, size, k.value_or(1));
+        if (t)
+          for (Point2 &p : set.points) p = t->invert(p).x;
+        return arrayOf(set.points, size, k ? *k : 0);
       },
       py::arg("n"), py::arg("kind") = "sobol", py::arg("scramble") = "owen", py::arg("seed") = 0,
       py::arg("instances") = py::none(), py::arg("target") = py::none(),
@@ -174,11 +192,18 @@ none); `instances` independent scramblings as (K, N, 2); mapped through
 
   m.def(
       "optimize",
-      [](const TargetPtr &target, std::size_t n, std::size_t instances,
-         std::optional<std::string> preset, std::optional<py::function> progress,
-         const py::kwargs &knobs) {
-        const OptimizerSettings s = optimizerSettingsFor(*target, n, instances, preset, knobs);
-        const DirectOptimizer opt(*target, s);
+      [](py::object target, py::object nArg, py::object instancesArg, py::object presetArg,
+         py::object progress, const py::kwargs &knobs) {
+        const std::string f = "optimize";
+        const TargetPtr t = targetArg(target, {f, "target"});
+        if (!t) Arg{f, "target"}.typeError("a nuld.Target or a SPEC string", target);
+        const std::size_t n = count(nArg, {f, "n"}, 1);
+        const std::size_t instances = count(instancesArg, {f, "instances"}, 1);
+        const auto preset = optional(presetArg, {f, "preset"}, text);
+        if (!progress.is_none() && !PyCallable_Check(progress.ptr()))
+          Arg{f, "progress"}.typeError("None, True or a callable", progress);
+        const OptimizerSettings s = optimizerSettingsFor(*t, n, instances, preset, knobs);
+        const DirectOptimizer opt(*t, s);
         OptimizerState state = opt.initialState();
         struct Stop {};  // the callback returned False
         try {
@@ -186,11 +211,11 @@ none); `instances` independent scramblings as (K, N, 2); mapped through
           opt.run(state, s.epochs, [&](const EpochReport &r) {
             py::gil_scoped_acquire acquire;
             if (PyErr_CheckSignals() != 0) throw py::error_already_set();  // Ctrl-C
-            if (!progress) return;
+            if (progress.is_none()) return;
             py::dict d;
             d["epoch"] = r.epoch, d["epochs"] = r.epochs, d["loss"] = r.loss;
             d["alpha"] = r.alpha, d["lr"] = r.lr;
-            const py::object answer = (*progress)(d);
+            const py::object answer = progress(d);
             if (!answer.is_none() && !answer.cast<bool>()) throw Stop{};
           });
         } catch (const Stop &) {
@@ -210,11 +235,14 @@ returning False stops there. Returns (K, N, 2).)");
 
   m.def(
       "discrepancy",
-      [](const DoubleArray &points, const std::string &metric, const TargetPtr &target, int grid) {
-        std::size_t n;
-        const std::vector<Point2> p = pointsOf(points, "discrepancy", n);
-        const TargetPtr t = target ? target : targetOf("uniform");
-        if (n == 0) throw std::invalid_argument("discrepancy: the set is empty");
+      [](py::object pointsArg, py::object metricArg, py::object target, py::object gridArg) {
+        const std::string f = "discrepancy";
+        std::size_t n, instances;
+        const std::vector<Point2> p = points(pointsArg, {f, "points"}, n, &instances);
+        const std::string metric = text(metricArg, {f, "metric"});
+        const TargetPtr given = targetArg(target, {f, "target"});
+        const TargetPtr t = given ? given : targetOf("uniform");
+        const int grid = int(wholeNumber(gridArg, {f, "grid"}, 1, INT_MAX));
         const std::size_t k = p.size() / n;
         std::vector<double> values(k);
         try {
@@ -225,7 +253,7 @@ returning False stops there. Returns (K, N, 2).)");
         } catch (const std::invalid_argument &e) {
           throw std::invalid_argument(std::string("discrepancy: ") + e.what());
         }
-        if (points.ndim() == 2) return py::object(py::float_(values[0]));
+        if (instances == 0) return py::object(py::float_(values[0]));
         DoubleArray out{py::ssize_t(k)};
         std::copy(values.begin(), values.end(), out.mutable_data());
         return py::object(out);
@@ -238,40 +266,53 @@ l2star, l2asd, dstar, l2 (grid L2asd), l2per (uniform only). A scalar for
 
   m.def(
       "read_points",
-      [](const std::string &path) {
-        const PointSet set = readPointSet(path);
+      [](py::object path) {
+        const PointSet set = readPointSet(text(path, {"read_points", "path"}));
         return py::make_tuple(arrayOf(set.points, set.n, set.instances()), set.metadata);
       },
       py::arg("path"), "(points (K, N, 2), metadata dict) of a point-set file (text or binary)");
   m.def(
       "write_points",
-      [](const std::string &path, const DoubleArray &points,
-         const std::map<std::string, std::string> &metadata) {
+      [](py::object path, py::object pointsArg, py::object metadata) {
+        const std::string f = "write_points";
+        const std::string file = text(path, {f, "path"});
         PointSet set;
-        set.points = pointsOf(points, "write_points", set.n);
-        set.metadata = metadata;
-        writePointSet(path, set);
+        set.points = points(pointsArg, {f, "points"}, set.n);
+        if (!metadata.is_none()) {
+          if (!py::isinstance<py::dict>(metadata))
+            Arg{f, "metadata"}.typeError("a dict of str to str", metadata);
+          for (const auto &[key, value] : metadata.cast<py::dict>())
+            set.metadata[text(key, {f, "metadata key"})] = text(value, {f, "metadata value"});
+        }
+        writePointSet(file, set);
       },
-      py::arg("path"), py::arg("points"),
-      py::arg("metadata") = std::map<std::string, std::string>{},
+      py::arg("path"), py::arg("points"), py::arg("metadata") = py::none(),
       "writes a point-set file (binary for .ptsb, else text), atomically");
 
   m.def(
       "generate_neural",
-      [](const std::string &model, std::size_t instances, std::uint64_t seed,
-         std::vector<double> gamma, std::optional<std::size_t> n) {
+      [](py::object modelArg, py::object instancesArg, py::object seedArg, py::object gammaArg,
+         py::object nArg) {
+        const std::string f = "generate_neural";
+        const std::string model = text(modelArg, {f, "model"});
+        const std::size_t instances = count(instancesArg, {f, "instances"}, 1);
+        const std::uint64_t s = seed(seedArg, {f, "seed"});
+        const std::vector<double> gamma =
+            gammaArg.is_none() ? std::vector<double>{} : numbers(gammaArg, {f, "gamma"});
+        const auto n =
+            optional(nArg, {f, "n"}, [](py::handle h, const Arg &a) { return count(h, a, 1); });
         const NeuralGenerator gen = NeuralGenerator::load(model);
         // The family checks gamma (and the generator the size) itself.
         const std::string spec = gen.family().target(gamma)->spec();
         PointSet set;
         {
           py::gil_scoped_release release;
-          set = gen.generateSets(instances, seed, gamma, n.value_or(0));
+          set = gen.generateSets(instances, s, gamma, n.value_or(0));
         }
         return py::make_tuple(arrayOf(set.points, set.n, instances), spec);
       },
       py::arg("model"), py::arg("instances") = 1, py::arg("seed") = 0,
-      py::arg("gamma") = std::vector<double>{}, py::arg("n") = py::none(),
+      py::arg("gamma") = py::tuple(), py::arg("n") = py::none(),
       "(points (K, N, 2), target spec) of K sets a trained model (nuld train) generates");
 }
 

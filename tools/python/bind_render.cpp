@@ -12,6 +12,7 @@
 #include "renderer/image_metrics.h"
 #include "renderer/render.h"
 #include "scenes/scene_file.h"
+#include "tools/python/args.h"
 #include "tools/python/bindings.h"
 #include "tools/study/render_study.h"
 
@@ -29,7 +30,11 @@ FloatArray arrayOf(const Image &img) {
   return out;
 }
 
-Image imageOf(const FloatArray &a, const std::string &what) {
+Image imageOf(py::handle h, const Arg &arg) {
+  const std::string what = arg.function + ": " + arg.name;
+  if (h.is_none() || py::isinstance<py::str>(h)) arg.typeError("an image array of numbers", h);
+  const FloatArray a = FloatArray::ensure(h);
+  if (!a) arg.typeError("an image array of numbers", h);
   if (!(a.ndim() == 2 || (a.ndim() == 3 && a.shape(2) >= 1 && a.shape(2) <= 4)) ||
       a.shape(0) == 0 || a.shape(1) == 0)
     throw std::invalid_argument(what +
@@ -40,18 +45,47 @@ Image imageOf(const FloatArray &a, const std::string &what) {
   return img;
 }
 
+// The (width, height) of `resolution`.
+std::pair<int, int> resolutionArg(py::handle h, const Arg &a) {
+  const std::string expected = "a pair (width, height) of whole numbers";
+  if (py::isinstance<py::str>(h) || !PySequence_Check(h.ptr()) || py::len(h) != 2)
+    a.typeError(expected, h);
+  const py::sequence wh = py::reinterpret_borrow<py::sequence>(h);
+  return {int(wholeNumber(wh[0], {a.function, a.name + "[0]"}, 1, INT_MAX)),
+          int(wholeNumber(wh[1], {a.function, a.name + "[1]"}, 1, INT_MAX))};
+}
+
 }  // namespace
 
 void bindRender(py::module_ &m) {
   m.def(
       "render",
-      [](const std::string &scene, std::optional<std::string> backend,
-         std::optional<std::size_t> spp, std::optional<std::pair<int, int>> resolution,
-         std::optional<std::string> integrator, std::optional<int> maxDepth,
-         std::optional<std::uint64_t> seed, const std::string &assets,
-         std::optional<double> lobeMix, bool stats, std::size_t optInstances, int optEpochs,
-         int optLobeEpochs, std::optional<int> threads, const std::string &lobeChoice) {
-        if (threads && *threads < 1) throw std::invalid_argument("render: threads must be >= 1");
+      [](py::object sceneArg, py::object backendArg, py::object sppArg, py::object resArg,
+         py::object integratorArg, py::object depthArg, py::object seedArg, py::object assetsArg,
+         py::object mixArg, py::object statsArg, py::object instancesArg, py::object epochsArg,
+         py::object lobeEpochsArg, py::object threadsArg, py::object choiceArg) {
+        const std::string f = "render";
+        const std::string scene = text(sceneArg, {f, "scene"});
+        const auto backend = optional(backendArg, {f, "backend"}, text);
+        const auto spp =
+            optional(sppArg, {f, "spp"}, [](py::handle h, const Arg &a) { return count(h, a); });
+        const auto resolution = optional(resArg, {f, "resolution"}, resolutionArg);
+        const auto integrator = optional(integratorArg, {f, "integrator"}, text);
+        const auto maxDepth = optional(depthArg, {f, "max_depth"}, [](py::handle h, const Arg &a) {
+          return int(wholeNumber(h, a, INT_MIN, INT_MAX));
+        });
+        const auto seed = optional(seedArg, {f, "seed"}, python::seed);
+        const std::string assets = text(assetsArg, {f, "assets"});
+        const auto lobeMix = optional(mixArg, {f, "lobe_mix"}, number);
+        const bool stats = flag(statsArg, {f, "stats"});
+        const std::size_t optInstances = count(instancesArg, {f, "opt_instances"});
+        const int optEpochs = int(wholeNumber(epochsArg, {f, "opt_epochs"}, 0, INT_MAX));
+        const int optLobeEpochs =
+            int(wholeNumber(lobeEpochsArg, {f, "opt_lobe_epochs"}, 0, INT_MAX));
+        const auto threads = optional(threadsArg, {f, "threads"}, [](py::handle h, const Arg &a) {
+          return int(wholeNumber(h, a, 1, INT_MAX));
+        });
+        const std::string lobeChoice = text(choiceArg, {f, "lobe_choice"});
         // Cores for this call (as the CLI's --threads), released on return.
         std::optional<tbb::global_control> limit;
         if (threads) limit.emplace(tbb::global_control::max_allowed_parallelism, *threads);
@@ -91,12 +125,15 @@ void bindRender(py::module_ &m) {
         py::dict d;
         d["backend"] = b->name(), d["spp"] = s.spp, d["integrator"] = toString(s.integrator);
         d["lobe_choice"] = toString(loaded.scene.lobeChoice);
-        d["seconds"] = st.seconds, d["setup_seconds"] = st.setupSeconds, d["rays"] = st.rays;
+        // One setup time, as the studies count it: tables, backend and sets made.
+        d["seconds"] = st.seconds, d["setup_seconds"] = st.setupSeconds + prepared.setupSeconds;
+        d["rays"] = st.rays;
         d["rejected_samples"] = st.rejectedSamples, d["classic_fallbacks"] = st.classicFallbacks;
         if (word.sets != study::StudyBackend::Sets::None)
           d["backend"] = word.word, d["sets_made"] = prepared.setsMade,
-          d["sets_cached"] = prepared.setsCached, d["sets_seconds"] = prepared.setupSeconds;
+          d["sets_cached"] = prepared.setsCached;
         for (const auto &u : b->pairUse()) {
+          if (u.served == 0) continue;  // a pair the backend has no sets for
           d[py::str("served_" + u.pair)] = u.served;
           d[py::str("fell_back_" + u.pair)] = u.fellBack;
         }
@@ -121,9 +158,9 @@ default), 'weight' or 'uniform' (the paper's configuration), as --lobe-choice). 
 
   m.def(
       "compare",
-      [](const FloatArray &image, const FloatArray &reference) {
-        const ImageError e = compareImages(imageOf(image, "compare: image"),
-                                           imageOf(reference, "compare: reference"));
+      [](py::object image, py::object reference) {
+        const ImageError e = compareImages(imageOf(image, {"compare", "image"}),
+                                           imageOf(reference, {"compare", "reference"}));
         py::dict d;
         d["mse"] = e.mse, d["relmse"] = e.relmse, d["nonfinite_pixels"] = e.nonFinitePixels;
         return d;
@@ -132,21 +169,27 @@ default), 'weight' or 'uniform' (the paper's configuration), as --lobe-choice). 
       "mse and relmse (as `nuld compare`) of an image against a reference of the same size");
 
   m.def(
-      "read_image", [](const std::string &path) { return arrayOf(readImage(path, false)); },
+      "read_image",
+      [](py::object path) {
+        return arrayOf(readImage(text(path, {"read_image", "path"}), false));
+      },
       py::arg("path"), "an EXR, PFM or PNG as a float32 array (H, W[, C])");
   m.def(
       "read_image_attributes",
-      [](const std::string &path) {
+      [](py::object path) {
         py::dict d;
-        for (const auto &[name, value] : readImageAttributes(path)) d[py::str(name)] = value;
+        for (const auto &[name, value] :
+             readImageAttributes(text(path, {"read_image_attributes", "path"})))
+          d[py::str(name)] = value;
         return d;
       },
       py::arg("path"),
       "the nuld:* attributes of a render's EXR or PNG (scene, backend, spp, seed, ...)");
   m.def(
       "write_image",
-      [](const std::string &path, const FloatArray &image) {
-        writeImage(path, imageOf(image, "write_image"));
+      [](py::object path, py::object image) {
+        const std::string file = text(path, {"write_image", "path"});
+        writeImage(file, imageOf(image, {"write_image", "image"}));
       },
       py::arg("path"), py::arg("image"), "writes an image (EXR, PFM or PNG by extension)");
 }

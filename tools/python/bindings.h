@@ -17,11 +17,8 @@ namespace py = pybind11;
 // Any array convertible to float64, C order.
 using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
-// Points of an (N, 2) array (one set) or a (K, N, 2) array (K instances of
-// N); `n` receives N. Throws std::invalid_argument naming `what` and the
-// shape otherwise.
-std::vector<Point2> pointsOf(const DoubleArray &a, const std::string &what, std::size_t &n);
-// The inverse: (N, 2) when `instances` is 0, else (instances, N, 2).
+// Points as an array: (N, 2) when `instances` is 0, else (instances, N, 2).
+// (Points in: args.h, points.)
 DoubleArray arrayOf(const std::vector<Point2> &points, std::size_t n, std::size_t instances);
 
 void bindPoints(py::module_ &m);

@@ -3,11 +3,12 @@
 // ValueError, std::runtime_error RuntimeError (pybind11's own translation).
 
 #include "materials/disney_target.h"
-#include "tools/python/bindings.h"
+#include "tools/python/args.h"
 
 PYBIND11_MODULE(_nuld, m) {
   m.doc() = "nuld: non-uniform low-discrepancy point sets and a path tracer to test them";
   nuld::registerMaterialTargets();  // `disney:...` target specs, as the CLI has them
+  nuld::python::bindArgs(m);
   nuld::python::bindPoints(m);
   nuld::python::bindRender(m);
   m.attr("__version__") = NULD_VERSION;  // the project's (CMakeLists.txt), as `nuld --version`

@@ -53,7 +53,7 @@ struct RenderStudySettings {
   std::optional<IntegratorKind> integrator;
   int maxDepth = 0;  // 0: the scene's
   std::size_t repeats = 1;
-  std::uint64_t seed = 1;
+  std::uint64_t seed = kDefaultSeed;
   // Renders over which a row's setup is spread in total_seconds and
   // equal_time_ratio (tools/study/equal_time.h); changes no render.
   double amortize = 1;

@@ -2,11 +2,14 @@
 and a path tracer to compare them in (tools/python/README.md).
 
 Arrays are numpy: a point set is (N, 2), a bank of K sets (K, N, 2), an image
-(H, W, 3) float32 with row 0 at the top. Errors are ValueError (bad input)
-or RuntimeError (files, resources) with the CLI's messages.
+(H, W, 3) float32 with row 0 at the top. Errors are ValueError (bad input:
+points not finite or outside the unit square, as the CLI's readers refuse
+them, negative counts, values out of range), TypeError (a wrong type, a
+fractional count, None where a value is needed), both naming the function
+and the argument, or RuntimeError (files, resources) with the CLI's messages.
 """
 
-from . import _nuld
+from . import _nuld, qmc  # noqa: F401 (nuld.qmc after `import nuld`, as scipy.stats.qmc)
 from ._nuld import (  # noqa: F401 (re-exported)
     Target,
     compare,
@@ -26,8 +29,8 @@ __version__ = _nuld.__version__
 
 __all__ = [
     "Target", "TextProgress", "__version__", "compare", "discrepancy", "generate_neural", "optimize",
-    "read_image", "read_image_attributes", "read_points", "render", "sequence", "write_image",
-    "write_points",
+    "qmc", "read_image", "read_image_attributes", "read_points", "render", "sequence",
+    "write_image", "write_points",
 ]
 
 

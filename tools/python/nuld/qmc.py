@@ -6,7 +6,10 @@ extensible sequence. The engines therefore serve the bank's points as one
 stream: random(n) returns the next n points, so random(N) called K times
 returns the K sets in order; reset() starts the stream again (the same
 points: a bank is fixed once made) and fast_forward(n) skips n points.
-Asking for more points than the bank holds raises ValueError. Points are
+Asking for more points than the bank holds raises ValueError. Counts and
+points are read as the module's functions read them (_nuld._count,
+_nuld._points): a bad one raises TypeError or ValueError naming the engine's
+method and the argument. Points are
 in [0, 1)^2 but follow the bank's target, which is uniform only for
 uniform banks; scipy's discrepancies measure against the uniform density.
 """
@@ -17,20 +20,35 @@ from scipy.stats import qmc
 from . import _nuld
 
 
-class PointSetEngine(qmc.QMCEngine):
+class _CheckedCounts:
+    """random, random_base2 and fast_forward with their counts read as
+    the module reads counts, before scipy's or the engine's own code."""
+
+    name = None
+
+    def random(self, n=1, *, workers=1):
+        n = _nuld._count(n, self.name + ".random", "n", 0)
+        return super().random(n, workers=workers)
+
+    def random_base2(self, m):
+        m = _nuld._count(m, self.name + ".random_base2", "m", 0)
+        return self._random_base2(m)
+
+    def fast_forward(self, n):
+        return self._fast_forward(_nuld._count(n, self.name + ".fast_forward", "n", 0))
+
+
+class PointSetEngine(_CheckedCounts, qmc.QMCEngine):
     """A QMCEngine over a bank: an (N, 2) or (K, N, 2) array, or a
     point-set file (text or binary) by path."""
+
+    name = "nuld.qmc.PointSetEngine"
 
     def __init__(self, points, *, seed=None):
         metadata = {}
         if isinstance(points, str):
             points, metadata = _nuld.read_points(points)
-        bank = np.asarray(points, dtype=float)
-        if bank.ndim == 2:
-            bank = bank[None]
-        if bank.ndim != 3 or bank.shape[2] != 2 or bank.shape[1] == 0:
-            raise ValueError("PointSetEngine: expected points of shape (N, 2) or (K, N, 2), got %s"
-                             % (np.shape(points),))
+        bank = _nuld._points(points, self.name, "points")
         super().__init__(d=2, seed=seed)
         self.bank = bank
         self.metadata = dict(metadata)
@@ -44,23 +62,25 @@ class PointSetEngine(qmc.QMCEngine):
     def _random(self, n=1, *, workers=1):
         start = self.num_generated
         if start + n > len(self._stream):
-            raise ValueError("PointSetEngine: %d points asked after %d, but the bank holds %d "
-                             "(%d sets of %d)" % (n, start, len(self._stream), len(self.bank),
-                                                  self.n))
+            raise ValueError("%s.random: %d points asked after %d, but the bank holds %d (%d sets "
+                             "of %d); reset() serves them again, or make the engine with more "
+                             "instances" % (self.name, n, start, len(self._stream),
+                                            len(self.bank), self.n))
         return self._stream[start:start + n].copy()
 
-    def random_base2(self, m):
+    def _random_base2(self, m):
         """2^m points, as scipy's Sobol.random_base2."""
-        return self.random(2**int(m))
+        return self.random(2**m)
 
     def reset(self):
         super().__init__(d=2, seed=self.rng_seed)
         return self
 
-    def fast_forward(self, n):
+    def _fast_forward(self, n):
         if self.num_generated + n > len(self._stream):
-            raise ValueError("PointSetEngine: cannot skip %d points: %d of %d are left"
-                             % (n, len(self._stream) - self.num_generated, len(self._stream)))
+            raise ValueError("%s.fast_forward: cannot skip %d points: %d of %d are left; reset() "
+                             "starts the bank again" % (self.name, n, len(self._stream) -
+                                                        self.num_generated, len(self._stream)))
         self.num_generated += n
         return self
 
@@ -110,18 +130,23 @@ class OptimizedEngine(PointSetEngine):
     The first positional argument may also be the target (the older form
     OptimizedEngine("uniform", n=16))."""
 
+    name = "nuld.qmc.OptimizedEngine"
+
     def __init__(self, d=2, *, target="uniform", n=None, instances=1, seed=None, preset=None,
                  progress=None, **settings):
         if isinstance(d, (str, _nuld.Target)):
             target, d = d, 2
-        _check_d(d, "OptimizedEngine")
+        _check_d(d, self.name)
+        if not isinstance(target, (str, _nuld.Target)):
+            raise TypeError("%s: target: expected a nuld.Target or a SPEC string (got %r)"
+                            % (self.name, target))
         self.target = target if isinstance(target, _nuld.Target) else _nuld.Target(target)
-        self._seed = _seed_int(seed, "OptimizedEngine")
-        self._instances = int(instances)
+        self._seed = _seed_int(seed, self.name)
+        self._instances = _nuld._count(instances, self.name, "instances", 1)
         self._options = dict(preset=preset, progress=progress, **settings)
         self._made = 0  # batches of `instances` sets made so far
         if n is not None:
-            points = self._optimize(int(n))
+            points = self._optimize(_nuld._count(n, self.name, "n", 1))
         else:
             points = np.zeros((0, 1, 2))  # made on the first request
         self._lazy = n is None
@@ -146,6 +171,8 @@ class OptimizedEngine(PointSetEngine):
 
     def _random(self, n=1, *, workers=1):
         start = self.num_generated
+        if self._lazy and n == 0:
+            return np.zeros((0, 2))
         if self._lazy:
             if not len(self.bank):
                 self.bank = self._optimize(n)
@@ -159,15 +186,15 @@ class OptimizedEngine(PointSetEngine):
         qmc.QMCEngine.__init__(self, d=2, seed=self.rng_seed)
         return self
 
-    def fast_forward(self, n):
+    def _fast_forward(self, n):
         if self._lazy and len(self.bank):
             while self.num_generated + n > len(self._stream):
                 self.bank = np.concatenate([self.bank, self._optimize(self.bank.shape[1])])
                 self._stream = self.bank.reshape(-1, 2)
-        return super().fast_forward(n)
+        return super()._fast_forward(n)
 
 
-class _SequenceEngine(qmc.QMCEngine):
+class _SequenceEngine(_CheckedCounts, qmc.QMCEngine):
     """nuld's own scrambled sequences as an extensible engine: random(n)
     continues the sequence (the points num_generated .. num_generated+n of
     one scrambling, fixed by the seed)."""
@@ -178,6 +205,7 @@ class _SequenceEngine(qmc.QMCEngine):
     def __init__(self, d=2, *, scramble=True, seed=None):
         _check_d(d, self.name)
         self._seed = _seed_int(seed, self.name)  # before scipy's own check: nuld's message
+        scramble = _nuld._flag(scramble, self.name, "scramble")
         super().__init__(d=2, seed=seed)
         self._scramble = "owen" if scramble else "none"
 
@@ -187,10 +215,10 @@ class _SequenceEngine(qmc.QMCEngine):
                                 seed=self._seed)
         return np.asarray(points, dtype=float)[start:start + n]
 
-    def random_base2(self, m):
+    def _random_base2(self, m):
         """2^m points; for Sobol, as scipy's, only where the points drawn
         then total a power of 2 (their balance)."""
-        n = 2**int(m)
+        n = 2**m
         total = self.num_generated + n
         if self.kind == "sobol" and total & (total - 1):
             raise ValueError("%s: random_base2(%d) after %d points would total %d, not a power of "
@@ -202,7 +230,7 @@ class _SequenceEngine(qmc.QMCEngine):
         super().__init__(d=2, seed=self.rng_seed)
         return self
 
-    def fast_forward(self, n):
+    def _fast_forward(self, n):
         self.num_generated += n
         return self
 
@@ -216,6 +244,7 @@ class Sobol(_SequenceEngine):
 
     def random(self, n=1, *, workers=1):
         # The same advice scipy's Sobol gives: its balance needs 2^m points.
+        n = _nuld._count(n, self.name + ".random", "n", 0)
         if n & (n - 1):
             import warnings
             warnings.warn("nuld.qmc.Sobol: the balance properties of Sobol' points need n to be "
@@ -236,7 +265,12 @@ class NeuralEngine(PointSetEngine):
     `seed` (None, an int or a numpy Generator), at `gamma` for a model of a
     target family."""
 
+    name = "nuld.qmc.NeuralEngine"
+
     def __init__(self, model, instances=1, *, seed=0, gamma=(), n=None):
+        instances = _nuld._count(instances, self.name, "instances", 1)
+        if n is not None:
+            n = _nuld._count(n, self.name, "n", 1)
         points, self.target_spec = _nuld.generate_neural(
-            model, instances, _seed_int(seed, "NeuralEngine"), list(gamma), n)
+            model, instances, _seed_int(seed, self.name), gamma, n)
         super().__init__(points, seed=seed)
