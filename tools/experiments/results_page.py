@@ -54,19 +54,26 @@ def pays(r):
     return "never" if math.isinf(k) else f"{k:.0f}"
 
 
-def tables(out, choice):
+def tables(out, choice, baseline="albedo"):
+    """Per integrator, every backend's MSE over sobol's under the `baseline`
+    lobe choice (the default: the classic baseline) and over the best
+    classic row of its own study, time over its own study's sobol, setup and
+    break-even renders."""
     lines = []
     for integrator in ("direct", "path"):
         d = os.path.join(out, choice, integrator)
         rows = read(os.path.join(d, "render.csv"))
         if not rows:
             continue
+        baseline_rows = {(r["scene"], int(r["spp"])): r
+                         for r in read(os.path.join(out, baseline, integrator, "render.csv"))
+                         if r["backend"] == "sobol"}
         refs = {r["scene"]: r for r in read(os.path.join(d, "references.csv"))}
         spps = sorted({int(r["spp"]) for r in rows})
         lines.append(f"\n### `{integrator}`, lobe choice `{choice}`\n")
         head = ["scene", "backend"]
         for s in spps:
-            head += [f"MSE / sobol, {s} spp", f"MSE / best classic, {s} spp"]
+            head += [f"MSE / sobol ({baseline}), {s} spp", f"MSE / best classic, {s} spp"]
         head += ["time / sobol", "setup s", "pays for itself after (renders, 64 spp)"]
         lines.append("| " + " | ".join(head) + " |")
         lines.append("|" + "---|" * len(head))
@@ -81,20 +88,21 @@ def tables(out, choice):
                 out_row = [scene, f"`{b}`"]
                 times, setup = [], 0.0
                 for s in spps:
-                    r, base = by.get((scene, b, s)), by.get((scene, "sobol", s))
-                    if not r or not base:
+                    r, base = by.get((scene, b, s)), baseline_rows.get((scene, s))
+                    own = by.get((scene, "sobol", s))
+                    if not r or not base or not own:
                         out_row += ["–", "–"]
                         continue
                     q, se = ratio(num(r["mse"]), num(r["mse_stderr"]), num(base["mse"]),
                                   num(base["mse_stderr"]))
-                    out_row.append(cell(q, se) if b != "sobol" else "1")
+                    out_row.append(cell(q, se) if r is not base else "1")
                     cq, cse = num(r.get("mse_ratio_best_classic")), num(
                         r.get("mse_ratio_best_classic_stderr"))
                     noisy = " (reference too noisy)" if r.get("reference_too_noisy") == "1" else ""
                     out_row.append((cell(cq, cse) if not math.isnan(cq) else
                                     f"classic{' (best)' if r.get('best_classic') == b else ''}")
                                    + noisy)
-                    times.append(num(r["seconds"]) / num(base["seconds"]))
+                    times.append(num(r["seconds"]) / num(own["seconds"]))
                     setup = max(setup, num(r["setup_seconds"]))
                 last = by.get((scene, b, spps[-1]), {})
                 out_row += [f"{sum(times) / len(times):.2f}" if times else "–", f"{setup:.1f}",
