@@ -94,7 +94,8 @@ TEST_F(TinyStudy, CsvHasItsColumnsAndUnits) {
             "setup_seconds,total_seconds,equal_time_ratio,equal_time_ratio_stderr,amortize,"
             "rays_per_second,nonfinite_pixels,rejected_samples,image,error_map,"
             "mse_less_reference,relmse_less_reference,reference_too_noisy,best_classic,"
-            "mse_ratio_best_classic,mse_ratio_best_classic_stderr");
+            "mse_ratio_best_classic,mse_ratio_best_classic_stderr,break_even_renders,"
+            "break_even_renders_stderr");
   const CsvTable t = readTable(*dir_);
   ASSERT_EQ(t.rows().size(), 10u) << "5 backends x 2 spp";
   EXPECT_TRUE(result_->skipped.empty());

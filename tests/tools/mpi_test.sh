@@ -64,9 +64,10 @@ study=(study render --backends sobol,independent,optimized,optimized-bsdf --spp 
   --reference-spp 48 --reference-pass-spp 8 --opt-instances 3 --opt-epochs 20 --no-report -q)
 run render1 env NULD_CACHE="$dir/one/cache" "$nuld" "${study[@]}" -o "$dir/one"
 run renderK env NULD_CACHE="$dir/many/cache" "${mpi[@]}" "$nuld" "${study[@]}" -o "$dir/many"
-# render.csv columns 9-13 and 15: seconds, setup_seconds, total_seconds,
-# equal_time_ratio and its error (from the times), rays_per_second.
-cmp -s <(csv_without "$dir/one/render.csv" 9,10,11,12,13,15) <(csv_without "$dir/many/render.csv" 9,10,11,12,13,15) ||
+# render.csv columns 9-13, 15, 26 and 27: seconds, setup_seconds,
+# total_seconds, equal_time_ratio and its error (from the times),
+# rays_per_second, break_even_renders and its error (from the times too).
+cmp -s <(csv_without "$dir/one/render.csv" 9,10,11,12,13,15,26,27) <(csv_without "$dir/many/render.csv" 9,10,11,12,13,15,26,27) ||
   fail "render.csv differs from the single process's"
 [[ $(wc -l <"$dir/one/render.csv") -eq 9 ]] || fail "render.csv: expected 8 rows"
 same_outputs "$dir/one" "$dir/many" "study render"
@@ -82,7 +83,7 @@ for f in reference.exr reference.half0.exr reference.half1.exr; do
   idiff -q -fail 0 -warn 0 "$dir/one/default/$f" "$dir/resumed/default/$f" \
     >/dev/null 2>&1 || fail "the resumed reference ($f) differs from the single process's"
 done
-cmp -s <(csv_without "$dir/one/render.csv" 9,10,11,12,13,15) <(csv_without "$dir/resumed/render.csv" 9,10,11,12,13,15) ||
+cmp -s <(csv_without "$dir/one/render.csv" 9,10,11,12,13,15,26,27) <(csv_without "$dir/resumed/render.csv" 9,10,11,12,13,15,26,27) ||
   fail "the resumed study's render.csv differs"
 
 # A reference killed mid-job (SIGTERM to mpirun once a round is saved)
