@@ -252,8 +252,8 @@ BsdfValue DisneyBrdf::evalWithPdf(Vec3 wo, Vec3 wi) const {
     d[k] = microfacetD(lobe(k), g->h);
     if (lobeHasValue_[k]) out.f += lobeValue(lobe(k), wo, wi, *g, d[k]);
   }
-  out.pdf = mixturePdf(lobeProbabilities(wo),
-                       [&](int k) { return lobePdf(lobe(k), wo, wi, *g, d[k]); });
+  out.pdf =
+      mixturePdf(lobeProbabilities(wo), [&](int k) { return lobePdf(lobe(k), wo, wi, *g, d[k]); });
   return out;
 }
 

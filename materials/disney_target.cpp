@@ -293,8 +293,8 @@ std::unique_ptr<GridTarget> tabulatePrimary(const DisneyBrdf &brdf, Vec3 wo, int
     double wantTotal = 0;
     for (int k = 0; k < lobes; ++k) {
       const double share = stripeMass[k] / total;
-      want[k] = (1 - samplingMix) * share +
-                samplingMix * std::max(share, ownValue[k] > 0 ? own[k] : 0.0);
+      want[k] =
+          (1 - samplingMix) * share + samplingMix * std::max(share, ownValue[k] > 0 ? own[k] : 0.0);
       wantTotal += want[k];
     }
     std::vector<int> stripeCells(lobes, 0);

@@ -50,7 +50,8 @@ LoadedScene makeDefaultScene(LobeChoice lobes) {
   glossy.roughness = 0.25;
   glossy.specular = 0.5;
   glossy.clearcoat = 0.5;
-  add(makeSphere({-1.1, 0.5, 0}, 0.5, 48, 96, "glossy"), std::make_shared<DisneyBrdf>(glossy, lobes));
+  add(makeSphere({-1.1, 0.5, 0}, 0.5, 48, 96, "glossy"),
+      std::make_shared<DisneyBrdf>(glossy, lobes));
   DisneyParams metal;
   metal.baseColor = {0.95, 0.8, 0.5};
   metal.metallic = 1;
@@ -62,7 +63,8 @@ LoadedScene makeDefaultScene(LobeChoice lobes) {
   skin.roughness = 0.6;
   skin.subsurface = 0.8;
   skin.sheen = 0.5;
-  add(makeSphere({1.1, 0.5, 0}, 0.5, 48, 96, "subsurface"), std::make_shared<DisneyBrdf>(skin, lobes));
+  add(makeSphere({1.1, 0.5, 0}, 0.5, 48, 96, "subsurface"),
+      std::make_shared<DisneyBrdf>(skin, lobes));
   add(makeFloor(20, 0, "floor"), std::make_shared<Lambertian>(Rgb::grey(0.5)));
 
   LoadedScene out{"default",

@@ -67,7 +67,8 @@ TEST(ImageMetrics, RenderFilesCarryTheirAttributes) {
   s.integrator = IntegratorKind::Direct;
   RenderStats stats;
   stats.seconds = 1.5;
-  const ImageAttributes attributes = renderAttributes("default", LobeChoice::Uniform, s, "sobol", 7, stats);
+  const ImageAttributes attributes =
+      renderAttributes("default", LobeChoice::Uniform, s, "sobol", 7, stats);
   const std::string exr = (dir.path() / "r.exr").string();
   writeRender(exr, img, attributes);
   for (const std::string &path : {exr, (dir.path() / "r.png").string()}) {

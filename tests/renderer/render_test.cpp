@@ -173,25 +173,25 @@ TEST(Render, StiffCasesStayFinite) {
       for (const CameraSettings &cam : cameras)
         for (const LobeChoice choice :
              {LobeChoice::Uniform, LobeChoice::Weight, LobeChoice::Albedo}) {
-        const Scene scene =
-            sceneWith({unitSphere(8, 16)}, {std::make_shared<DisneyBrdf>(p, choice)}, map, cam);
-        // The classic mapping, and tabulated lobes (small tables: the
-        // stiff lobes alias in any table, which must cost only variance).
-        for (const auto &[backendName, kind] : {std::pair{"independent", IntegratorKind::Path},
-                                                {"sobol-tabulated", IntegratorKind::Path},
-                                                {"sobol-tabulated", IntegratorKind::Bsdf}}) {
-          RenderSettings s{12, 12, 8, kind, 8};
-          s.lobeTables = {3, 2, 32, std::nullopt};
-          auto backend = makeBackend(backendName, 3);
-          RenderStats stats;
-          const Image img = render(scene, s, *backend, &stats);
-          EXPECT_TRUE(allFinite(img)) << name << " " << backendName;
-          EXPECT_EQ(stats.rejectedSamples, 0u) << name << " roughness " << p.roughness;
-          if (name == "black") {
-            EXPECT_EQ(meanOf(img), 0.0);
+          const Scene scene =
+              sceneWith({unitSphere(8, 16)}, {std::make_shared<DisneyBrdf>(p, choice)}, map, cam);
+          // The classic mapping, and tabulated lobes (small tables: the
+          // stiff lobes alias in any table, which must cost only variance).
+          for (const auto &[backendName, kind] : {std::pair{"independent", IntegratorKind::Path},
+                                                  {"sobol-tabulated", IntegratorKind::Path},
+                                                  {"sobol-tabulated", IntegratorKind::Bsdf}}) {
+            RenderSettings s{12, 12, 8, kind, 8};
+            s.lobeTables = {3, 2, 32, std::nullopt};
+            auto backend = makeBackend(backendName, 3);
+            RenderStats stats;
+            const Image img = render(scene, s, *backend, &stats);
+            EXPECT_TRUE(allFinite(img)) << name << " " << backendName;
+            EXPECT_EQ(stats.rejectedSamples, 0u) << name << " roughness " << p.roughness;
+            if (name == "black") {
+              EXPECT_EQ(meanOf(img), 0.0);
+            }
           }
         }
-      }
 }
 
 TEST(Render, DeterministicForAnyThreadCount) {

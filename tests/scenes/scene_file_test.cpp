@@ -269,8 +269,9 @@ namespace {
 TEST(DefaultScene, UniformLobeChoiceReproducesThePapersRenders) {
   for (const auto &[backendName, integrator] :
        {std::pair{"sobol", IntegratorKind::Path}, {"sobol-tabulated", IntegratorKind::Direct}}) {
-    const Image stored = readImage(std::string(NULD_SOURCE_DIR) + "/tests/data/renders/default_uniform_" +
-                                   backendName + "_" + toString(integrator) + ".exr");
+    const Image stored =
+        readImage(std::string(NULD_SOURCE_DIR) + "/tests/data/renders/default_uniform_" +
+                  backendName + "_" + toString(integrator) + ".exr");
     for (const LobeChoice choice : {LobeChoice::Uniform, kDefaultLobeChoice}) {
       const LoadedScene loaded = loadScene("default", "", choice);
       EXPECT_EQ(loaded.scene.lobeChoice, choice);

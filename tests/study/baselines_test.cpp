@@ -126,6 +126,28 @@ TEST(Baselines, ClassicBackendsAreThoseWithoutLearnedSets) {
     EXPECT_FALSE(isClassicBackend(word)) << word;
 }
 
+// One row of a hand-made render.csv of scene "s".
+struct HandRow {
+  std::string backend;
+  int spp;
+  double mse, mseStderr, relmse, seconds, setupSeconds;
+};
+void addRow(CsvTable &table, const HandRow &r) {
+  std::vector<std::string> row(renderStudyColumns().size());
+  const auto set = [&](const char *column, const std::string &value) {
+    row[table.column(column)] = value;
+  };
+  set("scene", "s");
+  set("backend", r.backend);
+  set("spp", std::to_string(r.spp));
+  set("mse", formatNumber(r.mse));
+  set("mse_stderr", formatNumber(r.mseStderr));
+  set("relmse", formatNumber(r.relmse));
+  set("seconds", formatNumber(r.seconds));
+  set("setup_seconds", formatNumber(r.setupSeconds));
+  table.addRow(row);
+}
+
 // A small study's CSV by hand: at 4 spp sobol-tabulated is the best classic
 // (not sobol), and the learned rows' ratios, their standard errors and the
 // flag follow from the numbers alone; at 16 spp sobol is the only classic.
@@ -133,19 +155,7 @@ TEST(Baselines, BestClassicRatioAndFlagByHandFromASmallStudy) {
   TempDir tmp;
   CsvTable table(tmp / "render.csv", renderStudyColumns(), renderStudyDerivedColumns());
   const auto add = [&](const std::string &backend, int spp, double mse, double stderr_) {
-    std::vector<std::string> row(renderStudyColumns().size());
-    const auto set = [&](const char *column, const std::string &value) {
-      row[table.column(column)] = value;
-    };
-    set("scene", "s");
-    set("backend", backend);
-    set("spp", std::to_string(spp));
-    set("mse", formatNumber(mse));
-    set("mse_stderr", formatNumber(stderr_));
-    set("relmse", formatNumber(2 * mse));
-    set("seconds", "1");
-    set("setup_seconds", "0");
-    table.addRow(row);
+    addRow(table, {backend, spp, mse, stderr_, 2 * mse, 1, 0});
   };
   add("sobol", 4, 1.0, 0.1);
   add("halton", 4, 0.8, 0.08);
@@ -227,8 +237,7 @@ TEST(Baselines, BreakEvenRendersByHand) {
   const auto crossing = [&](double m, double b) {
     return (m * 30 - b * 0.5) / (b * 2.0 - m * 2.2);
   };
-  const double h = 1e-6,
-               dm = (crossing(0.5 + h, 1.0) - crossing(0.5 - h, 1.0)) / (2 * h),
+  const double h = 1e-6, dm = (crossing(0.5 + h, 1.0) - crossing(0.5 - h, 1.0)) / (2 * h),
                db = (crossing(0.5, 1.0 + h) - crossing(0.5, 1.0 - h)) / (2 * h);
   EXPECT_NEAR(k.stderr_, std::hypot(dm * 0.01, db * 0.01), 1e-6);
   // Setup cheaper than the classic's and ahead per render: the first render.
@@ -254,19 +263,7 @@ TEST(Baselines, BreakEvenRendersColumnsFromACsv) {
   TempDir tmp;
   CsvTable table(tmp / "render.csv", renderStudyColumns(), renderStudyDerivedColumns());
   const auto add = [&](const std::string &backend, double mse, double seconds, double setup) {
-    std::vector<std::string> row(renderStudyColumns().size());
-    const auto set = [&](const char *column, const std::string &value) {
-      row[table.column(column)] = value;
-    };
-    set("scene", "s");
-    set("backend", backend);
-    set("spp", "16");
-    set("mse", formatNumber(mse));
-    set("mse_stderr", formatNumber(mse / 100));
-    set("relmse", formatNumber(mse));
-    set("seconds", formatNumber(seconds));
-    set("setup_seconds", formatNumber(setup));
-    table.addRow(row);
+    addRow(table, {backend, 16, mse, mse / 100, mse, seconds, setup});
   };
   add("sobol", 1.0, 2.0, 0);
   add("optimized", 0.5, 2.0, 10);  // gain 1 per render: K > 5, so 6

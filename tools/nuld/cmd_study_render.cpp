@@ -139,12 +139,13 @@ void printTable(const study::CsvTable &table, const study::CsvTable &references,
     const auto shortened = [](std::string name, std::size_t width) {
       return name.size() > width ? "..." + name.substr(name.size() - (width - 3)) : name;
     };
-    std::printf("%-22s %5zu %11.4e %11.4e %13s %6s %13s %6s %-15s %8.3f %8.2f %8.3f %13s %6s %6s%s\n",
-                shortened(r.backend, 22).c_str(), r.spp, r.mse, study::parseNumber(csv[relmse]),
-                ratio, verdict, classicText, classicVerdict,
-                csv[classic].empty() ? "-" : shortened(csv[classic], 15).c_str(), r.seconds,
-                r.setupSeconds, times[i].totalSeconds, timeRatio, timeVerdict, paysAt,
-                csv[tooNoisy] == "1" ? "  reference too noisy for this row" : "");
+    std::printf(
+        "%-22s %5zu %11.4e %11.4e %13s %6s %13s %6s %-15s %8.3f %8.2f %8.3f %13s %6s %6s%s\n",
+        shortened(r.backend, 22).c_str(), r.spp, r.mse, study::parseNumber(csv[relmse]), ratio,
+        verdict, classicText, classicVerdict,
+        csv[classic].empty() ? "-" : shortened(csv[classic], 15).c_str(), r.seconds, r.setupSeconds,
+        times[i].totalSeconds, timeRatio, timeVerdict, paysAt,
+        csv[tooNoisy] == "1" ? "  reference too noisy for this row" : "");
   }
   std::printf("\nLowest error for the time (MSE x total seconds, setup over %s render%s):\n",
               study::formatNumber(amortize).c_str(), amortize == 1 ? "" : "s");

@@ -51,8 +51,8 @@ Ratio breakEvenRenders(const TimedRow &learned, const TimedRow &classic) {
   // its extra setup.
   const double gain = b * classic.seconds - m * learned.seconds;
   const double extra = m * learned.setupSeconds - b * classic.setupSeconds;
-  const double gainStderr = std::hypot(classic.seconds * classic.mseStderr,
-                                       learned.seconds * learned.mseStderr);
+  const double gainStderr =
+      std::hypot(classic.seconds * classic.mseStderr, learned.seconds * learned.mseStderr);
   const double inf = std::numeric_limits<double>::infinity();
   if (!(gain > 0)) return {gain > extra ? 1.0 : inf, inf};
   const double crossing = extra / gain;
@@ -74,8 +74,8 @@ NoiseCorrected lessReferenceNoise(double mse, double relmse, const ReferenceNois
 
 const std::vector<std::string> &baselineColumns() {
   static const std::vector<std::string> names{
-      "mse_less_reference", "relmse_less_reference",  "reference_too_noisy",
-      "best_classic",       "mse_ratio_best_classic", "mse_ratio_best_classic_stderr",
+      "mse_less_reference", "relmse_less_reference",    "reference_too_noisy",
+      "best_classic",       "mse_ratio_best_classic",   "mse_ratio_best_classic_stderr",
       "break_even_renders", "break_even_renders_stderr"};
   return names;
 }

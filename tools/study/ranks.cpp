@@ -45,7 +45,6 @@ int toInt(std::size_t n, const char *what) {
 
 const Ranks &Ranks::world() { return worldRanks(); }
 
-
 void Ranks::barrier() const {
 #if NULD_HAVE_MPI
   if (distributed()) MPI_Barrier(MPI_COMM_WORLD);

@@ -71,7 +71,6 @@ class MpiSession {
   ThreadLimit *threads_ = nullptr;
 };
 
-
 // Runs tasks [0, count) over the ranks, in rounds of size() tasks: `run(i)`
 // runs on the rank owning task i and returns its result as bytes;
 // `collect(i, bytes)` runs on rank 0 for every task of a round, in task

@@ -277,9 +277,8 @@ std::string RenderStudySettings::rowOptions() const {
     << " lobe-routes=" << toString(lobeRouting.value_or(LobeRouting::Measured))
     << " lobe-defensive=" << formatNumber(lobeDefensive.value_or(LobeTableSettings{}.defensive))
     << " lobe-bounces=" << lobeBounces.value_or(LobeTableSettings{}.bounces)
-    << " lobe-choice=" << toString(lobeChoice)
-    << " opt-instances=" << optimizedInstances << " opt-epochs=" << optimizedEpochs
-    << " opt-lobe-epochs=" << lobeBankEpochs()
+    << " lobe-choice=" << toString(lobeChoice) << " opt-instances=" << optimizedInstances
+    << " opt-epochs=" << optimizedEpochs << " opt-lobe-epochs=" << lobeBankEpochs()
     << " opt-union-weight=" << formatNumber(lobeUnionWeight)
     << (optimizedNested ? " opt-nested=on" : "") << " reference-spp=" << reference.spp
     << " reference-pass-spp=" << reference.passSpp << " reference-backend=" << reference.backend;
