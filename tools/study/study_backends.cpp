@@ -7,6 +7,7 @@
 
 #include "renderer/path_integrator.h"
 #include "renderer/render.h"
+#include "sampler/enum_names.h"
 #include "sampler/targets/target_spec.h"
 #include "tools/study/csv_table.h"
 #include "tools/study/ranks.h"
@@ -55,6 +56,24 @@ StudyBackend parseStudyBackend(const std::string &word) {
     throw std::invalid_argument("--backends: '" + word +
                                 "': +shift applies to the study's own sets (optimized, "
                                 "optimized-uniform, optimized-bsdf, optimized-both) only");
+  // A word neither the study nor the renderer knows: every word either
+  // accepts, the closest of them first.
+  const std::string name = word.substr(0, word.find(':'));
+  std::vector<std::string> names, studyWords;
+  for (const BackendEntry &e : backendRegistry()) {
+    names.push_back(e.name);
+    names.insert(names.end(), e.aliases.begin(), e.aliases.end());
+  }
+  const bool renderers = std::find(names.begin(), names.end(), name) != names.end();
+  for (const StudyBackendDescription &d : studyBackendDescriptions()) {
+    names.push_back(d.spelling);
+    studyWords.push_back(d.spelling);
+  }
+  if (!renderers)
+    throw std::invalid_argument("unknown backend '" + word + "'" + didYouMean(name, names) +
+                                ": expected " + backendSpellings() + ", or the study's " +
+                                joinAlternatives(studyWords) +
+                                " (each also with +shift; nuld help backends)");
   b.renderer = parseBackend(word);
   return b;
 }
