@@ -318,5 +318,27 @@ if [[ $rc -ne 130 ]] || ! grep -q "nuld: interrupted" "$dir/err"; then
   failures=$((failures + 1))
 fi
 
+# Ctrl-C while a render makes its sets says where their checkpoints are, and
+# the rerun says it resumed them (render continues sets by itself).
+interrupted=(render default --backend optimized --spp 4 --res 16 --opt-instances 2
+  --opt-epochs 4000 -q -o "$dir/interrupted.exr")
+NULD_CACHE="$dir/interrupt-cache" "$nuld" "${interrupted[@]}" >"$dir/out" 2>"$dir/err" &
+pid=$!
+for _ in $(seq 1 300); do
+  compgen -G "$dir/interrupt-cache/sets/*.ckpt" >/dev/null && break
+  sleep 0.1
+done
+kill -INT "$pid"
+wait "$pid"
+rc=$?
+if [[ $rc -ne 130 ]] || ! grep -q "nuld: interrupted; the sets being made keep their checkpoints in $dir/interrupt-cache/sets" "$dir/err"; then
+  echo "FAIL: an interrupted render notes where its sets' checkpoints are: exit $rc"; tail -c 300 "$dir/err"
+  failures=$((failures + 1))
+fi
+NULD_CACHE="$dir/interrupt-cache" "$nuld" "${interrupted[@]}" >"$dir/out" 2>"$dir/err" ||
+  { echo "FAIL: the interrupted render's rerun"; failures=$((failures + 1)); }
+grep -q "nuld: note: sets resuming from $dir/interrupt-cache/sets/.*\.ckpt at epoch" "$dir/err" ||
+  { echo "FAIL: a rerun says it resumed the interrupted sets"; tail -c 300 "$dir/err"; failures=$((failures + 1)); }
+
 echo "$((failures == 0 ? 1 : 0)) passed, $failures failed"
 exit $((failures > 0))

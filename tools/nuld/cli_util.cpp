@@ -15,6 +15,7 @@
 #include "sampler/io/round_trip.h"
 #include "sampler/targets/basic_targets.h"
 #include "sampler/targets/target_spec.h"
+#include "tools/study/set_cache.h"
 
 namespace nuld::cli {
 
@@ -223,6 +224,12 @@ void applyLobeOptions(const LobeOptions &o, RenderOverrides &change) {
   if (!o.routes.empty()) change.lobeRouting = kLobeRoutingNames.parse(o.routes);
   change.lobeDefensive = o.defensive;
   change.lobeBounces = o.bounces;
+}
+
+std::string setsDirectory(const study::RenderStudySettings &s) {
+  return (s.cacheDir.empty() ? study::SetCache::fromEnvironment() : study::SetCache(s.cacheDir))
+      .setsDir()
+      .string();
 }
 
 void addSetOptions(CLI::App &app, study::RenderStudySettings &s) {

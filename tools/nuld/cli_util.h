@@ -116,6 +116,9 @@ std::string targetOptionHelp(const std::string &what);
 // optimized-bsdf, ...: tools/study/render_study.h), the same on nuld render
 // and nuld study render.
 void addSetOptions(CLI::App &app, study::RenderStudySettings &s);
+// The directory where those sets, and the checkpoints of sets being made,
+// live: the set cache's (s.cacheDir, else $NULD_CACHE, ...).
+std::string setsDirectory(const study::RenderStudySettings &s);
 inline constexpr std::initializer_list<const char *> kSetOptionNames = {
     "--opt-instances", "--opt-epochs", "--opt-lobe-epochs", "--opt-nested", "--opt-union-weight"};
 

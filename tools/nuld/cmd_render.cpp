@@ -14,6 +14,7 @@
 #include "scenes/scene_file.h"
 #include "tools/nuld/cli_util.h"
 #include "tools/nuld/commands.h"
+#include "tools/nuld/interrupt_note.h"
 #include "tools/nuld/progress.h"
 #include "tools/study/render_study.h"
 
@@ -135,6 +136,14 @@ Runner addRender(CLI::App &app) {
     setOptions.seed = seed;
     study::PreparedBackend prepared;
     {
+      // Sets are made with checkpoints in the set cache, and a rerun
+      // continues them by itself.
+      const std::string setsDir = setsDirectory(setOptions);
+      std::optional<InterruptNote> interruptNote;
+      if (word.sets != study::StudyBackend::Sets::None)
+        interruptNote.emplace(setsDir, "the sets being made keep their checkpoints in " + setsDir +
+                                           " (the set cache): run the same command again to "
+                                           "continue them");
       ProgressBar setsBar("sets", 1000, 0,
                           o->quiet || word.sets == study::StudyBackend::Sets::None);
       prepared =

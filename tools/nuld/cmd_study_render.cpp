@@ -13,6 +13,7 @@
 #include "scenes/scene_file.h"
 #include "tools/nuld/cli_util.h"
 #include "tools/nuld/commands.h"
+#include "tools/nuld/interrupt_note.h"
 #include "tools/nuld/progress.h"
 #include "tools/study/baselines.h"
 #include "tools/study/csv_table.h"
@@ -284,6 +285,12 @@ Runner addStudyRender(CLI::App &app) {
     const study::Ranks &ranks = study::Ranks::world();
     study::RenderStudyResult result;
     {
+      // References and sets keep checkpoints (passes under OUT, sets in the
+      // set cache), and a rerun continues them by itself.
+      const InterruptNote interruptNote(
+          s.out.string(), "the study keeps its reference passes under " + s.out.string() +
+                              " and the checkpoints of sets being made in " + setsDirectory(s) +
+                              ": run the same command again to continue");
       TaskBars bars(o->quiet || !ranks.root());
       result = study::runRenderStudy(
           s, [&](const std::string &task, double f, const std::string &status) {

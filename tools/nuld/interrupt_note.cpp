@@ -25,12 +25,13 @@ void onInterrupt(int signal) {
 
 }  // namespace
 
-InterruptNote::InterruptNote(const std::string &checkpoint) {
-  std::snprintf(checkpointPath, sizeof checkpointPath, "%s", checkpoint.c_str());
-  std::snprintf(withCheckpoint, sizeof withCheckpoint,
-                "\nnuld: interrupted; the last checkpoint is %s: run the same command with "
-                "--resume to continue from it\n",
-                checkpoint.c_str());
+InterruptNote::InterruptNote(const std::string &checkpoint)
+    : InterruptNote(checkpoint, "the last checkpoint is " + checkpoint +
+                                    ": run the same command with --resume to continue from it") {}
+
+InterruptNote::InterruptNote(const std::string &where, const std::string &note) {
+  std::snprintf(checkpointPath, sizeof checkpointPath, "%s", where.c_str());
+  std::snprintf(withCheckpoint, sizeof withCheckpoint, "\nnuld: interrupted; %s\n", note.c_str());
   std::snprintf(withoutCheckpoint, sizeof withoutCheckpoint,
                 "\nnuld: interrupted before the first checkpoint; nothing was saved\n");
   struct sigaction action {};

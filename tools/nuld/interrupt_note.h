@@ -12,7 +12,13 @@ namespace nuld::cli {
 
 class InterruptNote {
  public:
+  // A command with --resume: "the last checkpoint is CHECKPOINT: run the
+  // same command with --resume to continue from it".
   explicit InterruptNote(const std::string &checkpoint);
+  // A command that resumes by itself (render, bank, study render): `where`
+  // is the file or directory its checkpoints live in and `note` what the
+  // note says once it exists.
+  InterruptNote(const std::string &where, const std::string &note);
   ~InterruptNote();
   InterruptNote(const InterruptNote &) = delete;
   InterruptNote &operator=(const InterruptNote &) = delete;

@@ -4,6 +4,8 @@
 #include <cctype>
 #include <chrono>
 #include <cstdio>
+#include <iostream>
+#include <sstream>
 #include <stdexcept>
 
 #include "sampler/io/pointset_io.h"
@@ -90,7 +92,11 @@ PointSet optimizeSets(const Target &target, const OptimizedSetsRequest &request,
     if (progress) progress(r.epoch, r.epochs, r.loss);
   });
   const RunFlags flags{.resume = true};
-  resumeRun(run, ckpt, flags, nullptr);
+  // An interrupted render or study continues the set where its checkpoint
+  // left it, and says so.
+  std::ostringstream resumed;
+  resumeRun(run, ckpt, flags, fs::exists(ckpt) ? &resumed : nullptr);
+  if (!resumed.str().empty()) std::cerr << "\nnuld: note: sets " << resumed.str();
   // Time already spent before an interruption is not known; count this run's.
   const auto start = std::chrono::steady_clock::now();
   driveRun(run, ckpt, flags, nullptr);
