@@ -92,13 +92,15 @@ Image toneMap(const Image &linear, double exposure) {
 }
 
 void checkRenderOutputs(const std::string &exrPath) {
-  // Any other name would lose the linear image (a PNG holds 8 bits) and then
-  // be overwritten by the tone-mapped one.
+  // What every command says of a device, pipe or directory first (the one
+  // rule for outputs, docs/usage.md), then the render's own rule: any other
+  // name would lose the linear image (a PNG holds 8 bits) and then be
+  // overwritten by the tone-mapped one.
+  checkDestination(exrPath);
   if (std::filesystem::path(exrPath).extension() != ".exr")
     throw std::invalid_argument(exrPath +
                                 ": a render is written as a linear .exr with a tone-mapped .png "
                                 "beside it; name an .exr file");
-  checkDestination(exrPath);
   checkDestination(std::filesystem::path(exrPath).replace_extension(".png"));
 }
 
