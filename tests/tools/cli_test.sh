@@ -318,6 +318,14 @@ if [[ $rc -ne 130 ]] || ! grep -q "nuld: interrupted" "$dir/err"; then
   failures=$((failures + 1))
 fi
 
+# Progress to a file (not a terminal): at most one line per tenth of the work.
+"$nuld" render default --spp 2 --res 64 -o "$dir/progress.exr" >/dev/null 2>"$dir/progress.err"
+lines=$(grep -c '^render \[' "$dir/progress.err")
+if ((lines < 1 || lines > 10)); then
+  echo "FAIL: a render's progress off a terminal: $lines lines (expected 1 to 10)"
+  failures=$((failures + 1))
+fi
+
 # Ctrl-C while a render makes its sets says where their checkpoints are, and
 # the rerun says it resumed them (render continues sets by itself).
 interrupted=(render default --backend optimized --spp 4 --res 16 --opt-instances 2

@@ -25,6 +25,9 @@ ProgressBar::ProgressBar(std::string label, long total, long start, bool quiet)
       start_(start),
       quiet_(quiet),
       tty_(::isatty(STDERR_FILENO)),
+      // Off a terminal a line is drawn only when a new tenth of the work is
+      // done: at most ten lines a bar, the last one finish()'s.
+      lastDecile_(std::clamp(start, 0L, total_) * 10 / total_),
       begin_(std::chrono::steady_clock::now()),
       lastDraw_(begin_) {}
 

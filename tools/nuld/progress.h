@@ -20,7 +20,7 @@ class ProgressBar {
   std::string label_;
   long total_, start_;
   bool quiet_, tty_;
-  long lastDecile_ = -1;
+  long lastDecile_;  // off a terminal: the tenth of the work last drawn
   std::chrono::steady_clock::time_point begin_, lastDraw_;
 };
 
