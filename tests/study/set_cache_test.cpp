@@ -10,6 +10,8 @@
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
+#include <set>
+#include <sstream>
 #include <thread>
 
 #include "sampler/io/image_io.h"
@@ -105,6 +107,69 @@ TEST(SetCache, ListsSizesAndClears) {
   EXPECT_EQ(cache.clear(), 3 * fs::file_size(e) / 1);
   EXPECT_TRUE(cache.list().empty());
   EXPECT_EQ(cache.bytes(), 0u);
+}
+
+// nuld cache list and nuld bank print one listing: the whole target (two
+// lobe targets that differ only at their end read apart), the seed and
+// epochs each entry was made with (rows of one target made with another
+// seed or epoch count read apart), and the age of its file.
+TEST(SetCache, ListingShowsWholeTargetsSeedsEpochsAndAge) {
+  TempDir dir;
+  const SetCache cache(dir / "cache");
+  const auto t = makeTarget("gaussian:0.5,0.5,0.2");
+  const auto make = [&](std::uint64_t seed, int epochs) {
+    OptimizedSetsRequest r;
+    r.n = 4, r.instances = 2, r.epochs = epochs, r.seed = seed;
+    const fs::path e = cache.entry(*t, optimizerSettings(*t, r));
+    optimizedSets(*t, r, e);
+    return e;
+  };
+  const fs::path a = make(1, 3);
+  make(2, 3);
+  make(1, 4);
+  // Two entries whose targets share all but their last characters.
+  const std::string lobe =
+      "disney:basecolor=0.5,metallic=0,subsurface=0,specular=0.2,roughness=0.9,anisotropic=0,"
+      "clearcoatgloss=1,theta=";
+  PointSet set = readPointSet(a.string());
+  setMeta(set, meta::kTarget, lobe + "65,res=64");
+  writePointSet((cache.setsDir() / "lobe_n4_00000000000000aa.ptsb").string(), set);
+  setMeta(set, meta::kTarget, lobe + "85,res=64");
+  writePointSet((cache.setsDir() / "lobe_n4_00000000000000bb.ptsb").string(), set);
+  const auto now = fs::file_time_type::clock::now();
+  fs::last_write_time(a, now - std::chrono::hours(3));
+
+  std::vector<SetListingRow> rows;
+  for (const auto &e : cache.list()) rows.push_back({{"x"}, e});
+  ASSERT_EQ(rows.size(), 5u);
+  const std::vector<std::string> lines = setListing({"lead"}, rows, now);
+  ASSERT_EQ(lines.size(), 6u);
+  EXPECT_EQ(lines[0].substr(0, 4), "lead");
+  for (const char *column : {"seed", "epochs", "age", "key", "target"})
+    EXPECT_NE(lines[0].find(column), std::string::npos) << column;
+  std::set<std::string> distinct(lines.begin(), lines.end());
+  EXPECT_EQ(distinct.size(), lines.size());
+  // Columns: lead, n, instances, seed, epochs, ...; the target last, whole.
+  std::set<std::string> gaussians, lobes;
+  for (std::size_t i = 1; i < lines.size(); ++i) {
+    std::istringstream in(lines[i]);
+    std::string lead, n, instances, seed, epochs;
+    in >> lead >> n >> instances >> seed >> epochs;
+    EXPECT_EQ(lead, "x");
+    EXPECT_EQ(n, "4");
+    EXPECT_EQ(instances, "2");
+    const std::string target = lines[i].substr(lines[i].rfind(' ') + 1);
+    if (target == "gaussian:0.5,0.5,0.2")
+      gaussians.insert(seed + "/" + epochs);
+    else
+      lobes.insert(target);
+    if (rows[i - 1].entry.file == a) EXPECT_NE(lines[i].find(" 3h "), std::string::npos);
+  }
+  EXPECT_EQ(gaussians, (std::set<std::string>{"1/3", "2/3", "1/4"}));
+  EXPECT_EQ(lobes, (std::set<std::string>{lobe + "65,res=64", lobe + "85,res=64"}));
+  EXPECT_EQ(rows[0].entry.key.size(), 16u);
+  EXPECT_EQ(humanAge(std::chrono::seconds(90)), "90s");
+  EXPECT_EQ(humanAge(std::chrono::hours(50)), "2d");
 }
 
 // Writers killed at random moments while they write entries, and two

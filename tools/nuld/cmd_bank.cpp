@@ -3,7 +3,6 @@
 // listed by the pair and target they serve; with -o, copied into a bank
 // directory that `--backend optimized:DIR` reads whole.
 
-#include <cstdio>
 #include <filesystem>
 #include <iostream>
 
@@ -12,6 +11,7 @@
 #include "tools/nuld/commands.h"
 #include "tools/nuld/progress.h"
 #include "tools/study/render_study.h"
+#include "tools/study/set_cache.h"
 
 namespace nuld::cli {
 
@@ -50,8 +50,10 @@ Runner addBank(CLI::App &app) {
                  "also copy the sets into this bank directory (for --backend optimized:DIR)");
   app.add_flag("-q,--quiet", o->quiet, "no progress bar");
   app.footer(
-      "Prints one line per set: spp, the pair it serves (light or bsdf), its target, whether it\n"
-      "was made now or found in the set cache ($NULD_CACHE; nuld cache list), and its file.");
+      "Prints one line per set: spp, the pair it serves (light or bsdf), whether this command\n"
+      "made it or found it in the set cache ($NULD_CACHE), then the columns of nuld cache list:\n"
+      "N, instances, seed, epochs, optimization seconds, size, age, key (the file's name ends in\n"
+      "_KEY.ptsb) and the whole target.");
   return [o, &app] {
     const study::StudyBackend word = study::parseStudyBackend(o->backend);
     if (word.sets == study::StudyBackend::Sets::None)
@@ -69,7 +71,8 @@ Runner addBank(CLI::App &app) {
     options.seed = o->seed >= 0 ? std::uint64_t(o->seed) : loaded.seed;
     options.spp = o->spp;
     if (!o->output.empty()) std::filesystem::create_directories(o->output);
-    std::printf("%-5s %-6s %-44s %-6s %s\n", "spp", "pair", "target", "state", "file");
+    std::vector<study::SetListingRow> rows;
+    std::filesystem::path dir;
     for (const std::size_t spp : o->spp) {
       s.spp = spp;
       ProgressBar bar("sets spp " + std::to_string(spp), 1000, 0, o->quiet);
@@ -82,12 +85,13 @@ Runner addBank(CLI::App &app) {
       if (!p.note.empty()) std::cerr << "nuld: note: " << p.note << "\n";
       for (const auto &set : p.sets) {
         const bool lobe = set.target.rfind("disney", 0) == 0;
-        std::printf("%-5zu %-6s %-44s %-6s %s\n", spp,
-                    lobe                      ? "bsdf"
-                    : set.target == "uniform" ? "any"
-                                              : "light",
-                    set.target.substr(0, 44).c_str(), set.made ? "made" : "cached",
-                    set.file.c_str());
+        rows.push_back({{std::to_string(spp),
+                         lobe                      ? "bsdf"
+                         : set.target == "uniform" ? "any"
+                                                   : "light",
+                         set.made ? "made" : "cached"},
+                        study::SetCache::describe(set.file)});
+        dir = std::filesystem::path(set.file).parent_path();
         if (!o->output.empty())
           std::filesystem::copy_file(
               set.file,
@@ -95,6 +99,11 @@ Runner addBank(CLI::App &app) {
               std::filesystem::copy_options::overwrite_existing);
       }
     }
+    for (const std::string &line : study::setListing({"spp", "pair", "state"}, rows))
+      std::cout << line << "\n";
+    if (!rows.empty())
+      std::cout << rows.size() << (rows.size() == 1 ? " set" : " sets") << " in " << dir.string()
+                << " (each file's name ends in _KEY.ptsb)\n";
     return 0;
   };
 }

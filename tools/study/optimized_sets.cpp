@@ -114,11 +114,16 @@ std::vector<SetsJob> makeMissingSets(const Ranks &ranks, const std::vector<SetsJ
     if (!fs::exists(job.file) && std::none_of(missing.begin(), missing.end(),
                                               [&](const SetsJob &m) { return m.file == job.file; }))
       missing.push_back(job);
+  // A file that another process (a render, a study, a second bank) writes
+  // while this one works is taken as found: its sets are not optimized
+  // again, nor written over, nor counted as made here.
   std::size_t done = 0;
+  std::string written(missing.size(), '0');
   runInRounds(
       ranks, missing.size(),
       [&](std::size_t i) {
         const SetsJob &job = missing[i];
+        if (fs::exists(job.file)) return std::string();
         return ByteWriter()
             .put(optimizeSets(*job.target, job.request, job.file,
                               [&](int epoch, int epochs, double loss) {
@@ -128,11 +133,16 @@ std::vector<SetsJob> makeMissingSets(const Ranks &ranks, const std::vector<SetsJ
             .take();
       },
       [&](std::size_t i, const std::string &bytes) {
-        writeOptimizedSets(missing[i].file, fromBytes<PointSet>(bytes));
         ++done;
+        if (bytes.empty() || fs::exists(missing[i].file)) return;
+        writeOptimizedSets(missing[i].file, fromBytes<PointSet>(bytes));
+        written[i] = '1';
       });
-  ranks.barrier();  // the sets are on disk before any rank reads them
-  return missing;
+  written = ranks.broadcast(written);  // the sets are on disk before any rank reads them
+  std::vector<SetsJob> made;
+  for (std::size_t i = 0; i < missing.size(); ++i)
+    if (written[i] == '1') made.push_back(missing[i]);
+  return made;
 }
 
 void writeOptimizedSets(const fs::path &path, const PointSet &sets) {

@@ -79,7 +79,8 @@ struct SetsJob {
 // Makes every job's file that does not exist yet, once per file, over the
 // ranks of the job (ranks.h): one optimization per rank and round, rank 0
 // writing the files; every rank returns once they are all on disk, with the
-// jobs made now. `progress(done, total, job, epoch, epochs, loss)` follows
+// jobs this call wrote (a file another process writes meanwhile is found,
+// not made again). `progress(done, total, job, epoch, epochs, loss)` follows
 // rank 0's own optimizations (`done` of `total` made before it).
 using SetsProgress = std::function<void(std::size_t done, std::size_t total, const SetsJob &job,
                                         int epoch, int epochs, double loss)>;

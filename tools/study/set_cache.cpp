@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <cstdlib>
+#include <optional>
 #include <sstream>
 
 #include "sampler/io/content_hash.h"
@@ -108,25 +110,128 @@ fs::path SetCache::findNested(const Target &target, const OptimizerSettings &set
   return best;
 }
 
+namespace {
+
+// The value of word `name=` in a settings description, if there is one.
+std::optional<std::string> settingOf(const std::string &describe, const std::string &name) {
+  std::istringstream in(describe);
+  std::string word;
+  while (in >> word)
+    if (word.starts_with(name + "=")) return word.substr(name.size() + 1);
+  return std::nullopt;
+}
+
+// The key at the end of an entry's name: NAME_nN_KEY.ptsb.
+std::string keyOf(const fs::path &file) {
+  const std::string stem = file.stem().string();
+  const auto underscore = stem.rfind('_');
+  const std::string key = underscore == std::string::npos ? "" : stem.substr(underscore + 1);
+  const bool hex = key.size() == 16 && std::all_of(key.begin(), key.end(), [](char c) {
+                     return std::isxdigit(static_cast<unsigned char>(c));
+                   });
+  return hex ? key : "";
+}
+
+}  // namespace
+
+SetCache::Entry SetCache::describe(const fs::path &file) {
+  std::error_code ec;
+  Entry entry;
+  entry.file = file;
+  entry.bytes = fs::file_size(file, ec);
+  entry.modified = fs::last_write_time(file, ec);
+  entry.key = keyOf(file);
+  try {
+    const PointSet set = readPointSet(file.string());
+    entry.target = shortSpec(metaOr(set, meta::kTarget, "uniform"));
+    entry.n = set.n;
+    entry.instances = set.instances();
+    entry.optimizeSeconds = std::stod(metaOr(set, meta::kOptimizeSeconds, "0"));
+    const std::string settings = metaOr(set, meta::kSettings, "");
+    const auto seed = settingOf(settings, "seed");
+    const std::string *recordedSeed = findMeta(set, meta::kSeed);
+    if (seed || recordedSeed) entry.seed = std::stoull(seed ? *seed : *recordedSeed);
+    if (const auto epochs = settingOf(settings, "epochs")) entry.epochs = std::stoi(*epochs);
+  } catch (const std::exception &) {
+    entry.target = "(unreadable)";
+    entry.n = entry.instances = 0;
+  }
+  return entry;
+}
+
 std::vector<SetCache::Entry> SetCache::list() const {
   std::vector<Entry> out;
-  std::error_code ec;
-  for (const auto &e : filesIn(setsDir())) {
-    if (!isEntry(e)) continue;
-    Entry entry{e.path(), e.file_size(ec), "", 0, 0, 0};
-    try {
-      const PointSet set = readPointSet(e.path().string());
-      entry.target = shortSpec(metaOr(set, meta::kTarget, "uniform"));
-      entry.n = set.n;
-      entry.instances = set.instances();
-      entry.optimizeSeconds = std::stod(metaOr(set, meta::kOptimizeSeconds, "0"));
-    } catch (const std::exception &) {
-      entry.target = "(unreadable)";
-    }
-    out.push_back(std::move(entry));
-  }
+  for (const auto &e : filesIn(setsDir()))
+    if (isEntry(e)) out.push_back(describe(e.path()));
   std::sort(out.begin(), out.end(),
             [](const Entry &a, const Entry &b) { return a.file.filename() < b.file.filename(); });
+  return out;
+}
+
+std::string humanBytes(std::uintmax_t bytes) {
+  const char *units[] = {"B", "KiB", "MiB", "GiB", "TiB"};
+  double v = double(bytes);
+  int u = 0;
+  while (v >= 1024 && u < 4) v /= 1024, ++u;
+  char out[32];
+  std::snprintf(out, sizeof out, u ? "%.1f %s" : "%.0f %s", v, units[u]);
+  return out;
+}
+
+std::string humanAge(std::chrono::seconds age) {
+  const long long s = std::max<long long>(0, age.count());
+  if (s < 120) return std::to_string(s) + "s";
+  if (s < 120 * 60) return std::to_string(s / 60) + "m";
+  if (s < 48 * 3600) return std::to_string(s / 3600) + "h";
+  return std::to_string(s / 86400) + "d";
+}
+
+std::vector<std::string> setListing(const std::vector<std::string> &leadHeaders,
+                                    const std::vector<SetListingRow> &rows,
+                                    fs::file_time_type now) {
+  // Every column but the target (last, whole) is padded to its widest cell;
+  // text columns align left, numbers right.
+  std::vector<std::string> headers = leadHeaders;
+  const std::size_t lead = headers.size();
+  for (const char *h :
+       {"n", "instances", "seed", "epochs", "optimize_s", "size", "age", "key", "target"})
+    headers.push_back(h);
+  std::vector<std::vector<std::string>> cells;
+  for (const SetListingRow &row : rows) {
+    const SetCache::Entry &e = row.entry;
+    std::vector<std::string> line = row.lead;
+    line.resize(lead);
+    const auto age = std::chrono::duration_cast<std::chrono::seconds>(now - e.modified);
+    line.push_back(std::to_string(e.n));
+    line.push_back(std::to_string(e.instances));
+    line.push_back(e.seed ? std::to_string(*e.seed) : "-");
+    line.push_back(e.epochs ? std::to_string(*e.epochs) : "-");
+    char seconds[32];
+    std::snprintf(seconds, sizeof seconds, "%.1f", e.optimizeSeconds);
+    line.push_back(seconds);
+    line.push_back(humanBytes(e.bytes));
+    line.push_back(humanAge(age));
+    line.push_back(e.key.empty() ? "-" : e.key);
+    line.push_back(e.target);
+    cells.push_back(std::move(line));
+  }
+  std::vector<std::size_t> width(headers.size(), 0);
+  for (std::size_t c = 0; c < headers.size(); ++c) {
+    width[c] = headers[c].size();
+    for (const auto &line : cells) width[c] = std::max(width[c], line[c].size());
+  }
+  const auto numeric = [&](std::size_t c) { return c >= lead && c < lead + 6; };
+  const auto format = [&](const std::vector<std::string> &line) {
+    std::string out;
+    for (std::size_t c = 0; c < line.size(); ++c) {
+      if (c) out += "  ";
+      const std::string pad(c + 1 < line.size() ? width[c] - line[c].size() : 0, ' ');
+      out += numeric(c) ? pad + line[c] : line[c] + pad;
+    }
+    return out;
+  };
+  std::vector<std::string> out{format(headers)};
+  for (const auto &line : cells) out.push_back(format(line));
   return out;
 }
 

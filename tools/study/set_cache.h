@@ -16,8 +16,10 @@
 // file or none. Two writers of the same entry both optimize it (the same
 // deterministic sets) and the last rename wins.
 
+#include <chrono>
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -44,13 +46,22 @@ class SetCache {
   // readable (target and N) and ending in the key.
   std::filesystem::path entry(const Target &target, const OptimizerSettings &settings) const;
 
+  // What an entry's file says of its sets: its metadata (target, settings)
+  // and the file's size and modification time.
   struct Entry {
     std::filesystem::path file;
     std::uintmax_t bytes = 0;
-    std::string target;  // the recorded spec, shortened for reading
+    std::string target;  // the recorded spec, whole but for a map's directory
+    std::string key;     // setCacheKey, from the file's name ("" if it has none)
     std::size_t n = 0, instances = 0;
+    std::optional<std::uint64_t> seed;  // from the recorded settings
+    std::optional<int> epochs;
     double optimizeSeconds = 0;
+    std::filesystem::file_time_type modified{};
   };
+  // The entry of one file (in this cache or not); an unreadable file has
+  // target "(unreadable)" and n = 0.
+  static Entry describe(const std::filesystem::path &file);
   // A nested entry (metadata `prefixes`) for `target` made with `settings`
   // but for N and the prefix sizes, of at least `spp` points: it serves a
   // render or estimate of `spp` samples by prefixes. The smallest such; an
@@ -73,5 +84,24 @@ class SetCache {
 
 // The key of an entry (16 hex digits): target content, settings, version.
 std::string setCacheKey(const Target &target, const OptimizerSettings &settings);
+
+// The listing of entries that nuld cache list and nuld bank print: a header
+// and one line per row, columns padded to their widest cell; `lead` columns
+// (a command's own, such as bank's spp and pair) come first, then n,
+// instances, seed, epochs, optimization seconds, size, age (from `now`), key and the whole target
+// last, never cut. Rows of the same target that differ in any setting
+// differ in their key.
+struct SetListingRow {
+  std::vector<std::string> lead;
+  SetCache::Entry entry;
+};
+std::vector<std::string> setListing(
+    const std::vector<std::string> &leadHeaders, const std::vector<SetListingRow> &rows,
+    std::filesystem::file_time_type now = std::filesystem::file_time_type::clock::now());
+
+// 1.5 KiB, 3 MiB, ...
+std::string humanBytes(std::uintmax_t bytes);
+// An age for reading: 42s, 7m, 5h, 3d.
+std::string humanAge(std::chrono::seconds age);
 
 }  // namespace nuld::study

@@ -115,6 +115,7 @@ BackendPlan planBackend(const StudyBackend &backend, const Scene &scene, const L
       r.nested.erase(std::unique(r.nested.begin(), r.nested.end()), r.nested.end());
       if (const fs::path found = cache.findNested(target, optimizerSettings(target, r), spp);
           !found.empty()) {
+        plan.found.push_back({&target, found});
         paths.push_back(found.string());
         return;
       }
@@ -231,12 +232,16 @@ PreparedBackend prepareStudyBackend(const StudyBackend &backend, const Scene &sc
           progress("optimize sets", (double(done) + double(e) / n) / double(total),
                    job.label + ": loss " + formatNumber(loss));
       });
+  // Made: written by this call (makeMissingSets); every other set was in
+  // the cache already, or another process wrote it meanwhile.
   out.setsMade = made.size();
-  out.setsCached = plan.sets.size() - std::min(plan.sets.size(), made.size());
+  out.setsCached = plan.sets.size() - std::min(plan.sets.size(), made.size()) + plan.found.size();
   for (const SetsJob &job : plan.sets)
     out.sets.push_back({job.file.string(), shortSpec(job.target->spec()),
                         std::any_of(made.begin(), made.end(),
                                     [&](const SetsJob &m) { return m.file == job.file; })});
+  for (const BackendPlan::Found &f : plan.found)
+    out.sets.push_back({f.file.string(), shortSpec(f.target->spec()), false});
   out.setupSeconds = made.empty() ? 0.0 : secondsSince(start);
   return out;
 }

@@ -4,6 +4,7 @@
 // for a scene at one spp, and the lobe bins worth a bank. Internal to
 // tools/study; render_study.h has the public face.
 
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
@@ -17,12 +18,17 @@
 namespace nuld::study {
 
 // What a study backend needs at one spp: the renderer's backend, which reads
-// the sets the jobs make. No spec when the scene cannot use the backend
-// (reason in `why`).
+// the sets the jobs make and the nested entries found in the cache. No spec
+// when the scene cannot use the backend (reason in `why`).
 struct BackendPlan {
   std::optional<BackendSpec> spec;
   std::vector<SetsJob> sets;
   std::string why;
+  struct Found {
+    const Target *target = nullptr;
+    std::filesystem::path file;
+  };
+  std::vector<Found> found;  // nested entries that serve this spp (nothing to make)
 };
 
 // The plan of `backend` for the scene at `spp`, its sets in the set cache
