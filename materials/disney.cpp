@@ -125,10 +125,15 @@ DisneyBrdf::LobePick DisneyBrdf::pickLobe(const LobeProbabilities &p, double x) 
   }
   if (k == lobeCount_) {  // x at the top edge (or lost to rounding): the last stripe
     k = last;
-    start = 0;
-    for (int j = 0; j < k; ++j) start += p[j];
+    start = stripeStart(p, k);
   }
   return {k, std::clamp((x - start) / p[k], 0.0, below1)};
+}
+
+double DisneyBrdf::stripeStart(const LobeProbabilities &p, int k) {
+  double start = 0;
+  for (int j = 0; j < k; ++j) start += p[j];
+  return start;
 }
 
 template <class LobePdf>
@@ -244,6 +249,10 @@ double DisneyBrdf::lobePdf(DisneyLobe lobe, Vec3 wo, Vec3 wi, const Geometry &g,
 // The half vector and each D computed once for f and pdf; the pdf sums the
 // same terms in the same order as pdf(), so the two are equal (tested).
 BsdfValue DisneyBrdf::evalWithPdf(Vec3 wo, Vec3 wi) const {
+  return evalWithPdf(wo, wi, lobeProbabilities(wo));
+}
+
+BsdfValue DisneyBrdf::evalWithPdf(Vec3 wo, Vec3 wi, const LobeProbabilities &p) const {
   const auto g = geometry(wo, wi);
   if (!g) return {Rgb{}, pdf(wo, wi)};  // a direction below the surface: f = 0
   BsdfValue out;
@@ -252,8 +261,7 @@ BsdfValue DisneyBrdf::evalWithPdf(Vec3 wo, Vec3 wi) const {
     d[k] = microfacetD(lobe(k), g->h);
     if (lobeHasValue_[k]) out.f += lobeValue(lobe(k), wo, wi, *g, d[k]);
   }
-  out.pdf =
-      mixturePdf(lobeProbabilities(wo), [&](int k) { return lobePdf(lobe(k), wo, wi, *g, d[k]); });
+  out.pdf = mixturePdf(p, [&](int k) { return lobePdf(lobe(k), wo, wi, *g, d[k]); });
   return out;
 }
 
@@ -320,18 +328,17 @@ std::optional<Point2> DisneyBrdf::lobePrimary(int k, Vec3 wo, Vec3 wi) const {
   if (choice_ == LobeChoice::Uniform) return Point2{(k + ux) / lobeCount_, u->y};
   const LobeProbabilities p = lobeProbabilities(wo);
   if (!(p[k] > 0)) return std::nullopt;
-  double start = 0;
-  for (int j = 0; j < k; ++j) start += p[j];
-  return Point2{start + ux * p[k], u->y};
+  return Point2{stripeStart(p, k) + ux * p[k], u->y};
 }
 
 std::optional<BsdfSample> DisneyBrdf::sample(Vec3 wo, Point2 u) const {
   if (!(wo.z > 0)) return std::nullopt;
   // u.x chooses the lobe and, rescaled, stays the lobe's first coordinate.
-  const auto [k, ux] = pickLobe(lobeProbabilities(wo), u.x);
+  const LobeProbabilities lobeP = lobeProbabilities(wo);
+  const auto [k, ux] = pickLobe(lobeP, u.x);
   const auto wi = sampleLobe(k, wo, {ux, u.y});
   if (!wi || !(wi->z > 0)) return std::nullopt;
-  const auto [f, p] = evalWithPdf(wo, *wi);
+  const auto [f, p] = evalWithPdf(wo, *wi, lobeP);
   if (!(p > 0) || !std::isfinite(p) || !f.isFinite()) return std::nullopt;
   return BsdfSample{*wi, f, p};
 }

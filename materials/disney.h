@@ -141,6 +141,10 @@ class DisneyBrdf final : public Bsdf {
     double x;
   };
   LobePick pickLobe(const LobeProbabilities &p, double x) const;
+  // Where lobe k's stripe of u.x starts under `p`.
+  static double stripeStart(const LobeProbabilities &p, int k);
+  // evalWithPdf with the view's lobe probabilities already at hand.
+  BsdfValue evalWithPdf(Vec3 wo, Vec3 wi, const LobeProbabilities &p) const;
   // The mixture of the lobes' pdfs with `p`, given each lobe's pdf.
   template <class LobePdf>
   double mixturePdf(const LobeProbabilities &p, LobePdf &&lobePdf) const;

@@ -99,6 +99,15 @@ std::string backendSpellings() {
   return joinAlternatives(names);
 }
 
+std::vector<std::string> backendWords() {
+  std::vector<std::string> names;
+  for (const BackendEntry &e : backendRegistry()) {
+    names.push_back(e.name);
+    names.insert(names.end(), e.aliases.begin(), e.aliases.end());
+  }
+  return names;
+}
+
 BackendSpec parseBackend(const std::string &word) {
   const auto colon = word.find(':');
   const std::string name = word.substr(0, colon);
@@ -113,12 +122,7 @@ BackendSpec parseBackend(const std::string &word) {
                                   " (nuld help backends)");
     return {e.kind, argument};
   }
-  std::vector<std::string> names;
-  for (const BackendEntry &e : backendRegistry()) {
-    names.push_back(e.name);
-    names.insert(names.end(), e.aliases.begin(), e.aliases.end());
-  }
-  throw std::invalid_argument("unknown backend '" + word + "'" + didYouMean(name, names) +
+  throw std::invalid_argument("unknown backend '" + word + "'" + didYouMean(name, backendWords()) +
                               ": expected " + backendSpellings() + " (nuld help backends)");
 }
 

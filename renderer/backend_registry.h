@@ -68,6 +68,8 @@ std::unique_ptr<SamplerBackend> makeClassicBackend(BackendKind kind, std::uint64
 // (an alias parses to its kind; a kind with an argument needs a non-empty
 // one unless it is optional, one without takes none).
 BackendSpec parseBackend(const std::string &word);
+// Every word parseBackend knows before a colon: each entry's name and aliases.
+std::vector<std::string> backendWords();
 
 // The backend a spec names, seeded. Reads the files a bank or model names
 // (throwing naming the file when one cannot be read).

@@ -380,15 +380,22 @@ TEST(DisneySampling, LobeChoiceProbabilities) {
         double sum = 0;
         for (int k = 0; k < 4; ++k) {
           EXPECT_GE(p[k], 0);
-          if (k >= brdf.lobeCount()) EXPECT_EQ(p[k], 0);
+          if (k >= brdf.lobeCount()) {
+            EXPECT_EQ(p[k], 0);
+          }
           sum += p[k];
         }
         EXPECT_NEAR(sum, 1, 1e-12) << toString(choice);
         EXPECT_GT(p[2], 0) << toString(choice);  // the specular lobe is a term of every f
-        if (params.metallic < 1) EXPECT_GT(p[0] + p[1], 0) << toString(choice);
-        if (params.clearcoat > 0) EXPECT_GT(p[3], 0) << toString(choice);
-        if (choice == LobeChoice::Uniform)
+        if (params.metallic < 1) {
+          EXPECT_GT(p[0] + p[1], 0) << toString(choice);
+        }
+        if (params.clearcoat > 0) {
+          EXPECT_GT(p[3], 0) << toString(choice);
+        }
+        if (choice == LobeChoice::Uniform) {
           for (int k = 0; k < brdf.lobeCount(); ++k) EXPECT_EQ(p[k], 1.0 / brdf.lobeCount());
+        }
       }
     }
   const Vec3 wo = supplementWo();

@@ -3,9 +3,8 @@
 # README.md, "Lobe routes"): render studies of the four shipped scenes under
 # both MIS integrators, 16 and 64 spp, 8 repeats, seed 9173 (no test uses
 # it), 1/4 resolution, REFERENCE_SPP-spp references (default 1024), once per
-# variant of the lobe
-# options. Every variant of a (scene, integrator) scores against the same
-# reference (made once, copied). Writes OUT/VARIANT/INTEGRATOR/render.csv and
+# variant of the lobe options. Every variant of a (scene, integrator) scores
+# against the same reference (made once, copied). Writes OUT/VARIANT/INTEGRATOR/render.csv and
 # OUT/summary.csv (the rows with each backend's MSE ratio to sobol, its
 # standard error, the seconds ratio and the brightest pixel of the first
 # repeat relative to sobol's).

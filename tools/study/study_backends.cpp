@@ -59,11 +59,7 @@ StudyBackend parseStudyBackend(const std::string &word) {
   // A word neither the study nor the renderer knows: every word either
   // accepts, the closest of them first.
   const std::string name = word.substr(0, word.find(':'));
-  std::vector<std::string> names, studyWords;
-  for (const BackendEntry &e : backendRegistry()) {
-    names.push_back(e.name);
-    names.insert(names.end(), e.aliases.begin(), e.aliases.end());
-  }
+  std::vector<std::string> names = backendWords(), studyWords;
   const bool renderers = std::find(names.begin(), names.end(), name) != names.end();
   for (const StudyBackendDescription &d : studyBackendDescriptions()) {
     names.push_back(d.spelling);
