@@ -64,6 +64,11 @@ EnvironmentLight::EnvironmentLight(Image latlong, double scale, double rotationD
                                 "non-zero vector");
   up = normalize(up);
   const Image image = toRgb(latlong, scale, source_);
+  // The twin from the scaled, clamped map at scale 1: the same texels, and
+  // the warnings about the map are said once.
+  if (isCompensated(weight))
+    uncompensated_ = std::make_shared<const EnvironmentLight>(image, 1.0, rotationDegrees, source_,
+                                                              up, nuld::uncompensated(weight));
   width_ = image.width;
   height_ = image.height;
   const double rot = rotationDegrees * std::numbers::pi / 180;

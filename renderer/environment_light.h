@@ -14,7 +14,10 @@
 // `envmap-mean:` target, the channels' mean in place of the luminance
 // (pbrt-v4's and Cycles' choice: lower variance under coloured light); or
 // either less its mean over the sphere (MIS compensation, for estimators
-// that add BSDF samples by MIS; see image_targets.h). Because the light samples
+// that add BSDF samples by MIS; see image_targets.h). A compensated light
+// also keeps its uncompensated twin: an estimator without BSDF samples (the
+// light integrator) must sample the whole map, and compensation is a
+// property of the MIS estimator, not of the map. Because the light samples
 // *through the target*, a backend may hand over points already distributed by that target
 // (optimized or neural sets) and the light uses them with the same pdf.
 
@@ -73,6 +76,9 @@ class EnvironmentLight {
   const GridTarget *target() const { return target_.get(); }
   const std::string &source() const { return source_; }
   PixelWeight weight() const { return weight_; }
+  // The same light sampled by the weight without compensation: *this when
+  // the weight has none.
+  const EnvironmentLight &uncompensated() const { return uncompensated_ ? *uncompensated_ : *this; }
   int width() const { return width_; }
   int height() const { return height_; }
 
@@ -110,6 +116,8 @@ class EnvironmentLight {
   bool tilted_;             // up is not +Y: tilt_ applies
   Vec3 tilt_[3];            // the world images of +X, +Y and +Z under the tilt to up
   std::string source_;
+  // Null unless the weight is compensated; shared, so that copies stay cheap.
+  std::shared_ptr<const EnvironmentLight> uncompensated_;
 };
 
 }  // namespace nuld

@@ -11,9 +11,15 @@
 
 namespace nuld {
 
+const EnvironmentLight *sampledLight(const Scene &scene, IntegratorKind kind) {
+  if (!scene.environment) return nullptr;
+  return kind == IntegratorKind::Light ? &scene.environment->uncompensated() : &*scene.environment;
+}
+
 PathIntegrator::PathIntegrator(const Scene &scene, IntegratorKind kind, int maxDepth,
                                const LobeTables *lobes, int rouletteDepth)
     : scene_(scene),
+      light_(sampledLight(scene, kind)),
       lobes_(lobes),
       maxDepth_(kind == IntegratorKind::Path ? maxDepth : 1),
       rouletteDepth_(rouletteDepth),
@@ -21,14 +27,6 @@ PathIntegrator::PathIntegrator(const Scene &scene, IntegratorKind kind, int maxD
       bsdfOnly_(kind == IntegratorKind::Bsdf) {
   if (maxDepth < 1) throw std::invalid_argument("max depth must be at least 1");
   if (rouletteDepth < 1) throw std::invalid_argument("roulette depth must be at least 1");
-  // A compensated map has no density below its mean: only BSDF samples
-  // reach those directions, so the light alone would miss their light.
-  if (lightOnly_ && scene.environment && isCompensated(scene.environment->weight()))
-    throw std::invalid_argument(
-        "the light integrator cannot use a compensated environment (importance '" +
-        std::string(envmapFamily(scene.environment->weight())) +
-        "'): its sampling skips directions dimmer than the map's mean, which only BSDF "
-        "sampling reaches; use direct or path, or plain importance");
 }
 
 namespace {
@@ -148,7 +146,7 @@ void lightSamples(const EnvironmentLight &light, std::span<PathIntegrator::PathS
 
 bool PathIntegrator::arrive(std::span<PathState> path,
                             std::span<const std::optional<SurfaceHit>> hit, int depth) const {
-  const EnvironmentLight *light = scene_.environment ? &*scene_.environment : nullptr;
+  const EnvironmentLight *light = light_;
   const std::size_t n = path.size();
   // Rays that escaped, paths that end here, and the shading at each hit.
   bool any = false;
@@ -218,7 +216,7 @@ void PathIntegrator::chooseBsdfStrategies(std::span<PathState> path, int depth,
 
 void PathIntegrator::addLightSamples(std::span<PathState> path, int depth,
                                      PathCounters &counters) const {
-  const EnvironmentLight *light = scene_.environment ? &*scene_.environment : nullptr;
+  const EnvironmentLight *light = light_;
   const std::size_t n = path.size();
   // Next-event estimation of the environment.
   if (light && light->target() && !bsdfOnly_) {
@@ -251,7 +249,7 @@ void PathIntegrator::addLightSamples(std::span<PathState> path, int depth,
 bool PathIntegrator::continuePaths(std::span<PathState> path, int depth,
                                    std::span<std::optional<SurfaceHit>> hit,
                                    PathCounters &counters) const {
-  const EnvironmentLight *light = scene_.environment ? &*scene_.environment : nullptr;
+  const EnvironmentLight *light = light_;
   const std::size_t n = path.size();
   // The continuation directions by BSDF sampling.
   std::array<Ray, kMaxPaths> next;

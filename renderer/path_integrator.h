@@ -43,6 +43,11 @@ inline IntegratorKind parseIntegrator(const std::string &name) {
   return kIntegratorNames.parse(name);
 }
 
+// The environment light as `kind` samples it: the scene's, except that the
+// light integrator, which adds no BSDF samples, samples a compensated map
+// without its compensation (environment_light.h); null without a map.
+const EnvironmentLight *sampledLight(const Scene &scene, IntegratorKind kind);
+
 // A traced ray as Embree saw it, for the benchmark that replays the
 // renderer's rays through Embree alone.
 struct RecordedRay {
@@ -112,6 +117,7 @@ class PathIntegrator {
                      std::span<std::optional<SurfaceHit>> hits, PathCounters &counters) const;
 
   const Scene &scene_;
+  const EnvironmentLight *light_;  // sampledLight()
   const LobeTables *lobes_;
   int maxDepth_, rouletteDepth_;
   bool lightOnly_, bsdfOnly_;

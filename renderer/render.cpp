@@ -75,26 +75,28 @@ void renderTile(const Scene &scene, const RenderSettings &s, SamplerBackend &bac
 
 }  // namespace
 
-ImageAttributes renderAttributes(const std::string &scene, LobeChoice lobeChoice,
+ImageAttributes renderAttributes(const std::string &sceneName, const Scene &scene,
                                  const RenderSettings &s, const std::string &backend,
                                  std::uint64_t seed, const RenderStats &stats) {
   const LobeTableSettings lobes = lobeTablesFor(s);
-  return {{"nuld:scene", scene},
-          {"nuld:backend", backend},
-          {"nuld:seed", std::to_string(seed)},
-          {"nuld:spp", std::to_string(s.spp)},
-          {"nuld:integrator", toString(s.integrator)},
-          {"nuld:resolution", std::to_string(s.width) + "x" + std::to_string(s.height)},
-          {"nuld:max_depth", std::to_string(s.maxDepth)},
-          {"nuld:lobe_choice", toString(lobeChoice)},
-          {"nuld:lobe_mix", formatRoundTrip(*lobes.samplingMix)},
-          {"nuld:lobe_routes", toString(lobes.routing)},
-          {"nuld:lobe_defensive", formatRoundTrip(lobes.defensive)},
-          {"nuld:lobe_bounces", std::to_string(lobes.bounces)},
-          {"nuld:render_seconds", formatRoundTrip(stats.seconds)},
-          {"nuld:setup_seconds", formatRoundTrip(stats.setupSeconds)},
-          {"nuld:renderer_revision", std::to_string(kRendererRevision)},
-          {"nuld:version", NULD_VERSION}};
+  return {
+      {"nuld:scene", sceneName},
+      {"nuld:backend", backend},
+      {"nuld:seed", std::to_string(seed)},
+      {"nuld:spp", std::to_string(s.spp)},
+      {"nuld:integrator", toString(s.integrator)},
+      {"nuld:resolution", std::to_string(s.width) + "x" + std::to_string(s.height)},
+      {"nuld:max_depth", std::to_string(s.maxDepth)},
+      {"nuld:lobe_choice", toString(scene.lobeChoice)},
+      {"nuld:env_importance", scene.environment ? toString(scene.environment->weight()) : "none"},
+      {"nuld:lobe_mix", formatRoundTrip(*lobes.samplingMix)},
+      {"nuld:lobe_routes", toString(lobes.routing)},
+      {"nuld:lobe_defensive", formatRoundTrip(lobes.defensive)},
+      {"nuld:lobe_bounces", std::to_string(lobes.bounces)},
+      {"nuld:render_seconds", formatRoundTrip(stats.seconds)},
+      {"nuld:setup_seconds", formatRoundTrip(stats.setupSeconds)},
+      {"nuld:renderer_revision", std::to_string(kRendererRevision)},
+      {"nuld:version", NULD_VERSION}};
 }
 
 OverrideNames OverrideNames::options() {
@@ -172,7 +174,8 @@ Image render(const Scene &scene, const RenderSettings &s, SamplerBackend &backen
     throw std::invalid_argument("render: every mesh needs a material");
   const auto setupStart = std::chrono::steady_clock::now();
   SamplingTargets targets;
-  targets.light = scene.environment ? scene.environment->target() : nullptr;
+  const EnvironmentLight *light = sampledLight(scene, s.integrator);
+  targets.light = light ? light->target() : nullptr;
   std::shared_ptr<const LobeTables> lobes;
   if (backend.samplesLobes() && s.integrator != IntegratorKind::Light) {
     lobes = scene.lobeTables

@@ -89,10 +89,11 @@ struct RenderStats {
 };
 
 // What a render's files say about it (EXR and PNG attributes, "nuld:" names):
-// scene, the materials' lobe choice (Scene::lobeChoice), backend, seed, spp,
-// integrator, resolution, max depth, the lobe tables' settings, render and
-// setup seconds, the renderer's revision and the program's version.
-ImageAttributes renderAttributes(const std::string &scene, LobeChoice lobeChoice,
+// the scene's name, its materials' lobe choice (Scene::lobeChoice) and its
+// environment's importance, backend, seed, spp, integrator, resolution, max
+// depth, the lobe tables' settings, render and setup seconds, the renderer's
+// revision and the program's version.
+ImageAttributes renderAttributes(const std::string &sceneName, const Scene &scene,
                                  const RenderSettings &s, const std::string &backend,
                                  std::uint64_t seed, const RenderStats &stats);
 

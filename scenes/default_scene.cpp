@@ -38,7 +38,8 @@ Image proceduralSky(int width, int height, double sunRadiance) {
   return sky;
 }
 
-LoadedScene makeDefaultScene(LobeChoice lobes) {
+LoadedScene makeDefaultScene(const SceneChoices &choices) {
+  const LobeChoice lobes = choices.lobes;
   std::vector<TriangleMesh> meshes;
   std::vector<std::shared_ptr<const Bsdf>> materials;
   const auto add = [&](TriangleMesh mesh, std::shared_ptr<const Bsdf> bsdf) {
@@ -73,7 +74,8 @@ LoadedScene makeDefaultScene(LobeChoice lobes) {
                   "sobol",
                   0};
   out.scene.lobeChoice = lobes;
-  out.scene.environment.emplace(proceduralSky(512, 256), 1.0, 0.0, "procedural-sky");
+  out.scene.environment.emplace(proceduralSky(512, 256), 1.0, 0.0, "procedural-sky", Vec3{0, 1, 0},
+                                choices.importance.value_or(kDefaultImportance));
   out.scene.camera = {{0, 1.6, 4.2}, {0, 0.45, 0}, {0, 1, 0}, 36, false};
   out.settings.width = 192;
   out.settings.height = 128;
@@ -83,8 +85,9 @@ LoadedScene makeDefaultScene(LobeChoice lobes) {
   return out;
 }
 
-LoadedScene makeStressScene(LobeChoice lobes) {
-  LoadedScene out = makeDefaultScene(lobes);
+LoadedScene makeStressScene(const SceneChoices &choices) {
+  const LobeChoice lobes = choices.lobes;
+  LoadedScene out = makeDefaultScene(choices);
   out.name = "stress";
   std::vector<TriangleMesh> meshes;
   std::vector<std::shared_ptr<const Bsdf>> materials;
@@ -119,7 +122,8 @@ LoadedScene makeStressScene(LobeChoice lobes) {
   out.scene.lobeChoice = lobes;
   // Scaled so the sun lights the scene about as the default one does; the
   // map keeps its 1e6 dynamic range.
-  out.scene.environment.emplace(proceduralSky(512, 256, 1e6), 1e-3, 0.0, "procedural-sun-1e6");
+  out.scene.environment.emplace(proceduralSky(512, 256, 1e6), 1e-3, 0.0, "procedural-sun-1e6",
+                                Vec3{0, 1, 0}, choices.importance.value_or(kDefaultImportance));
   // The eye 2 cm above the floor: most floor points are seen within a few
   // degrees of grazing.
   out.scene.camera = {{0, 0.02, 4.2}, {0, 0.3, 0}, {0, 1, 0}, 36, false};

@@ -9,14 +9,16 @@
 
 namespace nuld {
 
-// Its Disney materials pick their lobes by `lobes` (materials/disney.h).
-LoadedScene makeDefaultScene(LobeChoice lobes = kDefaultLobeChoice);
+// Its Disney materials pick their lobes by `choices.lobes`
+// (materials/disney.h); its sky's importance is `choices.importance`, else
+// kDefaultImportance.
+LoadedScene makeDefaultScene(const SceneChoices &choices = {});
 
 // The built-in scene `stress`, for stability studies: the default layout with
 // roughness 0 (a metal mirror, an anisotropic dielectric with clearcoat),
 // roughness 1 (subsurface, sheen), a glossy floor seen from 2 cm above it
 // (grazing views) and a sun 1e6 times brighter than the sky.
-LoadedScene makeStressScene(LobeChoice lobes = kDefaultLobeChoice);
+LoadedScene makeStressScene(const SceneChoices &choices = {});
 
 // The procedural sky: a lat-long map (row 0 = zenith) with a blue gradient, a
 // darker ground and a sun disc of `sunRadiance` (so the dynamic range can be

@@ -150,9 +150,11 @@ void readRender(const JsonReader &r, LoadedScene &out) {
 
 bool isBuiltInScene(const std::string &name) { return name == "default" || name == "stress"; }
 
-LoadedScene loadScene(const std::string &path, const std::string &assetRoot, LobeChoice lobes) {
-  if (path == "default") return makeDefaultScene(lobes);
-  if (path == "stress") return makeStressScene(lobes);
+LoadedScene loadScene(const std::string &path, const std::string &assetRoot,
+                      const SceneChoices &choices) {
+  if (path == "default") return makeDefaultScene(choices);
+  if (path == "stress") return makeStressScene(choices);
+  const LobeChoice lobes = choices.lobes;
 
   requireInputFile(path, "the scene file");
   std::ifstream in(path);
@@ -234,15 +236,13 @@ LoadedScene loadScene(const std::string &path, const std::string &assetRoot, Lob
                                "' does not exist (check --assets or NULD_ASSETS)");
     const Vec3 up = env.has("up") ? readDirection(env["up"], " (the map's zenith in the world)")
                                   : Vec3{0, 1, 0};
-    constexpr auto kImportance = enumTable<PixelWeight>(
-        "importance", {{"luminance", PixelWeight::Luminance},
-                       {"mean", PixelWeight::ChannelMean},
-                       {"luminance-compensated", PixelWeight::LuminanceCompensated},
-                       {"mean-compensated", PixelWeight::ChannelMeanCompensated}});
-    const PixelWeight weight =
-        env.has("importance")
-            ? env["importance"].oneOf(kImportance, " (how a pixel's colour weighs its sampling)")
-            : PixelWeight::Luminance;
+    // The file's importance is read (and checked) even where a choice
+    // overrides it.
+    const PixelWeight named =
+        env.has("importance") ? env["importance"].oneOf(
+                                    kImportanceNames, " (how a pixel's colour weighs its sampling)")
+                              : kDefaultImportance;
+    const PixelWeight weight = choices.importance.value_or(named);
     out.scene.environment.emplace(readImage(file), env.number("scale", 1.0, 0, 1e12),
                                   env.number("rotation", 0.0), file, up, weight);
   }

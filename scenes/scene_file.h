@@ -11,7 +11,7 @@
 //     "render":      {"spp": 64, "integrator": "path", "max_depth": 5,
 //                     "backend": "sobol", "seed": 1},
 //     "environment": {"file": "envmaps/grace_latlong.exr", "scale": 1, "rotation": 0,
-//                     "up": [0,1,0], "importance": "luminance"},
+//                     "up": [0,1,0], "importance": "luminance-compensated"},
 //     "materials":   {"OuterMat": {"type": "disney", "base_color": [.9,.9,.9],
 //                                  "metallic": 1, "roughness": .2}, ...},
 //     "meshes":      [{"file": "lte_orb/lte_orb.glb", "skip": ["Material"]},
@@ -27,8 +27,10 @@
 // "rotation" turns the map about its zenith (degrees) and "up" is the world
 // direction of its zenith (row 0; renderer/environment_light.h): a map stored
 // upside down takes [0,-1,0]. "importance" weighs a texel's sampling
-// density by its luminance (the default, the supplement's target) or by the
-// mean of its channels ("mean"). A scene builds only what
+// density by its luminance ("luminance", the supplement's target) or by the
+// mean of its channels ("mean"), either less the map's mean over the sphere
+// ("-compensated": MIS compensation, the default, kDefaultImportance). A
+// scene builds only what
 // it uses: unused materials are never instantiated, and without an
 // "environment" no map is read.
 
@@ -43,6 +45,25 @@
 #include "renderer/scene.h"
 
 namespace nuld {
+
+// A scene file's environment importance when it names none: the map's
+// luminance less its mean, measured the stronger classic light sampler under
+// both MIS integrators on the three asset scenes (tools/experiments/
+// README.md, "MIS-compensated map sampling"). The light integrator samples
+// such a map without the compensation (sampledLight).
+inline constexpr PixelWeight kDefaultImportance = PixelWeight::LuminanceCompensated;
+
+// What a command chooses for a whole scene beyond its file: how its Disney
+// materials pick a lobe (materials/disney.h) and, when given, the
+// environment's importance in place of the file's (the built-in scenes have
+// no file to name one). The paper's configuration is {Uniform, Luminance}.
+struct SceneChoices {
+  SceneChoices(LobeChoice lobes = kDefaultLobeChoice,
+               std::optional<PixelWeight> importance = std::nullopt)
+      : lobes(lobes), importance(importance) {}
+  LobeChoice lobes;
+  std::optional<PixelWeight> importance;
+};
 
 struct LoadedScene {
   std::string name;  // file path, or "default"
@@ -63,8 +84,9 @@ bool isBuiltInScene(const std::string &name);
 // `path` is a JSON scene file, "default" or "stress" (built in, see
 // default_scene.h). Throws std::invalid_argument or
 // std::runtime_error naming the file, the field and what was expected.
-// Its Disney materials pick their lobes by `lobes` (materials/disney.h).
+// `choices` set its materials' lobe choice and may override its
+// environment's importance.
 LoadedScene loadScene(const std::string &path, const std::string &assetRoot,
-                      LobeChoice lobes = kDefaultLobeChoice);
+                      const SceneChoices &choices = {});
 
 }  // namespace nuld

@@ -61,6 +61,16 @@ bool isCompensated(PixelWeight weight) {
          weight == PixelWeight::ChannelMeanCompensated;
 }
 
+PixelWeight uncompensated(PixelWeight weight) {
+  switch (weight) {
+    case PixelWeight::LuminanceCompensated: return PixelWeight::Luminance;
+    case PixelWeight::ChannelMeanCompensated: return PixelWeight::ChannelMean;
+    case PixelWeight::Luminance:
+    case PixelWeight::ChannelMean: return weight;
+  }
+  return weight;
+}
+
 double pixelWeight(double r, double g, double b, PixelWeight weight) {
   return std::max(0.0, colourWeight(r, g, b, weight));
 }

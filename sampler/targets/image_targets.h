@@ -14,6 +14,7 @@
 #include <memory>
 #include <string>
 
+#include "sampler/enum_names.h"
 #include "sampler/io/image_io.h"
 #include "sampler/targets/grid_target.h"
 
@@ -28,7 +29,17 @@ namespace nuld {
 // samples go to the bright part that matters. A map with no pixel above its
 // mean (a constant one) keeps its plain weight.
 enum class PixelWeight { Luminance, ChannelMean, LuminanceCompensated, ChannelMeanCompensated };
+// Their names where a scene file or a command names one ("importance").
+inline constexpr auto kImportanceNames = enumTable<PixelWeight>(
+    "importance", {{"luminance", PixelWeight::Luminance},
+                   {"mean", PixelWeight::ChannelMean},
+                   {"luminance-compensated", PixelWeight::LuminanceCompensated},
+                   {"mean-compensated", PixelWeight::ChannelMeanCompensated}});
+constexpr const auto &enumNames(PixelWeight) { return kImportanceNames; }
 bool isCompensated(PixelWeight weight);
+// The weight without its compensation (Luminance for LuminanceCompensated;
+// the weight itself when it has none).
+PixelWeight uncompensated(PixelWeight weight);
 // A pixel's weight before any compensation.
 double pixelWeight(double r, double g, double b, PixelWeight weight);
 // The weight a compensated map subtracts from every pixel (its mean over

@@ -49,16 +49,22 @@ def test_render_is_the_clis_image(tmp_path, nuld_bin):
     assert attributes["nuld:seed"] == "3" and attributes["nuld:integrator"] == "direct"
     assert attributes["nuld:scene"] == "default" and "nuld:version" in attributes
     assert attributes["nuld:lobe_choice"] == "albedo" and stats["lobe_choice"] == "albedo"
-    # The paper's configuration, one argument away: the CLI's flag, the same image.
-    uniform, uniform_stats = nuld.render("default", backend="sobol", spp=2, resolution=(24, 16),
-                                         seed=3, integrator="direct", lobe_choice="uniform",
-                                         stats=True)
-    assert uniform_stats["lobe_choice"] == "uniform" and not np.array_equal(uniform, img)
+    assert attributes["nuld:env_importance"] == "luminance-compensated"
+    assert stats["env_importance"] == "luminance-compensated"
+    # The paper's configuration, two arguments away: the CLI's flags, the same image.
+    paper, paper_stats = nuld.render("default", backend="sobol", spp=2, resolution=(24, 16),
+                                     seed=3, integrator="direct", lobe_choice="uniform",
+                                     env_importance="luminance", stats=True)
+    assert paper_stats["lobe_choice"] == "uniform" and not np.array_equal(paper, img)
+    assert paper_stats["env_importance"] == "luminance"
     subprocess.run([nuld_bin, "render", "default", "--backend", "sobol", "--spp", "2", "--res",
                     "24x16", "--seed", "3", "--integrator", "direct", "--lobe-choice", "uniform",
-                    "-q", "-o", exr], check=True, capture_output=True)
-    assert np.array_equal(nuld.read_image(exr), uniform)
-    assert nuld.read_image_attributes(exr)["nuld:lobe_choice"] == "uniform"
+                    "--env-importance", "luminance", "-q", "-o", exr],
+                   check=True, capture_output=True)
+    assert np.array_equal(nuld.read_image(exr), paper)
+    attributes = nuld.read_image_attributes(exr)
+    assert attributes["nuld:lobe_choice"] == "uniform"
+    assert attributes["nuld:env_importance"] == "luminance"
 
 
 def test_compare_and_image_files(tmp_path):
@@ -87,6 +93,8 @@ def test_bad_render_arguments():
         nuld.render("default", lobe_mix=1.5, resolution=(4, 4))
     with pytest.raises(ValueError, match="unknown lobe choice 'random'"):
         nuld.render("default", lobe_choice="random", resolution=(4, 4))
+    with pytest.raises(ValueError, match="unknown importance 'sun'"):
+        nuld.render("default", env_importance="sun", resolution=(4, 4))
     with pytest.raises(RuntimeError, match="missing.json"):
         nuld.render("missing.json")
 

@@ -62,13 +62,16 @@ TEST(ImageMetrics, ErrorMapGrowsWithTheErrorAndToneMapIsBounded) {
 TEST(ImageMetrics, RenderFilesCarryTheirAttributes) {
   const test::TempDir dir;
   const Image img{4, 3, 3, std::vector<float>(36, 0.25f)};
+  Scene scene{EmbreeScene({}), {}, std::nullopt, {}};
+  scene.lobeChoice = LobeChoice::Uniform;
+  scene.environment.emplace(Image{2, 1, 3, std::vector<float>(6, 1.0f)}, 1.0, 0.0, "grey",
+                            Vec3{0, 1, 0}, PixelWeight::LuminanceCompensated);
   RenderSettings s;
   s.width = 4, s.height = 3, s.spp = 8;
   s.integrator = IntegratorKind::Direct;
   RenderStats stats;
   stats.seconds = 1.5;
-  const ImageAttributes attributes =
-      renderAttributes("default", LobeChoice::Uniform, s, "sobol", 7, stats);
+  const ImageAttributes attributes = renderAttributes("default", scene, s, "sobol", 7, stats);
   const std::string exr = (dir.path() / "r.exr").string();
   writeRender(exr, img, attributes);
   for (const std::string &path : {exr, (dir.path() / "r.png").string()}) {
@@ -87,6 +90,7 @@ TEST(ImageMetrics, RenderFilesCarryTheirAttributes) {
   EXPECT_TRUE(has("nuld:seed", "7"));
   EXPECT_TRUE(has("nuld:integrator", "direct"));
   EXPECT_TRUE(has("nuld:lobe_choice", "uniform"));
+  EXPECT_TRUE(has("nuld:env_importance", "luminance-compensated"));
   EXPECT_TRUE(has("nuld:lobe_mix", "1"));  // MIS: the sampling pdf
   EXPECT_TRUE(has("nuld:render_seconds", "1.5"));
   EXPECT_THROW(readImageAttributes((dir.path() / "absent.exr").string()), std::runtime_error);

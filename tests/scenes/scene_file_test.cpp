@@ -167,13 +167,29 @@ TEST_F(SceneFileTest, DegenerateInputIsReportedAndExtremesRefused) {
               {"camera", "the default [0, 1, 0] is parallel to the view"});
 }
 
-// The map's importance weighting: luminance unless the file says mean.
+// The map's importance weighting: compensated luminance unless the file
+// says otherwise; a command's choice overrides the file's (after checking
+// it), and the light integrator samples the map without compensation.
 TEST_F(SceneFileTest, EnvironmentImportanceNamesItsTarget) {
-  const LoadedScene lum = loadScene(valid(), dir_.path().string());
-  EXPECT_EQ(lum.scene.environment->target()->spec().rfind("envmap:", 0), 0u);
-  const LoadedScene mean = loadScene(
-      valid("\"scale\": 2", "\"scale\": 2, \"importance\": \"mean\""), dir_.path().string());
-  EXPECT_EQ(mean.scene.environment->target()->spec().rfind("envmap-mean:", 0), 0u);
+  const auto family = [](const LoadedScene &s) {
+    const std::string spec = s.scene.environment->target()->spec();
+    return spec.substr(0, spec.find(':'));
+  };
+  const std::string root = dir_.path().string();
+  const LoadedScene plain = loadScene(valid(), root);
+  EXPECT_EQ(family(plain), "envmap-compensated");
+  EXPECT_EQ(sampledLight(plain.scene, IntegratorKind::Direct), &*plain.scene.environment);
+  const EnvironmentLight *light = sampledLight(plain.scene, IntegratorKind::Light);
+  ASSERT_NE(light, nullptr);
+  EXPECT_EQ(light->weight(), PixelWeight::Luminance);
+  EXPECT_EQ(light->target()->spec().rfind("envmap:", 0), 0u);
+  const std::string mean = valid("\"scale\": 2", "\"scale\": 2, \"importance\": \"mean\"");
+  EXPECT_EQ(family(loadScene(mean, root)), "envmap-mean");
+  EXPECT_EQ(family(loadScene(mean, root, {kDefaultLobeChoice, PixelWeight::Luminance})), "envmap");
+  EXPECT_EQ(family(loadScene("default", "", {kDefaultLobeChoice, PixelWeight::ChannelMean})),
+            "envmap-mean");
+  expectError(valid("\"scale\": 2", "\"scale\": 2, \"importance\": \"sun\""),
+              {"environment.importance", "luminance-compensated"});
 }
 
 TEST(DefaultScene, BuildsWithoutFilesAndRendersFiniteValues) {
@@ -260,21 +276,27 @@ TEST(ShippedScenes, EnvironmentsAreLitFromAbove) {
 namespace nuld {
 namespace {
 
-// The paper's configuration stays one flag away: with the uniform lobe
-// choice the default scene renders bit for bit what the renderer rendered
-// before lobes were chosen by anything else (tests/data/renders: made by
+// The paper's configuration stays two flags away: with the uniform lobe
+// choice and the sky sampled by plain luminance the default scene renders
+// bit for bit what the renderer rendered before lobes were chosen by
+// anything else and maps were compensated (tests/data/renders: made by
 // `nuld render default --res 48x32 --spp 4 --seed 3` with --backend sobol
-// --integrator path, and sobol-tabulated direct, before the change), while
-// the default choice renders another image of the same scene.
-TEST(DefaultScene, UniformLobeChoiceReproducesThePapersRenders) {
+// --integrator path, and sobol-tabulated direct, before those changes),
+// while either default alone renders another image of the same scene.
+TEST(DefaultScene, PapersConfigurationReproducesThePapersRenders) {
   for (const auto &[backendName, integrator] :
        {std::pair{"sobol", IntegratorKind::Path}, {"sobol-tabulated", IntegratorKind::Direct}}) {
     const Image stored =
         readImage(std::string(NULD_SOURCE_DIR) + "/tests/data/renders/default_uniform_" +
                   backendName + "_" + toString(integrator) + ".exr");
-    for (const LobeChoice choice : {LobeChoice::Uniform, kDefaultLobeChoice}) {
-      const LoadedScene loaded = loadScene("default", "", choice);
-      EXPECT_EQ(loaded.scene.lobeChoice, choice);
+    const SceneChoices paper{LobeChoice::Uniform, PixelWeight::Luminance};
+    for (const SceneChoices &choices :
+         {paper, SceneChoices{LobeChoice::Uniform}, SceneChoices{kDefaultLobeChoice},
+          SceneChoices{kDefaultLobeChoice, PixelWeight::Luminance}}) {
+      const LoadedScene loaded = loadScene("default", "", choices);
+      EXPECT_EQ(loaded.scene.lobeChoice, choices.lobes);
+      EXPECT_EQ(loaded.scene.environment->weight(),
+                choices.importance.value_or(kDefaultImportance));
       RenderOverrides change;
       change.spp = 4;
       change.width = 48, change.height = 32;
@@ -283,8 +305,10 @@ TEST(DefaultScene, UniformLobeChoiceReproducesThePapersRenders) {
       const auto backend = makeBackend(backendName, 3);
       const Image image = render(loaded.scene, s, *backend);
       ASSERT_EQ(image.pixels.size(), stored.pixels.size());
-      EXPECT_EQ(image.pixels == stored.pixels, choice == LobeChoice::Uniform)
-          << backendName << " " << toString(choice);
+      const bool isPaper = choices.lobes == paper.lobes && choices.importance == paper.importance;
+      EXPECT_EQ(image.pixels == stored.pixels, isPaper)
+          << backendName << " " << toString(choices.lobes) << " "
+          << toString(loaded.scene.environment->weight());
     }
   }
 }

@@ -122,8 +122,8 @@ TEST_F(TinyStudy, CsvHasItsColumnsAndUnits) {
   int envSets = 0, uniformSets = 0;
   for (const auto &e : fs::directory_iterator(*dir_ / "cache" / "sets")) {
     const std::string name = e.path().filename().string();
-    envSets += name.starts_with("envmap_procedural-sky_n64_") ||
-               name.starts_with("envmap_procedural-sky_n4_");
+    envSets += name.starts_with("envmap-compensated_procedural-sky_n64_") ||
+               name.starts_with("envmap-compensated_procedural-sky_n4_");
     uniformSets += name.starts_with("uniform_n4_") || name.starts_with("uniform_n64_");
   }
   EXPECT_EQ(envSets, 2);
@@ -170,7 +170,8 @@ TEST_F(TinyStudy, RerunResumesWithoutDuplicates) {
   for (std::size_t i = 0; i + 1 < again.rows().size(); ++i)
     EXPECT_EQ(again.rows()[i], t.rows()[i]) << "kept rows are not rewritten";
 
-  // Other repeats, lobe options or lobe choice would add rows unlike the kept ones:
+  // Other repeats, lobe options, lobe choice or map importance would add rows
+  // unlike the kept ones:
   // refused before anything renders, naming the option.
   for (const auto &[option, edit] :
        std::vector<std::pair<std::string, std::function<void(RenderStudySettings &)>>>{
@@ -179,7 +180,9 @@ TEST_F(TinyStudy, RerunResumesWithoutDuplicates) {
            {"--lobe-routes", [](RenderStudySettings &s) { s.lobeRouting = LobeRouting::Table; }},
            {"--lobe-defensive", [](RenderStudySettings &s) { s.lobeDefensive = 0.2; }},
            {"--lobe-bounces", [](RenderStudySettings &s) { s.lobeBounces = 0; }},
-           {"--lobe-choice", [](RenderStudySettings &s) { s.lobeChoice = LobeChoice::Uniform; }}}) {
+           {"--lobe-choice", [](RenderStudySettings &s) { s.choices.lobes = LobeChoice::Uniform; }},
+           {"--env-importance",
+            [](RenderStudySettings &s) { s.choices.importance = PixelWeight::Luminance; }}}) {
     RenderStudySettings s = tinyStudy(copy);
     edit(s);
     try {

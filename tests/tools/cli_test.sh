@@ -189,16 +189,16 @@ export NULD_CACHE="$dir/list-cache"
 "$nuld" render default --backend optimized-both --spp 4 --res 8 "${sets[@]}" --seed 3 -q -o "$dir/w.exr" >/dev/null 2>&1
 "$nuld" bank default --spp 4 --res 8 "${sets[@]}" --seed 3 -q >"$dir/out" 2>"$dir/err"
 head -1 "$dir/out" | grep -q '^spp  *pair  *state  *n  *instances  *seed  *epochs  *optimize_s  *size  *age  *key  *target$' &&
-  grep -q '^4  *light  *cached  *4  *2  *3  *5 .* envmap:procedural-sky$' "$dir/out" &&
+  grep -q '^4  *light  *cached  *4  *2  *3  *5 .* envmap-compensated:procedural-sky$' "$dir/out" &&
   [[ $(grep -c '^4  *bsdf  *cached  *4  *2  *3  *5 .* disney:' "$dir/out") -ge 2 ]] && ! grep -q ' made ' "$dir/out" &&
   [[ -z $(grep ' bsdf ' "$dir/out" | awk '{print $NF}' | sort | uniq -d) ]] ||
   { echo "FAIL: nuld bank after a render lists its sets as cached, with seed, epochs and whole targets"; cat "$dir/out" "$dir/err"; failures=$((failures + 1)); }
 "$nuld" bank default --backend optimized --spp 4 --res 8 --opt-instances 2 --opt-epochs 6 --seed 4 -q >"$dir/out" 2>&1
-grep -q '^4  *light  *made  *4  *2  *4  *6 .* envmap:procedural-sky$' "$dir/out" ||
+grep -q '^4  *light  *made  *4  *2  *4  *6 .* envmap-compensated:procedural-sky$' "$dir/out" ||
   { echo "FAIL: nuld bank says made for a set it made"; cat "$dir/out"; failures=$((failures + 1)); }
 "$nuld" cache list >"$dir/out" 2>&1
 head -1 "$dir/out" | grep -q '^n  *instances  *seed  *epochs ' &&
-  [[ $(grep 'envmap:procedural-sky$' "$dir/out" | awk '{print $3 "/" $4}' | sort | tr '\n' ' ') == "3/5 4/6 " ]] &&
+  [[ $(grep 'envmap-compensated:procedural-sky$' "$dir/out" | awk '{print $3 "/" $4}' | sort | tr '\n' ' ') == "3/5 4/6 " ]] &&
   [[ -z $(grep 'disney:' "$dir/out" | awk '{print $NF}' | sort | uniq -d) ]] ||
   { echo "FAIL: nuld cache list tells rows of one target apart by seed and epochs, and shows whole targets"; cat "$dir/out"; failures=$((failures + 1)); }
 export NULD_CACHE="$dir/set-cache"

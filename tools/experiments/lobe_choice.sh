@@ -2,7 +2,7 @@
 # The classic baseline and what survives it (tools/experiments/README.md,
 # "The material's lobe choice" and "Routes against the new baseline"):
 # render studies of the four shipped scenes under both MIS integrators, once
-# per --lobe-choice, 16 and 64 spp, 8 repeats, seed 9173 (no test uses it),
+# per configuration, 16 and 64 spp, 8 repeats, seed 9173 (no test uses it),
 # 1/4 resolution. Every choice of a (scene, integrator) scores against the
 # same reference (REFERENCE_SPP, default 4096 spp, rendered once with the
 # default choice, in two halves that measure its own variance, and copied).
@@ -15,10 +15,14 @@
 # classic row of its own study, with standard errors, the reference's
 # variance and whether the reference is too noisy for the row.
 #
+# A configuration is a lobe choice (uniform, weight, albedo: --lobe-choice,
+# with the scenes' own map importance, compensated by default) or `paper`
+# (--lobe-choice uniform --env-importance luminance, the paper's).
+#
 # Usage: tools/experiments/lobe_choice.sh OUT
 #   CHOICES (default "uniform weight albedo"), BACKENDS (default sobol,halton),
 #   SCENES, INTEGRATORS (default "direct path"), SPP (16,64), REFERENCE_SPP,
-#   BASELINE_CHOICE.
+#   BASELINE_CHOICE, FLAGS (more options for every study, e.g. --lobe-routes table).
 source "$(dirname "$0")/common.sh"
 out=${1:?usage: lobe_choice.sh OUT}
 choices=${CHOICES:-"uniform weight albedo"}
@@ -32,6 +36,12 @@ mkdir -p "$out"
 out=$(cd "$out" && pwd)
 cd "$root"
 files=reference.{exr,state,half0.exr,half1.exr}
+flags_of() {
+  case $1 in
+    paper) echo "--lobe-choice uniform --env-importance luminance" ;;
+    *) echo "--lobe-choice $1" ;;
+  esac
+}
 
 for integrator in $integrators; do
   refs="$out/references/$integrator"
@@ -52,7 +62,7 @@ for integrator in $integrators; do
       NULD_CACHE="$out/$choice/set-cache" "$nuld" study render "$scene" \
         --integrator "$integrator" --res-scale 0.25 --spp "$spp" --repeats 8 \
         --reference-spp "$reference_spp" --seed 9173 --backends "$backends" \
-        --lobe-choice "$choice" --no-report -q -o "$dir" >/dev/null
+        $(flags_of "$choice") ${FLAGS:-} --no-report -q -o "$dir" >/dev/null
     done
   done
 done

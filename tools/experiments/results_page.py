@@ -42,6 +42,11 @@ def pays(r):
     return "never" if math.isinf(k) else f"{k:.0f}"
 
 
+# How the tables name lobe_choice.sh's configurations.
+LABELS = {"albedo": "the defaults (lobes by albedo, compensated map)",
+          "paper": "the paper's configuration (uniform lobes, luminance map)"}
+
+
 def tables(out, choice, baseline="albedo"):
     """Per integrator, every backend's MSE over sobol's under the `baseline`
     lobe choice (the default: the classic baseline) and over the best
@@ -58,7 +63,7 @@ def tables(out, choice, baseline="albedo"):
                          if r["backend"] == "sobol"}
         refs = {r["scene"]: r for r in read(os.path.join(d, "references.csv"))}
         spps = sorted({int(r["spp"]) for r in rows})
-        lines.append(f"\n### `{integrator}`, lobe choice `{choice}`\n")
+        lines.append(f"\n### `{integrator}`, {LABELS.get(choice, f'lobe choice `{choice}`')}\n")
         head = ["scene", "backend"]
         for s in spps:
             head += [f"MSE / sobol ({baseline}), {s} spp", f"MSE / best classic, {s} spp"]
@@ -110,8 +115,9 @@ def main():
     if BEGIN not in text or END not in text:
         sys.exit(f"{page}: the markers of the generated part are missing")
     generated = []
-    for choice in ("albedo", "uniform"):
-        generated += tables(out, choice)
+    for choice in ("albedo", "paper", "uniform"):
+        if os.path.isdir(os.path.join(out, choice)):
+            generated += tables(out, choice)
     head, rest = text.split(BEGIN, 1)
     tail = rest.split(END, 1)[1]
     new = head + BEGIN + "\n" + "\n".join(generated) + "\n\n" + END + tail

@@ -187,14 +187,24 @@ std::string targetOptionHelp(const std::string &what) {
   return what + ": " + list + " (nuld help targets)";
 }
 
-void addLobeChoiceOption(CLI::App &app, LobeChoice &choice) {
+void addSceneChoiceOptions(CLI::App &app, SceneChoices &choices) {
   app.add_option_function<std::string>(
-         "--lobe-choice", [&choice](const std::string &v) { choice = kLobeChoiceNames.parse(v); },
+         "--lobe-choice",
+         [&choices](const std::string &v) { choices.lobes = kLobeChoiceNames.parse(v); },
          "how Disney materials pick the lobe they sample, at every bounce and in references: "
          "albedo (by each lobe's reflectance estimated at the view, as Cycles; the default), "
          "weight (by Mitsuba 3's static weights) or uniform (each lobe alike: the paper's "
-         "configuration)")
+         "configuration, with --env-importance luminance)")
       ->check(oneOf(kLobeChoiceNames));
+  app.add_option_function<std::string>(
+         "--env-importance",
+         [&choices](const std::string &v) { choices.importance = kImportanceNames.parse(v); },
+         "what weighs the environment map's sampling density, in place of the scene's: "
+         "luminance (the paper's), mean (of the channels), or either less the map's mean "
+         "over the sphere, luminance-compensated (the default of scenes that name none) or "
+         "mean-compensated; the light integrator samples a compensated map without its "
+         "compensation")
+      ->check(oneOf(kImportanceNames));
 }
 
 void addLobeOptions(CLI::App &app, LobeOptions &o) {

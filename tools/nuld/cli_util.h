@@ -103,10 +103,11 @@ void applyLobeOptions(const LobeOptions &o, RenderOverrides &change);
 inline constexpr std::initializer_list<const char *> kLobeOptionNames = {
     "--lobe-mix", "--lobe-routes", "--lobe-defensive", "--lobe-bounces"};
 
-// --lobe-choice: how the scene's Disney materials pick a lobe to sample
-// (materials/disney.h, LobeChoice), read into `choice` (left as it is when
-// the option is not given).
-void addLobeChoiceOption(CLI::App &app, LobeChoice &choice);
+// --lobe-choice, how the scene's Disney materials pick a lobe to sample
+// (materials/disney.h, LobeChoice), and --env-importance, what weighs the
+// environment map's sampling in place of the scene's (image_targets.h),
+// read into `choices` (left as they are when not given).
+void addSceneChoiceOptions(CLI::App &app, SceneChoices &choices);
 
 // "WHAT: uniform, bilinear:w00,w10,w01,w11, ... (nuld help targets)": every
 // target grammar makeTarget knows, for a --target option's help.

@@ -43,7 +43,7 @@ Runner addBank(CLI::App &app) {
                      std::to_string(kDefaultSeed) + ", as theirs)")
       ->check(wholeNumberIn(0, std::int64_t(1) << 62));
   addSetOptions(app, o->sets);
-  addLobeChoiceOption(app, o->sets.lobeChoice);
+  addSceneChoiceOptions(app, o->sets.choices);
   app.add_option("--assets", o->assets,
                  "asset root (default: $NULD_ASSETS, else ../shared/assets)");
   app.add_option("-o,--output", o->output,
@@ -61,7 +61,7 @@ Runner addBank(CLI::App &app) {
                                   "': nuld bank makes the study's sets (optimized, "
                                   "optimized-uniform, optimized-bsdf, optimized-both)");
     checkAssets(app, o->assets, !isBuiltInScene(o->scene), kSceneFilesOnly);
-    LoadedScene loaded = loadScene(o->scene, resolveAssetRoot(o->assets), o->sets.lobeChoice);
+    LoadedScene loaded = loadScene(o->scene, resolveAssetRoot(o->assets), o->sets.choices);
     RenderOverrides change;
     applyResolution(app, o->res, o->resScale, change);
     if (!o->integrator.empty()) change.integrator = parseIntegrator(o->integrator);

@@ -71,7 +71,7 @@ Runner addRender(CLI::App &app) {
     std::size_t spp = 0;
     int maxDepth = 0;
     LobeOptions lobes;
-    LobeChoice lobeChoice = kDefaultLobeChoice;
+    SceneChoices choices;
     std::int64_t seed = -1;
     study::RenderStudySettings sets;  // --opt-*: the study backends' sets
     double resScale = 1;
@@ -103,7 +103,7 @@ Runner addRender(CLI::App &app) {
   app.add_option("--max-depth", o->maxDepth, "maximum path length in bounces")
       ->check(wholeNumberIn(1, kMaxDepthLimit));
   addLobeOptions(app, o->lobes);
-  addLobeChoiceOption(app, o->lobeChoice);
+  addSceneChoiceOptions(app, o->choices);
   addSetOptions(app, o->sets);
   app.add_option("--seed", o->seed,
                  "seed of the backend's randomization and of the sets it makes (default: the "
@@ -116,7 +116,7 @@ Runner addRender(CLI::App &app) {
   return [o, &app] {
     checkRenderOutputs(o->output);
     checkAssets(app, o->assets, !isBuiltInScene(o->scene), kSceneFilesOnly);
-    LoadedScene loaded = loadScene(o->scene, resolveAssetRoot(o->assets), o->lobeChoice);
+    LoadedScene loaded = loadScene(o->scene, resolveAssetRoot(o->assets), o->choices);
     RenderOverrides change;
     if (o->spp) change.spp = o->spp;
     applyResolution(app, o->res, o->resScale, change);
@@ -186,9 +186,8 @@ Runner addRender(CLI::App &app) {
     if (const std::string note = fallbackNote(backendWord, servedPairs(use), prepared.note);
         !note.empty())
       std::cerr << "nuld: note: " << note << "\n";
-    writeRender(
-        o->output, image,
-        renderAttributes(loaded.name, loaded.scene.lobeChoice, s, backend->name(), seed, stats));
+    writeRender(o->output, image,
+                renderAttributes(loaded.name, loaded.scene, s, backend->name(), seed, stats));
     std::printf(
         "scene %s\nbackend %s\nspp %zu\nresolution %dx%d\nintegrator %s\n", loaded.name.c_str(),
         (word.sets == study::StudyBackend::Sets::None ? backend->name() : word.word).c_str(), s.spp,

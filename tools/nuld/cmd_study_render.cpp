@@ -222,7 +222,7 @@ Runner addStudyRender(CLI::App &app) {
       ->check(CLI::Range(1.0, 1e12));
   addSetOptions(app, o->s);
   addLobeOptions(app, o->lobes);
-  addLobeChoiceOption(app, o->s.lobeChoice);
+  addSceneChoiceOptions(app, o->s.choices);
   app.add_option("--assets", o->s.assets,
                  "asset root (default: $NULD_ASSETS, else ../shared/assets)");
   app.add_option("-o,--output", o->out, "study directory (created; a rerun resumes it)")

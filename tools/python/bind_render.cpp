@@ -63,7 +63,8 @@ void bindRender(py::module_ &m) {
       [](py::object sceneArg, py::object backendArg, py::object sppArg, py::object resArg,
          py::object integratorArg, py::object depthArg, py::object seedArg, py::object assetsArg,
          py::object mixArg, py::object statsArg, py::object instancesArg, py::object epochsArg,
-         py::object lobeEpochsArg, py::object threadsArg, py::object choiceArg) {
+         py::object lobeEpochsArg, py::object threadsArg, py::object choiceArg,
+         py::object importanceArg) {
         const std::string f = "render";
         const std::string scene = text(sceneArg, {f, "scene"});
         const auto backend = optional(backendArg, {f, "backend"}, text);
@@ -86,12 +87,16 @@ void bindRender(py::module_ &m) {
           return int(wholeNumber(h, a, 1, INT_MAX));
         });
         const std::string lobeChoice = text(choiceArg, {f, "lobe_choice"});
+        const auto importance = optional(importanceArg, {f, "env_importance"}, text);
         // Cores for this call (as the CLI's --threads), released on return.
         std::optional<tbb::global_control> limit;
         if (threads) limit.emplace(tbb::global_control::max_allowed_parallelism, *threads);
         const bool builtIn = isBuiltInScene(scene);
-        LoadedScene loaded = loadScene(scene, builtIn ? std::string() : resolveAssetRoot(assets),
-                                       kLobeChoiceNames.parse(lobeChoice));
+        const SceneChoices choices{
+            kLobeChoiceNames.parse(lobeChoice),
+            importance ? std::optional(kImportanceNames.parse(*importance)) : std::nullopt};
+        LoadedScene loaded =
+            loadScene(scene, builtIn ? std::string() : resolveAssetRoot(assets), choices);
         RenderOverrides change;
         change.spp = spp;
         if (resolution) change.width = resolution->first, change.height = resolution->second;
@@ -109,7 +114,7 @@ void bindRender(py::module_ &m) {
         options.optimizedInstances = optInstances;
         options.optimizedEpochs = optEpochs;
         options.lobeEpochs = optLobeEpochs;
-        options.lobeChoice = loaded.scene.lobeChoice;
+        options.choices = choices;
         study::PreparedBackend prepared;
         RenderStats st;
         Image img;
@@ -125,6 +130,8 @@ void bindRender(py::module_ &m) {
         py::dict d;
         d["backend"] = b->name(), d["spp"] = s.spp, d["integrator"] = toString(s.integrator);
         d["lobe_choice"] = toString(loaded.scene.lobeChoice);
+        if (loaded.scene.environment)
+          d["env_importance"] = toString(loaded.scene.environment->weight());
         // One setup time, as the studies count it: tables, backend and sets made.
         d["seconds"] = st.seconds, d["setup_seconds"] = st.setupSeconds + prepared.setupSeconds;
         d["rays"] = st.rays;
@@ -145,6 +152,7 @@ void bindRender(py::module_ &m) {
       py::arg("lobe_mix") = py::none(), py::arg("stats") = false, py::arg("opt_instances") = 16,
       py::arg("opt_epochs") = 0, py::arg("opt_lobe_epochs") = 0, py::arg("threads") = py::none(),
       py::arg("lobe_choice") = std::string(toString(kDefaultLobeChoice)),
+      py::arg("env_importance") = py::none(),
       R"(Renders a scene file (or 'default', 'stress') as `nuld render` does, to a
 linear float32 (H, W, 3) array, row 0 at the top. Unset arguments take the
 scene's values; resolution is (width, height); assets defaults to
@@ -153,7 +161,9 @@ lists, the study's optimized, optimized-bsdf, ... included (their sets made
 into the set cache, $NULD_CACHE, or found there; opt_instances, opt_epochs and
 opt_lobe_epochs as nuld render's --opt-*, 0 for the defaults; threads: the cores to
 use, default all; lobe_choice: how Disney materials pick a lobe, 'albedo' (the
-default), 'weight' or 'uniform' (the paper's configuration), as --lobe-choice). With stats=True returns
+default), 'weight' or 'uniform' (the paper's configuration, with
+env_importance='luminance'), as --lobe-choice; env_importance: what weighs the
+environment map's sampling in place of the scene's, as --env-importance). With stats=True returns
 (image, dict), the dict with what a learned backend's sets served per pair.)");
 
   m.def(

@@ -280,8 +280,8 @@ ReferenceResult renderReference(const Scene &scene, const std::string &sceneName
       whole.spp = settings.totalSpp();
       RenderStats stats;
       stats.seconds = state.seconds;
-      ImageAttributes attributes = renderAttributes(sceneName, scene.lobeChoice, whole,
-                                                    settings.backend, settings.seed, stats);
+      ImageAttributes attributes =
+          renderAttributes(sceneName, scene, whole, settings.backend, settings.seed, stats);
       attributes.emplace_back("nuld:reference", description);
       // The halves before the reference: a reference on disk has its halves.
       for (int h = 0; h < 2; ++h) writeImage(halfPath[h].string(), mean[h], attributes);

@@ -151,8 +151,7 @@ CellOutcome renderCell(
     nonFinite += e.nonFinitePixels;
     rejected += stats.rejectedSamples;
     if (r == 0) {
-      out.attributes =
-          renderAttributes(c.sceneSlug, c.scene.lobeChoice, c.settings, b->name(), s.seed, stats);
+      out.attributes = renderAttributes(c.sceneSlug, c.scene, c.settings, b->name(), s.seed, stats);
       out.image = std::move(img);
     }
   }
@@ -277,8 +276,10 @@ std::string RenderStudySettings::rowOptions() const {
     << " lobe-routes=" << toString(lobeRouting.value_or(LobeRouting::Measured))
     << " lobe-defensive=" << formatNumber(lobeDefensive.value_or(LobeTableSettings{}.defensive))
     << " lobe-bounces=" << lobeBounces.value_or(LobeTableSettings{}.bounces)
-    << " lobe-choice=" << toString(lobeChoice) << " opt-instances=" << optimizedInstances
-    << " opt-epochs=" << optimizedEpochs << " opt-lobe-epochs=" << lobeBankEpochs()
+    << " lobe-choice=" << toString(choices.lobes)
+    << " env-importance=" << (choices.importance ? toString(*choices.importance) : "scene")
+    << " opt-instances=" << optimizedInstances << " opt-epochs=" << optimizedEpochs
+    << " opt-lobe-epochs=" << lobeBankEpochs()
     << " opt-union-weight=" << formatNumber(lobeUnionWeight)
     << (optimizedNested ? " opt-nested=on" : "") << " reference-spp=" << reference.spp
     << " reference-pass-spp=" << reference.passSpp << " reference-backend=" << reference.backend;
@@ -375,8 +376,8 @@ ScenePlan planScene(const SceneStudy &scene, const CsvTable &table, const Render
     plan.tableSeconds = secondsSince(start);
   }
   for (PlannedCell &c : plan.cells)
-    c.plan = planBackend(c.backend, scene.loaded.scene, plan.tables.get(), plan.lobeTargets,
-                         scene.slug, c.spp, s);
+    c.plan = planBackend(c.backend, sampledLight(scene.loaded.scene, scene.settings.integrator),
+                         plan.tables.get(), plan.lobeTargets, scene.slug, c.spp, s);
   return plan;
 }
 
@@ -471,7 +472,7 @@ RenderStudyResult runRenderStudy(const RenderStudySettings &s, const StudyProgre
 
   const std::string assets = resolveAssetRoot(s.assets);
   for (const std::string &scenePath : s.scenes) {
-    SceneStudy scene{loadScene(scenePath, assets, s.lobeChoice), {}, slug(scenePath), {}};
+    SceneStudy scene{loadScene(scenePath, assets, s.choices), {}, slug(scenePath), {}};
     scene.settings = s.overrides().appliedTo(scene.loaded.settings);
     scene.dir = s.out / scene.slug;
 

@@ -38,6 +38,7 @@
 
 #include "renderer/backend_registry.h"
 #include "renderer/sampler_backend.h"
+#include "scenes/scene_file.h"
 #include "tools/study/optimized_sets.h"
 #include "tools/study/reference_render.h"
 
@@ -86,9 +87,10 @@ struct RenderStudySettings {
   std::optional<LobeRouting> lobeRouting;  // --lobe-routes (unset: measured)
   std::optional<double> lobeDefensive;     // --lobe-defensive (unset: the default share)
   std::optional<int> lobeBounces;          // --lobe-bounces (unset: the default)
-  // How the scenes' Disney materials pick lobes, in every row and the
-  // references (--lobe-choice).
-  LobeChoice lobeChoice = kDefaultLobeChoice;
+  // How the scenes' Disney materials pick lobes and, when set, the
+  // environments' importance, in every row and the references
+  // (--lobe-choice, --env-importance).
+  SceneChoices choices;
   std::filesystem::path out;
   // The set cache's directory (tools/study/set_cache.h); empty:
   // SetCache::fromEnvironment ($NULD_CACHE, ...).

@@ -74,8 +74,8 @@ StudyBackend parseStudyBackend(const std::string &word) {
   return b;
 }
 
-BackendPlan planBackend(const StudyBackend &backend, const Scene &scene, const LobeTables *tables,
-                        const std::vector<const Target *> &lobeTargets,
+BackendPlan planBackend(const StudyBackend &backend, const EnvironmentLight *light,
+                        const LobeTables *tables, const std::vector<const Target *> &lobeTargets,
                         const std::string &sceneSlug, std::size_t spp,
                         const RenderStudySettings &s) {
   using Sets = StudyBackend::Sets;
@@ -133,9 +133,9 @@ BackendPlan planBackend(const StudyBackend &backend, const Scene &scene, const L
     return plan;
   }
   if (backend.sets == Sets::EnvMap || backend.sets == Sets::EnvMapAndLobes) {
-    if (!scene.environment || !scene.environment->target())
+    if (!light || !light->target())
       return {std::nullopt, {}, "the scene has no (non-black) environment map to optimize for"};
-    addSets(*scene.environment->target(), request, task);
+    addSets(*light->target(), request, task);
   }
   if (backend.makesLobeSets()) {
     // A bank per lobe table the renderer will build for this scene (the same
@@ -217,8 +217,8 @@ PreparedBackend prepareStudyBackend(const StudyBackend &backend, const Scene &sc
   }
   RenderStudySettings s = options;
   s.spp = {settings.spp};
-  const BackendPlan plan =
-      planBackend(backend, scene, tables.get(), lobeTargets, sceneName, settings.spp, s);
+  const BackendPlan plan = planBackend(backend, sampledLight(scene, settings.integrator),
+                                       tables.get(), lobeTargets, sceneName, settings.spp, s);
   if (!plan.spec) throw std::invalid_argument("backend '" + backend.word + "': " + plan.why);
   out.spec = *plan.spec;
   const std::vector<SetsJob> made = makeMissingSets(

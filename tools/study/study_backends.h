@@ -32,9 +32,10 @@ struct BackendPlan {
 };
 
 // The plan of `backend` for the scene at `spp`, its sets in the set cache
-// (made or found there); lobe banks for `lobeTargets` only.
-BackendPlan planBackend(const StudyBackend &backend, const Scene &scene, const LobeTables *tables,
-                        const std::vector<const Target *> &lobeTargets,
+// (made or found there): environment-map sets for `light` (the light the
+// integrator samples, sampledLight), lobe banks for `lobeTargets` only.
+BackendPlan planBackend(const StudyBackend &backend, const EnvironmentLight *light,
+                        const LobeTables *tables, const std::vector<const Target *> &lobeTargets,
                         const std::string &sceneSlug, std::size_t spp,
                         const RenderStudySettings &s);
 
