@@ -55,6 +55,24 @@ const ImageKind *findImageKind(const std::string &name) {
   return nullptr;
 }
 
+// Every family a spec may start with: the word of each grammar.
+std::vector<std::string> targetFamilies() {
+  std::vector<std::string> families;
+  for (const TargetDescription &d : targetDescriptions())
+    families.push_back(d.grammar.substr(0, d.grammar.find_first_of(":[ ")));
+  return families;
+}
+
+// Every family's grammar, the closest to `family` first.
+std::invalid_argument unknownTarget(const std::string &spec, const std::string &family) {
+  std::string known;
+  for (const TargetDescription &d : targetDescriptions())
+    known += (known.empty() ? "" : ", ") + d.grammar;
+  return std::invalid_argument("unknown target '" + spec + "'" +
+                               didYouMean(family, targetFamilies()) +
+                               " (expected one of: " + known + "; nuld help targets)");
+}
+
 }  // namespace
 
 void registerTargetKind(const std::string &name, TargetFactory factory, const std::string &grammar,
@@ -158,14 +176,14 @@ std::unique_ptr<Target> makeTarget(const std::string &spec) {
     if (it != registry().end()) factory = it->second.factory;
   }
   if (factory) return factory(args);
-  std::string known;
-  std::vector<std::string> families;
-  for (const TargetDescription &d : targetDescriptions()) {
-    known += (known.empty() ? "" : ", ") + d.grammar;
-    families.push_back(d.grammar.substr(0, d.grammar.find_first_of(":[ ")));
-  }
-  throw std::invalid_argument("unknown target '" + spec + "'" + didYouMean(family, families) +
-                              " (expected one of: " + known + "; nuld help targets)");
+  throw unknownTarget(spec, family);
+}
+
+void checkTargetFamily(const std::string &spec) {
+  const std::string family = spec.substr(0, spec.find(':'));
+  const std::vector<std::string> known = targetFamilies();
+  if (std::find(known.begin(), known.end(), family) == known.end())
+    throw unknownTarget(spec, family);
 }
 
 std::vector<std::size_t> parseSizeList(const std::string &what, const std::string &text) {

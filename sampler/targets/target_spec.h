@@ -34,6 +34,9 @@ std::vector<TargetDescription> targetDescriptions();
 // image: and envmap: a file that cannot be read gives std::runtime_error
 // naming the path.
 std::unique_ptr<Target> makeTarget(const std::string &spec);
+// Refuses (as makeTarget does) a spec whose family no target has, without
+// building anything: the grammar check of a --target option.
+void checkTargetFamily(const std::string &spec);
 
 // Parses "a,b,c" into exactly `count` numbers (or between min and max).
 std::vector<double> parseNumberList(const std::string &spec, const std::string &args,

@@ -177,7 +177,7 @@ void onlyWhen(const CLI::App &app, bool applies, std::initializer_list<const cha
     command = p->get_name() + " " + command;
   for (const char *option : options)
     if (app.count(option))
-      throw std::invalid_argument(command + ": " + option + " applies to " + when + " only");
+      throw UsageError(command + ": " + option + " applies to " + when + " only");
 }
 
 std::string targetOptionHelp(const std::string &what) {
@@ -262,5 +262,9 @@ void addSetOptions(CLI::App &app, study::RenderStudySettings &s) {
                  "instances optimized apart)")
       ->check(nonNegativeNumber());
 }
+
+CLI::Validator targetFamily() { return parsedBy(checkTargetFamily); }
+CLI::Validator backendWord() { return parsedBy(parseBackend); }
+CLI::Validator studyBackendWord() { return parsedBy(study::parseStudyBackend); }
 
 }  // namespace nuld::cli

@@ -43,26 +43,53 @@ void applyResolution(const CLI::App &app, const std::string &res, double scale,
 // else happens then), --resume, --stop-after and -q.
 void addRunFlags(CLI::App &app, RunFlags &flags, const std::string &unit,
                  const std::string &alsoDoes = "");
-// The check of an option that names a value of `names` (aliases included):
-// the help lists the names as {a,b,c}; anything else is refused with the
-// table's message.
-template <class E, std::size_t N>
-CLI::Validator oneOf(const EnumTable<E, N> &names) {
+// A command line the command refuses as written: an option that does not
+// apply, a value outside an option's grammar. It exits 2 as CLI11's own
+// refusals do, however late it is found (docs/usage.md, "Conventions worth
+// knowing"); a well-formed command that cannot be carried out (a file that
+// does not exist or does not parse, a failure while running) exits 1.
+struct UsageError : std::invalid_argument {
+  using std::invalid_argument::invalid_argument;
+};
+
+// The check of an option whose value `parse` reads (a backend word, a
+// target's family, a size list): its std::invalid_argument is the option's
+// refusal, at parse time. `parse` must only read the text: files the value
+// names are opened when the command runs, and failing then exits 1.
+template <class F>
+CLI::Validator parsedBy(F parse) {
   return CLI::Validator(
-      [names](std::string &text) {
+      [parse](std::string &text) {
         try {
-          names.parse(text);
+          parse(text);
           return std::string();
         } catch (const std::invalid_argument &e) {
           return std::string(e.what());
         }
       },
-      CLI::detail::generate_set(names.names()));
+      "");
 }
+
+// The check of an option that names a value of `names` (aliases included):
+// the help lists the names as {a,b,c}; anything else is refused with the
+// table's message.
+template <class E, std::size_t N>
+CLI::Validator oneOf(const EnumTable<E, N> &names) {
+  CLI::Validator check = parsedBy([names](const std::string &text) { names.parse(text); });
+  check.description(CLI::detail::generate_set(names.names()));
+  return check;
+}
+
+// The grammar checks of options that several commands share: a target spec's
+// family (checkTargetFamily), a renderer backend word (parseBackend) and
+// any word of `nuld render --backend` (the study's words included).
+CLI::Validator targetFamily();
+CLI::Validator backendWord();
+CLI::Validator studyBackendWord();
 
 // The one rule for options that do not apply: when `applies` is false, the
 // first of `options` the user gave is refused as "COMMAND: OPTION applies to
-// WHEN only", rather than silently ignored.
+// WHEN only" (a UsageError), rather than silently ignored.
 void onlyWhen(const CLI::App &app, bool applies, std::initializer_list<const char *> options,
               const std::string &when);
 

@@ -28,7 +28,13 @@ Runner addBank(CLI::App &app) {
   app.add_option("scene", o->scene, "scene file (JSON) or 'default'")->required();
   app.add_option("--backend", o->backend,
                  "optimized, optimized-uniform, optimized-bsdf or optimized-both (default "
-                 "optimized-both)");
+                 "optimized-both)")
+      ->check(parsedBy([](const std::string &word) {
+        if (study::parseStudyBackend(word).sets == study::StudyBackend::Sets::None)
+          throw std::invalid_argument("'" + word +
+                                      "': nuld bank makes the study's sets (optimized, "
+                                      "optimized-uniform, optimized-bsdf, optimized-both)");
+      }));
   app.add_option("--spp", o->spp, "comma-separated sample counts (default: the scene's)")
       ->delimiter(',');
   app.add_option("--res", o->res, "resolution the lobe bins are chosen at (WxH or W)");
@@ -56,10 +62,6 @@ Runner addBank(CLI::App &app) {
       "_KEY.ptsb) and the whole target.");
   return [o, &app] {
     const study::StudyBackend word = study::parseStudyBackend(o->backend);
-    if (word.sets == study::StudyBackend::Sets::None)
-      throw std::invalid_argument("--backend '" + o->backend +
-                                  "': nuld bank makes the study's sets (optimized, "
-                                  "optimized-uniform, optimized-bsdf, optimized-both)");
     checkAssets(app, o->assets, !isBuiltInScene(o->scene), kSceneFilesOnly);
     LoadedScene loaded = loadScene(o->scene, resolveAssetRoot(o->assets), o->sets.choices);
     RenderOverrides change;

@@ -27,7 +27,8 @@ Runner addEval(CLI::App &app) {
   auto o = std::make_shared<Options>();
   app.add_option("file", o->file, "point-set file")->required();
   app.add_option("--target", o->target,
-                 targetOptionHelp("target SPEC (default: the file's, else uniform)"));
+                 targetOptionHelp("target SPEC (default: the file's, else uniform)"))
+      ->check(targetFamily());
   app.add_option("--metric", o->metric,
                  "l2star, l2asd, dstar, l2 (grid L2asd against the target), l2per (periodic "
                  "L2, uniform target only) or all")
@@ -52,7 +53,8 @@ Runner addEval(CLI::App &app) {
                "compare with Owen-Sobol's at the same N)");
   app.add_option("--integrand", o->integrand,
                  "also estimate the integral of a test integrand (step, disc, bilinear, gaussian) "
-                 "with the points as importance samples of the target; prints its RMSE and bias");
+                 "with the points as importance samples of the target; prints its RMSE and bias")
+      ->check(parsedBy(makeTestIntegrand));
   app.footer(
       "Values are plain (not squared) discrepancies, averaged over the file's instances.\n"
       "Against a uniform target l2star, l2asd and l2per are exact closed forms; against a\n"

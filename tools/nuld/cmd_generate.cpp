@@ -150,7 +150,8 @@ Runner addGenerate(CLI::App &app) {
       ->check(positiveNumber())
       ->capture_default_str();
   app.add_option("--target", o->target,
-                 targetOptionHelp("map the points to this target by inverse CDF (SPEC)"));
+                 targetOptionHelp("map the points to this target by inverse CDF (SPEC)"))
+      ->check(targetFamily());
   app.add_option("-o,--output", o->output, "output file (.ptsb: binary; otherwise text)")
       ->required();
   return [o, &app] {
@@ -196,7 +197,8 @@ Runner addMap(CLI::App &app) {
   auto o = std::make_shared<Options>();
   app.add_option("file", o->input, "point-set file of uniform points")->required();
   app.add_option("--target", o->target, targetOptionHelp("target SPEC to map to by inverse CDF"))
-      ->required();
+      ->required()
+      ->check(targetFamily());
   app.add_option("--shifts", o->shifts,
                  "randomize first: K Cranley-Patterson shifts (from --seed) of every input set, "
                  "so the output has K times its instances (for sets optimized with --objective "

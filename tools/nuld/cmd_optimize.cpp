@@ -41,6 +41,21 @@ struct OptimizeOptions {
   RunFlags run;
 };
 
+// --mass: exact (0 space samples) or mc:K (K > 0).
+std::size_t parseMass(const std::string &text) {
+  if (text == "exact") return 0;
+  if (text.rfind("mc:", 0) != 0)
+    throw std::invalid_argument("'" + text + "': expected exact or mc:K");
+  std::size_t k = 0;
+  try {
+    k = std::stoul(text.substr(3));
+  } catch (...) {
+  }
+  if (k == 0)
+    throw std::invalid_argument("'" + text + "': expected mc:K with K a positive integer");
+  return k;
+}
+
 // The preset for the target, with the options' overrides; throws naming an
 // option that does not parse.
 OptimizerSettings settingsFrom(const OptimizeOptions &o, const Target &target) {
@@ -54,20 +69,7 @@ OptimizerSettings settingsFrom(const OptimizeOptions &o, const Target &target) {
   if (!o.objective.empty()) s.objective = parseObjective(o.objective);
   // The periodic objective's points live on the torus.
   if (s.objective == Objective::PeriodicL2 && o.mapping.empty()) s.mapping = Mapping::Toroidal;
-  if (o.mass == "exact")
-    s.mcSamples = 0;
-  else if (o.mass.rfind("mc:", 0) == 0) {
-    try {
-      s.mcSamples = std::stoul(o.mass.substr(3));
-    } catch (...) {
-      s.mcSamples = 0;
-    }
-    if (s.mcSamples == 0)
-      throw std::invalid_argument("--mass '" + o.mass +
-                                  "': expected mc:K with K a positive integer");
-  } else if (!o.mass.empty()) {
-    throw std::invalid_argument("--mass '" + o.mass + "': expected exact or mc:K");
-  }
+  if (!o.mass.empty()) s.mcSamples = parseMass(o.mass);
   if (o.lr) s.lrStart = *o.lr;
   if (o.lrEnd) s.lrEnd = *o.lrEnd;
   if (o.alpha) s.alphaStart = *o.alpha;
@@ -280,14 +282,18 @@ int runOptimize(const OptimizeOptions &o, const Target &target, const OptimizerS
 
 Runner addOptimize(CLI::App &app) {
   auto o = std::make_shared<OptimizeOptions>();
-  app.add_option("--target", o->target, targetOptionHelp("target SPEC"))->required();
+  app.add_option("--target", o->target, targetOptionHelp("target SPEC"))
+      ->required()
+      ->check(targetFamily());
   app.add_option("--n", o->n, "points per set")->required()->check(positiveNumber());
   app.add_option("--preset", o->preset,
-                 "uniform, nonuniform, nonuniform-mc, sphere or sphere-mc (default: by target)");
+                 "uniform, nonuniform, nonuniform-mc, sphere or sphere-mc (default: by target)")
+      ->check(parsedBy([](const std::string &name) { presetSettings(name, 1); }));
   app.add_option("--epochs", o->epochs, "override the preset's epochs")->check(positiveNumber());
   app.add_option("--boxes", o->boxes, "boxes per epoch")->check(positiveNumber());
   app.add_option("--box-kind", o->boxKind, kBoxKindNames.expected())->check(oneOf(kBoxKindNames));
-  app.add_option("--mass", o->mass, "exact or mc:K (Monte Carlo with K space samples)");
+  app.add_option("--mass", o->mass, "exact or mc:K (Monte Carlo with K space samples)")
+      ->check(parsedBy(parseMass));
   app.add_option("--mapping", o->mapping, kMappingNames.expected())->check(oneOf(kMappingNames));
   app.add_option("--objective", o->objective,
                  "soft (Algorithm 1), l2asd (exact closed form; uniform and grid targets) or "
@@ -313,7 +319,8 @@ Runner addOptimize(CLI::App &app) {
                  "nested sets: also optimize each instance's first M points as a set, for M = "
                  "the given size, twice it, ... below --n (one size), or for the listed sizes "
                  "(M1,M2,...), so that one file serves renders at any spp up to N by prefixes "
-                 "(default: off)");
+                 "(default: off)")
+      ->check(parsedBy([](const std::string &text) { parseSizeList("sizes", text); }));
   app.add_option("--nested-power", o->nestedPower,
                  "weight (M / N)^power of a prefix's loss beside the full set's (default 1)")
       ->check(nonNegativeNumber());

@@ -23,7 +23,8 @@ Runner addPlot(CLI::App &app) {
   app.add_option("file", o->file, "point-set file")->required();
   app.add_option("-o,--output", o->output, "PNG to write")->required();
   app.add_option("--target", o->target,
-                 targetOptionHelp("draw this target's density underneath (default: the file's)"));
+                 targetOptionHelp("draw this target's density underneath (default: the file's)"))
+      ->check(targetFamily());
   app.add_option("--size", o->size, "image size in pixels")
       ->check(wholeNumberIn(16, 8192))
       ->capture_default_str();

@@ -85,7 +85,8 @@ Runner addRender(CLI::App &app) {
                      ", or the study's optimized, optimized-uniform, optimized-bsdf, "
                      "optimized-both (sets made once into the set cache, or found there; "
                      "+shift for shifted sets) (default: the scene's, else sobol; nuld help "
-                     "backends says what each samples)");
+                     "backends says what each samples)")
+      ->check(studyBackendWord());
   app.add_option("--spp", o->spp, "samples per pixel (default: the scene's)")
       ->check(wholeNumberIn(1, 1 << 24));
   app.add_option("--res", o->res,

@@ -183,7 +183,8 @@ Runner addStudyRender(CLI::App &app) {
              "optimized-uniform, optimized-bsdf (lobe banks for the scene's Disney "
              "materials), optimized-both (each also with the suffix +shift: sets randomized "
              "in primary space); nuld help backends")
-      ->delimiter(',');
+      ->delimiter(',')
+      ->check(studyBackendWord());
   app.add_option("--spp", o->s.spp, "comma-separated samples per pixel (default 4,16,64)")
       ->delimiter(',');
   app.add_option("--reference-spp", o->s.reference.spp,
@@ -198,7 +199,8 @@ Runner addStudyRender(CLI::App &app) {
                  "reference saved (a rerun continues it; for job time limits)")
       ->check(positiveNumber());
   app.add_option("--reference-backend", o->s.reference.backend,
-                 "backend of the reference (default halton, as the paper)");
+                 "backend of the reference (default halton, as the paper)")
+      ->check(backendWord());
   app.add_option("--res", o->res,
                  "resolution WxH, or W keeping each scene's aspect (default: the scene's)");
   app.add_option("--res-scale", o->s.resolutionScale,

@@ -231,6 +231,10 @@ int main(int argc, char **argv) {
   try {
     for (auto &[sub, run] : runners)
       if (sub->parsed()) return run();
+  } catch (const nuld::cli::UsageError &e) {
+    // Found after parsing (an option that does not apply): still a usage
+    // error, with CLI11's status.
+    ranks.fail(e.what(), 2);
   } catch (const std::filesystem::filesystem_error &e) {
     // The library's text ("filesystem error: cannot create directories: ...
     // [path]") in the form of every other refusal: the path first.
