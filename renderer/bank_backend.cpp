@@ -91,9 +91,17 @@ void BankBackend::setBanks(std::vector<SetBank> banks) {
   uniform_ = nullptr;
 }
 
+// A learned row adds only what it learned: the first bounce's BSDF pairs no
+// lobe bank serves take the classic lobe routes (as sobol-tabulated), so a
+// bank of environment sets is scored against the best classic mapping, not
+// against the material's sampler alone; only a uniform bank, which serves
+// those pairs as primary points itself, keeps them.
 bool BankBackend::samplesLobes() const {
-  return std::any_of(banks_.begin(), banks_.end(),
-                     [](const SetBank &b) { return isLobeSpec(b.targetSpec()); });
+  const auto has = [&](auto &&test) {
+    return std::any_of(banks_.begin(), banks_.end(),
+                       [&](const SetBank &b) { return test(b.targetSpec()); });
+  };
+  return has(isLobeSpec) || !has([](const std::string &spec) { return spec == "uniform"; });
 }
 
 void BankBackend::prepare(std::size_t spp, const SamplingTargets &targets) {

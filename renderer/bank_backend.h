@@ -16,8 +16,10 @@
 //    own Cranley-Patterson shift, which keeps the estimator unbiased.
 // Every other pair and context (deeper bounces, other materials) falls back
 // to Owen-scrambled Sobol with the same seed, bit for bit what `sobol` gives,
-// except a lobe table no bank serves at the first bounce, which gets those
-// points through the table, as `sobol-tabulated` does.
+// except the first bounce's BSDF pairs: unless a uniform bank serves them,
+// they take the classic lobe routes with those points, as `sobol-tabulated`
+// does (its tables built even where no bank is for a lobe), so that a bank's
+// row measures what its sets add to the best classic mapping.
 //
 // Optimized instances of a non-uniform target are not randomized: the
 // estimator's expectation is the average over the bank's points, which

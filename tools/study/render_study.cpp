@@ -345,7 +345,9 @@ struct ScenePlan {
 
 // Whether a backend samples the scene's lobe tables.
 bool samplesLobes(const StudyBackend &b) {
-  if (b.sets != StudyBackend::Sets::None) return b.makesLobeSets();
+  // Sets sample the lobe routes where no set serves (BankBackend), except
+  // uniform sets, which serve the BSDF pair themselves.
+  if (b.sets != StudyBackend::Sets::None) return b.sets != StudyBackend::Sets::Uniform;
   // A file's banks or a model may or may not sample lobes: asked.
   return b.renderer.entry().lobes && makeBackend(b.renderer, 0)->samplesLobes();
 }
