@@ -265,7 +265,11 @@ namespace {
 // before lobes were chosen by anything else (tests/data/renders: made by
 // `nuld render default --res 48x32 --spp 4 --seed 3` with --backend sobol
 // --integrator path, and sobol-tabulated direct, before the change), while
-// the default choice renders another image of the same scene.
+// the default choice renders another image of the same scene. The
+// sobol-tabulated render was made again (`--lobe-choice uniform`) when the
+// primary-space lobe tables were removed, which its measured routes had
+// used; it equals the render from before their removal with
+// `--lobe-routes measured-sphere` bit for bit.
 TEST(DefaultScene, UniformLobeChoiceReproducesThePapersRenders) {
   for (const auto &[backendName, integrator] :
        {std::pair{"sobol", IntegratorKind::Path}, {"sobol-tabulated", IntegratorKind::Direct}}) {
