@@ -276,61 +276,6 @@ std::optional<Vec3> DisneyBrdf::sampleLobe(int k, Vec3 wo, Point2 u) const {
   return std::nullopt;
 }
 
-Point2 DisneyBrdf::primaryUnderSymmetry(Point2 u, Vec3 wo, double turns, bool flipX,
-                                        bool flipY) const {
-  const int k = pickLobe(lobeProbabilities(wo), u.x).k;
-  double y = u.y;
-  if (lobe(k) == DisneyLobe::Specular) {
-    // phi -> pi - phi about (t1, t2) for one mirror; both: the identity.
-    if (flipX != flipY) y = 0.5 - y;
-  } else {
-    if (flipX) y = 0.5 - y;  // phi -> pi - phi
-    if (flipY) y = -y;       // phi -> -phi
-    y += turns;
-  }
-  return {u.x, wrapUnit(y)};
-}
-
-Point2 DisneyBrdf::primaryBeforeSymmetry(Point2 u, Vec3 wo, double turns, bool flipX,
-                                         bool flipY) const {
-  const int k = pickLobe(lobeProbabilities(wo), u.x).k;
-  double y = u.y;
-  if (lobe(k) == DisneyLobe::Specular) {
-    if (flipX != flipY) y = 0.5 - y;  // its own inverse
-  } else {
-    // The steps of primaryUnderSymmetry undone in reverse order.
-    y -= turns;
-    if (flipY) y = -y;
-    if (flipX) y = 0.5 - y;
-  }
-  return {u.x, wrapUnit(y)};
-}
-
-std::optional<Point2> DisneyBrdf::lobePrimary(int k, Vec3 wo, Vec3 wi) const {
-  if (!(wo.z > 0) || !(wi.z > 0) || k < 0 || k >= lobeCount_) return std::nullopt;
-  std::optional<Point2> u;
-  switch (lobe(k)) {
-    case DisneyLobe::Diffuse:
-    case DisneyLobe::Subsurface: u = cosineHemispherePrimary(wi); break;
-    case DisneyLobe::Specular:
-    case DisneyLobe::Clearcoat: {
-      const auto h = halfVector(wo, wi);
-      if (!h) return std::nullopt;
-      u = lobe(k) == DisneyLobe::Specular ? specular_.visibleNormalPrimary(wo, *h)
-                                          : std::optional(clearcoat_.normalPrimary(*h));
-      break;
-    }
-  }
-  if (!u) return std::nullopt;
-  // Into lobe k's stripe, as sample() reads it (u.x just below 1 stays in
-  // the stripe).
-  const double ux = std::min(u->x, std::nextafter(1.0, 0.0));
-  if (choice_ == LobeChoice::Uniform) return Point2{(k + ux) / lobeCount_, u->y};
-  const LobeProbabilities p = lobeProbabilities(wo);
-  if (!(p[k] > 0)) return std::nullopt;
-  return Point2{stripeStart(p, k) + ux * p[k], u->y};
-}
-
 std::optional<BsdfSample> DisneyBrdf::sample(Vec3 wo, Point2 u) const {
   if (!(wo.z > 0)) return std::nullopt;
   // u.x chooses the lobe and, rescaled, stays the lobe's first coordinate.

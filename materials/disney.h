@@ -94,8 +94,6 @@ class DisneyBrdf final : public Bsdf {
   // of u.x is [sum of those before k, that plus its own).
   using LobeProbabilities = std::array<double, 4>;
   LobeProbabilities lobeProbabilities(Vec3 wo) const;
-  // The lobe whose stripe of u.x holds x at a view with probabilities p.
-  int lobeStripe(const LobeProbabilities &p, double x) const { return pickLobe(p, x).k; }
   DisneyLobe lobe(int k) const { return DisneyLobe(k); }
   // Lobe k's term of f; the terms sum to eval.
   Rgb evalLobe(int k, Vec3 wo, Vec3 wi) const;
@@ -103,28 +101,6 @@ class DisneyBrdf final : public Bsdf {
   double lobePdf(int k, Vec3 wo, Vec3 wi) const;
   // A direction from lobe k alone; nullopt when it points below the surface.
   std::optional<Vec3> sampleLobe(int k, Vec3 wo, Point2 u) const;
-
-  // The primary point u' with sample(S wo, u') = S sample(wo, u), for S a
-  // symmetry of f that moves the view: the mirrors x -> -x (flipX) and
-  // y -> -y (flipY), then the rotation about the normal by `turns` (for an
-  // isotropic material only; f is unchanged under it). A table of sample()'s
-  // primary space made at one view then serves every view S wo (renderer/
-  // lobe_tables.h). The map only moves u.y, the azimuth every lobe's warp
-  // draws (a shift or a reflection mod 1), so it preserves area: u' is
-  // uniform where u is. The diffuse, subsurface and clear-coat warps draw
-  // the azimuth in the shading frame, which S moves; the visible-normal warp
-  // draws it about the stretched view, so a rotation leaves it in place and
-  // either mirror reflects it about that frame's first axis.
-  // wo is either view (the stripes of u.x are the same at both).
-  Point2 primaryUnderSymmetry(Point2 u, Vec3 wo, double turns, bool flipX, bool flipY) const;
-  // Its inverse: primaryBeforeSymmetry(primaryUnderSymmetry(u, ...), ...) = u.
-  Point2 primaryBeforeSymmetry(Point2 u, Vec3 wo, double turns, bool flipX, bool flipY) const;
-  // The inverse of sample() through lobe k: the primary point u, in lobe
-  // k's stripe of u.x, from which sample(wo, u) draws wi; nullopt where
-  // lobe k never draws wi (or is never picked at wo). With it a density over sample()'s primary
-  // square becomes a density over directions (renderer/lobe_tables.h,
-  // LobeFrame::routePdf).
-  std::optional<Point2> lobePrimary(int k, Vec3 wo, Vec3 wi) const;
 
  private:
   // The angles every lobe reads, for wo and wi above the surface.

@@ -41,7 +41,7 @@ constexpr std::array<ParamKey, 10> kParamKeys{{
 }};
 constexpr const char *kKnownKeys =
     "basecolor, metallic, subsurface, specular, roughness, speculartint, anisotropic, sheen, "
-    "sheentint, clearcoat, clearcoatgloss, theta, phi, res, rows, mix, space, lobes";
+    "sheentint, clearcoat, clearcoatgloss, theta, phi, res, rows, mix, lobes";
 
 class ArgsParser {
  public:
@@ -140,11 +140,6 @@ DisneyTargetSpec parseDisneyTargetArgs(const std::string &args) {
       out.phiCells = parser.cells(key, value, 2);
     } else if (key == "mix") {
       out.samplingMix = parser.inRange(key, value, 0, 1, false, "a number in [0, 1]");
-    } else if (key == "space") {
-      const auto space = kLobeSpaceNames.find(value);
-      if (!space)
-        parser.fail("space = " + value + " (expected " + kLobeSpaceNames.expected() + ")");
-      out.space = *space;
     } else if (key == "lobes") {
       const auto choice = kLobeChoiceNames.find(value);
       if (!choice)
@@ -184,7 +179,6 @@ std::string toSpec(const DisneyTargetSpec &s) {
   if (s.phiCells != d.phiCells) add("res", std::to_string(s.phiCells));
   if (s.thetaRows != s.defaultRows()) add("rows", std::to_string(s.thetaRows));
   if (s.samplingMix != d.samplingMix) add("mix", formatRoundTrip(s.samplingMix));
-  if (s.space != d.space) add("space", toString(s.space));
   if (s.lobeChoice != d.lobeChoice) add("lobes", toString(s.lobeChoice));
   return args.empty() ? "disney" : "disney:" + args;
 }
@@ -244,73 +238,6 @@ std::unique_ptr<GridTarget> tabulate(const DisneyBrdf &brdf, Vec3 wo, int phiCel
                                       Domain::Hemisphere, "target '" + name + "'");
 }
 
-// w(u) = luminance(f) cos / p at wi = sample(wo, u) on a uniform grid over
-// the primary square (LobeSpace::Primary), each cell the average over 4 x 4
-// sub-cell midpoints, with the lobes' stripes weighted by samplingMix.
-std::unique_ptr<GridTarget> tabulatePrimary(const DisneyBrdf &brdf, Vec3 wo, int cols, int rows,
-                                            double samplingMix, const std::string &name) {
-  checkTableArgs(cols, rows, wo, name);
-  wo = normalize(wo);
-  std::vector<double> xEdges = GridTarget::uniformEdges(cols),
-                      yEdges = GridTarget::uniformEdges(rows);
-  std::vector<double> density(std::size_t(cols) * rows, 0.0);
-  tbb::parallel_for(0, rows, [&](int j) {
-    for (int i = 0; i < cols; ++i) {
-      double sum = 0;
-      for (int sj = 0; sj < kSubSamples; ++sj)
-        for (int si = 0; si < kSubSamples; ++si) {
-          const Point2 u{(i + (si + 0.5) / kSubSamples) / cols,
-                         (j + (sj + 0.5) / kSubSamples) / rows};
-          const auto s = brdf.sample(wo, u);
-          if (s && s->wi.z > 0 && s->pdf > 0) sum += s->f.luminance() * s->wi.z / s->pdf;
-        }
-      density[std::size_t(j) * cols + i] = sum / (kSubSamples * kSubSamples);
-    }
-  });
-  // The stripes of u.x that pick each lobe (DisneyBrdf::sample): stripe k
-  // gets the mass (1 - mix) w_k + mix max(w_k, own_k p_k), renormalized,
-  // w_k its share of w's mass, p_k the material's own probability of lobe k
-  // and own_k 1 if lobe k is a term of this material's f (else 0: a metal's
-  // diffuse stripes, whose points carry only what they see of the specular
-  // lobe). Inside a stripe the density follows w. A cell belongs to the
-  // stripe of its centre.
-  const int lobes = brdf.lobeCount();
-  const DisneyBrdf::LobeProbabilities own = brdf.lobeProbabilities(wo);
-  std::vector<double> stripeMass(lobes, 0.0), ownValue(lobes, 0.0);
-  const auto stripeOf = [&](int i) { return brdf.lobeStripe(own, (i + 0.5) / cols); };
-  for (int j = 0; j < rows; ++j)
-    for (int i = 0; i < cols; ++i) stripeMass[stripeOf(i)] += density[std::size_t(j) * cols + i];
-  for (int k = 0; k < lobes; ++k)  // lobe k's own term at a few of its own directions
-    for (int q = 0; q < 16 && ownValue[k] == 0; ++q)
-      if (const auto wi = brdf.sampleLobe(k, wo, {(q % 4 + 0.5) / 4, (q / 4 + 0.5) / 4}))
-        ownValue[k] = brdf.evalLobe(k, wo, *wi).luminance();
-  double total = 0;
-  for (const double m : stripeMass) total += m;
-  if (!(total > 0)) {  // a view so grazing that nothing reflects: the warp alone
-    std::fill(density.begin(), density.end(), 1.0);
-  } else {
-    std::vector<double> want(lobes);
-    double wantTotal = 0;
-    for (int k = 0; k < lobes; ++k) {
-      const double share = stripeMass[k] / total;
-      want[k] =
-          (1 - samplingMix) * share + samplingMix * std::max(share, ownValue[k] > 0 ? own[k] : 0.0);
-      wantTotal += want[k];
-    }
-    std::vector<int> stripeCells(lobes, 0);
-    for (int i = 0; i < cols; ++i) stripeCells[stripeOf(i)] += rows;
-    for (int j = 0; j < rows; ++j)
-      for (int i = 0; i < cols; ++i) {
-        const int k = stripeOf(i);
-        double &d = density[std::size_t(j) * cols + i];
-        // A stripe where w vanishes keeps its share uniformly.
-        d = want[k] / wantTotal * (stripeMass[k] > 0 ? d / stripeMass[k] : 1.0 / stripeCells[k]);
-      }
-  }
-  return std::make_unique<GridTarget>(std::move(xEdges), std::move(yEdges), density, name,
-                                      Domain::Square, "target '" + name + "'");
-}
-
 }  // namespace
 
 std::unique_ptr<GridTarget> makeDisneyTarget(const DisneyParams &params, Vec3 wo, int phiCells,
@@ -326,11 +253,8 @@ std::unique_ptr<GridTarget> makeDisneyTarget(const DisneyParams &params, Vec3 wo
 }
 
 std::unique_ptr<GridTarget> makeDisneyTarget(const DisneyTargetSpec &spec) {
-  const DisneyBrdf brdf(spec.params, spec.lobeChoice);
-  if (spec.space == LobeSpace::Primary)
-    return tabulatePrimary(brdf, spec.wo(), spec.phiCells, spec.thetaRows, spec.samplingMix,
-                           toSpec(spec));
-  return tabulate(brdf, spec.wo(), spec.phiCells, spec.thetaRows, spec.samplingMix, toSpec(spec));
+  return tabulate(DisneyBrdf(spec.params, spec.lobeChoice), spec.wo(), spec.phiCells,
+                  spec.thetaRows, spec.samplingMix, toSpec(spec));
 }
 
 DisneyView disneyFamilyView(std::array<double, 2> gamma) {
@@ -396,7 +320,7 @@ std::optional<std::vector<double>> disneyFamilyGamma(const std::string &familySp
     const DisneyTargetSpec t = parseDisneyTargetArgs(*targetArgs);
     const auto sameLayout = [&](const DisneyTargetSpec &base) {
       return t.phiCells == base.phiCells && t.thetaRows == base.thetaRows &&
-             t.samplingMix == base.samplingMix && t.space == base.space;
+             t.samplingMix == base.samplingMix;
     };
     if (const auto familyArgs = argsAfter(familySpec, "family:disney-material")) {
       const DisneyTargetSpec base = parseDisneyTargetArgs(*familyArgs);
@@ -460,7 +384,7 @@ const std::array<GammaAxis, 13> kMaterialAxes{{
 double &channel(Rgb &c, int k) { return k == 0 ? c.r : k == 1 ? c.g : c.b; }
 
 // gamma = the view and every material parameter (kMaterialAxes); ARGS give
-// the table's layout only (res, rows, mix, space).
+// the table's layout only (res, rows, mix, lobes).
 class DisneyMaterialFamily final : public TargetFamily {
  public:
   explicit DisneyMaterialFamily(const std::string &args) : base_(parseDisneyTargetArgs(args)) {
@@ -468,12 +392,11 @@ class DisneyMaterialFamily final : public TargetFamily {
     layout.phiCells = base_.phiCells;
     layout.thetaRows = base_.thetaRows;
     layout.samplingMix = base_.samplingMix;
-    layout.space = base_.space;
     layout.lobeChoice = base_.lobeChoice;
     if (toSpec(layout) != toSpec(base_))
       throw std::invalid_argument("target family 'family:disney-material:" + args +
                                   "': the view and the material are its gamma; its keys are the "
-                                  "table's layout only (res, rows, mix, space, lobes)");
+                                  "table's layout only (res, rows, mix, lobes)");
   }
   std::string spec() const override {
     const std::string s = toSpec(base_);  // "disney" or "disney:ARGS"
@@ -531,8 +454,8 @@ void registerMaterialTargets() {
       std::string("a Disney BRDF lobe f cos on the hemisphere at the view (theta, phi) in "
                   "degrees, tabulated; keys: ") +
           kKnownKeys +
-          " (mix: the share of the material's own sampling pdf; space: sphere, or primary for "
-          "the lobe pulled back to the primary square of the material's own sampling warp); "
+          " (mix: the share of the material's own sampling pdf; lobes: the material's lobe "
+          "choice); "
           "plain `disney` is the supplement's instance at theta 45");
   registerTargetFamily(
       "disney",
@@ -546,7 +469,7 @@ void registerMaterialTargets() {
       [](const std::string &args) -> std::unique_ptr<TargetFamily> {
         return std::make_unique<DisneyMaterialFamily>(args);
       },
-      "family:disney-material[:res=..,rows=..,mix=..,space=..,lobes=..]",
+      "family:disney-material[:res=..,rows=..,mix=..,lobes=..]",
       "gamma = the view (as family:disney), then base colour r, g, b, metallic, subsurface, "
       "specular, roughness, speculartint, anisotropic, sheen, sheentint, clearcoat, "
       "clearcoatgloss; metallic is 0 or 1, and subsurface, the tints, anisotropic, sheen and "

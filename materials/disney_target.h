@@ -23,8 +23,8 @@
 // theta and phi (the polar and azimuthal angle of wo in degrees; theta in
 // [0, 90)), res (phiCells), rows (thetaRows, default res / 2) and mix (the
 // share of the material's own sampling pdf in the density, in [0, 1], default
-// 0: see DisneyTargetSpec::samplingMix) and space (sphere, the default, or
-// primary: see LobeSpace). Keys left out take the supplement's instance
+// 0: see DisneyTargetSpec::samplingMix) and lobes (the material's lobe
+// choice, default albedo: see LobeChoice). Keys left out take the supplement's instance
 // (supplementDisneyParams) and wo at theta 45, phi 0.
 
 #include <algorithm>
@@ -37,7 +37,6 @@
 
 #include "materials/disney.h"
 #include "materials/vec3.h"
-#include "sampler/enum_names.h"
 #include "sampler/targets/grid_target.h"
 
 namespace nuld {
@@ -51,35 +50,6 @@ DisneyParams supplementDisneyParams();
 // The supplement's view direction (sqrt(2)/2, 0, sqrt(2)/2).
 Vec3 supplementWo();
 
-// Where a lobe table lives.
-//  - sphere: directions on the equal-area map, density f cos (the layout
-//    above). A table cannot hold a lobe narrower than its cells, nor one
-//    whose peak moves across a bin with the view.
-//  - primary: the material's own sample() warp's primary sample space, the
-//    unit square (Domain::Square, res x rows uniform cells, rows default
-//    res), density w(u) = luminance(f) cos / p at wi = sample(wo, u), p the
-//    material's pdf (0 where sample() draws nothing). A point u that
-//    follows it and goes through sample() gives wi with density
-//    proportional to f cos, seen through the warp: the warp keeps the sharp
-//    peaks (VNDF), the table only reshapes what the warp leaves uneven
-//    (which lobe a point picks, G2 / G1, Fresnel), a smooth function that
-//    a coarse table holds. The estimate divides by p(wi) times the table's
-//    density at u (unbiased whatever the table, since p is the density of
-//    sample()'s directions for uniform u). mix keeps the material's own
-//    lobe choice where it matters: the stripe of u.x that picks lobe k has
-//    the mass (1 - mix) w_k + mix max(w_k, p_k), renormalized, w_k its
-//    share of w and p_k the material's own probability of lobe k, the
-//    second term only for the lobes that are terms of this material's f.
-//    At mix 1 a clear coat keeps at least its own share of the points
-//    (under MIS, the reflections of bright texels in it are what light
-//    sampling misses, and w gives it its small albedo), while a
-//    metal's diffuse stripes, lobes it lacks, keep only what they see of its
-//    specular lobe. Inside a stripe w shapes the density.
-enum class LobeSpace { Sphere, Primary };
-inline constexpr auto kLobeSpaceNames = enumTable<LobeSpace>(
-    "lobe space", {{"sphere", LobeSpace::Sphere}, {"primary", LobeSpace::Primary}});
-constexpr const auto &enumNames(LobeSpace) { return kLobeSpaceNames; }
-
 // What a `disney` target spec says.
 struct DisneyTargetSpec {
   DisneyParams params = supplementDisneyParams();
@@ -88,21 +58,16 @@ struct DisneyTargetSpec {
   // 0: f cos; 1: the material's own sampling pdf (the lobe-selection
   // mapping's); between: the mixture of the two, each of mass one.
   double samplingMix = 0;
-  LobeSpace space = LobeSpace::Sphere;
-  // The material's own lobe choice, which its sampling pdf (mix > 0) and
-  // its primary space follow.
+  // The material's own lobe choice, which its sampling pdf (mix > 0)
+  // follows.
   LobeChoice lobeChoice = kDefaultLobeChoice;
 
   Vec3 wo() const;
-  // rows when the spec names none: res / 2 on the sphere (the hemisphere is
-  // half of the map), res in primary space.
-  int defaultRows() const {
-    return space == LobeSpace::Primary ? phiCells : std::max(1, phiCells / 2);
-  }
-  // Where its table lives: the hemisphere, or the primary square.
-  Domain domain() const {
-    return space == LobeSpace::Primary ? Domain::Square : Domain::Hemisphere;
-  }
+  // rows when the spec names none: res / 2 (the hemisphere is half of the
+  // map).
+  int defaultRows() const { return std::max(1, phiCells / 2); }
+  // Where its table lives.
+  Domain domain() const { return Domain::Hemisphere; }
 };
 
 // Parses the part after `disney:` (empty for plain `disney`). Throws
@@ -138,13 +103,13 @@ std::optional<std::array<double, 2>> invertDisneyFamilyView(DisneyView view);
 
 // The gamma at which the target family `familySpec` (`family:disney[:ARGS]`
 // or `family:disney-material[:ARGS]`) makes the `disney` target
-// `targetSpec`: the same table layout (res, rows, mix, space), for
+// `targetSpec`: the same table layout (res, rows, mix), for
 // family:disney the same material, and theta within the family's range.
 // nullopt when the family makes no such target.
 std::optional<std::vector<double>> disneyFamilyGamma(const std::string &familySpec,
                                                      const std::string &targetSpec);
 
-// `family:disney-material[:res=..,rows=..,mix=..,space=..]`: one family for
+// `family:disney-material[:res=..,rows=..,mix=..]`: one family for
 // every Disney material, gamma = (theta / 89 degrees, phi / 360 degrees, base
 // colour r, g, b, metallic, subsurface, specular, roughness, speculartint,
 // anisotropic, sheen, sheentint, clearcoat, clearcoatgloss). A model trained

@@ -69,20 +69,6 @@ Vec3 GgxDistribution::sampleVisibleNormal(Vec3 wo, Point2 u) const {
   return normalize(Vec3{ax_ * nh.x, ay_ * nh.y, std::max(0.0, nh.z)});
 }
 
-std::optional<Point2> GgxDistribution::visibleNormalPrimary(Vec3 wo, Vec3 m) const {
-  if (!(m.z > 0)) return std::nullopt;
-  const auto [vh, t1, t2] = visibleFrame(wo);
-  // Stretch the normal back onto the hemisphere of roughness 1, project it
-  // onto the disc seen from vh, and undo the squeeze of its hidden half
-  // (s >= 1/2, since the view is above the surface).
-  const Vec3 nh = normalize(Vec3{m.x / ax_, m.y / ay_, m.z});
-  if (!(dot(nh, vh) >= 0)) return std::nullopt;
-  const double p1 = std::clamp(dot(nh, t1), -1.0, 1.0);
-  const double s = 0.5 * (1 + vh.z);
-  const double q = (dot(nh, t2) - (1 - s) * std::sqrt(std::max(0.0, 1 - p1 * p1))) / s;
-  return Point2{std::clamp(p1 * p1 + q * q, 0.0, 1.0), wrapUnit(atan2Turns(q, p1))};
-}
-
 double GgxDistribution::reflectionPdf(Vec3 wo, Vec3 wi) const {
   if (!(wo.z > 0) || !(wi.z > 0)) return 0;
   const auto h = halfVector(wo, wi);
@@ -120,15 +106,6 @@ Vec3 Gtr1Distribution::sampleNormal(Point2 u) const {
   const double cosTheta = std::sqrt(std::clamp(cos2, 0.0, 1.0));
   const double sinTheta = std::sqrt(std::max(0.0, 1 - cosTheta * cosTheta));
   return sphericalDirectionTurns(sinTheta, cosTheta, u.y);
-}
-
-Point2 Gtr1Distribution::normalPrimary(Vec3 m) const {
-  // sampleNormal's cos^2 solved for u.x; log1p keeps the peak's u.x, near
-  // 0, accurate for the smallest alphas.
-  const double cos2 = std::clamp(m.z * m.z, 0.0, 1.0);
-  const double a2 = alpha_ * alpha_;
-  const double ux = alpha_ >= 1 ? 1 - cos2 : 1 - std::log1p(-cos2 * (1 - a2)) / std::log(a2);
-  return {std::clamp(ux, 0.0, 1.0), wrapUnit(atan2Turns(m.y, m.x))};
 }
 
 double Gtr1Distribution::reflectionPdf(Vec3 wo, Vec3 wi) const {

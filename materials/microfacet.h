@@ -70,9 +70,6 @@ class GgxDistribution {
   // Draws m from D_wo (Heitz 2018): u.x picks the radius, u.y the angle on
   // the disc the stretched hemisphere projects to. Requires wo.z > 0.
   Vec3 sampleVisibleNormal(Vec3 wo, Point2 u) const;
-  // Its inverse: the u with sampleVisibleNormal(wo, u) = m, for a normal m
-  // above the surface; nullopt for one it never draws (hidden from wo).
-  std::optional<Point2> visibleNormalPrimary(Vec3 wo, Vec3 m) const;
 
   // The density of wi = reflect(wo, m) with m ~ D_wo, per unit solid angle:
   // D_wo(h) / (4 wo.h) = G1(wo) D(h) / (4 wo.z), h the half vector; 0 unless
@@ -115,8 +112,6 @@ class Gtr1Distribution {
   double D(Vec3 m) const;
   // m with density D(m) m.z.
   Vec3 sampleNormal(Point2 u) const;
-  // Its inverse: the u with sampleNormal(u) = m, for m above the surface.
-  Point2 normalPrimary(Vec3 m) const;
 
   // The density of wi = reflect(wo, m), m ~ D(m) m.z, per unit solid angle:
   // D(h) h.z / (4 wo.h). Normals facing away from wo (wo.m <= 0) are not

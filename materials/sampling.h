@@ -36,13 +36,6 @@ inline Vec3 cosineHemisphere(Point2 u) {
   return sphericalDirectionTurns(sinTheta, cosTheta, u.y);
 }
 
-// The primary point u with cosineHemisphere(u) = w, for w above the
-// surface: the inverse that the renderer's route densities need
-// (renderer/lobe_tables.h, LobeFrame::routePdf).
-inline Point2 cosineHemispherePrimary(Vec3 w) {
-  return {std::clamp(w.x * w.x + w.y * w.y, 0.0, 1.0), wrapUnit(atan2Turns(w.y, w.x))};
-}
-
 // The MIS weight of strategy A against B (Veach's power heuristic, exponent
 // 2); written with the ratio so that pdfs whose squares underflow (or
 // overflow) still give weights that sum to one.

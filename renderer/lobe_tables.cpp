@@ -53,11 +53,11 @@ Vec3 proxyLightDirection(Point2 u) {
 // the power heuristic, with the route's density on the BSDF side as the
 // path integrator weighs them.
 struct RouteVariances {
-  double classic = 0, table = 0, primary = 0;
+  double classic = 0, table = 0;
 };
-RouteVariances measureAt(const DisneyBrdf &m, Vec3 wo, const LobeFrame *lobe,
-                         const LobeFrame *primaryLobe, bool underMis, std::uint64_t seed) {
-  std::array<std::array<double, kMeasureRepeats>, kLights> classic{}, table{}, primary{};
+RouteVariances measureAt(const DisneyBrdf &m, Vec3 wo, const LobeFrame &lobe, bool underMis,
+                         std::uint64_t seed) {
+  std::array<std::array<double, kMeasureRepeats>, kLights> classic{}, table{};
   std::array<Point2, kMeasurePoints> u, ul;
   // A proxy light sample: its direction, f cos / (pdf N) there, and the
   // material's pdf (each route's MIS weight starts from it).
@@ -78,40 +78,28 @@ RouteVariances measureAt(const DisneyBrdf &m, Vec3 wo, const LobeFrame *lobe,
         light[i] = {wi, v.f.luminance() * wi.z / kProxyLightPdf / double(kMeasurePoints), v.pdf};
       }
     }
-    const auto add = [&](const std::optional<BsdfSample> &s, double pdf, double density,
-                         auto &sums) {
-      if (!s || !(pdf > 0)) return;
-      const double w = (underMis ? powerHeuristic(density, kProxyLightPdf) : 1.0) *
-                       s->f.luminance() * s->wi.z / pdf / double(kMeasurePoints);
+    const auto add = [&](const std::optional<BsdfSample> &s, auto &sums) {
+      if (!s || !(s->pdf > 0)) return;
+      const double w = (underMis ? powerHeuristic(s->pdf, kProxyLightPdf) : 1.0) *
+                       s->f.luminance() * s->wi.z / s->pdf / double(kMeasurePoints);
       for (int k = 0; k < kLights; ++k) sums[k][r] += w * smoothLight(k, s->wi);
     };
     // The proxy light's samples, weighted against the density of `route`
     // (nullptr: the material's sampler).
     const auto addLight = [&](const LobeFrame *route, auto &sums) {
       for (const LightSample &l : light) {
-        const double bsdfPdf = route ? route->routePdf(wo, l.wi, l.materialPdf) : l.materialPdf;
+        const double bsdfPdf = route ? route->pdf(l.wi, l.materialPdf) : l.materialPdf;
         const double w = powerHeuristic(kProxyLightPdf, bsdfPdf) * l.value;
         for (int k = 0; k < kLights; ++k) sums[k][r] += w * smoothLight(k, l.wi);
       }
     };
     for (std::size_t i = 0; i < kMeasurePoints; ++i) {
-      const auto c = m.sample(wo, u[i]);
-      add(c, c ? c->pdf : 0, c ? c->pdf : 0, classic);
-      if (lobe) {
-        const auto t = sampleLobeRoute(m, wo, *lobe, u[i]);
-        add(t, t ? t->pdf : 0, t ? t->pdf : 0, table);
-      }
-      if (primaryLobe) {
-        // The route's density only where the MIS weight needs it.
-        double density = 0;
-        const auto t = sampleLobeRoute(m, wo, *primaryLobe, u[i], underMis ? &density : nullptr);
-        add(t, t ? t->pdf : 0, density, primary);
-      }
+      add(m.sample(wo, u[i]), classic);
+      add(sampleLobeRoute(m, wo, lobe, u[i]), table);
     }
     if (underMis) {
       addLight(nullptr, classic);
-      if (lobe) addLight(lobe, table);
-      if (primaryLobe) addLight(primaryLobe, primary);
+      addLight(&lobe, table);
     }
   }
   const auto relativeVariance = [](const auto &sums) {
@@ -124,15 +112,14 @@ RouteVariances measureAt(const DisneyBrdf &m, Vec3 wo, const LobeFrame *lobe,
     }
     return total;
   };
-  return {relativeVariance(classic), relativeVariance(table), relativeVariance(primary)};
+  return {relativeVariance(classic), relativeVariance(table)};
 }
 
 }  // namespace
 
 std::optional<BsdfSample> sampleLobeRoute(const Bsdf &bsdf, Vec3 wo, const LobeFrame &lobe,
-                                          Point2 u, double *routeDensity) {
+                                          Point2 u) {
   BsdfSample s;
-  double own = 0;
   // The defensive split, in the table's primary space, where a set that
   // follows the table is uniform: a strip of width d of the conditional
   // coordinate goes to the material's sampler, the rest, stretched back to
@@ -140,31 +127,11 @@ std::optional<BsdfSample> sampleLobeRoute(const Bsdf &bsdf, Vec3 wo, const LobeF
   // stratification on both sides, which a random choice per sample would
   // not.
   const double d = lobe.defensive;
-  if (lobe.primary) {
-    // Both sides go through the material's warp; they differ in the point
-    // fed to it and so in the primary density x has.
-    Point2 x;
-    double tableDensity;
-    if (u.x < d) {
-      x = {u.x / d, u.y};
-      tableDensity = lobe.table->pdf(x);
-    } else {
-      GridTarget::Cell cell;
-      x = lobe.table->invert({(u.x - d) / (1 - d), u.y}, cell).x;
-      tableDensity = lobe.table->cellDensity(cell.i, cell.j);
-    }
-    const auto drawn = bsdf.sample(
-        wo, lobe.warp->primaryUnderSymmetry(x, wo, lobe.turns, lobe.flipX < 0, lobe.flipY < 0));
-    if (!drawn) return std::nullopt;
-    s = *drawn;
-    own = s.pdf;
-    s.pdf = own * ((1 - d) * tableDensity + d);
-  } else if (u.x < d) {
+  if (u.x < d) {
     const auto drawn = bsdf.sample(wo, {u.x / d, u.y});
     if (!drawn) return std::nullopt;
     s = *drawn;
-    own = s.pdf;
-    s.pdf = lobe.pdf(s.wi, own);
+    s.pdf = lobe.pdf(s.wi, s.pdf);
   } else {
     // The table's density from the cell the point lies in (no second
     // lookup through the direction).
@@ -174,26 +141,9 @@ std::optional<BsdfSample> sampleLobeRoute(const Bsdf &bsdf, Vec3 wo, const LobeF
     const BsdfValue v = bsdf.evalWithPdf(wo, s.wi);
     s.f = v.f;
     s.pdf = lobe.mixture(lobe.table->cellDensity(cell.i, cell.j) * kInvFourPi, v.pdf);
-    own = v.pdf;
   }
   if (!(s.pdf > 0) || !std::isfinite(s.pdf) || !s.f.isFinite()) return std::nullopt;
-  if (routeDensity) *routeDensity = lobe.primary ? lobe.routePdf(wo, s.wi, own) : s.pdf;
   return s;
-}
-
-double LobeFrame::routePdf(Vec3 wo, Vec3 wi, double materialPdf) const {
-  if (!primary) return pdf(wi, materialPdf);
-  // Each lobe's share: sample() picks lobe k with probability p_k.
-  const DisneyBrdf::LobeProbabilities p = warp->lobeProbabilities(wo);
-  double tabulated = 0;
-  for (int k = 0; k < warp->lobeCount(); ++k) {
-    const double lobeDensity = warp->lobePdf(k, wo, wi);
-    if (!(lobeDensity > 0) || !(p[k] > 0)) continue;
-    if (const auto u = warp->lobePrimary(k, wo, wi))
-      tabulated += p[k] * lobeDensity *
-                   table->pdf(warp->primaryBeforeSymmetry(*u, wo, turns, flipX < 0, flipY < 0));
-  }
-  return (1 - defensive) * tabulated + defensive * materialPdf;
 }
 
 Vec3 LobeFrame::direction(Point2 x) const {
@@ -211,11 +161,9 @@ double LobeFrame::tablePdf(Vec3 wi) const {
 LobeTables::LobeTables(const std::vector<std::shared_ptr<const Bsdf>> &materials,
                        const LobeTableSettings &settings)
     : settings_(settings) {
-  if (settings.thetaBins < 1 || settings.phiBins < 1 || settings.phiCells < 2 ||
-      settings.primaryCells < 1)
+  if (settings.thetaBins < 1 || settings.phiBins < 1 || settings.phiCells < 2)
     throw std::invalid_argument(
-        "lobe tables: theta and phi bins must be >= 1, the resolution >= 2 and the primary "
-        "resolution >= 1");
+        "lobe tables: theta and phi bins must be >= 1 and the resolution >= 2");
   if (!settings.samplingMix || !(*settings.samplingMix >= 0 && *settings.samplingMix <= 1))
     throw std::invalid_argument("lobe tables: the sampling mix must be given, in [0, 1]");
   if (!(settings.defensive >= 0 && settings.defensive <= 1))
@@ -231,27 +179,16 @@ LobeTables::LobeTables(const std::vector<std::shared_ptr<const Bsdf>> &materials
     if (!disney || std::any_of(entries_.begin(), entries_.end(),
                                [&](const Entry &e) { return e.material == disney; }))
       continue;
-    Entry e{disney, disney->params().anisotropic > 0, {}, {}, routes_.size()};
+    Entry e{disney, disney->params().anisotropic > 0, {}, routes_.size()};
     const int phiBins = e.anisotropic ? settings.phiBins : 1;
     for (int t = 0; t < settings.thetaBins; ++t)
       for (int p = 0; p < phiBins; ++p) {
-        DisneyTargetSpec spec;
+        DisneyTargetSpec spec = lobeTableLayout(settings);
         spec.params = disney->params();
         spec.thetaDegrees = binCentre(t, 90, settings.thetaBins);
         spec.phiDegrees = e.anisotropic ? binCentre(p, 90, phiBins) : 0;
-        spec.phiCells = settings.phiCells;
-        spec.thetaRows = std::max(1, settings.phiCells / 2);
-        spec.samplingMix = *settings.samplingMix;
         spec.lobeChoice = disney->lobeChoice();
         e.tables.push_back(makeDisneyTarget(spec));
-        if (usesPrimaryTables(settings.routing)) {
-          DisneyTargetSpec primary = primaryTableLayout(settings);
-          primary.params = spec.params;
-          primary.thetaDegrees = spec.thetaDegrees;
-          primary.phiDegrees = spec.phiDegrees;
-          primary.lobeChoice = spec.lobeChoice;
-          e.primaryTables.push_back(makeDisneyTarget(primary));
-        }
       }
     measureRoutes(e, entries_.size());
     entries_.push_back(std::move(e));
@@ -259,11 +196,10 @@ LobeTables::LobeTables(const std::vector<std::shared_ptr<const Bsdf>> &materials
 }
 
 // Decides each bin's route: the route whose estimates, over views spread
-// across the bin, vary least, among the material's own sampler and the
-// tables the routing allows (all fed the same kind of points). A bin whose
-// views all lie below the sphere table's resolution (a narrow lobe, whose
-// peak moves across the bin with the view) keeps the material's sampler or
-// its primary table, which leaves the peak to the warp.
+// across the bin, vary less, of the material's own sampler and the table
+// (both fed the same kind of points). A bin whose views all lie below the
+// table's resolution (a narrow lobe, whose peak moves across the bin with
+// the view) keeps the material's sampler.
 void LobeTables::measureRoutes(const Entry &e, std::size_t material) {
   const int phiBins = e.anisotropic ? settings_.phiBins : 1;
   const LobeRouting routing = settings_.routing;
@@ -271,22 +207,18 @@ void LobeTables::measureRoutes(const Entry &e, std::size_t material) {
     const int t = int(b) / phiBins, p = int(b) % phiBins;
     LobeBinRoute route{material, binCentre(t, 90, settings_.thetaBins),
                        e.anisotropic ? binCentre(p, 90, phiBins) : 0};
-    if (routing == LobeRouting::Table || routing == LobeRouting::Primary) {  // nothing to decide
+    if (routing == LobeRouting::Table) {  // nothing to decide
       route.table = true;
-      route.primary = routing == LobeRouting::Primary;
       routes_.push_back(route);
       continue;
     }
-    const bool tryPrimary = usesPrimaryTables(routing);
     int view = 0;
     for (const double ft : {1.0 / 6, 0.5, 5.0 / 6})
       for (const double fp : e.anisotropic ? std::vector{0.25, 0.75} : std::vector{0.4}) {
         const double theta = (t + ft) * 90 / settings_.thetaBins / kDegrees;
         // Isotropic: an azimuth away from the table's, so the rotation is
         // part of what is measured. Anisotropic: views in every quadrant,
-        // so the folds are (a primary table is made in the first quadrant
-        // and serves the others unfolded, since the warp's primary space
-        // has no fold).
+        // so the folds are.
         const double phi = e.anisotropic ? (p + fp) * 90 / phiBins / kDegrees : fp;
         const double flipX = e.anisotropic && (view & 1) ? -1 : 1;
         const double flipY = e.anisotropic && (view & 2) ? -1 : 1;
@@ -294,19 +226,13 @@ void LobeTables::measureRoutes(const Entry &e, std::size_t material) {
         const Vec3 wo{flipX * std::sin(theta) * std::cos(phi),
                       flipY * std::sin(theta) * std::sin(phi), std::cos(theta)};
         std::size_t index = 0;
-        const LobeFrame sphere = binFrame(e, wo, index);
-        const LobeFrame primary = tryPrimary ? primaryFrame(e, wo, index, sphere) : sphere;
         const RouteVariances v =
-            measureAt(*e.material, wo, &sphere, tryPrimary ? &primary : nullptr, settings_.underMis,
+            measureAt(*e.material, wo, binFrame(e, wo, index), settings_.underMis,
                       hashCombine(material * 1000 + b, std::uint64_t(ft * 6)));
         route.classicVariance += v.classic;
         route.tableVariance += v.table;
-        route.primaryVariance += v.primary;
       }
-    const bool primaryBest = tryPrimary && route.primaryVariance <= route.classicVariance &&
-                             route.primaryVariance < route.tableVariance;
-    route.primary = primaryBest;
-    route.table = primaryBest || route.tableVariance <= route.classicVariance;
+    route.table = route.tableVariance <= route.classicVariance;
     routes_.push_back(route);
   }
 }
@@ -334,20 +260,6 @@ LobeFrame LobeTables::binFrame(const Entry &e, Vec3 wo, std::size_t &index) cons
   return f;
 }
 
-LobeFrame LobeTables::primaryFrame(const Entry &e, Vec3 wo, std::size_t index,
-                                   const LobeFrame &sphere) const {
-  // The primary table is made at the bin's view; the warp's symmetry
-  // carries its points to this view (DisneyBrdf::primaryUnderSymmetry):
-  // the sphere frame's folds for an anisotropic material, the view's
-  // azimuth for an isotropic one.
-  LobeFrame f = sphere;
-  f.primary = true;
-  f.table = e.primaryTables[index].get();
-  f.warp = e.material;
-  if (!e.anisotropic) f.turns = atan2Turns(wo.y, wo.x);
-  return f;
-}
-
 std::optional<LobeFrame> LobeTables::frame(const Bsdf *material, Vec3 wo) const {
   const auto it = std::find_if(entries_.begin(), entries_.end(),
                                [&](const Entry &e) { return e.material == material; });
@@ -356,7 +268,7 @@ std::optional<LobeFrame> LobeTables::frame(const Bsdf *material, Vec3 wo) const 
   const LobeFrame f = binFrame(*it, wo, index);
   const LobeBinRoute &route = routes_[it->firstRoute + index];
   if (!route.table) return std::nullopt;  // the bin keeps the material's sampler
-  return route.primary ? primaryFrame(*it, wo, index, f) : f;
+  return f;
 }
 
 std::vector<const Target *> LobeTables::targets() const {
@@ -364,19 +276,15 @@ std::vector<const Target *> LobeTables::targets() const {
   for (const Entry &e : entries_)
     for (std::size_t b = 0; b < e.tables.size(); ++b) {
       const LobeBinRoute &route = routes_[e.firstRoute + b];
-      if (route.table) out.push_back((route.primary ? e.primaryTables : e.tables)[b].get());
+      if (route.table) out.push_back(e.tables[b].get());
     }
   return out;
 }
 
-DisneyTargetSpec primaryTableLayout(const LobeTableSettings &settings) {
+DisneyTargetSpec lobeTableLayout(const LobeTableSettings &settings) {
   DisneyTargetSpec spec;
-  spec.space = LobeSpace::Primary;
-  // Columns a multiple of 12: the lobe-selection stripes of u.x (3 or 4)
-  // then end on cell edges, so no cell averages two lobes, and every
-  // material's tables have one size (as a family's do).
-  spec.phiCells = (settings.primaryCells + 11) / 12 * 12;
-  spec.thetaRows = settings.primaryCells;
+  spec.phiCells = settings.phiCells;
+  spec.thetaRows = std::max(1, settings.phiCells / 2);
   spec.samplingMix = settings.samplingMix.value_or(0);
   return spec;
 }

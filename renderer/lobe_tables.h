@@ -26,16 +26,13 @@
 // the exact lobe at wo costs variance, never bias, provided the estimator
 // divides by the pdf of the route actually used (LobeFrame::pdf).
 //
-// A sphere table is not always the better route (renderer/README.md, "Lobe
+// A table is not always the better route (renderer/README.md, "Lobe
 // routes"): a lobe narrower than the bin's sweep of its mirror direction
-// (a glossy metal) is mostly missed by the table of the bin's centre. Each
-// bin therefore also has a table in the primary space of the material's own
-// sample() (materials/disney_target.h, LobeSpace::Primary), which leaves
-// the peak to the warp and reshapes only what the warp leaves uneven. So
+// (a glossy metal) is mostly missed by the table of the bin's centre. So
 //  - each bin's route is measured when the tables are built: of the
-//    material's own sampler, the sphere table and the primary table, the
-//    one whose estimates of smooth lights vary least serves the bin; bins
-//    that keep the material's sampler are no context for any backend;
+//    material's own sampler and the table, the one whose estimates of
+//    smooth lights vary least serves the bin; bins that keep the material's
+//    sampler are no context for any backend;
 //  - a tabulated sample is a defensive mixture with the material's sampler,
 //    which bounds its weight f cos / p by 1 / defensive times the material's;
 //  - tables serve the first bounce only by default (`bounces`).
@@ -55,22 +52,12 @@ namespace nuld {
 
 // Which bins sample which table (renderer/README.md, "Lobe routes").
 enum class LobeRouting {
-  Measured,        // each bin its measured best of the material's sampler and its two tables
-  MeasuredSphere,  // the same between the material's sampler and the sphere table only
-  Table,           // every bin its sphere table (for comparisons)
-  Primary,         // every bin its primary-space table (for comparisons)
+  Measured,  // each bin its measured better of the material's sampler and its table
+  Table,     // every bin its table (for comparisons)
 };
-inline constexpr auto kLobeRoutingNames =
-    enumTable<LobeRouting>("lobe routing", {{"measured", LobeRouting::Measured},
-                                            {"measured-sphere", LobeRouting::MeasuredSphere},
-                                            {"table", LobeRouting::Table},
-                                            {"primary", LobeRouting::Primary}});
+inline constexpr auto kLobeRoutingNames = enumTable<LobeRouting>(
+    "lobe routing", {{"measured", LobeRouting::Measured}, {"table", LobeRouting::Table}});
 constexpr const auto &enumNames(LobeRouting) { return kLobeRoutingNames; }
-// Whether a routing may send a bin through its primary-space table (only
-// then are those tables built).
-constexpr bool usesPrimaryTables(LobeRouting r) {
-  return r == LobeRouting::Measured || r == LobeRouting::Primary;
-}
 
 struct LobeTableSettings {
   int thetaBins = 9;  // over theta_o in [0, 90) degrees
@@ -95,12 +82,6 @@ struct LobeTableSettings {
   // a table serves one or two of a pixel's points there: no gain measured,
   // for the lookups' time (renderer/README.md, "Lobe routes").
   int bounces = 1;
-  // The primary-space tables (materials/disney_target.h, LobeSpace):
-  // primaryCells rows over the warp's primary square, and as many columns
-  // rounded up to a multiple of 12, so no cell straddles two lobes' stripes
-  // (3 or 4 of them); their mix is samplingMix. The square holds a smooth
-  // function (the warp keeps the peaks), which a coarse table holds.
-  int primaryCells = 32;
   // Whether a BSDF sample's whole contribution is weighed against light
   // samples by MIS, as in the direct integrator (lobeTablesFor sets it):
   // the routes are then measured under MIS, since a route that is best
@@ -113,10 +94,10 @@ struct LobeTableSettings {
   friend bool operator==(const LobeTableSettings &, const LobeTableSettings &) = default;
 };
 
-// The layout of the renderer's primary-space tables under `settings`
-// (space, cells and mix; the material and the view left at their defaults):
-// the spec a model or a study integrand must match to serve them.
-DisneyTargetSpec primaryTableLayout(const LobeTableSettings &settings);
+// The layout of the renderer's lobe tables under `settings` (cells and mix;
+// the material and the view left at their defaults): the spec a model must
+// match to serve them.
+DisneyTargetSpec lobeTableLayout(const LobeTableSettings &settings);
 
 // One shading point's table and the map from the table's frame to the
 // shading frame.
@@ -125,33 +106,17 @@ struct LobeFrame {
   double cosPhi = 1, sinPhi = 0;  // isotropic: rotation by phi_o
   double flipX = 1, flipY = 1;    // anisotropic: the folds
   double defensive = 0;           // LobeTableSettings::defensive
-  // Whether `table` lives in the material's primary sample space
-  // (LobeSpace::Primary): a point of it, carried from the table's view to
-  // the shading point's by the warp's symmetry (`warp`, `turns` for an
-  // isotropic material, the flips for an anisotropic one; see
-  // DisneyBrdf::primaryUnderSymmetry), goes through the material's own
-  // sample() at the shading point's wo. direction() and tablePdf() are then
-  // not defined.
-  bool primary = false;
-  const DisneyBrdf *warp = nullptr;
-  double turns = 0;
 
   // The direction (shading frame) that the table's point x stands for.
   Vec3 direction(Point2 x) const;
   // The density per unit solid angle with which direction(x) is drawn when x
   // follows the table; 0 below the surface.
   double tablePdf(Vec3 wi) const;
-  // A sphere route's density: the defensive mixture of the table's and the
-  // material's (`materialPdf`, the material's pdf at wi).
+  // The route's density per unit solid angle at wi: the defensive mixture
+  // of the table's and the material's (`materialPdf`, the material's pdf at
+  // wi). The BSDF side of the MIS weights: weights from it follow where the
+  // route actually sends its samples, which the material's pdf does not.
   double pdf(Vec3 wi, double materialPdf) const { return mixture(tablePdf(wi), materialPdf); }
-  // The density per unit solid angle with which the route draws wi at the
-  // shading point's view wo, for either kind of table: the BSDF side of the
-  // MIS weights. A primary table's sums, over the lobes that can draw wi,
-  // the lobe's own density times the primary mixture's (1 - d) table + d at
-  // the point the lobe draws wi from (DisneyBrdf::lobePrimary, carried back
-  // to the table's view): weights from it follow where the route actually
-  // sends its samples, which the material's pdf does not.
-  double routePdf(Vec3 wo, Vec3 wi, double materialPdf) const;
   // The same from the two densities per unit solid angle.
   double mixture(double tableDensity, double materialPdf) const {
     return (1 - defensive) * tableDensity + defensive * materialPdf;
@@ -162,23 +127,11 @@ struct LobeFrame {
 // point x that follows the table has u = table->primaryOf(x); the table
 // maps u back to x by its inverse CDF): a share `defensive` of the square
 // (u.x < defensive) goes to the material's own sample() and the rest,
-// stretched over the square, through the table. f is the material's.
-//  - A sphere table: pdf is the route's mixture density (LobeFrame::pdf);
-//    with u uniform, wi follows that mixture.
-//  - A primary table: the table's point x (or, on the defensive side, the
-//    stretched u itself) goes through sample(), and pdf is the material's
-//    pdf at wi times the mixture (1 - d) table(x) + d in primary space: not
-//    the density of wi, but what the estimate f cos L / pdf must divide by
-//    to stay unbiased (materials/disney_target.h, LobeSpace). Its weight
-//    f cos / pdf is at most 1 / d times the material's own weight f cos / p
-//    there, and near the table's mean of w / (1 - d) wherever the table
-//    resolves w: the table evens out the warp's weights.
-// nullopt when no direction results.
-// `routeDensity`, when given, receives the route's density per unit solid
-// angle at the drawn direction (LobeFrame::routePdf; for a sphere table the
-// same as pdf), which the path integrator's MIS weights use.
+// stretched over the square, through the table. f is the material's and
+// pdf the route's mixture density (LobeFrame::pdf); with u uniform, wi
+// follows that mixture. nullopt when no direction results.
 std::optional<BsdfSample> sampleLobeRoute(const Bsdf &bsdf, Vec3 wo, const LobeFrame &lobe,
-                                          Point2 u, double *routeDensity = nullptr);
+                                          Point2 u);
 
 // What the route measurement found for one bin (renderer/README.md, "Lobe
 // routes"): the relative variance of a 16-point Owen-Sobol estimate of the
@@ -187,11 +140,10 @@ std::optional<BsdfSample> sampleLobeRoute(const Bsdf &bsdf, Vec3 wo, const LobeF
 struct LobeBinRoute {
   std::size_t material = 0;                 // index among the tabulated materials
   double thetaDegrees = 0, phiDegrees = 0;  // the bin's centre
-  // Through the material's sample(), the sphere table and the primary table
-  // (0 for a route the routing does not consider).
-  double classicVariance = 0, tableVariance = 0, primaryVariance = 0;
-  bool table = false;    // whether a table serves the bin
-  bool primary = false;  // whether that table is the primary-space one
+  // Through the material's sample() and the table (0 when the routing
+  // measures nothing).
+  double classicVariance = 0, tableVariance = 0;
+  bool table = false;  // whether the table serves the bin
 };
 
 class LobeTables {
@@ -218,18 +170,14 @@ class LobeTables {
   struct Entry {
     const DisneyBrdf *material;
     bool anisotropic;
-    std::vector<std::unique_ptr<GridTarget>> tables;  // sphere, theta-major, then phi
-    // The same bins in primary space; empty when the routing never uses them.
-    std::vector<std::unique_ptr<GridTarget>> primaryTables;
-    std::size_t firstRoute;  // its tables' routes in routes_
+    std::vector<std::unique_ptr<GridTarget>> tables;  // theta-major, then phi
+    std::size_t firstRoute;                           // its tables' routes in routes_
   };
   // Measures and sets the routes of e's bins (e is material `material`).
   void measureRoutes(const Entry &e, std::size_t material);
-  // The frame of the bin of `e` that wo falls in (its index into `index`)
-  // through its sphere table, whatever its route; and the same bin's frame
-  // through its primary table, from that sphere frame.
+  // The frame of the bin of `e` that wo falls in (its index into `index`),
+  // whatever its route.
   LobeFrame binFrame(const Entry &e, Vec3 wo, std::size_t &index) const;
-  LobeFrame primaryFrame(const Entry &e, Vec3 wo, std::size_t index, const LobeFrame &sphere) const;
   LobeTableSettings settings_;
   // The inner edges of the theta bins as cosines and of the phi bins as
   // tangents, in increasing angle.

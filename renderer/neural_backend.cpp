@@ -55,7 +55,7 @@ LobeBankCache &lobeBankCache() {
 
 std::string shippedLobeModel() {
   if (const char *env = std::getenv("NULD_LOBE_MODEL"); env && *env) return env;
-  return std::string(NULD_SOURCE_DIR) + "/models/disney-primary.nuldnet";
+  return std::string(NULD_SOURCE_DIR) + "/models/disney.nuldnet";
 }
 
 NeuralBackend::NeuralBackend(std::string name, const std::string &modelPath, std::uint64_t seed)
@@ -66,8 +66,9 @@ NeuralBackend::NeuralBackend(std::string name, const std::string &modelPath, std
   lobeFamily_ = family.rfind("family:disney", 0) == 0;
   // A lobe model's sets follow their table only roughly (tools/experiments/
   // README.md, "The graph generator in primary space"), which would bias
-  // every pixel; shifted in the table's primary space, every point follows
-  // the table exactly and the estimate is unbiased.
+  // every pixel; shifted in the table's primary space (its CDF map,
+  // GridTarget::primaryOf), every point follows the table exactly and the
+  // estimate is unbiased.
   setShifted(lobeFamily_);
   if (generator_.gammaDimension() > 0 && !lobeFamily_)
     throw std::invalid_argument(

@@ -30,7 +30,7 @@
 namespace nuld {
 
 // The model the word `neural` names without a file: $NULD_LOBE_MODEL when
-// set, else the tracked models/disney-primary.nuldnet of this checkout
+// set, else the tracked models/disney.nuldnet of this checkout
 // (models/README.md says how it was trained).
 std::string shippedLobeModel();
 

@@ -239,7 +239,7 @@ void PathIntegrator::addLightSamples(std::span<PathState> path, int depth,
       // would keep the estimate unbiased, since each sample still divides by
       // what drew it; renderer/README.md, "Lobe routes", has the measured
       // difference).
-      const double bsdfPdf = p.lobe.table ? p.lobe.routePdf(p.wo, wi, classicPdf) : classicPdf;
+      const double bsdfPdf = p.lobe.table ? p.lobe.pdf(wi, classicPdf) : classicPdf;
       const double w = lightOnly_ ? 1.0 : powerHeuristic(ls[k]->pdf, bsdfPdf);
       p.L += (w * wi.z / ls[k]->pdf) * p.beta * f * ls[k]->radiance;
     }
@@ -259,17 +259,15 @@ bool PathIntegrator::continuePaths(std::span<PathState> path, int depth,
     PathState &p = path[k];
     if (!p.alive) continue;
     p.alive = false;
-    double routeDensity = 0;
     const auto bs =
-        p.lobe.table ? sampleLobeRoute(*p.bsdf, p.wo, p.lobe, p.lobePoint,
-                                       bsdfOnly_ ? nullptr : &routeDensity)
+        p.lobe.table ? sampleLobeRoute(*p.bsdf, p.wo, p.lobe, p.lobePoint)
                      : p.bsdf->sample(p.wo, p.samples->primary(SamplePairs::bsdf(depth), p.index));
     if (!bs || !(bs->pdf > 0)) continue;
     if (!(bs->wi.z > 0)) continue;  // below the shading hemisphere: f = 0
     const Vec3 wiWorld = p.sh.frame.toWorld(bs->wi);
     p.beta *= (bs->wi.z / bs->pdf) * bs->f;
     // The MIS weight's BSDF pdf: the route's density (see addLightSamples).
-    p.lastBsdfPdf = p.lobe.table ? routeDensity : bs->pdf;
+    p.lastBsdfPdf = bs->pdf;
     p.ray = {p.sh.origin, wiWorld};
     if (p.beta.isBlack()) continue;
     p.alive = true;

@@ -185,9 +185,6 @@ Image render(const Scene &scene, const RenderSettings &s, SamplerBackend &backen
     if (stats) {
       stats->lobeBins = lobes->routes().size();
       stats->lobeBinsTabulated = targets.lobes.size();
-      stats->lobeBinsPrimary =
-          std::size_t(std::count_if(lobes->routes().begin(), lobes->routes().end(),
-                                    [](const LobeBinRoute &r) { return r.table && r.primary; }));
     }
   }
   backend.prepare(s.spp, targets);

@@ -83,8 +83,8 @@ struct RenderStats {
   std::uint64_t classicFallbacks = 0;  // first-bounce lobe contexts the backend declined
   // The lobe tables' view bins, and those whose route is the table
   // (LobeTables::routes); 0 when the backend samples no lobes.
-  // Lobe table bins: all, those a table serves, and of those the primary-space ones.
-  std::size_t lobeBins = 0, lobeBinsTabulated = 0, lobeBinsPrimary = 0;
+  // Lobe table bins: all, and those a table serves.
+  std::size_t lobeBins = 0, lobeBinsTabulated = 0;
   double raysPerSecond() const { return seconds > 0 ? rays / seconds : 0; }
 };
 

@@ -4,11 +4,9 @@
 //  - Backend/SCENE/BACKEND: a 16-spp path render at the scene's resolution
 //    with sobol and with sobol-tabulated side by side (the lobe tables are
 //    built before timing: a scene builds them once);
-//  - BM_MaterialSample, BM_LobeRouteSample, BM_LobeRoutePrimarySample: one BSDF sample through the
+//  - BM_MaterialSample, BM_LobeRouteSample: one BSDF sample through the
 //    material's own sampler and through a tabulated route (table inverse CDF
 //    and the defensive split), at the dragon's material;
-//  - BM_LobeRoutePrimaryPdf: a primary route's density at a direction (the
-//    MIS weights' BSDF side);
 //  - BM_NeuralLobeBank/N: one lobe table's bank of 16 sets from the shipped
 //    model (the neural backend's inference per table);
 //  - EmbreeRaw/SCENE/spp:N: the same rays, recorded from one such render,
@@ -140,17 +138,14 @@ void BM_MaterialSample(benchmark::State &state) {
 }
 BENCHMARK(BM_MaterialSample);
 
-// Arg: the defensive share in percent. From the table's primary point, as
-// sobol-tabulated's are; through the sphere table (BM_LobeRouteSample) or
-// the primary-space table (BM_LobeRoutePrimarySample).
 // The dragon's material with its lobe tables under MIS (mix 1), every bin
-// through one kind of table.
+// through its table.
 struct DragonTables {
-  explicit DragonTables(LobeRouting routing, double defensive = LobeTableSettings{}.defensive)
+  explicit DragonTables(double defensive = LobeTableSettings{}.defensive)
       : brdf(std::make_shared<const DisneyBrdf>(dragonMaterial())), tables({brdf}, [&] {
           LobeTableSettings s;
           s.samplingMix = 1.0;
-          s.routing = routing;
+          s.routing = LobeRouting::Table;
           s.defensive = defensive;
           return s;
         }()) {}
@@ -160,8 +155,10 @@ struct DragonTables {
   LobeTables tables;
 };
 
-void lobeRouteSample(benchmark::State &state, LobeRouting routing) {
-  const DragonTables dragon(routing, double(state.range(0)) / 100);
+// Arg: the defensive share in percent. From the table's primary point (its
+// CDF map's), as sobol-tabulated's are.
+void BM_LobeRouteSample(benchmark::State &state) {
+  const DragonTables dragon(double(state.range(0)) / 100);
   const LobeFrame lobe = dragon.frame();
   const auto us = uniformPoints(4096);
   std::size_t k = 0;
@@ -169,39 +166,15 @@ void lobeRouteSample(benchmark::State &state, LobeRouting routing) {
     benchmark::DoNotOptimize(sampleLobeRoute(*dragon.brdf, kWo, lobe, us[k++ & 4095]));
   state.SetItemsProcessed(state.iterations());
 }
-void BM_LobeRouteSample(benchmark::State &state) { lobeRouteSample(state, LobeRouting::Table); }
-void BM_LobeRoutePrimarySample(benchmark::State &state) {
-  lobeRouteSample(state, LobeRouting::Primary);
-}
 BENCHMARK(BM_LobeRouteSample)->Arg(0)->Arg(10);
-BENCHMARK(BM_LobeRoutePrimarySample)->Arg(0)->Arg(10);
-
-// The primary route's density at a direction (LobeFrame::routePdf: every
-// lobe's inverse warp and a table lookup), which each light sample's MIS
-// weight pays where a primary table draws the BSDF sample; directions from
-// the material's own sampler.
-void BM_LobeRoutePrimaryPdf(benchmark::State &state) {
-  const DragonTables dragon(LobeRouting::Primary);
-  const LobeFrame lobe = dragon.frame();
-  std::vector<std::pair<Vec3, double>> dirs;
-  for (const Point2 &u : uniformPoints(4096))
-    if (const auto s = dragon.brdf->sample(kWo, u)) dirs.emplace_back(s->wi, s->pdf);
-  std::size_t k = 0;
-  for (auto _ : state) {
-    const auto &[wi, pdf] = dirs[k++ % dirs.size()];
-    benchmark::DoNotOptimize(lobe.routePdf(kWo, wi, pdf));
-  }
-  state.SetItemsProcessed(state.iterations());
-}
-BENCHMARK(BM_LobeRoutePrimaryPdf);
 
 // One lobe table's bank from the shipped model, as the neural backend makes
 // it per table and render (16 sets of N = spp points, the renderer's table
 // given): the inference cost of a `neural` render is this times the scene's
-// primary tables.
+// serving tables.
 void BM_NeuralLobeBank(benchmark::State &state) {
   registerMaterialTargets();
-  const DragonTables dragon(LobeRouting::Primary);
+  const DragonTables dragon;
   const Target *table = dragon.tables.targets().front();
   const NeuralGenerator model = NeuralGenerator::load(shippedLobeModel());
   const auto gamma = disneyFamilyGamma(model.family().spec(), table->spec());

@@ -107,15 +107,15 @@ TEST(DisneyFamily, SpecGammaIsTheViewsInverse) {
 // family:disney-material: gamma covers the view and the whole material.
 // A gamma off the flat stretches comes back from the spec it makes; the
 // scenes' usual values (metallic 0 and 1, no clear coat) sit on the flats
-// and come back as their middles; a renderer's primary table of a scene
-// material is one of the family's targets, the same table; keys other than
-// the layout are refused.
+// and come back as their middles; a renderer's lobe table of a scene
+// material (under MIS: 64 x 32 cells, mix 1) is one of the family's targets, the same table; keys
+// other than the layout are refused.
 TEST(DisneyFamily, MaterialFamilyCoversEveryMaterial) {
   registerMaterialTargets();
-  const auto family = makeTargetFamily("family:disney-material:res=36,rows=32,mix=1,space=primary");
-  EXPECT_EQ(family->spec(), "family:disney-material:res=36,rows=32,mix=1,space=primary");
+  const auto family = makeTargetFamily("family:disney-material:res=64,rows=32,mix=1");
+  EXPECT_EQ(family->spec(), "family:disney-material:res=64,mix=1");  // rows 32 is res / 2
   EXPECT_EQ(family->gammaDimension(), kDisneyMaterialGammaDimension);
-  EXPECT_EQ(family->domain(), Domain::Square);
+  EXPECT_EQ(family->domain(), Domain::Hemisphere);
   Rng rng(8);
   for (int trial = 0; trial < 50; ++trial) {
     std::vector<double> gamma(kDisneyMaterialGammaDimension);
@@ -126,7 +126,7 @@ TEST(DisneyFamily, MaterialFamilyCoversEveryMaterial) {
     // Round trip through the spec's printed numbers: the same target.
     EXPECT_EQ(family->target(*back)->spec(), target->spec());
   }
-  // A scene's material: the cup (scenes/cup.json), its primary table at a bin.
+  // A scene's material: the cup (scenes/cup.json), its table at a bin.
   DisneyTargetSpec cup;
   cup.params = DisneyParams{};
   cup.params.baseColor = {0.92, 0.9, 0.86};
@@ -136,10 +136,9 @@ TEST(DisneyFamily, MaterialFamilyCoversEveryMaterial) {
   cup.params.clearcoatGloss = 0.9;
   cup.thetaDegrees = 45;
   cup.phiDegrees = 0;
-  cup.phiCells = 36;
+  cup.phiCells = 64;
   cup.thetaRows = 32;
   cup.samplingMix = 1;
-  cup.space = LobeSpace::Primary;
   const auto g = disneyFamilyGamma(family->spec(), toSpec(cup));
   ASSERT_TRUE(g);
   EXPECT_EQ((*g)[5], 0.125);  // metallic 0: the middle of its flat quarter

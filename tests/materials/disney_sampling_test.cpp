@@ -18,7 +18,6 @@
 
 #include "materials/disney.h"
 #include "materials/disney_target.h"
-#include "materials/turns.h"
 #include "sampler/sequences/rng.h"
 #include "tests/materials/chi_square.h"
 #include "tests/materials/directions.h"
@@ -242,109 +241,6 @@ TEST(DisneySampling, LobeChoiceEdgesStayInRange) {
   const auto first = brdf.sample(wo, {0, 0});
   ASSERT_TRUE(first);
   EXPECT_EQ(first->wi.z, 1.0);
-}
-
-}  // namespace
-}  // namespace nuld
-
-namespace nuld {
-namespace {
-
-// primaryUnderSymmetry carries a primary point to the view's mirror or
-// rotation: sample(S wo, u') = S sample(wo, u), for every lobe (clear coat
-// included), anisotropic and isotropic, at views from near the normal to
-// grazing; and u' stays in the square. The rotation holds for isotropic
-// materials only (the documented case).
-TEST(DisneySampling, PrimaryUnderSymmetryCarriesSamplesToTheMovedView) {
-  Rng rng(4242);
-  for (const double roughness : {0.05, 0.5, 1.0})
-    for (const double anisotropic : {0.0, 0.8}) {
-      DisneyParams p = test::allParametersNonZero(roughness);
-      p.anisotropic = anisotropic;
-      const DisneyBrdf brdf(p, kChoices[(roughness > 0.1) + (anisotropic > 0)]);
-      for (int trial = 0; trial < 400; ++trial) {
-        const double theta = std::acos(std::max(1e-3, rng.uniform())),
-                     phi = 2 * std::numbers::pi * rng.uniform();
-        const Vec3 wo{std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi),
-                      std::cos(theta)};
-        const Point2 u{rng.uniform(), rng.uniform()};
-        const bool flipX = trial & 1, flipY = trial & 2;
-        const double turns = anisotropic > 0 ? 0.0 : rng.uniform();
-        const SinCos r = sinCosTurns(turns);
-        const auto move = [&](Vec3 v) {
-          const double x = flipX ? -v.x : v.x, y = flipY ? -v.y : v.y;
-          return Vec3{r.cos * x - r.sin * y, r.sin * x + r.cos * y, v.z};
-        };
-        const Point2 moved = brdf.primaryUnderSymmetry(u, wo, turns, flipX, flipY);
-        ASSERT_TRUE(moved.y >= 0 && moved.y < 1 && moved.x == u.x);
-        const auto a = brdf.sample(wo, u), b = brdf.sample(move(wo), moved);
-        // A direction at the horizon may fall on either side by rounding.
-        if (!a || !b) {
-          EXPECT_LT((a ? a->wi.z : b ? b->wi.z : 0), 1e-6) << trial;
-          continue;
-        }
-        const Vec3 want = move(a->wi);
-        EXPECT_NEAR(b->wi.x, want.x, 1e-9) << roughness << " " << anisotropic << " " << trial;
-        EXPECT_NEAR(b->wi.y, want.y, 1e-9) << roughness << " " << anisotropic << " " << trial;
-        EXPECT_NEAR(b->wi.z, want.z, 1e-9) << roughness << " " << anisotropic << " " << trial;
-        EXPECT_NEAR(b->pdf, a->pdf, 1e-7 * a->pdf);
-      }
-    }
-}
-
-// lobePrimary inverts sample() lobe by lobe: the point it returns lies in
-// the lobe's stripe and draws the same direction again, for every lobe
-// (cosine, visible-normal GGX, GTR1), from roughness 0 (alpha at its floor)
-// to 1, anisotropic or not, clear coat from sharp to broad, at views from
-// the normal to 89.9 degrees; where the warp is well conditioned (not the
-// floor alpha) it also returns u itself. primaryBeforeSymmetry undoes
-// primaryUnderSymmetry.
-TEST(DisneySampling, LobePrimaryInvertsEachLobesWarp) {
-  Rng rng(5150);
-  for (const double roughness : {0.0, 0.05, 0.5, 1.0})
-    for (const double anisotropic : {0.0, 0.9})
-      for (const double gloss : {0.0, 1.0}) {
-        DisneyParams p = test::allParametersNonZero(roughness);
-        p.anisotropic = anisotropic;
-        p.clearcoatGloss = gloss;
-        const DisneyBrdf brdf(p, kChoices[(roughness > 0.1) + (anisotropic > 0)]);
-        ASSERT_EQ(brdf.lobeCount(), 4);
-        for (int trial = 0; trial < 2000; ++trial) {
-          const double cosTheta = trial % 10 == 0 ? std::cos(89.9 * std::numbers::pi / 180)
-                                                  : std::max(1e-3, rng.uniform());
-          const Vec3 wo =
-              fromAngles(std::acos(cosTheta) * 180 / std::numbers::pi, 360 * rng.uniform());
-          const Point2 u{rng.uniform(), rng.uniform()};
-          const auto s = brdf.sample(wo, u);
-          const DisneyBrdf::LobeProbabilities lobeP = brdf.lobeProbabilities(wo);
-          const int k = brdf.lobeStripe(lobeP, u.x);
-          const auto back = brdf.lobePrimary(k, wo, s ? s->wi : Vec3{0, 0, 1});
-          if (!s) continue;
-          const std::string where = "roughness " + std::to_string(roughness) + " anisotropic " +
-                                    std::to_string(anisotropic) + " gloss " +
-                                    std::to_string(gloss) + " lobe " + std::to_string(k) +
-                                    " trial " + std::to_string(trial);
-          ASSERT_TRUE(back) << where;
-          ASSERT_EQ(brdf.lobeStripe(lobeP, back->x), k) << where;
-          ASSERT_TRUE(back->y >= 0 && back->y < 1) << where;
-          const auto again = brdf.sample(wo, *back);
-          ASSERT_TRUE(again) << where;
-          EXPECT_GT(dot(again->wi, s->wi), 1 - 1e-9) << where;
-          const bool wellConditioned = !(k == 2 && roughness == 0);
-          if (wellConditioned && s->wi.z > 1e-3) {
-            EXPECT_NEAR(back->x, u.x, 1e-6) << where;
-            const double dy = std::abs(back->y - u.y);
-            EXPECT_LT(std::min(dy, 1 - dy), 1e-6) << where;
-          }
-          const double turns = rng.uniform();
-          const bool flipX = trial & 1, flipY = trial & 2;
-          const Point2 moved = brdf.primaryUnderSymmetry(u, wo, turns, flipX, flipY);
-          const Point2 undone = brdf.primaryBeforeSymmetry(moved, wo, turns, flipX, flipY);
-          EXPECT_EQ(undone.x, u.x);
-          const double dy = std::abs(undone.y - u.y);
-          EXPECT_LT(std::min(dy, 1 - dy), 1e-12) << where;
-        }
-      }
 }
 
 }  // namespace

@@ -282,7 +282,11 @@ namespace {
 // anything else and maps were compensated (tests/data/renders: made by
 // `nuld render default --res 48x32 --spp 4 --seed 3` with --backend sobol
 // --integrator path, and sobol-tabulated direct, before those changes),
-// while either default alone renders another image of the same scene.
+// while either default alone renders another image of the same scene. The
+// sobol-tabulated render was made again (`--lobe-choice uniform`, luminance
+// importance) when the primary-space lobe tables were removed, which its
+// measured routes had used; it equals the render from before their removal
+// with `--lobe-routes measured-sphere` bit for bit.
 TEST(DefaultScene, PapersConfigurationReproducesThePapersRenders) {
   for (const auto &[backendName, integrator] :
        {std::pair{"sobol", IntegratorKind::Path}, {"sobol-tabulated", IntegratorKind::Direct}}) {

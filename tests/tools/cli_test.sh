@@ -146,14 +146,8 @@ words=$( (sed -n '/^nuld study render/q;/^  [a-z]/p' "$dir/backends.txt" | awk '
 for word in $words; do
   ok "render --backend $word" "$nuld" render default --backend "$word" --spp 4 --res 8 -q -o "$dir/w.exr"
 done
-# `neural` alone is the shipped Disney-family model, in renders and in the
-# integration study (its lobe integrands, its sets raw and shifted).
+# `neural` alone is the shipped Disney-family model.
 ok "render --backend neural (shipped model)" "$nuld" render default --backend neural --spp 4 --res 8 -q -o "$dir/w.exr"
-ok "study integrate neural (shipped model)" "$nuld" study integrate \
-  --integrands 'disney-primary*cosines:theta=45:roughness=0.58' --samplers sobol-tabulated,neural,neural+shift \
-  --n 16 --instances 4 --optimized-instances 4 --no-plots -q -o "$dir/neural.integrate"
-[[ $(grep -c '^disney-primary.*,neural:disney-primary\(+shift\)\?,' "$dir/neural.integrate/integrate.csv") -eq 2 ]] ||
-  { echo "FAIL: the integration study has the shipped model's raw and shifted rows"; cat "$dir/neural.integrate/integrate.csv"; failures=$((failures + 1)); }
 # The study's own words render too, making their sets into the set cache
 # (the second time finding them there) and saying per pair what they served.
 sets=(--opt-instances 2 --opt-epochs 5 --opt-lobe-epochs 5)
@@ -168,8 +162,12 @@ grep -q '^sets_made 0$' "$dir/out" && grep -q '^served_light [1-9]' "$dir/out" &
 "$nuld" render default --backend optimized-bsdf --spp 4 --res 8 "${sets[@]}" -q -o "$dir/w.exr" >"$dir/out" 2>&1
 grep -q '^served_bsdf [1-9]' "$dir/out" && ! grep -q '_light ' "$dir/out" ||
   { echo "FAIL: optimized-bsdf prints its bsdf counters and no light ones"; cat "$dir/out"; failures=$((failures + 1)); }
-"$nuld" render default --backend neural --spp 4 --res 16 -q -o "$dir/w.exr" >"$dir/out" 2>"$dir/err"
-[[ $(grep -c '^nuld: note: neural served [0-9]* % of its first-bounce contexts (bsdf [0-9]* of [0-9]*); the rest' "$dir/err") -eq 1 &&
+# (A family:disney model of the default scene's skin material, which serves
+# that material's tables and no other's, every bin through its table.)
+"$nuld" train --arch graph --target 'family:disney:basecolor=0.9/0.85/0.8,metallic=0,subsurface=0.8,specular=0.5,roughness=0.6,anisotropic=0,sheen=0.5,clearcoatgloss=1,res=64,mix=1' \
+  --n 4 --hidden 8 --steps 2 --batch 2 --boxes 64 -q -o "$dir/skin.nuldnet" >/dev/null 2>&1
+"$nuld" render default --backend neural:"$dir/skin.nuldnet" --lobe-routes table --spp 4 --res 16 -q -o "$dir/w.exr" >"$dir/out" 2>"$dir/err"
+[[ $(grep -c '^nuld: note: neural:[^ ]* served [0-9]* % of its first-bounce contexts (bsdf [0-9]* of [0-9]*); the rest' "$dir/err") -eq 1 &&
    $(grep -c 'note' "$dir/err") -eq 1 ]] && grep -q '^fell_back_bsdf [1-9]' "$dir/out" ||
   { echo "FAIL: neural, serving part of its contexts, says so in one note"; cat "$dir/out" "$dir/err"; failures=$((failures + 1)); }
 ok "bank" "$nuld" bank default --backend optimized-both --spp 4 --res 8 "${sets[@]}" -q -o "$dir/bankdir"
@@ -203,8 +201,7 @@ head -1 "$dir/out" | grep -q '^n  *instances  *seed  *epochs ' &&
   { echo "FAIL: nuld cache list tells rows of one target apart by seed and epochs, and shows whole targets"; cat "$dir/out"; failures=$((failures + 1)); }
 export NULD_CACHE="$dir/set-cache"
 # Sets for the MIS tables serve nothing under BSDF sampling alone through the
-# sphere tables, whose density differs between the two (a primary table can
-# be the same table under both: a metal's, whose lobe choice mix leaves alone).
+# tables, whose density differs between the two.
 fails_with "a learned backend that serves nothing" "served no first-bounce sample" \
   "$nuld" render default --backend optimized:"$dir/bankdir" --spp 4 --res 8 --integrator bsdf --lobe-routes table -q -o "$dir/x.exr"
 ok "study render every backend word" "$nuld" study render default --backends "$(echo $words | tr ' ' ',')" \

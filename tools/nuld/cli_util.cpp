@@ -214,10 +214,9 @@ void addLobeOptions(CLI::App &app, LobeOptions &o) {
                  "--integrator bsdf, 1 under MIS)")
       ->check(numberIn(0, 1));
   app.add_option("--lobe-routes", o.routes,
-                 "how each view bin samples its lobe: measured (the material's own sampler, "
-                 "the sphere table or the primary-space table, whichever measures best; the "
-                 "default), measured-sphere (the material's sampler or the sphere table), "
-                 "table (every bin its sphere table) or primary (every bin its primary table)")
+                 "how each view bin samples its lobe: measured (the material's own sampler or "
+                 "the bin's table, whichever measures best; the default) or table (every bin "
+                 "its table)")
       ->check(oneOf(kLobeRoutingNames));
   app.add_option("--lobe-defensive", o.defensive,
                  "share of tabulated samples drawn by the material's own sampler; weights are "

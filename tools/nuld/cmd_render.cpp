@@ -200,8 +200,8 @@ Runner addRender(CLI::App &app) {
                 (unsigned long long)stats.rejectedSamples,
                 (unsigned long long)stats.classicFallbacks);
     if (stats.lobeBins)
-      std::printf("lobe_bins %zu\nlobe_bins_tabulated %zu\nlobe_bins_primary %zu\n", stats.lobeBins,
-                  stats.lobeBinsTabulated, stats.lobeBinsPrimary);
+      std::printf("lobe_bins %zu\nlobe_bins_tabulated %zu\n", stats.lobeBins,
+                  stats.lobeBinsTabulated);
     if (word.sets != study::StudyBackend::Sets::None)
       std::printf("sets_made %zu\nsets_cached %zu\n", prepared.setsMade, prepared.setsCached);
     // Per pair, the first-bounce contexts the sets served and those that

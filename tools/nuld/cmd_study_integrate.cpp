@@ -108,9 +108,7 @@ Runner addStudyIntegrate(CLI::App &app) {
                  "comma-separated: gaussian*step, quarterdisc*bilinear, envmap*cos, "
                  "disney*envmap, disney-grazing*envmap, disney-views*envmap (the lobe at 20 "
                  "and 70 degrees; these four once per map), disney*cosines (the lobe under a "
-                 "smooth light, at 20, 45 and 70 degrees), disney-primary*cosines (the same in "
-                 "the primary space of the material's sampler, at those views and roughness "
-                 "0.2, 0.58 and 0.9); or a full name such as "
+                 "smooth light, at 20, 45 and 70 degrees); or a full name such as "
                  "envmap:grace*cos (default: all)");
   app.add_option("--samplers", o->samplers,
                  "comma-separated: independent, sobol, halton (each in its own mapping: the "

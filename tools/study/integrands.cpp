@@ -10,7 +10,6 @@
 
 #include "materials/disney_target.h"
 #include "materials/sphere_map.h"
-#include "renderer/lobe_tables.h"
 #include "sampler/sequences/rng.h"
 #include "sampler/targets/basic_targets.h"
 #include "sampler/targets/image_targets.h"
@@ -94,9 +93,8 @@ void gaussLegendre(int q, std::vector<double> &nodes, std::vector<double> &weigh
 
 const std::vector<std::string> &integrandKinds() {
   static const std::vector<std::string> kinds{
-      "gaussian*step",       "quarterdisc*bilinear",  "envmap*cos",
-      "disney*envmap",       "disney-grazing*envmap", "disney*cosines",
-      "disney-views*envmap", "disney-primary*cosines"};
+      "gaussian*step",         "quarterdisc*bilinear", "envmap*cos",         "disney*envmap",
+      "disney-grazing*envmap", "disney*cosines",       "disney-views*envmap"};
   return kinds;
 }
 
@@ -376,33 +374,6 @@ Integrand makeDisneyCosines(double thetaDegrees, const DisneyParams &params) {
   in.referenceError = std::abs(in.reference - reference(3));
   in.referenceMethod = "6x6 Gauss-Legendre on 256 x 128 cells of (phi, cos theta)";
   return in;
-}
-
-Integrand makeDisneyPrimaryCosines(double thetaDegrees, double roughness) {
-  DisneyParams params = supplementDisneyParams();
-  params.roughness = roughness;
-  Integrand in = makeDisneyCosines(thetaDegrees, params);
-  LobeTableSettings mis;  // the tables a render under MIS builds
-  mis.samplingMix = 1.0;
-  DisneyTargetSpec spec = primaryTableLayout(mis);
-  spec.params = params;
-  spec.thetaDegrees = thetaDegrees;
-  in.name = disneyPrimaryCosinesName(thetaDegrees, roughness);
-  in.target = makeDisneyTarget(spec);
-  // On the primary square u is the variable: the material's own estimate
-  // g / p is the integrand, and the integral over the square is g's.
-  in.f = in.lobeContribution;
-  in.familyGamma = familyGammaOf(toSpec(spec));
-  return in;
-}
-
-std::vector<double> disneyPrimaryRoughnesses() { return {0.2, 0.58, 0.9}; }
-
-std::string disneyPrimaryCosinesName(double thetaDegrees, double roughness) {
-  char name[96];
-  std::snprintf(name, sizeof name, "disney-primary*cosines:theta=%g:roughness=%g", thetaDegrees,
-                roughness);
-  return name;
 }
 
 std::vector<double> disneyCosinesThetas() { return {20, 45, 70}; }

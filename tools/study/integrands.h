@@ -56,8 +56,7 @@ struct Integrand {
 // The kinds --integrands accepts: gaussian*step, quarterdisc*bilinear,
 // envmap*cos, disney*envmap and disney-grazing*envmap (these three once
 // per environment map; the grazing one views the lobe from 89 degrees, a
-// stability case), disney*cosines (once per view angle, no map) and
-// disney-primary*cosines (once per view angle and roughness).
+// stability case) and disney*cosines (once per view angle, no map).
 const std::vector<std::string> &integrandKinds();
 
 // Target gaussian:0.5,0.5,0.15; f = p(x) [x.x < 0.6], so f / p is the step
@@ -128,17 +127,6 @@ Integrand makeDisneyCosines(double thetaDegrees,
                             const DisneyParams &params = supplementDisneyParams());
 std::vector<double> disneyCosinesThetas();
 std::string disneyCosinesName(double thetaDegrees);
-// `disney-primary*cosines:theta=T:roughness=R`: the same integral in the
-// primary sample space of the material's own sample() (materials/
-// disney_target.h, LobeSpace::Primary): on the unit square f(u) = g(w) / p(w)
-// at w = sample(wo, u), importance-sampled by the renderer's primary table
-// under MIS (primaryTableLayout, renderer/lobe_tables.h); its classic route is the material's
-// sampler, its tabulated one the primary table. The supplement's instance
-// with roughness R; the study makes one per disneyCosinesThetas() and
-// disneyPrimaryRoughnesses().
-Integrand makeDisneyPrimaryCosines(double thetaDegrees, double roughness);
-std::vector<double> disneyPrimaryRoughnesses();
-std::string disneyPrimaryCosinesName(double thetaDegrees, double roughness);
 // disney-views*envmap: disney*envmap at the other views of disneyCosinesThetas
 // (20 and 70 degrees, phi 0), named disney*envmap:MAP:theta=T.
 std::vector<double> disneyViewThetas();

@@ -189,10 +189,7 @@ std::vector<Integrand> selectIntegrands(const IntegrateOptions &o,
     for (double theta : disneyViewThetas())
       known.push_back(disneyViewName(envmapShortName(m), theta));
   }
-  for (double theta : disneyCosinesThetas()) {
-    known.push_back(disneyCosinesName(theta));
-    for (double r : disneyPrimaryRoughnesses()) known.push_back(disneyPrimaryCosinesName(theta, r));
-  }
+  for (double theta : disneyCosinesThetas()) known.push_back(disneyCosinesName(theta));
   for (const auto &t : o.integrands)
     if (t != "all" && std::find(known.begin(), known.end(), t) == known.end())
       throw std::invalid_argument("--integrands: unknown integrand '" + t + "' (expected " +
@@ -256,10 +253,6 @@ std::vector<Integrand> selectIntegrands(const IntegrateOptions &o,
   }
   for (double theta : disneyCosinesThetas())
     if (wants(kinds[5], disneyCosinesName(theta))) out.push_back(makeDisneyCosines(theta));
-  for (double theta : disneyCosinesThetas())
-    for (double r : disneyPrimaryRoughnesses())
-      if (wants(kinds[7], disneyPrimaryCosinesName(theta, r)))
-        out.push_back(makeDisneyPrimaryCosines(theta, r));
   for (const auto &in : out) {
     notes.push_back(in.name + ": reference " + formatPrecise(in.reference) + " (" +
                     in.referenceMethod + "; estimated error " +
