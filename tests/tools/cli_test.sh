@@ -24,6 +24,25 @@ fails_with() { # fails_with DESCRIPTION PATTERN COMMAND...
   fi
 }
 
+# exits_with STATUS DESCRIPTION COMMAND...: the exit-code rule (docs/usage.md):
+# 2 for a command line refused as written, 1 for what it names that cannot
+# be used.
+exits_with() {
+  local status=$1 what=$2; shift 2
+  "$@" >"$dir/out" 2>"$dir/err"
+  local rc=$?
+  if [[ $rc -ne $status ]]; then
+    echo "FAIL: $what: exit $rc, expected $status:"; cat "$dir/err"; failures=$((failures + 1))
+  fi
+}
+exits_with 2 "a zero side of --res" "$nuld" render default --res 0x10 -q -o "$dir/x.exr"
+exits_with 2 "--spp 0" "$nuld" render default --spp 0 -q -o "$dir/x.exr"
+exits_with 2 "--res-scale 0 of a study" "$nuld" study render default --res-scale 0 -o "$dir/x"
+exits_with 2 "an unknown backend" "$nuld" render default --backend sobl -q -o "$dir/x.exr"
+exits_with 2 "an option that does not apply" "$nuld" render default --assets "$dir" -q -o "$dir/x.exr"
+exits_with 1 "a scene file that does not exist" "$nuld" render "$dir/none.json" -q -o "$dir/x.exr"
+exits_with 1 "an image target whose file does not exist" "$nuld" generate --n 4 --target "image:$dir/none.png" -o "$dir/x.txt"
+
 ok "help" "$nuld" help
 grep -q "optimize" "$dir/out" || { echo "FAIL: help lists the subcommands"; failures=$((failures + 1)); }
 ok "help optimize" "$nuld" help optimize

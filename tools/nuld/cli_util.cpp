@@ -59,12 +59,12 @@ Resolution parseResolution(const std::string &text) {
   static const std::regex re(R"((\d{1,9})(?:x(\d{1,9}))?)");
   std::smatch m;
   if (!std::regex_match(text, m, re))
-    throw std::invalid_argument("--res '" + text + "': expected W or WxH, e.g. 512 or 640x480");
+    throw std::invalid_argument("'" + text + "': expected W or WxH, e.g. 512 or 640x480");
   Resolution r;
   r.width = std::stoi(m[1]);
   r.height = m[2].matched ? std::stoi(m[2]) : 0;  // 0: the scene's aspect
   if (r.width < 1 || (m[2].matched && r.height < 1) || r.width > 32768 || r.height > 32768)
-    throw std::invalid_argument("--res '" + text + "': each side must be in [1, 32768]");
+    throw std::invalid_argument("'" + text + "': each side must be in [1, 32768]");
   return r;
 }
 

@@ -27,7 +27,8 @@ std::unique_ptr<Target> targetFor(const std::string &spec, const PointSet &set,
 void mapByInverseCdf(PointSet &set, const Target &target);
 
 // "W" or "WxH" (--res), each side in [1, 32768]; throws std::invalid_argument
-// quoting the text and the expected form.
+// quoting the text and the expected form. The --res options check it when
+// parsed (parsedBy), so a bad value exits 2.
 // --res W or WxH; W alone (height 0) keeps the scene's aspect.
 struct Resolution {
   int width = 0, height = 0;

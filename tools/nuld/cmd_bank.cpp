@@ -37,9 +37,10 @@ Runner addBank(CLI::App &app) {
       }));
   app.add_option("--spp", o->spp, "comma-separated sample counts (default: the scene's)")
       ->delimiter(',');
-  app.add_option("--res", o->res, "resolution the lobe bins are chosen at (WxH or W)");
+  app.add_option("--res", o->res, "resolution the lobe bins are chosen at (WxH or W)")
+      ->check(parsedBy(parseResolution));
   app.add_option("--res-scale", o->resScale, "scale the scene's resolution (not with --res)")
-      ->check(CLI::Range(1e-6, 16.0));
+      ->check(numberIn(1e-6, 16));
   app.add_option("--integrator", o->integrator,
                  "path, direct, light or bsdf (default: the scene's)")
       ->check(oneOf(kIntegratorNames));

@@ -90,10 +90,11 @@ Runner addRender(CLI::App &app) {
   app.add_option("--spp", o->spp, "samples per pixel (default: the scene's)")
       ->check(wholeNumberIn(1, 1 << 24));
   app.add_option("--res", o->res,
-                 "resolution WxH, or W keeping the scene's aspect (default: the scene's)");
+                 "resolution WxH, or W keeping the scene's aspect (default: the scene's)")
+      ->check(parsedBy(parseResolution));
   app.add_option("--res-scale", o->resScale,
                  "scale the scene's own resolution (e.g. 0.25; not with --res)")
-      ->check(CLI::Range(1e-6, 16.0));
+      ->check(numberIn(1e-6, 16));
   app.add_option("--assets", o->assets,
                  "asset root for the scene's meshes and maps (default: $NULD_ASSETS, else "
                  "../shared/assets beside the checkout)");

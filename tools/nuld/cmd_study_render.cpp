@@ -202,9 +202,11 @@ Runner addStudyRender(CLI::App &app) {
                  "backend of the reference (default halton, as the paper)")
       ->check(backendWord());
   app.add_option("--res", o->res,
-                 "resolution WxH, or W keeping each scene's aspect (default: the scene's)");
+                 "resolution WxH, or W keeping each scene's aspect (default: the scene's)")
+      ->check(parsedBy(parseResolution));
   app.add_option("--res-scale", o->s.resolutionScale,
-                 "scale each scene's own resolution (e.g. 0.25; not with --res)");
+                 "scale each scene's own resolution (e.g. 0.25; not with --res)")
+      ->check(numberIn(1e-6, 16));
   app.add_option("--integrator", o->integrator,
                  "path, direct (MIS), light or bsdf (default: the scene's)")
       ->check(oneOf(kIntegratorNames));
