@@ -252,31 +252,27 @@ Runner addStudyRender(CLI::App &app) {
       s.lobeBounces = change.lobeBounces;
     }
     if (s.scenes.empty()) s.scenes = {"default"};
-    const auto anyBackend = [&](std::initializer_list<const char *> prefixes) {
-      for (const std::string &b : s.backends)
-        for (const char *p : prefixes)
-          if (b.rfind(p, 0) == 0 && b.find(':') == std::string::npos) return true;
-      return false;
+    // Which options apply, asked of the parsed words (render_study.h).
+    std::vector<study::StudyBackend> words;
+    for (const std::string &b : s.backends) words.push_back(study::parseStudyBackend(b));
+    const auto anyBackend = [&](bool (study::StudyBackend::*has)() const) {
+      return std::any_of(words.begin(), words.end(),
+                         [&](const study::StudyBackend &w) { return (w.*has)(); });
     };
     checkAssets(app, s.assets, !std::all_of(s.scenes.begin(), s.scenes.end(), isBuiltInScene),
                 kSceneFilesOnly);
     onlyWhen(app, o->res.empty(), {"--res-scale"},
              "renders at the scenes' own resolution (no --res)");
-    onlyWhen(app, anyBackend({"optimized"}), {"--opt-instances", "--opt-epochs", "--opt-nested"},
+    onlyWhen(app, anyBackend(&study::StudyBackend::makesSets),
+             {"--opt-instances", "--opt-epochs", "--opt-nested"},
              "the sets the study optimizes (backends optimized, optimized-uniform, "
              "optimized-bsdf, optimized-both)");
-    onlyWhen(app, anyBackend({"optimized-bsdf", "optimized-both"}),
+    onlyWhen(app, anyBackend(&study::StudyBackend::makesLobeSets),
              {"--opt-union-weight", "--opt-lobe-epochs"},
              "the lobe banks (backends optimized-bsdf, optimized-both)");
-    onlyWhen(app,
-             std::any_of(s.backends.begin(), s.backends.end(),
-                         [](const std::string &b) {
-                           return b.rfind("sobol-tabulated", 0) == 0 ||
-                                  b.rfind("optimized-b", 0) == 0 || b.find(':') != b.npos;
-                         }),
-             kLobeOptionNames,
-             "backends that sample lobe tables (sobol-tabulated, optimized-bsdf, optimized-both, "
-             "optimized:PATHS, shifted:PATHS, neural:MODEL)");
+    onlyWhen(app, anyBackend(&study::StudyBackend::samplesLobes), kLobeOptionNames,
+             "backends that sample lobe tables (sobol-tabulated, the study's sets but "
+             "optimized-uniform, neural, and banks of lobe sets)");
     onlyWhen(app, !app.count("--integrator") || o->integrator == "path", {"--max-depth"},
              "--integrator path");
     if (!o->res.empty()) {

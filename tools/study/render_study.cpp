@@ -264,6 +264,13 @@ RenderOverrides RenderStudySettings::overrides() const {
   return o;
 }
 
+bool StudyBackend::samplesLobes() const {
+  // Sets sample the lobe routes where no set serves (BankBackend), except
+  // uniform sets, which serve the BSDF pair themselves.
+  if (makesSets()) return sets != Sets::Uniform;
+  return renderer.entry().lobes && makeBackend(renderer, 0)->samplesLobes();
+}
+
 std::string RenderStudySettings::rowOptions() const {
   std::ostringstream o;
   o << "repeats=" << repeats << " seed=" << seed << " res="
@@ -343,15 +350,6 @@ struct ScenePlan {
   std::vector<PlannedCell> cells;  // spp by spp (a round's cells cost about the same)
 };
 
-// Whether a backend samples the scene's lobe tables.
-bool samplesLobes(const StudyBackend &b) {
-  // Sets sample the lobe routes where no set serves (BankBackend), except
-  // uniform sets, which serve the BSDF pair themselves.
-  if (b.sets != StudyBackend::Sets::None) return b.sets != StudyBackend::Sets::Uniform;
-  // A file's banks or a model may or may not sample lobes: asked.
-  return b.renderer.entry().lobes && makeBackend(b.renderer, 0)->samplesLobes();
-}
-
 ScenePlan planScene(const SceneStudy &scene, const CsvTable &table, const RenderStudySettings &s) {
   ScenePlan plan;
   const bool lobeIntegrator = scene.settings.integrator != IntegratorKind::Light;
@@ -359,7 +357,7 @@ ScenePlan planScene(const SceneStudy &scene, const CsvTable &table, const Render
     for (const std::string &word : s.backends)
       if (!table.hasRow({scene.slug, word, std::to_string(spp)})) {
         StudyBackend backend = parseStudyBackend(word);
-        const bool lobes = lobeIntegrator && samplesLobes(backend);
+        const bool lobes = lobeIntegrator && backend.samplesLobes();
         plan.cells.push_back({std::move(backend), spp, {}, lobes});
       }
   // The lobe tables, built once before any cell (the renders then reuse

@@ -132,7 +132,12 @@ struct StudyBackend {
   Sets sets = Sets::None;  // None: `renderer` is the backend
   bool shifted = false;    // +shift: the sets randomized in primary space
   BackendSpec renderer;    // for Sets::None
+  bool makesSets() const { return sets != Sets::None; }
   bool makesLobeSets() const { return sets == Sets::Lobes || sets == Sets::EnvMapAndLobes; }
+  // Whether its renders sample the scene's lobe tables: the study's sets
+  // but uniform ones (BankBackend::samplesLobes); a file's banks or a model
+  // are asked (which loads them).
+  bool samplesLobes() const;
 };
 // Throws std::invalid_argument naming the word and the choices.
 StudyBackend parseStudyBackend(const std::string &word);
