@@ -1,10 +1,13 @@
 #!/usr/bin/env python3
 """Writes the generated part of docs/results.md from a lobe_choice.sh output.
 
-Usage: /usr/bin/python3 tools/experiments/results_page.py OUT [docs/results.md]
+Usage: /usr/bin/python3 tools/experiments/results_page.py OUT [OUT...] [PAGE.md]
 
-OUT is the directory tools/experiments/lobe_choice.sh wrote (OUT/CHOICE/
-INTEGRATOR/{render,verdicts,references}.csv). Everything in the page between
+Each OUT is a directory tools/experiments/lobe_choice.sh wrote (OUT/CHOICE/
+INTEGRATOR/{render,verdicts,references}.csv); several (e.g. scenes run with
+different reference spp) are read as one table, scenes in the order given, a
+scene in a later OUT replacing the same scene of an earlier one.
+PAGE defaults to docs/results.md. Everything in the page between
 the markers below is replaced; the text around them is kept, so the page's
 prose ("which backend should I use") is written by hand beside numbers the
 script regenerates.
@@ -47,21 +50,31 @@ LABELS = {"albedo": "the defaults (lobes by albedo, compensated map)",
           "paper": "the paper's configuration (uniform lobes, luminance map)"}
 
 
-def tables(out, choice, baseline="albedo"):
+def read_all(outs, *parts):
+    """The rows of OUT/parts... over every OUT, in order; a scene that a later
+    OUT also has takes that OUT's rows (e.g. a rerun with a finer reference)."""
+    rows = []
+    for out in outs:
+        more = read(os.path.join(out, *parts))
+        later = {r["scene"] for r in more}
+        rows = [r for r in rows if r["scene"] not in later] + more
+    return rows
+
+
+def tables(outs, choice, baseline="albedo"):
     """Per integrator, every backend's MSE over sobol's under the `baseline`
     lobe choice (the default: the classic baseline) and over the best
     classic row of its own study, time over its own study's sobol, setup and
     break-even renders."""
     lines = []
     for integrator in ("direct", "path"):
-        d = os.path.join(out, choice, integrator)
-        rows = read(os.path.join(d, "render.csv"))
+        rows = read_all(outs, choice, integrator, "render.csv")
         if not rows:
             continue
         baseline_rows = {(r["scene"], int(r["spp"])): r
-                         for r in read(os.path.join(out, baseline, integrator, "render.csv"))
+                         for r in read_all(outs, baseline, integrator, "render.csv")
                          if r["backend"] == "sobol"}
-        refs = {r["scene"]: r for r in read(os.path.join(d, "references.csv"))}
+        refs = {r["scene"]: r for r in read_all(outs, choice, integrator, "references.csv")}
         spps = sorted({int(r["spp"]) for r in rows})
         lines.append(f"\n### `{integrator}`, {LABELS.get(choice, f'lobe choice `{choice}`')}\n")
         head = ["scene", "backend"]
@@ -108,16 +121,19 @@ def tables(out, choice, baseline="albedo"):
 
 
 def main():
-    out = sys.argv[1]
-    page = sys.argv[2] if len(sys.argv) > 2 else os.path.join(
+    args = sys.argv[1:]
+    if not args:
+        sys.exit(__doc__)
+    page = args.pop() if args[-1].endswith(".md") else os.path.join(
         os.path.dirname(__file__), "..", "..", "docs", "results.md")
+    outs = args
     text = open(page).read() if os.path.exists(page) else f"# Results\n\n{BEGIN}\n{END}\n"
     if BEGIN not in text or END not in text:
         sys.exit(f"{page}: the markers of the generated part are missing")
     generated = []
     for choice in ("albedo", "paper", "uniform"):
-        if os.path.isdir(os.path.join(out, choice)):
-            generated += tables(out, choice)
+        if any(os.path.isdir(os.path.join(out, choice)) for out in outs):
+            generated += tables(outs, choice)
     head, rest = text.split(BEGIN, 1)
     tail = rest.split(END, 1)[1]
     new = head + BEGIN + "\n" + "\n".join(generated) + "\n\n" + END + tail
