@@ -136,13 +136,17 @@ struct Task {
 using FileBanks = std::map<std::string, std::vector<SetBank>>;
 
 // Whether `bank` serves integrand `in` as the renderer would deal it out:
-// sets for the integrand's own target (shifted: through its CDF map, which
-// grid targets have; unshifted: two instances at least, one estimate each),
-// or uniform sets, shifted per instance and mapped by the inverse CDF.
+// sets for the integrand's own target, matched as the renderer matches them
+// (by spec, else by content: followsTarget), shifted through its CDF map
+// (which grid targets have) or, unshifted, two instances at least (one
+// estimate each); or uniform sets, shifted per instance and mapped by the
+// inverse CDF.
 bool bankServes(const SetBank &bank, const Integrand &in, bool shifted) {
-  const std::string spec = bank.targetSpec();
-  if (spec == "uniform") return true;
-  if (spec != in.target->spec()) return false;
+  if (bank.targetSpec() == "uniform") return true;
+  const std::string spec = in.target->spec();
+  if (!followsTarget(bank.sets, spec, "") &&
+      !followsTarget(bank.sets, spec, in.target->contentHash()))
+    return false;
   return shifted ? dynamic_cast<const GridTarget *>(in.target.get()) != nullptr
                  : bank.sets.instances() >= 2;
 }
