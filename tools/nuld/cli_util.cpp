@@ -187,15 +187,18 @@ std::string targetOptionHelp(const std::string &what) {
   return what + ": " + list + " (nuld help targets)";
 }
 
-void addSceneChoiceOptions(CLI::App &app, SceneChoices &choices) {
+void addLobeChoiceOption(CLI::App &app, LobeChoice &choice) {
   app.add_option_function<std::string>(
-         "--lobe-choice",
-         [&choices](const std::string &v) { choices.lobes = kLobeChoiceNames.parse(v); },
+         "--lobe-choice", [&choice](const std::string &v) { choice = kLobeChoiceNames.parse(v); },
          "how Disney materials pick the lobe they sample, at every bounce and in references: "
          "albedo (by each lobe's reflectance estimated at the view, as Cycles; the default), "
          "weight (by Mitsuba 3's static weights) or uniform (each lobe alike: the paper's "
          "configuration, with --env-importance luminance)")
       ->check(oneOf(kLobeChoiceNames));
+}
+
+void addSceneChoiceOptions(CLI::App &app, SceneChoices &choices) {
+  addLobeChoiceOption(app, choices.lobes);
   app.add_option_function<std::string>(
          "--env-importance",
          [&choices](const std::string &v) { choices.importance = kImportanceNames.parse(v); },

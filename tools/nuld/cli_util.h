@@ -136,6 +136,8 @@ inline constexpr std::initializer_list<const char *> kLobeOptionNames = {
 // environment map's sampling in place of the scene's (image_targets.h),
 // read into `choices` (left as they are when not given).
 void addSceneChoiceOptions(CLI::App &app, SceneChoices &choices);
+// --lobe-choice alone (study integrate, which has no scene).
+void addLobeChoiceOption(CLI::App &app, LobeChoice &choice);
 
 // "WHAT: uniform, bilinear:w00,w10,w01,w11, ... (nuld help targets)": every
 // target grammar makeTarget knows, for a --target option's help.

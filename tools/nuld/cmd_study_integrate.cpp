@@ -29,6 +29,7 @@ struct IntegrateCliOptions {
   double optUnionWeight = study::kBankUnionWeight;
   std::string optObjective;
   std::uint64_t seed = 0;
+  LobeChoice lobeChoice = kDefaultLobeChoice;
   bool noPlots = false, quiet = false;
   bool envmapsNamed = false;  // --envmaps given
 };
@@ -51,6 +52,7 @@ study::IntegrateOptions integrateOptions(const IntegrateCliOptions &o) {
   opts.envmaps = study::splitList(o.envmaps);
   opts.envmapsNamed = o.envmapsNamed;
   opts.seed = o.seed;
+  opts.lobeChoice = o.lobeChoice;
   return opts;
 }
 
@@ -159,6 +161,7 @@ Runner addStudyIntegrate(CLI::App &app) {
                  "scene's sky with a sun 1e6 times brighter, the stability case)");
   app.add_option("--seed", o->seed, "seed of every randomization and of the optimization")
       ->check(wholeNumber());
+  addLobeChoiceOption(app, o->lobeChoice);
   app.add_flag("--no-plots", o->noPlots, "write only the CSV");
   app.add_flag("-q,--quiet", o->quiet, "no progress or notes on stderr (the table still prints)");
   return [o, &app] {

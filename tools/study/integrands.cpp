@@ -237,10 +237,10 @@ std::function<std::optional<std::vector<double>>(const TargetFamily &)> familyGa
 }  // namespace
 
 Integrand makeDisneyEnvmap(std::shared_ptr<const StudyEnvmap> map, const DisneyParams &params,
-                           Vec3 wo) {
+                           Vec3 wo, LobeChoice lobes) {
   wo = normalize(wo);
   if (!(wo.z > 0)) throw std::invalid_argument("disney*envmap: wo must point above the surface");
-  auto brdf = std::make_shared<DisneyBrdf>(params);
+  auto brdf = std::make_shared<DisneyBrdf>(params, lobes);
   // The supplement's instance keeps the canonical spec `disney`, so models
   // and cached sets made for `--target disney` match it.
   DisneyTargetSpec spec;
@@ -319,14 +319,14 @@ std::vector<Vec3> smoothLightNormals() {
   return normals;
 }
 
-Integrand makeDisneyCosines(double thetaDegrees, const DisneyParams &params) {
+Integrand makeDisneyCosines(double thetaDegrees, const DisneyParams &params, LobeChoice lobes) {
   if (!(thetaDegrees >= 0 && thetaDegrees < 90))
     throw std::invalid_argument("disney*cosines: theta must lie in [0, 90) degrees");
   DisneyTargetSpec spec;
   spec.params = params;
   spec.thetaDegrees = thetaDegrees;
   const Vec3 wo = spec.wo();
-  auto brdf = std::make_shared<DisneyBrdf>(params);
+  auto brdf = std::make_shared<DisneyBrdf>(params, lobes);
   const std::vector<Vec3> normals = smoothLightNormals();
   const auto light = [normals](Vec3 wi) {
     double l = 0;

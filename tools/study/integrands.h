@@ -112,9 +112,11 @@ Integrand makeEnvmapCos(std::shared_ptr<const StudyEnvmap> map, Vec3 normal = en
 // (one-sample MIS over lobes). Reference: per pixel, Gauss-Legendre 8 x 8 in
 // (phi, z) over the pixel's part above the horizon, pixels of coarse maps
 // split to at most 2 pi / 128 x 1 / 32 (4 x 4 gives the error estimate).
+// `lobes` is how the BRDF's own sampling picks a lobe (materials/disney.h):
+// it changes lobeContribution only, never the integrand or its target.
 Integrand makeDisneyEnvmap(std::shared_ptr<const StudyEnvmap> map,
                            const DisneyParams &params = supplementDisneyParams(),
-                           Vec3 wo = supplementWo());
+                           Vec3 wo = supplementWo(), LobeChoice lobes = kDefaultLobeChoice);
 
 // `disney*cosines:theta=T`: the lobe of `params` at wo = (theta T, phi 0)
 // against a smooth light, the mean of 8 clamped cosines max(0, n_k . wi)
@@ -124,7 +126,8 @@ Integrand makeDisneyEnvmap(std::shared_ptr<const StudyEnvmap> map,
 // one per disneyCosinesThetas(). Reference: Gauss-Legendre 6 x 6 on 256 x 128
 // cells of (phi, cos theta) (3 x 3 gives the error estimate).
 Integrand makeDisneyCosines(double thetaDegrees,
-                            const DisneyParams &params = supplementDisneyParams());
+                            const DisneyParams &params = supplementDisneyParams(),
+                            LobeChoice lobes = kDefaultLobeChoice);
 std::vector<double> disneyCosinesThetas();
 std::string disneyCosinesName(double thetaDegrees);
 // disney-views*envmap: disney*envmap at the other views of disneyCosinesThetas

@@ -237,22 +237,24 @@ std::vector<Integrand> selectIntegrands(const IntegrateOptions &o,
       continue;
     }
     if (cosine) out.push_back(makeEnvmapCos(map));
-    if (disney) out.push_back(makeDisneyEnvmap(map));
+    if (disney)
+      out.push_back(makeDisneyEnvmap(map, supplementDisneyParams(), supplementWo(), o.lobeChoice));
     if (grazing) {
-      Integrand in = makeDisneyEnvmap(map, supplementDisneyParams(), grazingWo());
+      Integrand in = makeDisneyEnvmap(map, supplementDisneyParams(), grazingWo(), o.lobeChoice);
       in.name = "disney-grazing*envmap:" + name;
       out.push_back(std::move(in));
     }
     for (double theta : views) {
       DisneyTargetSpec view;  // the supplement's instance at theta, phi 0
       view.thetaDegrees = theta;
-      Integrand in = makeDisneyEnvmap(map, view.params, view.wo());
+      Integrand in = makeDisneyEnvmap(map, view.params, view.wo(), o.lobeChoice);
       in.name = disneyViewName(name, theta);
       out.push_back(std::move(in));
     }
   }
   for (double theta : disneyCosinesThetas())
-    if (wants(kinds[5], disneyCosinesName(theta))) out.push_back(makeDisneyCosines(theta));
+    if (wants(kinds[5], disneyCosinesName(theta)))
+      out.push_back(makeDisneyCosines(theta, supplementDisneyParams(), o.lobeChoice));
   for (const auto &in : out) {
     notes.push_back(in.name + ": reference " + formatPrecise(in.reference) + " (" +
                     in.referenceMethod + "; estimated error " +

@@ -521,7 +521,8 @@ std::string rowOptions(const IntegrateOptions &o) {
          " optimized-instances=" + std::to_string(o.optimizedInstances) +
          " opt-epochs=" + std::to_string(o.optEpochs) +
          " opt-objective=" + (o.optObjective ? toString(*o.optObjective) : "preset") +
-         " opt-union-weight=" + formatNumber(o.optUnionWeight);
+         " opt-union-weight=" + formatNumber(o.optUnionWeight) +
+         " lobe-choice=" + toString(o.lobeChoice);
 }
 
 IntegrateSummary runIntegrateStudy(const IntegrateOptions &o, const IntegrateHooks &hooks) {

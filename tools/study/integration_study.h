@@ -62,6 +62,9 @@ struct IntegrateOptions {
   // error; the default one is skipped with a note.
   bool envmapsNamed = false;
   std::uint64_t seed = 0;
+  // How the Disney integrands' own lobe sampling (the sobol-lobes row)
+  // picks a lobe (--lobe-choice; materials/disney.h).
+  LobeChoice lobeChoice = kDefaultLobeChoice;
   // The set cache's directory (set_cache.h); empty: SetCache::fromEnvironment.
   std::filesystem::path cacheDir;
 };
