@@ -111,7 +111,10 @@ void BankBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
   light_ = targets.light;
   lobes_ = targets.lobes;
   n_ = spp;
-  if (banks_.empty()) throw std::invalid_argument(name_ + ": the backend has no point sets");
+  if (banks_.empty()) {
+    if (allowNoBanks_) return;
+    throw std::invalid_argument(name_ + ": the backend has no point sets");
+  }
   // Sets of exactly spp points first; then nested sets (optimized prefix by
   // prefix) of more, whose first spp points serve.
   std::vector<const SetBank *> sized;

@@ -84,6 +84,9 @@ class BankBackend : public SamplerBackend {
   // Whether every set is Cranley-Patterson shifted in primary space (as
   // `shifted:PATHS`); takes effect at the next prepare().
   void setShifted(bool shifted) { shifted_ = shifted; }
+  // Whether prepare() accepts no banks at all, every pair then taking the
+  // fallback (a generator whose every bank failed its serving test).
+  void allowNoBanks(bool allow) { allowNoBanks_ = allow; }
   std::uint64_t seed() const { return seed_; }
 
  private:
@@ -94,6 +97,7 @@ class BankBackend : public SamplerBackend {
   std::uint64_t seed_, salt_;
   std::unique_ptr<SamplerBackend> fallback_;
   bool shifted_;
+  bool allowNoBanks_ = false;
   // The bounces, from the first, its sets serve: the registry's declaration
   // for banks (renderer/backend_registry.h).
   int bounces_;

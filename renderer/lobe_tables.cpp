@@ -11,6 +11,7 @@
 #include "materials/sphere_map.h"
 #include "materials/turns.h"
 #include "renderer/padding.h"
+#include "renderer/smooth_lights.h"
 #include "sampler/sequences/rng.h"
 #include "sampler/sequences/sequence.h"
 
@@ -22,19 +23,12 @@ constexpr double kDegrees = 180 / std::numbers::pi;
 
 double binCentre(int bin, double range, int bins) { return (bin + 0.5) * range / bins; }
 
-// The route measurement (renderer/README.md, "Lobe routes"): smooth lights in
-// the shading frame (a constant and two gradients), against which each route
+// The route measurement (renderer/README.md, "Lobe routes"): the smooth
+// lights in the shading frame (smooth_lights.h), against which each route
 // estimates the reflected light with kMeasurePoints Owen-Sobol points,
 // kMeasureRepeats times, at views spread over the bin.
-constexpr int kLights = 3;
+constexpr int kLights = kSmoothLights;
 constexpr std::size_t kMeasurePoints = 16, kMeasureRepeats = 32;
-double smoothLight(int k, Vec3 wi) {
-  switch (k) {
-    case 0: return 1;
-    case 1: return 1 + 0.8 * (0.6 * wi.x + 0.8 * wi.z);
-    default: return 1 + 0.8 * (-0.48 * wi.x + 0.6 * wi.y + 0.64 * wi.z);
-  }
-}
 
 // The light strategy that stands in for the scene's under MIS: uniform
 // directions over the hemisphere (a smooth light needs no better), whose
@@ -102,17 +96,7 @@ RouteVariances measureAt(const DisneyBrdf &m, Vec3 wo, const LobeFrame &lobe, bo
       addLight(&lobe, table);
     }
   }
-  const auto relativeVariance = [](const auto &sums) {
-    double total = 0;
-    for (const auto &e : sums) {
-      double mean = 0, ss = 0;
-      for (double v : e) mean += v / double(e.size());
-      for (double v : e) ss += (v - mean) * (v - mean);
-      if (mean > 0) total += ss / double(e.size() - 1) / (mean * mean);
-    }
-    return total;
-  };
-  return {relativeVariance(classic), relativeVariance(table)};
+  return {summedRelativeVariance(classic), summedRelativeVariance(table)};
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "renderer/neural_backend.h"
 
 #include <algorithm>
+#include <array>
 #include <cstdlib>
 #include <map>
 #include <mutex>
@@ -8,8 +9,14 @@
 #include <tuple>
 
 #include "materials/disney_target.h"
+#include "materials/sphere_map.h"
+#include "renderer/smooth_lights.h"
 #include "sampler/io/content_hash.h"
 #include "sampler/io/pointset_metadata.h"
+#include "sampler/sequences/rng.h"
+#include "sampler/sequences/scrambling.h"
+#include "sampler/sequences/sequence.h"
+#include "sampler/targets/grid_target.h"
 
 namespace nuld {
 
@@ -51,6 +58,40 @@ LobeBankCache &lobeBankCache() {
   return cache;
 }
 
+// The serving test of a lobe bank (renderer/README.md, "Lobe routes": a
+// route serves a lobe only where it is measured at least as good as the
+// classic one): the smooth lights (smooth_lights.h) on the table's
+// hemisphere, estimated kDealRepeats times with N points that follow the
+// table: the bank's sets as BankBackend deals them (one instance, shifted in
+// the table's CDF square) and Owen-Sobol through the table's inverse CDF
+// (what the bank's fallback and sobol-tabulated give). The bank serves when
+// its summed relative variance is no larger. (The constant light's estimate
+// is exact for both: it adds nothing.)
+constexpr std::size_t kDealRepeats = 64;
+bool dealsAtLeastAsWell(const PointSet &bank, const GridTarget &table, std::uint64_t seed) {
+  const std::size_t n = bank.n;
+  std::array<std::vector<double>, kSmoothLights> dealt, owen;
+  std::vector<Point2> u(n);
+  const auto add = [&](auto &sums, auto &&point) {
+    std::array<double, kSmoothLights> s{};
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec3 w = sphereDirection(point(i));
+      for (int k = 0; k < kSmoothLights; ++k) s[k] += smoothLight(k, w) / double(n);
+    }
+    for (int k = 0; k < kSmoothLights; ++k) sums[k].push_back(s[k]);
+  };
+  for (std::size_t r = 0; r < kDealRepeats; ++r) {
+    const std::uint64_t key = mix64(seed + r);
+    const auto set = bank.instance(key % bank.instances());
+    add(dealt, [&](std::size_t i) {
+      return table.invert(cranleyPatterson(table.primaryOf(set[i]), key)).x;
+    });
+    generateSet({SequenceKind::Sobol, Scramble::Owen, key}, 0, u, 0);
+    add(owen, [&](std::size_t i) { return table.invert(u[i]).x; });
+  }
+  return summedRelativeVariance(dealt) <= summedRelativeVariance(owen);
+}
+
 }  // namespace
 
 std::string shippedLobeModel() {
@@ -70,6 +111,7 @@ NeuralBackend::NeuralBackend(std::string name, const std::string &modelPath, std
   // GridTarget::primaryOf), every point follows the table exactly and the
   // estimate is unbiased.
   setShifted(lobeFamily_);
+  allowNoBanks(lobeFamily_);
   if (generator_.gammaDimension() > 0 && !lobeFamily_)
     throw std::invalid_argument(
         source_ + ": a model for the family '" + family +
@@ -120,6 +162,7 @@ void NeuralBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
     const std::size_t total = std::clamp<std::size_t>((std::size_t(1) << 22) / n, 1, kMaxBankSets);
     const std::size_t each = lobeFamily_ ? std::min(total, kSetsPerGamma) : total;
     std::vector<SetBank> banks;
+    declined_ = 0;
     for (std::size_t k = 0; k < specs.size(); ++k) {
       const auto make = [&] {
         // A lobe bank's offsets are keyed by its table (see LobeBankCache).
@@ -131,6 +174,15 @@ void NeuralBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
                        : make(),
                    source_};
       setMeta(bank.sets, meta::kTarget, specs[k]);
+      // A table whose bank deals worse than Owen-Sobol through it keeps the
+      // fallback's points (tools/experiments/README.md, "The shipped lobe
+      // model in renders").
+      const auto *grid = dynamic_cast<const GridTarget *>(members[k]);
+      if (measured_ && lobeFamily_ && grid &&
+          !dealsAtLeastAsWell(bank.sets, *grid, hashString(specs[k]))) {
+        ++declined_;
+        continue;
+      }
       banks.push_back(std::move(bank));
     }
     setBanks(std::move(banks));
@@ -138,6 +190,13 @@ void NeuralBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
     bankN_ = n;
   }
   BankBackend::prepare(spp, targets);
+}
+
+std::string NeuralBackend::note() const {
+  if (declined_ == 0) return "";
+  return name() + ": " + std::to_string(declined_) + " of " + std::to_string(bankSpecs_.size()) +
+         " lobe tables sampled Owen-Sobol through the table: the model's sets, as dealt, "
+         "estimate smooth light under them worse";
 }
 
 }  // namespace nuld

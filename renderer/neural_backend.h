@@ -16,8 +16,12 @@
 //    model does so for every table of its layout, any material. Its sets are
 //    Cranley-Patterson shifted in the table's primary space per (pixel,
 //    pair), as `shifted:PATHS` does, so that every point follows the table
-//    exactly (a generator's sets follow it only roughly). Other families have
-//    no sampling context in a render and are refused.
+//    exactly (a generator's sets follow it only roughly). A table's bank
+//    serves only where, dealt so, it estimates smooth light under the table
+//    at least as well as Owen-Sobol through it (the fallback's points, what
+//    sobol-tabulated gives); the tables it fails keep the fallback, and
+//    note() says how many. Other families have no sampling context in a
+//    render and are refused.
 //
 // The supplement's network makes sets of its trained N only, so it serves
 // that spp alone; a graph model serves any spp (banks remade per spp).
@@ -52,6 +56,14 @@ class NeuralBackend final : public BankBackend {
   void prepare(std::size_t spp, const SamplingTargets &targets) override;
 
   std::size_t bankSets() const;
+  std::string note() const override;
+  // Every lobe table its model makes is served, measured or not: for the
+  // tests and experiments that examine the sets as dealt (takes effect at
+  // the next prepare()).
+  void serveEveryTable() {
+    measured_ = false;
+    bankSpecs_.clear();
+  }
 
  private:
   std::string source_;
@@ -59,6 +71,8 @@ class NeuralBackend final : public BankBackend {
   bool lobeFamily_ = false;
   std::vector<std::string> bankSpecs_;  // the targets of the banks made so far
   std::size_t bankN_ = 0;               // and their set size
+  std::size_t declined_ = 0;            // tables whose bank failed the serving test
+  bool measured_ = true;                // whether banks must pass it to serve
 };
 
 }  // namespace nuld

@@ -107,6 +107,9 @@ class SamplerBackend {
     std::uint64_t served = 0, fellBack = 0;
   };
   virtual std::vector<PairUse> pairUse() const { return {}; }
+  // What the last prepare() decided that a user should hear ("" for
+  // nothing): e.g. the lobe tables a learned backend left to its fallback.
+  virtual std::string note() const { return ""; }
 };
 
 }  // namespace nuld

@@ -41,6 +41,17 @@ std::vector<SamplerBackend::PairUse> servedPairs(std::vector<SamplerBackend::Pai
   return use;
 }
 
+// Why a context falls back when nothing more precise is known.
+const std::string kNoSetReason =
+    "no set of the backend follows their target (the map, or the lobe bin of their material)";
+
+// The reasons a study word's plan and the backend itself gave, as one ("" when
+// neither gave one; fallbackNote then says kNoSetReason).
+std::string joinReasons(const std::string &plan, const std::string &backend) {
+  if (backend.empty()) return plan;
+  return (plan.empty() ? kNoSetReason : plan) + "; " + backend;
+}
+
 // One note when the served pairs fell back for some first-bounce contexts:
 // the share served and why the rest fell back ("" when all were served).
 std::string fallbackNote(const std::string &backend,
@@ -57,10 +68,7 @@ std::string fallbackNote(const std::string &backend,
   char share[16];
   std::snprintf(share, sizeof share, "%.0f %%", 100.0 * double(ok) / double(all));
   return backend + " served " + share + " of its first-bounce contexts (" + parts +
-         "); the rest sampled the classic Owen-Sobol route: " +
-         (why.empty() ? "no set of the backend follows their target (the map, or the lobe "
-                        "bin of their material)"
-                      : why);
+         "); the rest sampled the classic Owen-Sobol route: " + (why.empty() ? kNoSetReason : why);
 }
 
 }  // namespace
@@ -175,19 +183,24 @@ Runner addRender(CLI::App &app) {
     // and the sets made for it.
     stats.setupSeconds += prepared.setupSeconds;
     // A backend of learned sets that served nothing rendered the classic
-    // sampler's image under its name: refused, not written.
+    // sampler's image under its name: refused, not written, unless it said
+    // why it chose to (its note: sets measured worse than the fallback).
     const auto use = backend->pairUse();
     std::uint64_t served = 0;
     for (const auto &u : use) served += u.served;
-    if (!use.empty() && served == 0)
+    const std::string decided = backend->note();
+    if (!use.empty() && served == 0 && decided.empty())
       throw std::runtime_error(
           "backend '" + (o->backend.empty() ? loaded.backend : o->backend) +
           "': its sets served no first-bounce sample of this render (every context fell back "
           "to Owen-Sobol); its sets are for other targets, bins or sample counts");
     const std::string backendWord = o->backend.empty() ? loaded.backend : o->backend;
-    if (const std::string note = fallbackNote(backendWord, servedPairs(use), prepared.note);
-        !note.empty())
-      std::cerr << "nuld: note: " << note << "\n";
+    // One note: what the sets served and why the rest fell back, the
+    // backend's own decision included; or that decision alone.
+    const std::string note = served == 0 ? decided
+                                         : fallbackNote(backendWord, servedPairs(use),
+                                                        joinReasons(prepared.note, decided));
+    if (!note.empty()) std::cerr << "nuld: note: " << note << "\n";
     writeRender(o->output, image,
                 renderAttributes(loaded.name, loaded.scene, s, backend->name(), seed, stats));
     std::printf(
