@@ -79,11 +79,10 @@ RouteVariances measureAt(const DisneyBrdf &m, Vec3 wo, const LobeFrame &lobe, bo
       for (int k = 0; k < kLights; ++k) sums[k][r] += w * smoothLight(k, s->wi);
     };
     // The proxy light's samples, weighted against the density of `route`
-    // (nullptr: the material's sampler).
-    const auto addLight = [&](const LobeFrame *route, auto &sums) {
+    // (no table: the material's sampler), as the path integrator weighs them.
+    const auto addLight = [&](const LobeFrame &route, auto &sums) {
       for (const LightSample &l : light) {
-        const double bsdfPdf = route ? route->pdf(l.wi, l.materialPdf) : l.materialPdf;
-        const double w = powerHeuristic(kProxyLightPdf, bsdfPdf) * l.value;
+        const double w = lightSampleMisWeight(kProxyLightPdf, route, l.wi, l.materialPdf) * l.value;
         for (int k = 0; k < kLights; ++k) sums[k][r] += w * smoothLight(k, l.wi);
       }
     };
@@ -92,8 +91,8 @@ RouteVariances measureAt(const DisneyBrdf &m, Vec3 wo, const LobeFrame &lobe, bo
       add(sampleLobeRoute(m, wo, lobe, u[i]), table);
     }
     if (underMis) {
-      addLight(nullptr, classic);
-      addLight(&lobe, table);
+      addLight(LobeFrame{}, classic);
+      addLight(lobe, table);
     }
   }
   return {summedRelativeVariance(classic), summedRelativeVariance(table)};

@@ -45,6 +45,7 @@
 #include "materials/bsdf.h"
 #include "materials/disney.h"
 #include "materials/disney_target.h"
+#include "materials/sampling.h"
 #include "sampler/enum_names.h"
 #include "sampler/targets/grid_target.h"
 
@@ -114,14 +115,28 @@ struct LobeFrame {
   double tablePdf(Vec3 wi) const;
   // The route's density per unit solid angle at wi: the defensive mixture
   // of the table's and the material's (`materialPdf`, the material's pdf at
-  // wi). The BSDF side of the MIS weights: weights from it follow where the
-  // route actually sends its samples, which the material's pdf does not.
-  double pdf(Vec3 wi, double materialPdf) const { return mixture(tablePdf(wi), materialPdf); }
+  // wi); without a table, the material's sampler is the route and this is
+  // materialPdf. The BSDF side of the MIS weights: weights from it follow
+  // where the route actually sends its samples, which the material's pdf
+  // does not.
+  double pdf(Vec3 wi, double materialPdf) const {
+    return table ? mixture(tablePdf(wi), materialPdf) : materialPdf;
+  }
   // The same from the two densities per unit solid angle.
   double mixture(double tableDensity, double materialPdf) const {
     return (1 - defensive) * tableDensity + defensive * materialPdf;
   }
 };
+
+// The MIS weight (power heuristic) of a light sample at wi whose density is
+// `lightPdf`, against BSDF sampling by `route` (LobeFrame::pdf): the one
+// weight the path integrator and the route measurement both use. The BSDF
+// sample's own weight is powerHeuristic(its BsdfSample::pdf, lightPdf),
+// since that pdf is already the route's density.
+inline double lightSampleMisWeight(double lightPdf, const LobeFrame &route, Vec3 wi,
+                                   double materialPdf) {
+  return powerHeuristic(lightPdf, route.pdf(wi, materialPdf));
+}
 
 // The sample of the route `lobe` at wo for the table's primary point u (a
 // point x that follows the table has u = table->primaryOf(x); the table

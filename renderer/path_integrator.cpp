@@ -239,8 +239,7 @@ void PathIntegrator::addLightSamples(std::span<PathState> path, int depth,
       // would keep the estimate unbiased, since each sample still divides by
       // what drew it; renderer/README.md, "Lobe routes", has the measured
       // difference).
-      const double bsdfPdf = p.lobe.table ? p.lobe.pdf(wi, classicPdf) : classicPdf;
-      const double w = lightOnly_ ? 1.0 : powerHeuristic(ls[k]->pdf, bsdfPdf);
+      const double w = lightOnly_ ? 1.0 : lightSampleMisWeight(ls[k]->pdf, p.lobe, wi, classicPdf);
       p.L += (w * wi.z / ls[k]->pdf) * p.beta * f * ls[k]->radiance;
     }
   }
