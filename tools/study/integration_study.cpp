@@ -10,7 +10,7 @@
 #include <cstdio>
 #include <map>
 #include <memory>
-#include <set>
+#include <optional>
 #include <stdexcept>
 
 #include "renderer/bank_backend.h"
@@ -130,6 +130,7 @@ struct Task {
   const Integrand *in;
   const SamplerChoice *s;
   std::size_t n;
+  const SetBank *bank = nullptr;  // a bank word's row: the bank it uses (planTasks)
 };
 
 // The banks of each bank word (optimized:PATHS, shifted:PATHS), by name.
@@ -141,27 +142,35 @@ using FileBanks = std::map<std::string, std::vector<SetBank>>;
 // (which grid targets have) or, unshifted, two instances at least (one
 // estimate each); or uniform sets, shifted per instance and mapped by the
 // inverse CDF.
-bool bankServes(const SetBank &bank, const Integrand &in, bool shifted) {
+// `targetHash` is the integrand's target's content hash, asked only for a
+// bank that does not match by spec (it reads the whole density).
+template <class Hash>
+bool bankServes(const SetBank &bank, const Integrand &in, bool shifted, Hash &&targetHash) {
   if (bank.targetSpec() == "uniform") return true;
   const std::string spec = in.target->spec();
-  if (!followsTarget(bank.sets, spec, "") &&
-      !followsTarget(bank.sets, spec, in.target->contentHash()))
+  if (!followsTarget(bank.sets, spec, "") && !followsTarget(bank.sets, spec, targetHash()))
     return false;
   return shifted ? dynamic_cast<const GridTarget *>(in.target.get()) != nullptr
                  : bank.sets.instances() >= 2;
 }
 
-// The bank a row of `s` at N = n uses: the integrand's own target first.
-const SetBank &fileBankFor(const std::vector<SetBank> &banks, const Integrand &in,
-                           const SamplerChoice &s, std::size_t n) {
-  const SetBank *uniform = nullptr;
+// The bank a row of `s` uses at each N some bank serves the integrand at:
+// the integrand's own target first, else uniform sets. The target's hash is
+// read at most once.
+std::map<std::size_t, const SetBank *> fileBanksFor(const std::vector<SetBank> &banks,
+                                                    const Integrand &in, const SamplerChoice &s) {
+  std::optional<std::string> hash;
+  const auto targetHash = [&]() -> const std::string & {
+    if (!hash) hash = in.target->contentHash();
+    return *hash;
+  };
+  std::map<std::size_t, const SetBank *> out;
   for (const SetBank &b : banks) {
-    if (b.sets.n != n || !bankServes(b, in, s.shifted)) continue;
-    if (b.targetSpec() != "uniform") return b;
-    if (!uniform) uniform = &b;
+    if (!bankServes(b, in, s.shifted, targetHash)) continue;
+    const SetBank *&chosen = out[b.sets.n];
+    if (!chosen || (chosen->targetSpec() == "uniform" && b.targetSpec() != "uniform")) chosen = &b;
   }
-  if (!uniform) throw std::logic_error("study integrate: a bank row without its bank");
-  return *uniform;
+  return out;
 }
 
 // A measured row as it travels to rank 0: the CSV values, the notes it
@@ -394,7 +403,7 @@ class StudyRunner {
   // One row of the table, measured; its notes and cache count go with it to
   // rank 0. `madeNow`: the banks makeBanks made (not counted as cached).
   RowResult measureRow(const Task &t, const std::map<std::string, NeuralModel> &models,
-                       const FileBanks &fileBanks, const std::vector<fs::path> &madeNow) {
+                       const std::vector<fs::path> &madeNow) {
     const std::string domain = toString(t.in->domain()), n = std::to_string(t.n);
     const std::string row = t.in->name + " " + t.s->name + " N=" + n;
     RowResult result;
@@ -418,7 +427,7 @@ class StudyRunner {
         K = o_.optimizedInstances;
         break;
       case SamplerChoice::Kind::Bank:
-        m = fromFiles(*t.in, *t.s, fileBankFor(fileBanks.at(t.s->name), *t.in, *t.s, t.n), t.n);
+        m = fromFiles(*t.in, *t.s, *t.bank, t.n);
         K = m.estimates.size();
         break;
       default: m = classic(*t.in, *t.s, t.n);
@@ -488,10 +497,8 @@ std::vector<Task> planTasks(const IntegrateOptions &o, const std::vector<Integra
     for (const auto &s : samplers) {
       if (s.tabulated && !in.lobeContribution) continue;
       if (s.kind == SamplerChoice::Kind::Bank) {  // at the N of the banks that serve it
-        std::set<std::size_t> ns;
-        for (const SetBank &b : fileBanks.at(s.name))
-          if (bankServes(b, in, s.shifted)) ns.insert(b.sets.n);
-        for (std::size_t n : ns) tasks.push_back({&in, &s, n});
+        for (const auto &[n, bank] : fileBanksFor(fileBanks.at(s.name), in, s))
+          tasks.push_back({&in, &s, n, bank});
         continue;
       }
       if (s.kind == SamplerChoice::Kind::Neural) {
@@ -575,9 +582,7 @@ IntegrateSummary runIntegrateStudy(const IntegrateOptions &o, const IntegrateHoo
 
   runInRounds(
       ranks, pending.size(),
-      [&](std::size_t i) {
-        return runner.measureRow(*pending[i], models, fileBanks, banks).bytes();
-      },
+      [&](std::size_t i) { return runner.measureRow(*pending[i], models, banks).bytes(); },
       [&](std::size_t i, const std::string &bytes) {
         const Task &t = *pending[i];
         const RowResult r = RowResult::from(bytes);
