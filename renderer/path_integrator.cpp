@@ -146,7 +146,6 @@ void lightSamples(const EnvironmentLight &light, std::span<PathIntegrator::PathS
 
 bool PathIntegrator::arrive(std::span<PathState> path,
                             std::span<const std::optional<SurfaceHit>> hit, int depth) const {
-  const EnvironmentLight *light = light_;
   const std::size_t n = path.size();
   // Rays that escaped, paths that end here, and the shading at each hit.
   bool any = false;
@@ -154,10 +153,10 @@ bool PathIntegrator::arrive(std::span<PathState> path,
     PathState &p = path[k];
     if (!p.alive) continue;
     if (!hit[k]) {
-      if (light) {
+      if (light_) {
         double lightPdf;
         const Rgb Le =
-            light->radiance(depth > 0 ? p.escape : light->find(p.ray.direction), lightPdf);
+            light_->radiance(depth > 0 ? p.escape : light_->find(p.ray.direction), lightPdf);
         const double w =
             p.lastBsdfPdf > 0 && !bsdfOnly_ ? powerHeuristic(p.lastBsdfPdf, lightPdf) : 1.0;
         p.L += w * p.beta * Le;
@@ -216,12 +215,11 @@ void PathIntegrator::chooseBsdfStrategies(std::span<PathState> path, int depth,
 
 void PathIntegrator::addLightSamples(std::span<PathState> path, int depth,
                                      PathCounters &counters) const {
-  const EnvironmentLight *light = light_;
   const std::size_t n = path.size();
   // Next-event estimation of the environment.
-  if (light && light->target() && !bsdfOnly_) {
+  if (light_ && light_->target() && !bsdfOnly_) {
     std::array<std::optional<LightSample>, kMaxPaths> ls;
-    lightSamples(*light, path, depth, ls);
+    lightSamples(*light_, path, depth, ls);
     for (std::size_t k = 0; k < n; ++k) {
       PathState &p = path[k];
       if (!p.alive || !ls[k]) continue;
@@ -248,7 +246,6 @@ void PathIntegrator::addLightSamples(std::span<PathState> path, int depth,
 bool PathIntegrator::continuePaths(std::span<PathState> path, int depth,
                                    std::span<std::optional<SurfaceHit>> hit,
                                    PathCounters &counters) const {
-  const EnvironmentLight *light = light_;
   const std::size_t n = path.size();
   // The continuation directions by BSDF sampling.
   std::array<Ray, kMaxPaths> next;
@@ -273,7 +270,7 @@ bool PathIntegrator::continuePaths(std::span<PathState> path, int depth,
     record(counters, p.ray);
     // Rays after a bounce escape more often than not in an open scene:
     // start loading the map's cell for each ray before tracing them.
-    if (light) p.escape = light->find(p.ray.direction);
+    if (light_) p.escape = light_->find(p.ray.direction);
     next[m] = p.ray, nextOf[m++] = k;
   }
   if (m == 0) return false;

@@ -46,11 +46,11 @@
 
 namespace nuld {
 
-// A scene file's environment importance when it names none: the map's
-// luminance less its mean, measured the stronger classic light sampler under
-// both MIS integrators on the three asset scenes (tools/experiments/
-// README.md, "MIS-compensated map sampling"). The light integrator samples
-// such a map without the compensation (sampledLight).
+// A scene's environment importance when its file names none (and the
+// built-in scenes'): the map's luminance less its mean, the stronger classic
+// light sampler under MIS (tools/experiments/README.md, "MIS-compensated map
+// sampling", has the figures). The light integrator samples such a map
+// without the compensation (sampledLight).
 inline constexpr PixelWeight kDefaultImportance = PixelWeight::LuminanceCompensated;
 
 // What a command chooses for a whole scene beyond its file: how its Disney
