@@ -33,8 +33,9 @@
 //    material's own sampler and the table, the one whose estimates of
 //    smooth lights vary least serves the bin; bins that keep the material's
 //    sampler are no context for any backend;
-//  - a tabulated sample is a defensive mixture with the material's sampler,
-//    which bounds its weight f cos / p by 1 / defensive times the material's;
+//  - a tabulated sample can be a defensive mixture with the material's
+//    sampler (off by default), which bounds its weight f cos / p by
+//    1 / defensive times the material's;
 //  - tables serve the first bounce only by default (`bounces`).
 
 #include <memory>
@@ -77,7 +78,12 @@ struct LobeTableSettings {
   // sample() with probability d (sampleLobeRoute), and every estimator
   // divides by the mixture (1 - d) table + d material, so a table's weight
   // f cos / p is at most 1 / d times the material's own at that direction.
-  double defensive = 0.05;
+  // Off by default: the measured routes already keep the material's sampler
+  // wherever a table misses its lobe, and the strip of the square that the
+  // split hands to the material breaks the set's stratification, which cost
+  // the dragon's tables most of their gain at 64 spp (renderer/README.md,
+  // "Lobe routes").
+  double defensive = 0;
   // How many bounces, from the first, sample the tables (0: every bounce).
   // Beyond the first, a pixel's samples scatter over materials and bins, so
   // a table serves one or two of a pixel's points there: no gain measured,

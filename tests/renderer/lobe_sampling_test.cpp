@@ -29,9 +29,10 @@ using test::sceneWith;
 constexpr double kPi = std::numbers::pi;
 // Density by estimator (for RenderSettings), and f cos (for LobeTables);
 // every bin served by its table (these tests are about the tables; the route
-// measurement has its own, lobe_routes_test.cpp). The render settings keep
-// the defensive mixture, the tables alone have none.
-const LobeTableSettings kSmallTables{4, 2, 64, std::nullopt, LobeRouting::Table};
+// measurement has its own, lobe_routes_test.cpp). The render settings take
+// a defensive share (the default has none) so that the mixture is rendered
+// too; the tables alone have none.
+const LobeTableSettings kSmallTables{4, 2, 64, std::nullopt, LobeRouting::Table, 0.05};
 const LobeTableSettings kSmallProductTables{4, 2, 64, 0.0, LobeRouting::Table, 0.0};
 
 std::shared_ptr<const DisneyBrdf> disney(double anisotropic, double roughness = 0.4) {

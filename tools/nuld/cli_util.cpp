@@ -223,7 +223,8 @@ void addLobeOptions(CLI::App &app, LobeOptions &o) {
       ->check(oneOf(kLobeRoutingNames));
   app.add_option("--lobe-defensive", o.defensive,
                  "share of tabulated samples drawn by the material's own sampler; weights are "
-                 "then at most 1/share times the material's (default 0.05)")
+                 "then at most 1/share times the material's (default 0: the measured routes guard "
+                 "the tables)")
       ->check(numberIn(0, 1));
   app.add_option("--lobe-bounces", o.bounces,
                  "how many bounces, from the first, sample lobe tables (default 1; 0: every "
