@@ -43,7 +43,7 @@ struct OverrideNames {
   std::string prefix, spp, resolution, resolutionScale, maxDepth, lobeMix, lobeDefensive,
       lobeBounces;
   static OverrideNames options();  // --spp, --res, --res-scale, --max-depth, --lobe-*
-  static OverrideNames python();   // render: spp, resolution, max_depth, lobe_mix, ...
+  static OverrideNames python();   // render: spp, resolution, resolution_scale, max_depth, lobe_*
 };
 
 // What a command changes of a scene's render settings (`nuld render`, the

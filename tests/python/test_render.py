@@ -67,6 +67,24 @@ def test_render_is_the_clis_image(tmp_path, nuld_bin):
     assert attributes["nuld:env_importance"] == "luminance"
 
 
+def test_lobe_options_and_resolution_scale_are_the_clis(tmp_path, nuld_bin):
+    # The CLI's --res-scale and --lobe-* options, as keyword arguments: the same image.
+    img = nuld.render("default", backend="sobol-tabulated", spp=2, resolution_scale=0.1,
+                      seed=3, integrator="direct", lobe_routes="table", lobe_defensive=0.25,
+                      lobe_bounces=0)
+    exr = str(tmp_path / "lobes.exr")
+    subprocess.run([nuld_bin, "render", "default", "--backend", "sobol-tabulated", "--spp", "2",
+                    "--res-scale", "0.1", "--seed", "3", "--integrator", "direct",
+                    "--lobe-routes", "table", "--lobe-defensive", "0.25", "--lobe-bounces", "0",
+                    "-q", "-o", exr], check=True, capture_output=True)
+    assert np.array_equal(nuld.read_image(exr), img)
+    assert not np.array_equal(img, nuld.render("default", backend="sobol-tabulated", spp=2,
+                                               resolution_scale=0.1, seed=3,
+                                               integrator="direct"))
+    attributes = nuld.read_image_attributes(exr)
+    assert attributes["nuld:lobe_defensive"] == "0.25" and attributes["nuld:lobe_bounces"] == "0"
+
+
 def test_compare_and_image_files(tmp_path):
     ref = nuld.render("default", spp=4, resolution=(12, 8), seed=1)
     img = nuld.render("default", spp=1, resolution=(12, 8), seed=1)
@@ -91,6 +109,16 @@ def test_bad_render_arguments():
         nuld.render("default", max_depth=0, resolution=(4, 4))
     with pytest.raises(ValueError, match="lobe_mix"):
         nuld.render("default", lobe_mix=1.5, resolution=(4, 4))
+    with pytest.raises(ValueError, match=r"render: lobe_defensive: expected a number in \[0, 1\]"):
+        nuld.render("default", lobe_defensive=2.0, resolution=(4, 4))
+    with pytest.raises(ValueError, match="render: lobe_bounces: expected a whole number"):
+        nuld.render("default", lobe_bounces=-1, resolution=(4, 4))
+    with pytest.raises(ValueError, match=r"render: resolution_scale: expected a factor in \(0, 16\]"):
+        nuld.render("default", resolution_scale=0.0)
+    with pytest.raises(ValueError, match="render: resolution_scale: not with resolution"):
+        nuld.render("default", resolution_scale=0.5, resolution=(4, 4))
+    with pytest.raises(ValueError, match="unknown lobe routing 'sometimes'"):
+        nuld.render("default", lobe_routes="sometimes", resolution=(4, 4))
     with pytest.raises(ValueError, match="unknown lobe choice 'random'"):
         nuld.render("default", lobe_choice="random", resolution=(4, 4))
     with pytest.raises(ValueError, match="unknown importance 'sun'"):

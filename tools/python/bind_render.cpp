@@ -64,7 +64,8 @@ void bindRender(py::module_ &m) {
          py::object integratorArg, py::object depthArg, py::object seedArg, py::object assetsArg,
          py::object mixArg, py::object statsArg, py::object instancesArg, py::object epochsArg,
          py::object lobeEpochsArg, py::object threadsArg, py::object choiceArg,
-         py::object importanceArg) {
+         py::object importanceArg, py::object scaleArg, py::object routesArg,
+         py::object defensiveArg, py::object bouncesArg) {
         const std::string f = "render";
         const std::string scene = text(sceneArg, {f, "scene"});
         const auto backend = optional(backendArg, {f, "backend"}, text);
@@ -88,6 +89,15 @@ void bindRender(py::module_ &m) {
         });
         const std::string lobeChoice = text(choiceArg, {f, "lobe_choice"});
         const auto importance = optional(importanceArg, {f, "env_importance"}, text);
+        const double scale = number(scaleArg, {f, "resolution_scale"});
+        if (resolution && scale != 1)
+          throw std::invalid_argument(
+              "render: resolution_scale: not with resolution (give one of the two)");
+        const auto routes = optional(routesArg, {f, "lobe_routes"}, text);
+        const auto defensive = optional(defensiveArg, {f, "lobe_defensive"}, number);
+        const auto bounces = optional(
+            bouncesArg, {f, "lobe_bounces"},
+            [](py::handle h, const Arg &a) { return int(wholeNumber(h, a, INT_MIN, INT_MAX)); });
         // Cores for this call (as the CLI's --threads), released on return.
         std::optional<tbb::global_control> limit;
         if (threads) limit.emplace(tbb::global_control::max_allowed_parallelism, *threads);
@@ -102,7 +112,11 @@ void bindRender(py::module_ &m) {
         if (resolution) change.width = resolution->first, change.height = resolution->second;
         if (integrator) change.integrator = parseIntegrator(*integrator);
         change.maxDepth = maxDepth;
+        change.resolutionScale = scale;
         change.lobeMix = lobeMix;
+        if (routes) change.lobeRouting = kLobeRoutingNames.parse(*routes);
+        change.lobeDefensive = defensive;
+        change.lobeBounces = bounces;
         const RenderSettings s = change.appliedTo(loaded.settings, OverrideNames::python());
         const std::uint64_t seedValue = seed ? *seed : loaded.seed;
         // The study's words make (or find in the set cache) their sets as
@@ -152,7 +166,9 @@ void bindRender(py::module_ &m) {
       py::arg("lobe_mix") = py::none(), py::arg("stats") = false, py::arg("opt_instances") = 16,
       py::arg("opt_epochs") = 0, py::arg("opt_lobe_epochs") = 0, py::arg("threads") = py::none(),
       py::arg("lobe_choice") = std::string(toString(kDefaultLobeChoice)),
-      py::arg("env_importance") = py::none(),
+      py::arg("env_importance") = py::none(), py::arg("resolution_scale") = 1.0,
+      py::arg("lobe_routes") = py::none(), py::arg("lobe_defensive") = py::none(),
+      py::arg("lobe_bounces") = py::none(),
       R"(Renders a scene file (or 'default', 'stress') as `nuld render` does, to a
 linear float32 (H, W, 3) array, row 0 at the top. Unset arguments take the
 scene's values; resolution is (width, height); assets defaults to
@@ -163,7 +179,9 @@ opt_lobe_epochs as nuld render's --opt-*, 0 for the defaults; threads: the cores
 use, default all; lobe_choice: how Disney materials pick a lobe, 'albedo' (the
 default), 'weight' or 'uniform' (the paper's configuration, with
 env_importance='luminance'), as --lobe-choice; env_importance: what weighs the
-environment map's sampling in place of the scene's, as --env-importance). With stats=True returns
+environment map's sampling in place of the scene's, as --env-importance;
+resolution_scale, lobe_mix, lobe_routes, lobe_defensive and lobe_bounces as
+--res-scale and the --lobe-* options). With stats=True returns
 (image, dict), the dict with what a learned backend's sets served per pair.)");
 
   m.def(
