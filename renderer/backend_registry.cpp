@@ -18,7 +18,6 @@ const std::vector<BackendEntry> &backendRegistry() {
        "independent uniform points; the map's inverse CDF for light samples, the "
        "material's lobe-selection mapping for BSDF samples",
        false,
-       false,
        0},
       {BackendKind::Sobol,
        "sobol",
@@ -27,14 +26,12 @@ const std::vector<BackendEntry> &backendRegistry() {
        "Owen-scrambled Sobol per pixel and pair, mapped as independent (the paper's "
        "baseline)",
        false,
-       false,
        0},
       {BackendKind::Halton,
        "halton",
        {},
        "",
        "Owen-scrambled Halton, mapped as independent",
-       false,
        false,
        0},
       {BackendKind::SobolTabulated,
@@ -44,7 +41,6 @@ const std::vector<BackendEntry> &backendRegistry() {
        "sobol, with first-bounce BSDF samples through the tabulated lobe's "
        "inverse CDF where the view bin's measured route is the table (the "
        "strongest classic baseline; --lobe-mix, --lobe-routes)",
-       false,
        true,
        0},
       {BackendKind::Optimized,
@@ -55,7 +51,6 @@ const std::vector<BackendEntry> &backendRegistry() {
        "scene's map, lobe tables or the uniform target serve the first "
        "bounce; everything else is sobol",
        true,
-       true,
        1},
       {BackendKind::Shifted,
        "shifted",
@@ -63,7 +58,6 @@ const std::vector<BackendEntry> &backendRegistry() {
        "PATHS",
        "optimized:PATHS with every set Cranley-Patterson shifted in primary "
        "space per pixel and pair (unbiased)",
-       true,
        true,
        1},
       {BackendKind::Neural,
@@ -74,7 +68,6 @@ const std::vector<BackendEntry> &backendRegistry() {
        "family:disney model, for each lobe table; the first bounce. Without "
        "MODEL: the shipped Disney-family model (models/README.md), which "
        "serves every scene's lobe tables with no per-scene setup",
-       true,
        true,
        1,
        true},

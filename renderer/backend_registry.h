@@ -23,12 +23,13 @@ struct BackendEntry {
   std::vector<std::string> aliases;  // other words for it
   std::string argument;              // "" (none), else the argument's name: NAME:ARGUMENT
   std::string help;
-  // What it serves beyond primary points: the environment map's light pairs
-  // and the lobe tables' BSDF pairs (banks and models: those their files or
-  // family match), and for how many bounces from the first (0: every; the
-  // pairs of deeper bounces get Owen-Sobol primary points). sobol-tabulated
-  // serves the bounces the lobe tables are set to (LobeTableSettings).
-  bool light = false, lobes = false;
+  // Whether it can sample the lobe tables' BSDF pairs (banks and models:
+  // those their files or family match; SamplerBackend::samplesLobes says
+  // whether a made backend does), and for how many bounces from the first
+  // its sets serve (0: every; the pairs of deeper bounces get Owen-Sobol
+  // primary points). sobol-tabulated serves the bounces the lobe tables are
+  // set to (LobeTableSettings).
+  bool lobes = false;
   int bounces = 0;
   // Whether the word may go without its argument (neural: the shipped
   // model); the spec's argument is then empty and the factory supplies it.

@@ -67,6 +67,36 @@ std::vector<SetBank> loadSetBanks(const std::string &paths) {
   return banks;
 }
 
+Dealing dealingOf(const SetBank &bank, bool shifted) {
+  if (bank.targetSpec() == "uniform") return Dealing::Primary;
+  return shifted ? Dealing::Shifted : Dealing::AsOptimized;
+}
+
+SetDealer::SetDealer(const SetBank &bank, const Target *target, Dealing dealing)
+    : bank_(&bank), target_(target), dealing_(dealing) {
+  if (dealing != Dealing::Shifted) return;
+  const auto *grid = dynamic_cast<const GridTarget *>(target);
+  if (!grid)
+    throw std::invalid_argument("the target '" + (target ? target->spec() : bank.targetSpec()) +
+                                "' has no CDF map to shift its sets in");
+  pulledBack_.reserve(bank.sets.points.size());
+  for (const Point2 &p : bank.sets.points) pulledBack_.push_back(grid->primaryOf(p));
+}
+
+void SetDealer::deal(std::size_t k, std::uint64_t shift, std::span<Point2> out) const {
+  const auto first = std::ptrdiff_t(k * bank_->sets.n);
+  if (dealing_ == Dealing::AsOptimized) {  // a nested bank's prefix when out is shorter
+    std::copy_n(bank_->sets.points.begin() + first, out.size(), out.begin());
+    return;
+  }
+  const auto primaries =
+      (dealing_ == Dealing::Primary ? bank_->sets.points : pulledBack_).begin() + first;
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const Point2 u = cranleyPatterson(primaries[std::ptrdiff_t(i)], shift);
+    out[i] = target_ ? target_->invert(u).x : u;
+  }
+}
+
 BankBackend::BankBackend(std::string name, std::vector<SetBank> banks, std::uint64_t seed,
                          std::uint64_t salt, bool shifted)
     : name_(std::move(name)),
@@ -88,7 +118,7 @@ void BankBackend::setBanks(std::vector<SetBank> banks) {
   }
   banks_ = std::move(banks);
   served_.clear();
-  uniform_ = nullptr;
+  uniform_.reset();
 }
 
 // A learned row adds only what it learned: the first bounce's BSDF pairs no
@@ -107,7 +137,7 @@ bool BankBackend::samplesLobes() const {
 void BankBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
   for (Use &u : use_) u.served = 0, u.fellBack = 0;
   served_.clear();
-  uniform_ = nullptr;
+  uniform_.reset();
   light_ = targets.light;
   lobes_ = targets.lobes;
   n_ = spp;
@@ -144,20 +174,15 @@ void BankBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
     return nullptr;
   };
   for (const SetBank *b : sized)
-    if (!uniform_ && b->targetSpec() == "uniform") uniform_ = b;
+    if (!uniform_ && b->targetSpec() == "uniform") uniform_.emplace(*b, nullptr, Dealing::Primary);
   const auto serve = [&](const Target *t) {
     const SetBank *b = bankFor(t);
     if (!b) return;
-    Served s{t, b, {}};
-    if (shifted_) {
-      const auto *grid = dynamic_cast<const GridTarget *>(t);
-      if (!grid)
-        throw BackendRefusal(name_ + ": the target '" + t->spec() +
-                             "' has no CDF map to shift its sets in");
-      s.primaries.reserve(b->sets.points.size());
-      for (const Point2 &p : b->sets.points) s.primaries.push_back(grid->primaryOf(p));
+    try {
+      served_.push_back({t, SetDealer(*b, t, dealingOf(*b, shifted_))});
+    } catch (const std::invalid_argument &e) {
+      throw BackendRefusal(name_ + ": " + e.what());
     }
-    served_.push_back(std::move(s));
   };
   serve(targets.light);
   for (const Target *t : targets.lobes) serve(t);
@@ -178,9 +203,9 @@ void BankBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
   throw BackendRefusal(why);
 }
 
-std::span<const Point2> BankBackend::pick(const SetBank &bank, std::uint64_t pixel,
-                                          std::uint32_t pair) const {
-  return bank.sets.instance(hash3(seed_ ^ salt_, pixel, pair) % bank.sets.instances());
+std::size_t BankBackend::pick(std::size_t instances, std::uint64_t pixel,
+                              std::uint32_t pair) const {
+  return hash3(seed_ ^ salt_, pixel, pair) % instances;
 }
 
 void BankBackend::primary(std::uint64_t pixel, std::uint32_t pair, std::span<Point2> out) const {
@@ -192,9 +217,8 @@ void BankBackend::primary(std::uint64_t pixel, std::uint32_t pair, std::span<Poi
     return;
   }
   use_[2].served.fetch_add(1, std::memory_order_relaxed);
-  const auto points = pick(*uniform_, pixel, pair);
   const std::uint64_t shift = hash3(seed_, pixel, pair);
-  for (std::size_t i = 0; i < out.size(); ++i) out[i] = cranleyPatterson(points[i], shift);
+  uniform_->deal(pick(uniform_->instances(), pixel, pair), shift, out);
   shufflePoints(out, shift);
 }
 
@@ -213,15 +237,8 @@ bool BankBackend::distributed(const Target &target, std::uint64_t pixel, std::ui
       pair != (&target == light_ ? SamplePairs::light(depth) : SamplePairs::bsdf(depth)))
     return false;
   use.served.fetch_add(1, std::memory_order_relaxed);
-  const auto points = pick(*it->bank, pixel, pair);
   const std::uint64_t shift = hash3(seed_, pixel, pair);
-  if (shifted_) {
-    const std::size_t first = std::size_t(points.data() - it->bank->sets.points.data());
-    for (std::size_t i = 0; i < out.size(); ++i)
-      out[i] = target.invert(cranleyPatterson(it->primaries[first + i], shift)).x;
-  } else {
-    std::copy_n(points.begin(), out.size(), out.begin());  // a nested bank's prefix
-  }
+  it->dealer.deal(pick(it->dealer.instances(), pixel, pair), shift, out);
   shufflePoints(out, shift);
   return true;
 }

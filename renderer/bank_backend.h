@@ -34,6 +34,8 @@
 #include <array>
 #include <atomic>
 #include <memory>
+#include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -58,6 +60,44 @@ struct SetBank {
 // checkpoints nor hidden temporaries), separated by commas. Throws naming the
 // path when one cannot be read, or holds no points.
 std::vector<SetBank> loadSetBanks(const std::string &paths);
+
+// How a bank's instance becomes the points of one estimate.
+enum class Dealing {
+  AsOptimized,  // its points (a nested bank's prefix), not randomized
+  Shifted,      // pulled back through the target's CDF map, shifted there, mapped back
+  Primary,      // primary points (a uniform bank): shifted, then mapped by the target if any
+};
+// A bank's dealing: Primary for a uniform bank, else Shifted or AsOptimized.
+Dealing dealingOf(const SetBank &bank, bool shifted);
+
+// The one way a bank's sets become the points of one estimate, in renders
+// (BankBackend, an instance per pixel and pair) and in the integration
+// study (one estimate per instance). A shift is a Cranley-Patterson
+// rotation in primary space; mapped through the target's inverse CDF, it
+// makes every point follow the target exactly and the estimate unbiased. A
+// Shifted bank's points are pulled back through the target's CDF map
+// (GridTarget::primaryOf) once, when the dealer is made.
+class SetDealer {
+ public:
+  // `target`: what the dealt points follow (nullptr with Primary: primary
+  // points, as the renderer's primary pairs take them). Throws
+  // std::invalid_argument naming the target when Shifted needs a CDF map
+  // it does not have.
+  SetDealer(const SetBank &bank, const Target *target, Dealing dealing);
+
+  const SetBank &bank() const { return *bank_; }
+  std::size_t instances() const { return bank_->sets.instances(); }
+  bool shifts() const { return dealing_ != Dealing::AsOptimized; }
+  // Instance k's first out.size() points, shifted by `shift` when the
+  // dealer shifts (ignored otherwise); in the set's order.
+  void deal(std::size_t k, std::uint64_t shift, std::span<Point2> out) const;
+
+ private:
+  const SetBank *bank_;
+  const Target *target_;
+  Dealing dealing_;
+  std::vector<Point2> pulledBack_;  // Shifted: the bank's points in primary space
+};
 
 class BankBackend : public SamplerBackend {
  public:
@@ -90,7 +130,8 @@ class BankBackend : public SamplerBackend {
   std::uint64_t seed() const { return seed_; }
 
  private:
-  std::span<const Point2> pick(const SetBank &bank, std::uint64_t pixel, std::uint32_t pair) const;
+  // The instance a pixel's pair takes of a bank of `instances`.
+  std::size_t pick(std::size_t instances, std::uint64_t pixel, std::uint32_t pair) const;
 
   std::string name_;
   std::vector<SetBank> banks_;
@@ -101,15 +142,14 @@ class BankBackend : public SamplerBackend {
   // The bounces, from the first, its sets serve: the registry's declaration
   // for banks (renderer/backend_registry.h).
   int bounces_;
-  // Set by prepare(): the served targets (by address), their banks and, when
-  // shifted, the bank's points pulled back to primary space.
+  // Set by prepare(): the served targets (by address) and their banks'
+  // dealers; a uniform bank's, for the primary pairs.
   struct Served {
     const Target *target;
-    const SetBank *bank;
-    std::vector<Point2> primaries;
+    SetDealer dealer;
   };
   std::vector<Served> served_;
-  const SetBank *uniform_ = nullptr;
+  std::optional<SetDealer> uniform_;
   const Target *light_ = nullptr;
   std::vector<const Target *> lobes_;  // the scene's lobe tables (prepare())
   std::size_t n_ = 0;

@@ -270,64 +270,57 @@ class StudyRunner {
     return m;
   }
 
-  // Sets from files: the integrand's own target's unshifted, one estimate
-  // per instance; shifted or uniform ones, `optimizedInstances` estimates
-  // cycling through the instances, each under its own Cranley-Patterson
-  // shift in primary space (uniform sets are primary points; a target's sets
-  // are pulled back through its CDF map) and mapped by the inverse CDF.
+  // Sets from files: the integrand's own target's as optimized, one
+  // estimate per instance; shifted or uniform ones, `optimizedInstances`
+  // estimates cycling through the instances, each under its own shift, as
+  // the renderer deals them (SetDealer).
   Measurement fromFiles(const Integrand &in, const SamplerChoice &s, const SetBank &bank,
                         std::size_t n) const {
-    const bool uniform = bank.targetSpec() == "uniform";
-    const std::size_t count = bank.sets.instances();
-    Measurement m;
-    std::vector<Point2> x(n);
-    const bool shift = uniform || s.shifted;
-    const std::size_t K = shift ? o_.optimizedInstances : count;
-    const auto *grid = dynamic_cast<const GridTarget *>(in.target.get());
-    for (std::size_t k = 0; k < K; ++k) {
-      const auto start = Clock::now();
-      const auto set = bank.sets.instance(k % count);
-      const std::uint64_t key = hash3(seedFor(in, s, n), k, 0);
-      for (std::size_t i = 0; i < n; ++i)
-        x[i] = !shift
-                   ? set[i]
-                   : in.target
-                         ->invert(cranleyPatterson(uniform ? set[i] : grid->primaryOf(set[i]), key))
-                         .x;
-      m.genSeconds += secondsSince(start);
-      m.estimates.push_back(importanceEstimate(in, x, m.zeroPdf));
-    }
-    m.genSeconds /= double(K);
-    return m;
+    return dealt(in, s, bank, dealingOf(bank, s.shifted), n);
   }
 
   Measurement neural(const Integrand &in, const SamplerChoice &s, const NeuralModel &model,
                      std::size_t n) const {
     const std::size_t K = o_.optimizedInstances;
     const auto start = Clock::now();
-    PointSet sets =
-        model.generator->generateSets(K, seedFor(in, s, n), model.gammaFor.at(in.name), n);
-    if (s.shifted) {
-      // As the renderer shifts a lobe model's sets: each set by its own
-      // offset in the table's primary space, so every point follows it.
-      const auto *grid = dynamic_cast<const GridTarget *>(in.target.get());
-      if (!grid)
-        throw std::runtime_error("--samplers '" + s.name + "': integrand '" + in.name +
-                                 "' has no CDF map to shift the sets in");
-      for (std::size_t k = 0; k < K; ++k) {
-        const std::uint64_t key = hash3(seedFor(in, s, n), k, 0);
-        for (Point2 &p : std::span(sets.points).subspan(k * n, n))
-          p = grid->invert(cranleyPatterson(grid->primaryOf(p), key)).x;
-      }
-    }
-    Measurement m;
-    m.genSeconds = secondsSince(start) / double(K);
-    for (std::size_t k = 0; k < K; ++k)
-      m.estimates.push_back(importanceEstimate(in, sets.instance(k), m.zeroPdf));
+    const SetBank bank{
+        model.generator->generateSets(K, seedFor(in, s, n), model.gammaFor.at(in.name), n), s.name};
+    const double seconds = secondsSince(start) / double(K);
+    Measurement m = dealt(in, s, bank, s.shifted ? Dealing::Shifted : Dealing::AsOptimized, n);
+    m.genSeconds += seconds;
     return m;
   }
 
  private:
+  // The estimates of a bank's sets dealt as the renderer deals them: as
+  // optimized, one per instance, or shifted, `optimizedInstances` of them
+  // cycling through the instances, instance k under the shift
+  // hash3(seed, k, 0).
+  Measurement dealt(const Integrand &in, const SamplerChoice &s, const SetBank &bank,
+                    Dealing dealing, std::size_t n) const {
+    Measurement m;
+    const auto start = Clock::now();
+    const SetDealer dealer = [&] {
+      try {
+        return SetDealer(bank, in.target.get(), dealing);
+      } catch (const std::invalid_argument &e) {
+        throw std::runtime_error("--samplers '" + s.name + "': integrand '" + in.name +
+                                 "': " + e.what());
+      }
+    }();
+    m.genSeconds = secondsSince(start);
+    const std::size_t K = dealer.shifts() ? o_.optimizedInstances : dealer.instances();
+    std::vector<Point2> x(n);
+    for (std::size_t k = 0; k < K; ++k) {
+      const auto dealStart = Clock::now();
+      dealer.deal(k % dealer.instances(), hash3(seedFor(in, s, n), k, 0), x);
+      m.genSeconds += secondsSince(dealStart);
+      m.estimates.push_back(importanceEstimate(in, x, m.zeroPdf));
+    }
+    m.genSeconds /= double(K);
+    return m;
+  }
+
   // Keyed by the estimator's name before the classic words changed meaning
   // (then `sobol` was a lobe integrand's table and `sobol-lobes` its BRDF
   // sample()), so every row keeps the numbers it had.
