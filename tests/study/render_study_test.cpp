@@ -41,15 +41,15 @@ RenderStudySettings tinyStudy(const fs::path &out) {
   s.scenes = {"default"};
   s.backends = {"independent", "sobol", "halton", "optimized", "optimized-uniform"};
   s.spp = {4, 64};
-  s.width = 48, s.height = 32;
+  s.render.width = 48, s.render.height = 32;
   s.repeats = 8;
-  s.integrator = IntegratorKind::Direct;
+  s.render.integrator = IntegratorKind::Direct;
   s.reference.spp = 1024;
   s.reference.passSpp = 512;
-  s.optimizedInstances = 4;
-  s.optimizedEpochs = 50;
+  s.sets.instances = 4;
+  s.sets.epochs = 50;
   s.out = out;
-  s.cacheDir = out / "cache";  // not the user's cache: each study makes its own sets
+  s.sets.cacheDir = out / "cache";  // not the user's cache: each study makes its own sets
   return s;
 }
 
@@ -177,10 +177,11 @@ TEST_F(TinyStudy, RerunResumesWithoutDuplicates) {
   for (const auto &[option, edit] :
        std::vector<std::pair<std::string, std::function<void(RenderStudySettings &)>>>{
            {"--repeats", [](RenderStudySettings &s) { s.repeats += 1; }},
-           {"--lobe-mix", [](RenderStudySettings &s) { s.lobeMix = 0.5; }},
-           {"--lobe-routes", [](RenderStudySettings &s) { s.lobeRouting = LobeRouting::Table; }},
-           {"--lobe-defensive", [](RenderStudySettings &s) { s.lobeDefensive = 0.2; }},
-           {"--lobe-bounces", [](RenderStudySettings &s) { s.lobeBounces = 0; }},
+           {"--lobe-mix", [](RenderStudySettings &s) { s.render.lobeMix = 0.5; }},
+           {"--lobe-routes",
+            [](RenderStudySettings &s) { s.render.lobeRouting = LobeRouting::Table; }},
+           {"--lobe-defensive", [](RenderStudySettings &s) { s.render.lobeDefensive = 0.2; }},
+           {"--lobe-bounces", [](RenderStudySettings &s) { s.render.lobeBounces = 0; }},
            {"--lobe-choice", [](RenderStudySettings &s) { s.choices.lobes = LobeChoice::Uniform; }},
            {"--env-importance",
             [](RenderStudySettings &s) { s.choices.importance = PixelWeight::Luminance; }}}) {
@@ -291,8 +292,8 @@ TEST(RenderStudy, NestedBanksServeEverySppAndAreReusedByAnotherStudy) {
   first.backends = {"sobol", "optimized"};
   first.spp = {4, 16};
   first.repeats = 2;
-  first.optimizedNested = true;
-  first.cacheDir = tmp / "cache";
+  first.sets.nested = true;
+  first.sets.cacheDir = tmp / "cache";
   runRenderStudy(first);
   int entries = 0;
   for (const auto &e : fs::directory_iterator(tmp / "cache" / "sets"))
@@ -512,7 +513,7 @@ TEST(RenderStudy, BadInputGetsAClearError) {
   s.spp = {4, 0};
   EXPECT_THROW(runRenderStudy(s), std::invalid_argument);
   s = tinyStudy(tmp.path());
-  s.maxDepth = -2;
+  s.render.maxDepth = -2;
   try {
     runRenderStudy(s);
     FAIL() << "a negative depth was accepted";
@@ -563,7 +564,7 @@ TEST(RenderStudy, StressSceneHasNoNonFiniteValueAnywhere) {
     RenderStudySettings s = tinyStudy(tmp.path());
     s.scenes = {"stress"};
     s.backends.insert(s.backends.end(), {"sobol-tabulated", "optimized-bsdf", "optimized-both"});
-    s.integrator = kind;
+    s.render.integrator = kind;
     s.spp = {16};
     s.repeats = 1;
     s.reference.spp = 64, s.reference.passSpp = 64;
@@ -623,11 +624,10 @@ TEST(OptimizedSets, LobeBanksFollowTheirTable) {
   const double level = test::sidakLevel(0.01, 4);
   for (const int theta : {20, 45, 70}) {
     const std::string spec = "disney:theta=" + std::to_string(theta) + ",res=64";
-    EXPECT_GT(bankChiSquarePValue(spec, 64, 16, RenderStudySettings{}.lobeUnionWeight), level)
-        << spec;
+    EXPECT_GT(bankChiSquarePValue(spec, 64, 16, SetSettings{}.lobeUnionWeight), level) << spec;
   }
   const std::string glossy = "disney:metallic=1,roughness=0.3,theta=45,res=64";
-  EXPECT_GT(bankChiSquarePValue(glossy, 16, 64, RenderStudySettings{}.lobeUnionWeight), level);
+  EXPECT_GT(bankChiSquarePValue(glossy, 16, 64, SetSettings{}.lobeUnionWeight), level);
   EXPECT_LT(bankChiSquarePValue(glossy, 16, 64, 0.0), 1e-4);
 }
 

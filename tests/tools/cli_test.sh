@@ -213,9 +213,15 @@ head -1 "$dir/out" | grep -q '^spp  *pair  *state  *n  *instances  *seed  *epoch
 "$nuld" bank default --backend optimized --spp 4 --res 8 --opt-instances 2 --opt-epochs 6 --seed 4 -q >"$dir/out" 2>&1
 grep -q '^4  *light  *made  *4  *2  *4  *6 .* envmap-compensated:procedural-sky$' "$dir/out" ||
   { echo "FAIL: nuld bank says made for a set it made"; cat "$dir/out"; failures=$((failures + 1)); }
+# --opt-nested with several --spp: one nested bank of the largest serves
+# them all (made for the first, found for the second).
+"$nuld" bank default --backend optimized --spp 4,8 --res 8 --opt-nested --opt-instances 2 --opt-epochs 6 --seed 5 -q >"$dir/nested" 2>&1
+grep -q '^4  *light  *made  *8  *2  *5  *6 ' "$dir/nested" && grep -q '^8  *light  *cached  *8  *2  *5  *6 ' "$dir/nested" &&
+  [[ $(grep ' light ' "$dir/nested" | awk '{print $(NF-1)}' | sort -u | wc -l) -eq 1 ]] ||
+  { echo "FAIL: nuld bank --opt-nested makes one nested bank for all its --spp"; cat "$dir/nested"; failures=$((failures + 1)); }
 "$nuld" cache list >"$dir/out" 2>&1
 head -1 "$dir/out" | grep -q '^n  *instances  *seed  *epochs ' &&
-  [[ $(grep 'envmap-compensated:procedural-sky$' "$dir/out" | awk '{print $3 "/" $4}' | sort | tr '\n' ' ') == "3/5 4/6 " ]] &&
+  [[ $(grep 'envmap-compensated:procedural-sky$' "$dir/out" | awk '{print $3 "/" $4}' | sort | tr '\n' ' ') == "3/5 4/6 5/6 " ]] &&
   [[ -z $(grep 'disney:' "$dir/out" | awk '{print $NF}' | sort | uniq -d) ]] ||
   { echo "FAIL: nuld cache list tells rows of one target apart by seed and epochs, and shows whole targets"; cat "$dir/out"; failures=$((failures + 1)); }
 export NULD_CACHE="$dir/set-cache"

@@ -210,52 +210,46 @@ void addSceneChoiceOptions(CLI::App &app, SceneChoices &choices) {
       ->check(oneOf(kImportanceNames));
 }
 
-void addLobeOptions(CLI::App &app, LobeOptions &o) {
-  app.add_option("--lobe-mix", o.mix,
+void addLobeOptions(CLI::App &app, RenderOverrides &change) {
+  app.add_option("--lobe-mix", change.lobeMix,
                  "density of the lobe tables that sobol-tabulated and lobe banks sample: 0 f "
                  "cos, 1 the material's own sampling pdf, between a mixture (default: 0 for "
                  "--integrator bsdf, 1 under MIS)")
       ->check(numberIn(0, 1));
-  app.add_option("--lobe-routes", o.routes,
-                 "how each view bin samples its lobe: measured (the material's own sampler or "
-                 "the bin's table, whichever measures best; the default) or table (every bin "
-                 "its table)")
+  app.add_option_function<std::string>(
+         "--lobe-routes",
+         [&change](const std::string &word) { change.lobeRouting = kLobeRoutingNames.parse(word); },
+         "how each view bin samples its lobe: measured (the material's own sampler or the bin's "
+         "table, whichever measures best; the default) or table (every bin its table)")
       ->check(oneOf(kLobeRoutingNames));
-  app.add_option("--lobe-defensive", o.defensive,
+  app.add_option("--lobe-defensive", change.lobeDefensive,
                  "share of tabulated samples drawn by the material's own sampler; weights are "
                  "then at most 1/share times the material's (default 0: the measured routes guard "
                  "the tables)")
       ->check(numberIn(0, 1));
-  app.add_option("--lobe-bounces", o.bounces,
+  app.add_option("--lobe-bounces", change.lobeBounces,
                  "how many bounces, from the first, sample lobe tables (default 1; 0: every "
                  "bounce)")
       ->check(wholeNumberIn(0, kMaxDepthLimit));
 }
 
-void applyLobeOptions(const LobeOptions &o, RenderOverrides &change) {
-  change.lobeMix = o.mix;
-  if (!o.routes.empty()) change.lobeRouting = kLobeRoutingNames.parse(o.routes);
-  change.lobeDefensive = o.defensive;
-  change.lobeBounces = o.bounces;
-}
-
-std::string setsDirectory(const study::RenderStudySettings &s) {
+std::string setsDirectory(const study::SetSettings &s) {
   return (s.cacheDir.empty() ? study::SetCache::fromEnvironment() : study::SetCache(s.cacheDir))
       .setsDir()
       .string();
 }
 
-void addSetOptions(CLI::App &app, study::RenderStudySettings &s) {
-  app.add_option("--opt-instances", s.optimizedInstances,
+void addSetOptions(CLI::App &app, study::SetSettings &s) {
+  app.add_option("--opt-instances", s.instances,
                  "instances of the optimized backends' sets (default 16, as the paper)")
       ->check(positiveNumber());
-  app.add_option("--opt-epochs", s.optimizedEpochs,
+  app.add_option("--opt-epochs", s.epochs,
                  "epochs of their optimization (default: the preset's, e.g. 5000 on the sphere)")
       ->check(positiveNumber());
   app.add_option("--opt-lobe-epochs", s.lobeEpochs,
                  "epochs of the lobe banks (default: --opt-epochs if given, else 250)")
       ->check(positiveNumber());
-  app.add_flag("--opt-nested", s.optimizedNested,
+  app.add_flag("--opt-nested", s.nested,
                "one nested bank per target at the largest --spp whose prefixes serve the "
                "smaller spp (nuld optimize --nested), instead of a bank per spp; a nested bank "
                "in the set cache that holds a cell's spp serves it with no setup");

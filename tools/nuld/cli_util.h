@@ -116,18 +116,11 @@ CLI::Validator positiveNumber();
 CLI::Validator nonNegativeNumber();
 
 // The lobe options of the commands that render (renderer/README.md,
-// "Sampling contexts" and "Lobe routes"): --lobe-mix (the tables' density),
-// --lobe-routes (measured or table), --lobe-defensive (the defensive share)
-// and --lobe-bounces (how many bounces sample tables); the apply step copies
-// what was given into the overrides.
-struct LobeOptions {
-  std::optional<double> mix;
-  std::string routes;
-  std::optional<double> defensive;
-  std::optional<int> bounces;
-};
-void addLobeOptions(CLI::App &app, LobeOptions &o);
-void applyLobeOptions(const LobeOptions &o, RenderOverrides &change);
+// "Sampling contexts" and "Lobe routes"), read into `change`: --lobe-mix
+// (the tables' density), --lobe-routes (measured or table),
+// --lobe-defensive (the defensive share) and --lobe-bounces (how many
+// bounces sample tables).
+void addLobeOptions(CLI::App &app, RenderOverrides &change);
 inline constexpr std::initializer_list<const char *> kLobeOptionNames = {
     "--lobe-mix", "--lobe-routes", "--lobe-defensive", "--lobe-bounces"};
 
@@ -146,10 +139,10 @@ std::string targetOptionHelp(const std::string &what);
 // The options of the sets the study's backends make (optimized,
 // optimized-bsdf, ...: tools/study/render_study.h), the same on nuld render
 // and nuld study render.
-void addSetOptions(CLI::App &app, study::RenderStudySettings &s);
+void addSetOptions(CLI::App &app, study::SetSettings &s);
 // The directory where those sets, and the checkpoints of sets being made,
 // live: the set cache's (s.cacheDir, else $NULD_CACHE, ...).
-std::string setsDirectory(const study::RenderStudySettings &s);
+std::string setsDirectory(const study::SetSettings &s);
 inline constexpr std::initializer_list<const char *> kSetOptionNames = {
     "--opt-instances", "--opt-epochs", "--opt-lobe-epochs", "--opt-nested", "--opt-union-weight"};
 

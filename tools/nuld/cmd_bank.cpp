@@ -21,7 +21,8 @@ Runner addBank(CLI::App &app) {
     std::vector<std::size_t> spp;
     double resScale = 1;
     std::int64_t seed = -1;
-    study::RenderStudySettings sets;
+    study::SetSettings sets;
+    SceneChoices choices;
     bool quiet = false;
   };
   auto o = std::make_shared<Options>();
@@ -50,7 +51,7 @@ Runner addBank(CLI::App &app) {
                      std::to_string(kDefaultSeed) + ", as theirs)")
       ->check(wholeNumberIn(0, std::int64_t(1) << 62));
   addSetOptions(app, o->sets);
-  addSceneChoiceOptions(app, o->sets.choices);
+  addSceneChoiceOptions(app, o->choices);
   app.add_option("--assets", o->assets,
                  "asset root (default: $NULD_ASSETS, else ../shared/assets)");
   app.add_option("-o,--output", o->output,
@@ -64,26 +65,24 @@ Runner addBank(CLI::App &app) {
   return [o, &app] {
     const study::StudyBackend word = study::parseStudyBackend(o->backend);
     checkAssets(app, o->assets, !isBuiltInScene(o->scene), kSceneFilesOnly);
-    LoadedScene loaded = loadScene(o->scene, resolveAssetRoot(o->assets), o->sets.choices);
+    LoadedScene loaded = loadScene(o->scene, resolveAssetRoot(o->assets), o->choices);
     RenderOverrides change;
     applyResolution(app, o->res, o->resScale, change);
     if (!o->integrator.empty()) change.integrator = parseIntegrator(o->integrator);
     RenderSettings s = change.appliedTo(loaded.settings);
     if (o->spp.empty()) o->spp = {s.spp};
-    study::RenderStudySettings options = o->sets;
-    options.seed = o->seed >= 0 ? std::uint64_t(o->seed) : loaded.seed;
-    options.spp = o->spp;
+    const std::uint64_t seed = o->seed >= 0 ? std::uint64_t(o->seed) : loaded.seed;
     if (!o->output.empty()) std::filesystem::create_directories(o->output);
     std::vector<study::SetListingRow> rows;
     std::filesystem::path dir;
     for (const std::size_t spp : o->spp) {
       s.spp = spp;
       ProgressBar bar("sets spp " + std::to_string(spp), 1000, 0, o->quiet);
-      const study::PreparedBackend p =
-          study::prepareStudyBackend(word, loaded.scene, s, study::slug(o->scene), options,
-                                     [&](const std::string &, double f, const std::string &status) {
-                                       bar.update(long(1000 * f), status);
-                                     });
+      const study::PreparedBackend p = study::prepareStudyBackend(
+          word, loaded.scene, s, study::slug(o->scene), o->sets, seed, o->spp,
+          [&](const std::string &, double f, const std::string &status) {
+            bar.update(long(1000 * f), status);
+          });
       bar.finish(std::to_string(p.setsMade) + " made, " + std::to_string(p.setsCached) + " cached");
       if (!p.note.empty()) std::cerr << "nuld: note: " << p.note << "\n";
       for (const auto &set : p.sets) {

@@ -78,10 +78,10 @@ Runner addRender(CLI::App &app) {
     std::string scene, backend, res, assets, integrator, output;
     std::size_t spp = 0;
     int maxDepth = 0;
-    LobeOptions lobes;
+    RenderOverrides change;  // --lobe-*; the rest is set from the options below
     SceneChoices choices;
     std::int64_t seed = -1;
-    study::RenderStudySettings sets;  // --opt-*: the study backends' sets
+    study::SetSettings sets;  // --opt-*: the study backends' sets
     double resScale = 1;
     bool quiet = false;
   };
@@ -112,7 +112,7 @@ Runner addRender(CLI::App &app) {
       ->check(oneOf(kIntegratorNames));
   app.add_option("--max-depth", o->maxDepth, "maximum path length in bounces")
       ->check(wholeNumberIn(1, kMaxDepthLimit));
-  addLobeOptions(app, o->lobes);
+  addLobeOptions(app, o->change);
   addSceneChoiceOptions(app, o->choices);
   addSetOptions(app, o->sets);
   app.add_option("--seed", o->seed,
@@ -127,12 +127,11 @@ Runner addRender(CLI::App &app) {
     checkRenderOutputs(o->output);
     checkAssets(app, o->assets, !isBuiltInScene(o->scene), kSceneFilesOnly);
     LoadedScene loaded = loadScene(o->scene, resolveAssetRoot(o->assets), o->choices);
-    RenderOverrides change;
+    RenderOverrides change = o->change;
     if (o->spp) change.spp = o->spp;
     applyResolution(app, o->res, o->resScale, change);
     if (!o->integrator.empty()) change.integrator = parseIntegrator(o->integrator);
     if (o->maxDepth) change.maxDepth = o->maxDepth;
-    applyLobeOptions(o->lobes, change);
     const RenderSettings s = change.appliedTo(loaded.settings);
     onlyWhen(app, s.integrator == IntegratorKind::Path, {"--max-depth"}, "--integrator path");
     const std::uint64_t seed = o->seed >= 0 ? std::uint64_t(o->seed) : loaded.seed;
@@ -142,13 +141,11 @@ Runner addRender(CLI::App &app) {
         study::parseStudyBackend(o->backend.empty() ? loaded.backend : o->backend);
     onlyWhen(app, word.sets != study::StudyBackend::Sets::None, kSetOptionNames,
              "the study's backends that make sets (optimized, optimized-bsdf, ...)");
-    study::RenderStudySettings setOptions = o->sets;
-    setOptions.seed = seed;
     study::PreparedBackend prepared;
     {
       // Sets are made with checkpoints in the set cache, and a rerun
       // continues them by itself.
-      const std::string setsDir = setsDirectory(setOptions);
+      const std::string setsDir = setsDirectory(o->sets);
       std::optional<InterruptNote> interruptNote;
       if (word.sets != study::StudyBackend::Sets::None)
         interruptNote.emplace(setsDir, "the sets being made keep their checkpoints in " + setsDir +
@@ -156,11 +153,11 @@ Runner addRender(CLI::App &app) {
                                            "continue them");
       ProgressBar setsBar("sets", 1000, 0,
                           o->quiet || word.sets == study::StudyBackend::Sets::None);
-      prepared =
-          study::prepareStudyBackend(word, loaded.scene, s, study::slug(o->scene), setOptions,
-                                     [&](const std::string &, double f, const std::string &status) {
-                                       setsBar.update(long(1000 * f), status);
-                                     });
+      prepared = study::prepareStudyBackend(
+          word, loaded.scene, s, study::slug(o->scene), o->sets, seed, {},
+          [&](const std::string &, double f, const std::string &status) {
+            setsBar.update(long(1000 * f), status);
+          });
       setsBar.finish(std::to_string(prepared.setsMade) + " made, " +
                      std::to_string(prepared.setsCached) + " from the cache");
     }

@@ -171,7 +171,6 @@ Runner addStudyRender(CLI::App &app) {
   struct Options {
     study::RenderStudySettings s;
     std::string res, integrator, out;
-    LobeOptions lobes;
     bool noReport = false, quiet = false;
   };
   auto o = std::make_shared<Options>();
@@ -204,13 +203,13 @@ Runner addStudyRender(CLI::App &app) {
   app.add_option("--res", o->res,
                  "resolution WxH, or W keeping each scene's aspect (default: the scene's)")
       ->check(parsedBy(parseResolution));
-  app.add_option("--res-scale", o->s.resolutionScale,
+  app.add_option("--res-scale", o->s.render.resolutionScale,
                  "scale each scene's own resolution (e.g. 0.25; not with --res)")
       ->check(numberIn(1e-6, 16));
   app.add_option("--integrator", o->integrator,
                  "path, direct (MIS), light or bsdf (default: the scene's)")
       ->check(oneOf(kIntegratorNames));
-  app.add_option("--max-depth", o->s.maxDepth, "maximum path length")
+  app.add_option("--max-depth", o->s.render.maxDepth, "maximum path length")
       ->check(wholeNumberIn(1, kMaxDepthLimit));
   app.add_option("--repeats", o->s.repeats,
                  "renders per (backend, spp) with seeds seed, seed+1, ...; MSE is their mean")
@@ -224,8 +223,8 @@ Runner addStudyRender(CLI::App &app) {
                  "equal_time_ratio (default 1: every render pays it all; pass the number of "
                  "frames or views you will render with the same sets)")
       ->check(CLI::Range(1.0, 1e12));
-  addSetOptions(app, o->s);
-  addLobeOptions(app, o->lobes);
+  addSetOptions(app, o->s.sets);
+  addLobeOptions(app, o->s.render);
   addSceneChoiceOptions(app, o->s.choices);
   app.add_option("--assets", o->s.assets,
                  "asset root (default: $NULD_ASSETS, else ../shared/assets)");
@@ -243,14 +242,6 @@ Runner addStudyRender(CLI::App &app) {
   return [o, &app] {
     study::RenderStudySettings s = o->s;
     s.out = o->out;
-    {
-      RenderOverrides change;
-      applyLobeOptions(o->lobes, change);
-      s.lobeMix = change.lobeMix;
-      s.lobeRouting = change.lobeRouting;
-      s.lobeDefensive = change.lobeDefensive;
-      s.lobeBounces = change.lobeBounces;
-    }
     if (s.scenes.empty()) s.scenes = {"default"};
     // Which options apply, asked of the parsed words (render_study.h).
     std::vector<study::StudyBackend> words;
@@ -261,8 +252,7 @@ Runner addStudyRender(CLI::App &app) {
     };
     checkAssets(app, s.assets, !std::all_of(s.scenes.begin(), s.scenes.end(), isBuiltInScene),
                 kSceneFilesOnly);
-    onlyWhen(app, o->res.empty(), {"--res-scale"},
-             "renders at the scenes' own resolution (no --res)");
+
     onlyWhen(app, anyBackend(&study::StudyBackend::makesSets),
              {"--opt-instances", "--opt-epochs", "--opt-nested"},
              "the sets the study optimizes (backends optimized, optimized-uniform, "
@@ -275,11 +265,8 @@ Runner addStudyRender(CLI::App &app) {
              "optimized-uniform, neural, and banks of lobe sets)");
     onlyWhen(app, !app.count("--integrator") || o->integrator == "path", {"--max-depth"},
              "--integrator path");
-    if (!o->res.empty()) {
-      const Resolution r = parseResolution(o->res);
-      s.width = r.width, s.height = r.height;
-    }
-    if (!o->integrator.empty()) s.integrator = parseIntegrator(o->integrator);
+    applyResolution(app, o->res, s.render.resolutionScale, s.render);
+    if (!o->integrator.empty()) s.render.integrator = parseIntegrator(o->integrator);
 
     // In a job of several ranks (mpirun, srun) rank 0 alone reports.
     const study::Ranks &ranks = study::Ranks::world();
@@ -289,8 +276,8 @@ Runner addStudyRender(CLI::App &app) {
       // set cache), and a rerun continues them by itself.
       const InterruptNote interruptNote(
           s.out.string(), "the study keeps its reference passes under " + s.out.string() +
-                              " and the checkpoints of sets being made in " + setsDirectory(s) +
-                              ": run the same command again to continue");
+                              " and the checkpoints of sets being made in " +
+                              setsDirectory(s.sets) + ": run the same command again to continue");
       TaskBars bars(o->quiet || !ranks.root());
       result = study::runRenderStudy(
           s, [&](const std::string &task, double f, const std::string &status) {

@@ -123,19 +123,18 @@ void bindRender(py::module_ &m) {
         // `nuld render` does, with the study's default --opt-* settings.
         const study::StudyBackend word =
             study::parseStudyBackend(backend ? *backend : loaded.backend);
-        study::RenderStudySettings options;
-        options.seed = seedValue;
-        options.optimizedInstances = optInstances;
-        options.optimizedEpochs = optEpochs;
-        options.lobeEpochs = optLobeEpochs;
-        options.choices = choices;
+        study::SetSettings sets;
+        sets.instances = optInstances;
+        sets.epochs = optEpochs;
+        sets.lobeEpochs = optLobeEpochs;
         study::PreparedBackend prepared;
         RenderStats st;
         Image img;
         std::unique_ptr<SamplerBackend> b;
         {
           py::gil_scoped_release release;
-          prepared = study::prepareStudyBackend(word, loaded.scene, s, study::slug(scene), options);
+          prepared = study::prepareStudyBackend(word, loaded.scene, s, study::slug(scene), sets,
+                                                seedValue);
           b = makeBackend(prepared.spec, seedValue);
           img = render(loaded.scene, s, *b, &st);
         }

@@ -228,40 +228,28 @@ const std::vector<std::string> &referenceColumns() {
   return columns;
 }
 
+void SetSettings::validate() const {
+  if (instances == 0) throw std::invalid_argument("--opt-instances: must be at least 1");
+  if (!(lobeUnionWeight >= 0) || !std::isfinite(lobeUnionWeight))
+    throw std::invalid_argument("--opt-union-weight: expected a finite weight >= 0");
+}
+
 void RenderStudySettings::validate() const {
   if (scenes.empty()) throw std::invalid_argument("study render: no scene given");
   if (backends.empty()) throw std::invalid_argument("--backends: no backend given");
   if (spp.empty()) throw std::invalid_argument("--spp: no sample count given");
   for (std::size_t n : spp)
     if (n == 0) throw std::invalid_argument("--spp: counts must be positive");
-  if (width < 0 || height < 0 || (height > 0 && width == 0))
-    throw std::invalid_argument("--res: expected W or WxH with positive sizes");
   if (repeats == 0) throw std::invalid_argument("--repeats: must be at least 1");
   if (!(amortize >= 1) || !std::isfinite(amortize))
     throw std::invalid_argument("--amortize: expected a number of renders >= 1");
-  if (optimizedInstances == 0) throw std::invalid_argument("--opt-instances: must be at least 1");
-  if (!(lobeUnionWeight >= 0) || !std::isfinite(lobeUnionWeight))
-    throw std::invalid_argument("--opt-union-weight: expected a finite weight >= 0");
-  overrides().check(OverrideNames::options());  // the render settings, as every render checks
+  sets.validate();
+  render.check(OverrideNames::options());  // the render settings, as every render checks
   if (out.empty()) throw std::invalid_argument("study render: -o OUTDIR is required");
   for (const auto &b : backends)    // fail now, not after an hour of reference
     parseStudyBackend(b);           // the word only: files are read per cell
   for (const auto &scene : scenes)  // every scene file, before the first reference
     if (!isBuiltInScene(scene)) requireInputFile(scene, "the scene file");
-}
-
-RenderOverrides RenderStudySettings::overrides() const {
-  RenderOverrides o;
-  if (width) o.width = width;
-  if (height) o.height = height;
-  o.resolutionScale = resolutionScale;
-  o.integrator = integrator;
-  if (maxDepth) o.maxDepth = maxDepth;
-  o.lobeMix = lobeMix;
-  o.lobeRouting = lobeRouting;
-  o.lobeDefensive = lobeDefensive;
-  o.lobeBounces = lobeBounces;
-  return o;
 }
 
 bool StudyBackend::samplesLobes() const {
@@ -272,23 +260,25 @@ bool StudyBackend::samplesLobes() const {
 }
 
 std::string RenderStudySettings::rowOptions() const {
+  const LobeTableSettings lobeDefaults;
   std::ostringstream o;
   o << "repeats=" << repeats << " seed=" << seed << " res="
-    << (width ? std::to_string(width) + "x" + (height ? std::to_string(height) : "aspect")
-              : "scene")
-    << " res-scale=" << formatNumber(resolutionScale)
-    << " integrator=" << (integrator ? toString(*integrator) : "scene")
-    << " max-depth=" << (maxDepth ? std::to_string(maxDepth) : "scene")
-    << " lobe-mix=" << (lobeMix ? formatNumber(*lobeMix) : "auto")
-    << " lobe-routes=" << toString(lobeRouting.value_or(LobeRouting::Measured))
-    << " lobe-defensive=" << formatNumber(lobeDefensive.value_or(LobeTableSettings{}.defensive))
-    << " lobe-bounces=" << lobeBounces.value_or(LobeTableSettings{}.bounces)
+    << (render.width ? std::to_string(*render.width) + "x" +
+                           (render.height ? std::to_string(*render.height) : "aspect")
+                     : "scene")
+    << " res-scale=" << formatNumber(render.resolutionScale)
+    << " integrator=" << (render.integrator ? toString(*render.integrator) : "scene")
+    << " max-depth=" << (render.maxDepth ? std::to_string(*render.maxDepth) : "scene")
+    << " lobe-mix=" << (render.lobeMix ? formatNumber(*render.lobeMix) : "auto")
+    << " lobe-routes=" << toString(render.lobeRouting.value_or(lobeDefaults.routing))
+    << " lobe-defensive=" << formatNumber(render.lobeDefensive.value_or(lobeDefaults.defensive))
+    << " lobe-bounces=" << render.lobeBounces.value_or(lobeDefaults.bounces)
     << " lobe-choice=" << toString(choices.lobes)
     << " env-importance=" << (choices.importance ? toString(*choices.importance) : "scene")
-    << " opt-instances=" << optimizedInstances << " opt-epochs=" << optimizedEpochs
-    << " opt-lobe-epochs=" << lobeBankEpochs()
-    << " opt-union-weight=" << formatNumber(lobeUnionWeight)
-    << (optimizedNested ? " opt-nested=on" : "") << " reference-spp=" << reference.spp
+    << " opt-instances=" << sets.instances << " opt-epochs=" << sets.epochs
+    << " opt-lobe-epochs=" << sets.lobeBankEpochs()
+    << " opt-union-weight=" << formatNumber(sets.lobeUnionWeight)
+    << (sets.nested ? " opt-nested=on" : "") << " reference-spp=" << reference.spp
     << " reference-pass-spp=" << reference.passSpp << " reference-backend=" << reference.backend;
   return o.str();
 }
@@ -376,8 +366,9 @@ ScenePlan planScene(const SceneStudy &scene, const CsvTable &table, const Render
     plan.tableSeconds = secondsSince(start);
   }
   for (PlannedCell &c : plan.cells)
-    c.plan = planBackend(c.backend, sampledLight(scene.loaded.scene, scene.settings.integrator),
-                         plan.tables.get(), plan.lobeTargets, scene.slug, c.spp, s);
+    c.plan =
+        planBackend(c.backend, sampledLight(scene.loaded.scene, scene.settings.integrator),
+                    plan.tables.get(), plan.lobeTargets, scene.slug, c.spp, s.sets, s.seed, s.spp);
   return plan;
 }
 
@@ -473,7 +464,7 @@ RenderStudyResult runRenderStudy(const RenderStudySettings &s, const StudyProgre
   const std::string assets = resolveAssetRoot(s.assets);
   for (const std::string &scenePath : s.scenes) {
     SceneStudy scene{loadScene(scenePath, assets, s.choices), {}, slug(scenePath), {}};
-    scene.settings = s.overrides().appliedTo(scene.loaded.settings);
+    scene.settings = s.render.appliedTo(scene.loaded.settings);
     scene.dir = s.out / scene.slug;
 
     const ReferenceSettings refSettings = referenceFor(s, scene.settings);

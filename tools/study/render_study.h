@@ -44,17 +44,46 @@
 
 namespace nuld::study {
 
+// How the study's backends make their sets (optimized, optimized-bsdf, ...):
+// the --opt-* options and the set cache, the same in a study, nuld render,
+// nuld bank and the Python module.
+struct SetSettings {
+  std::size_t instances = 16;  // --opt-instances
+  // --opt-nested: one nested bank per target at the largest spp, whose
+  // prefixes serve the smaller ones (optimizer.h, nestedSizes); a nested
+  // bank already in the cache that holds a cell's spp serves it.
+  bool nested = false;
+  int epochs = 0;  // --opt-epochs; 0: the preset's
+  // --opt-lobe-epochs (0: `epochs` if set, else kLobeBankEpochs) and the
+  // value the lobe banks get.
+  int lobeEpochs = 0;
+  int lobeBankEpochs() const { return lobeEpochs ? lobeEpochs : epochs ? epochs : kLobeBankEpochs; }
+  // The lobe banks' default, not the sphere preset's 5000 (lobe tables are
+  // on the hemisphere): about the same render error for a twentieth of the
+  // time (tools/experiments/README.md, "Setup, nested sets and reuse").
+  static constexpr int kLobeBankEpochs = 250;
+  // --opt-union-weight, the lobe banks' bank term (optimizer.h,
+  // unionWeight): without it the instances of a glossy lobe's bank converge
+  // to nearly one set.
+  double lobeUnionWeight = kBankUnionWeight;
+  // The set cache's directory (tools/study/set_cache.h); empty:
+  // SetCache::fromEnvironment ($NULD_CACHE, ...).
+  std::filesystem::path cacheDir;
+
+  // Throws std::invalid_argument naming the bad option.
+  void validate() const;
+};
+
 struct RenderStudySettings {
   std::vector<std::string> scenes{"default"};  // "default" or scene JSON paths
   std::vector<std::string> backends{"independent", "sobol", "halton", "optimized"};
   std::vector<std::size_t> spp{4, 16, 64};
-  std::string assets;          // asset root (see resolveAssetRoot)
-  int width = 0, height = 0;   // 0: the scene's
-  double resolutionScale = 1;  // applied to the scene's resolution when width is 0
-  std::optional<IntegratorKind> integrator;
-  int maxDepth = 0;  // 0: the scene's
+  std::string assets;  // asset root (see resolveAssetRoot)
+  // What the study changes of every scene's render settings (resolution,
+  // integrator, depth, the --lobe-* options); its spp is unused (`spp`).
+  RenderOverrides render;
   std::size_t repeats = 1;
-  std::uint64_t seed = kDefaultSeed;
+  std::uint64_t seed = kDefaultSeed;  // of the renders and of the sets
   // Renders over which a row's setup is spread in total_seconds and
   // equal_time_ratio (tools/study/equal_time.h); changes no render.
   double amortize = 1;
@@ -62,45 +91,15 @@ struct RenderStudySettings {
   // Stop each reference after this many passes in this run (0: no limit); a
   // scene whose reference is not complete renders no cells.
   std::size_t referenceStopAfter = 0;
-  std::size_t optimizedInstances = 16;
-  // --opt-nested: one nested bank per target at the largest spp, whose
-  // prefixes serve the smaller ones (optimizer.h, nestedSizes); a nested
-  // bank already in the cache that holds a cell's spp serves it.
-  bool optimizedNested = false;
-  int optimizedEpochs = 0;  // 0: the preset's
-  // Epochs of the lobe banks (0: optimizedEpochs if set, else
-  // kLobeBankEpochs) and the value they get.
-  int lobeEpochs = 0;
-  int lobeBankEpochs() const {
-    return lobeEpochs ? lobeEpochs : optimizedEpochs ? optimizedEpochs : kLobeBankEpochs;
-  }
-  // The lobe banks' default, not the sphere preset's 5000 (lobe tables are
-  // on the hemisphere): about the same render error for a twentieth of the
-  // time (tools/experiments/README.md, "Setup, nested sets and reuse").
-  static constexpr int kLobeBankEpochs = 250;
-  // The lobe banks' bank term (optimizer.h, unionWeight): without it the
-  // instances of a glossy lobe's bank converge to nearly one set.
-  double lobeUnionWeight = kBankUnionWeight;
-  // The lobe tables' density (LobeTableSettings::samplingMix); nullopt: by
-  // the estimator (lobeTablesFor).
-  std::optional<double> lobeMix;
-  std::optional<LobeRouting> lobeRouting;  // --lobe-routes (unset: measured)
-  std::optional<double> lobeDefensive;     // --lobe-defensive (unset: the default share)
-  std::optional<int> lobeBounces;          // --lobe-bounces (unset: the default)
+  SetSettings sets;
   // How the scenes' Disney materials pick lobes and, when set, the
   // environments' importance, in every row and the references
   // (--lobe-choice, --env-importance).
   SceneChoices choices;
   std::filesystem::path out;
-  // The set cache's directory (tools/study/set_cache.h); empty:
-  // SetCache::fromEnvironment ($NULD_CACHE, ...).
-  std::filesystem::path cacheDir;
 
   // Throws std::invalid_argument naming the bad option.
   void validate() const;
-  // The scene settings this study changes (resolution, integrator, depth,
-  // lobe mix), for every scene alike.
-  RenderOverrides overrides() const;
   // What a row depends on beyond its scene, backend and spp, as the
   // command's option names ("repeats=1 seed=1 ..."): a rerun asking for
   // other values is refused (CsvTable::requireOptions).
@@ -183,9 +182,13 @@ struct PreparedBackend {
 };
 // Throws std::invalid_argument naming the word when the scene cannot use it
 // (no environment map for `optimized`, no Disney material for lobe banks).
+// `seed`: the optimization's (a study's --seed); `sppFamily`: the sample
+// counts a nested bank is made for (its largest is the bank's N; empty:
+// the render's spp alone).
 PreparedBackend prepareStudyBackend(const StudyBackend &backend, const Scene &scene,
                                     const RenderSettings &settings, const std::string &sceneName,
-                                    const RenderStudySettings &options,
+                                    const SetSettings &sets, std::uint64_t seed,
+                                    const std::vector<std::size_t> &sppFamily = {},
                                     const StudyProgress &progress = {});
 
 // A file-name-safe form of a scene or backend name: "neural:m/q.nuldnet" ->

@@ -76,17 +76,17 @@ StudyBackend parseStudyBackend(const std::string &word) {
 
 BackendPlan planBackend(const StudyBackend &backend, const EnvironmentLight *light,
                         const LobeTables *tables, const std::vector<const Target *> &lobeTargets,
-                        const std::string &sceneSlug, std::size_t spp,
-                        const RenderStudySettings &s) {
+                        const std::string &sceneSlug, std::size_t spp, const SetSettings &s,
+                        std::uint64_t seed, const std::vector<std::size_t> &sppFamily) {
   using Sets = StudyBackend::Sets;
   if (backend.sets == Sets::None) return {backend.renderer, {}, ""};
   OptimizedSetsRequest request;
   request.n = spp;
-  request.instances = s.optimizedInstances;
-  request.epochs = s.optimizedEpochs;
-  request.seed = s.seed;
-  const std::string task = sceneSlug + ": " + backend.word + " N=" + std::to_string(spp) +
-                           (s.optimizedNested ? " (nested)" : "");
+  request.instances = s.instances;
+  request.epochs = s.epochs;
+  request.seed = seed;
+  const std::string task =
+      sceneSlug + ": " + backend.word + " N=" + std::to_string(spp) + (s.nested ? " (nested)" : "");
   const SetCache cache = s.cacheDir.empty() ? SetCache::fromEnvironment() : SetCache(s.cacheDir);
   std::vector<std::string> paths;
   BackendPlan plan;
@@ -101,11 +101,12 @@ BackendPlan planBackend(const StudyBackend &backend, const EnvironmentLight *lig
   // largest spp whose prefixes are the other spp (or any nested bank in the
   // cache that holds at least this spp: no set to make); else a bank of spp
   // points.
-  const std::size_t largest = *std::max_element(s.spp.begin(), s.spp.end());
+  const std::size_t largest = std::max(
+      spp, sppFamily.empty() ? spp : *std::max_element(sppFamily.begin(), sppFamily.end()));
   const auto addSets = [&](const Target &target, OptimizedSetsRequest r, const std::string &label) {
-    if (s.optimizedNested) {
+    if (s.nested) {
       r.n = largest;
-      for (std::size_t m : s.spp)
+      for (std::size_t m : sppFamily)
         if (m < largest) r.nested.push_back(m);
       std::sort(r.nested.begin(), r.nested.end());
       r.nested.erase(std::unique(r.nested.begin(), r.nested.end()), r.nested.end());
@@ -199,7 +200,8 @@ VisitedBins visitedBins(const Scene &scene, const RenderSettings &settings,
 
 PreparedBackend prepareStudyBackend(const StudyBackend &backend, const Scene &scene,
                                     const RenderSettings &settings, const std::string &sceneName,
-                                    const RenderStudySettings &options,
+                                    const SetSettings &sets, std::uint64_t seed,
+                                    const std::vector<std::size_t> &sppFamily,
                                     const StudyProgress &progress) {
   PreparedBackend out;
   if (backend.sets == StudyBackend::Sets::None) {
@@ -215,10 +217,9 @@ PreparedBackend prepareStudyBackend(const StudyBackend &backend, const Scene &sc
     lobeTargets = std::move(bins.targets);
     out.note = std::move(bins.note);
   }
-  RenderStudySettings s = options;
-  s.spp = {settings.spp};
-  const BackendPlan plan = planBackend(backend, sampledLight(scene, settings.integrator),
-                                       tables.get(), lobeTargets, sceneName, settings.spp, s);
+  const BackendPlan plan =
+      planBackend(backend, sampledLight(scene, settings.integrator), tables.get(), lobeTargets,
+                  sceneName, settings.spp, sets, seed, sppFamily);
   if (!plan.spec) throw std::invalid_argument("backend '" + backend.word + "': " + plan.why);
   out.spec = *plan.spec;
   const std::vector<SetsJob> made = makeMissingSets(

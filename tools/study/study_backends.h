@@ -33,11 +33,13 @@ struct BackendPlan {
 
 // The plan of `backend` for the scene at `spp`, its sets in the set cache
 // (made or found there): environment-map sets for `light` (the light the
-// integrator samples, sampledLight), lobe banks for `lobeTargets` only.
+// integrator samples, sampledLight), lobe banks for `lobeTargets` only;
+// optimized with `seed`, a nested bank for the largest of `sppFamily`
+// (prepareStudyBackend).
 BackendPlan planBackend(const StudyBackend &backend, const EnvironmentLight *light,
                         const LobeTables *tables, const std::vector<const Target *> &lobeTargets,
-                        const std::string &sceneSlug, std::size_t spp,
-                        const RenderStudySettings &s);
+                        const std::string &sceneSlug, std::size_t spp, const SetSettings &sets,
+                        std::uint64_t seed, const std::vector<std::size_t> &sppFamily);
 
 // The tabulated bins whose lobes get banks: those that at least a minimum share
 // of the camera rays' first hits take (a 2 x 2 grid per pixel at the render's
