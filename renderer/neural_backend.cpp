@@ -99,18 +99,22 @@ std::string shippedLobeModel() {
   return std::string(NULD_SOURCE_DIR) + "/models/disney.nuldnet";
 }
 
+bool isLobeFamily(const NeuralGenerator &generator) {
+  return generator.family().spec().rfind("family:disney", 0) == 0;
+}
+
 NeuralBackend::NeuralBackend(std::string name, const std::string &modelPath, std::uint64_t seed)
     : BankBackend(std::move(name), {}, seed, kNeuralSalt),
       source_(modelPath),
       generator_(NeuralGenerator::load(modelPath)) {
   const std::string family = generator_.family().spec();
-  lobeFamily_ = family.rfind("family:disney", 0) == 0;
+  lobeFamily_ = isLobeFamily(generator_);
   // A lobe model's sets follow their table only roughly (tools/experiments/
   // README.md, "The graph generator in primary space"), which would bias
   // every pixel; shifted in the table's primary space (its CDF map,
   // GridTarget::primaryOf), every point follows the table exactly and the
   // estimate is unbiased.
-  setShifted(lobeFamily_);
+  setShifted(modelDealing(generator_) == Dealing::Shifted);
   allowNoBanks(lobeFamily_);
   if (generator_.gammaDimension() > 0 && !lobeFamily_)
     throw std::invalid_argument(

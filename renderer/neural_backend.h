@@ -38,6 +38,14 @@ namespace nuld {
 // (models/README.md says how it was trained).
 std::string shippedLobeModel();
 
+// How a model's sets are dealt (SetDealer), in renders and in the
+// integration study alike: a lobe family's (`family:disney...`) shifted in
+// their table's primary space, any other model's as generated.
+bool isLobeFamily(const NeuralGenerator &generator);
+inline Dealing modelDealing(const NeuralGenerator &generator) {
+  return isLobeFamily(generator) ? Dealing::Shifted : Dealing::AsOptimized;
+}
+
 class NeuralBackend final : public BankBackend {
  public:
   // The banks hold at most this many sets in all (fewer when N is large: at

@@ -460,10 +460,11 @@ TEST(IntegrationStudyRun, SphereIntegrandsUseTheMapAndSkipMissingOnes) {
   EXPECT_LT(value(t, *findRow(t, "envmap:test*cos", "sobol", 64), "rel_rmse"), 0.05);
 }
 
-// neural:MODEL+shift deals a lobe model's sets out as the renderer does,
-// each shifted in the table's primary space (its CDF map): its row is named
-// apart from the raw sets' and is unbiased (within 4 standard errors, 256
-// sets of 64); a shift on an integrand without a CDF map is refused.
+// A lobe model's sets are dealt out as the renderer deals them, each shifted
+// in the table's primary space (its CDF map), whether or not the word says
+// +shift (one word, one meaning in every command): one row, named +shift,
+// unbiased (within 4 standard errors, 256 sets of 64), and a note saying
+// so; a shift on an integrand without a CDF map is refused.
 TEST(IntegrationStudyRun, ShiftedNeuralSetsAreDealtAsTheRendererDealsThem) {
   registerMaterialTargets();
   TempDir dir;
@@ -475,11 +476,16 @@ TEST(IntegrationStudyRun, ShiftedNeuralSetsAreDealtAsTheRendererDealsThem) {
   NeuralGenerator(lobe).save(model);
   IntegrateOptions o = quickOptions(dir / "out");
   o.integrands = {"disney*cosines:theta=45"};
-  o.samplers = {"sobol-tabulated", "neural:" + model + "+shift"};
+  o.samplers = {"sobol-tabulated", "neural:" + model, "neural:" + model + "+shift"};
   o.ns = {64};
   o.optimizedInstances = 256;
-  runIntegrateStudy(o);
+  const IntegrateSummary summary = runIntegrateStudy(o);
+  EXPECT_TRUE(std::any_of(summary.notes.begin(), summary.notes.end(), [](const std::string &n) {
+    return n.find("neural:lobe: a lobe family's sets are dealt shifted") != std::string::npos;
+  }));
   const CsvTable t = readCsv(o.outDir);
+  EXPECT_EQ(t.rows().size(), 2u);  // sobol-tabulated and the one neural row
+  EXPECT_FALSE(findRow(t, o.integrands[0], "neural:lobe", 64));
   const auto *row = findRow(t, o.integrands[0], "neural:lobe+shift", 64);
   ASSERT_TRUE(row);
   EXPECT_EQ(field(t, *row).at("instances"), "256");

@@ -122,8 +122,9 @@ Runner addStudyIntegrate(CLI::App &app) {
                  "uniformly, then the inverse CDF; all four up to --optimized-max-n, "
                  "--optimized-instances sets), the renderer's bank words optimized:PATHS, "
                  "points:PATHS, shifted:PATHS (sets from files), neural:MODEL or neural (the "
-                 "shipped Disney-family model), each also as ...+shift (its sets shifted in "
-                 "the table's primary space, as renders deal them out) (default: "
+                 "shipped Disney-family model; a lobe family's sets are shifted in the "
+                 "table's primary space, as renders deal them, and its rows named +shift), "
+                 "each also as ...+shift (any model's sets shifted so) (default: "
                  "independent,sobol,halton,optimized)");
   app.add_option("--n", o->ns, "comma-separated N (default 16,32,...,4096; any N >= 1)");
   app.add_option("--instances", o->instances,

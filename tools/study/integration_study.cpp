@@ -14,6 +14,7 @@
 #include <stdexcept>
 
 #include "renderer/bank_backend.h"
+#include "renderer/neural_backend.h"
 #include "sampler/bluenoise/blue_noise_sets.h"
 #include "sampler/io/pointset_io.h"
 #include "sampler/neural/neural_generator.h"
@@ -529,15 +530,31 @@ IntegrateSummary runIntegrateStudy(const IntegrateOptions &o, const IntegrateHoo
   validateOptions(o);
   IntegrateSummary summary;
   StudyRunner runner(o, hooks, summary);
-  const auto samplers = parseSamplers(o.samplers, o.neuralModels);
+  std::vector<SamplerChoice> samplers;
   std::vector<std::string> notes;
   const auto integrands = selectIntegrands(o, notes);
   for (const auto &n : notes) runner.note(n);
   std::map<std::string, NeuralModel> models;
   FileBanks fileBanks;
-  for (const auto &s : samplers) {
-    if (s.kind == SamplerChoice::Kind::Neural) models.emplace(s.name, loadModel(s, integrands));
+  for (SamplerChoice s : parseSamplers(o.samplers, o.neuralModels)) {
+    if (s.kind == SamplerChoice::Kind::Neural) {
+      NeuralModel model = loadModel(s, integrands);
+      // `neural` means what it means in renders: a lobe family's sets
+      // shifted, as renders deal them; the row's name says so.
+      if (modelDealing(*model.generator) == Dealing::Shifted && !s.shifted) {
+        runner.note(s.name +
+                    ": a lobe family's sets are dealt shifted in their table's "
+                    "primary space, as renders deal them (rows " +
+                    s.name + "+shift)");
+        s.shifted = true;
+        s.name += "+shift";
+        model.name = s.name;
+      }
+      if (models.contains(s.name)) continue;  // named twice, once with +shift
+      models.emplace(s.name, std::move(model));
+    }
     if (s.kind == SamplerChoice::Kind::Bank) fileBanks.emplace(s.name, loadSetBanks(s.paths));
+    samplers.push_back(std::move(s));
   }
 
   const std::vector<Task> tasks = planTasks(o, integrands, samplers, models, fileBanks);

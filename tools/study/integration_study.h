@@ -100,7 +100,8 @@ struct SamplerChoice {
 // target they follow; uniform sets on every integrand, shifted per instance
 // and mapped by its inverse CDF), and neural:PATH (added to `models`) or
 // neural:PATH+shift (its sets shifted in primary space per instance, as the
-// renderer deals them out; targets with a CDF map only); `neural` alone is
+// renderer deals them out; targets with a CDF map only; runIntegrateStudy
+// shifts a lobe family's sets, as renders do, and names it so); `neural` alone is
 // the renderer's shipped model (shippedLobeModel). Throws
 // std::invalid_argument naming --samplers and the accepted names; the old
 // -lobes spellings are refused with their new names.
