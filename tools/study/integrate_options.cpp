@@ -89,6 +89,26 @@ std::optional<ShiftSuffix> neuralWord(const std::string &word) {
   return std::nullopt;
 }
 
+// A classic word of the renderer's registry (its aliases included: `random`
+// is `independent`) and its sampler here; nullopt for any other word.
+struct ClassicKind {
+  BackendKind renderer;
+  SamplerChoice::Kind integrate;
+};
+std::optional<ClassicKind> classicKind(const std::string &word) {
+  using K = SamplerChoice::Kind;
+  try {
+    switch (parseBackend(word).kind) {
+      case BackendKind::Independent: return ClassicKind{BackendKind::Independent, K::Independent};
+      case BackendKind::Sobol: return ClassicKind{BackendKind::Sobol, K::Sobol};
+      case BackendKind::Halton: return ClassicKind{BackendKind::Halton, K::Halton};
+      default: return std::nullopt;
+    }
+  } catch (const std::invalid_argument &) {
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 std::vector<SamplerChoice> parseSamplers(const std::vector<std::string> &tokens,
@@ -129,12 +149,8 @@ std::vector<SamplerChoice> parseSamplers(const std::vector<std::string> &tokens,
       base.resize(base.size() - 10);
       which = 2;
     }
-    if (base == "independent" || base == "random")
-      classic("independent", K::Independent, which);
-    else if (base == "sobol")
-      classic("sobol", K::Sobol, which);
-    else if (base == "halton")
-      classic("halton", K::Halton, which);
+    if (const auto kind = classicKind(base))
+      classic(backendEntry(kind->renderer).name, kind->integrate, which);
     else if (t == "optimized")
       add({"optimized", K::Optimized, false, {}, {}, false});
     else if (kBlueNoiseNames.find(t))
