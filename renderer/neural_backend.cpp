@@ -24,33 +24,53 @@ namespace {
 
 constexpr std::uint64_t kNeuralSalt = 0x6e657572616cull;
 
-// The lobe banks every NeuralBackend of this process has made. A lobe bank
-// is a function of the model, the table and N alone (its offsets come from
-// the table's spec, not from the render's seed: the renderer's shift and
-// the per-pixel choice of set randomize each render), so the repeats of a
-// study and the renders of a session generate each table's bank once, as
-// the study's optimized banks are made once into the set cache.
+// The lobe banks every NeuralBackend of this process has made, in front of
+// the installed store (LobeBankStore: the set cache, across processes). A
+// lobe bank is a function of the model, the table and N alone (its offsets
+// come from the table's spec, not from the render's seed: the renderer's
+// shift and the per-pixel choice of set randomize each render), and so is
+// its serving test's verdict; so the repeats of a study, the renders of a
+// session and, with a store, later processes make and test each table's
+// bank once, as the study's optimized banks are made once into the set
+// cache.
 class LobeBankCache {
  public:
-  using Key = std::tuple<std::uint64_t, std::string, std::size_t>;  // model, table, N
+  using Key = std::tuple<std::uint64_t, std::string, std::size_t>;  // model, table spec, N
   template <class Make>
-  PointSet get(const Key &key, Make make) {
+  LobeBank get(const Key &key, const Target &table, Make make) {
+    std::shared_ptr<const LobeBankStore> store;
     {
       const std::lock_guard lock(mutex_);
       if (const auto it = banks_.find(key); it != banks_.end()) return it->second;
+      store = store_;
     }
-    PointSet made = make();  // outside the lock: other tables go on meanwhile
+    // Outside the lock: other tables go on meanwhile.
+    const auto &[model, spec, n] = key;
+    std::optional<LobeBank> bank = store ? store->load(model, table, n) : std::nullopt;
+    if (!bank) {
+      bank = make();
+      if (store) store->save(model, table, n, *bank);
+    }
     const std::lock_guard lock(mutex_);
     // A bank is small (16 sets of N points); a long session of renders of
     // many scenes at many spp keeps at most this many.
     if (banks_.size() >= kMaxBanks) banks_.clear();
-    return banks_.try_emplace(key, std::move(made)).first->second;
+    return banks_.try_emplace(key, std::move(*bank)).first->second;
+  }
+  void setStore(std::shared_ptr<const LobeBankStore> store) {
+    const std::lock_guard lock(mutex_);
+    store_ = std::move(store);
+  }
+  void clear() {
+    const std::lock_guard lock(mutex_);
+    banks_.clear();
   }
 
  private:
   static constexpr std::size_t kMaxBanks = 4096;
   std::mutex mutex_;
-  std::map<Key, PointSet> banks_;
+  std::map<Key, LobeBank> banks_;
+  std::shared_ptr<const LobeBankStore> store_;
 };
 
 LobeBankCache &lobeBankCache() {
@@ -93,6 +113,12 @@ bool dealsAtLeastAsWell(const PointSet &bank, const GridTarget &table, std::uint
 }
 
 }  // namespace
+
+void setLobeBankStore(std::shared_ptr<const LobeBankStore> store) {
+  lobeBankCache().setStore(std::move(store));
+}
+
+void forgetLobeBanks() { lobeBankCache().clear(); }
 
 std::string shippedLobeModel() {
   if (const char *env = std::getenv("NULD_LOBE_MODEL"); env && *env) return env;
@@ -168,25 +194,28 @@ void NeuralBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
     std::vector<SetBank> banks;
     declined_ = 0;
     for (std::size_t k = 0; k < specs.size(); ++k) {
+      // A table whose bank deals worse than Owen-Sobol through it keeps the
+      // fallback's points (tools/experiments/README.md, "The shipped lobe
+      // model in renders"): the verdict is made with the bank, once.
+      const auto *grid = dynamic_cast<const GridTarget *>(members[k]);
       const auto make = [&] {
         // A lobe bank's offsets are keyed by its table (see LobeBankCache).
         const std::uint64_t offsets = lobeFamily_ ? hashString(specs[k]) : seed() + k;
-        return generator_.generateSets(each, offsets, gammas[k], n, members[k]);
+        LobeBank made{generator_.generateSets(each, offsets, gammas[k], n, members[k]), true};
+        if (lobeFamily_ && grid)
+          made.serves = dealsAtLeastAsWell(made.sets, *grid, hashString(specs[k]));
+        return made;
       };
-      SetBank bank{lobeFamily_ && generator_.fileChecksum() != 0
-                       ? lobeBankCache().get({generator_.fileChecksum(), specs[k], n}, make)
-                       : make(),
-                   source_};
-      setMeta(bank.sets, meta::kTarget, specs[k]);
-      // A table whose bank deals worse than Owen-Sobol through it keeps the
-      // fallback's points (tools/experiments/README.md, "The shipped lobe
-      // model in renders").
-      const auto *grid = dynamic_cast<const GridTarget *>(members[k]);
-      if (measured_ && lobeFamily_ && grid &&
-          !dealsAtLeastAsWell(bank.sets, *grid, hashString(specs[k]))) {
+      LobeBank made =
+          lobeFamily_ && members[k] && generator_.fileChecksum() != 0
+              ? lobeBankCache().get({generator_.fileChecksum(), specs[k], n}, *members[k], make)
+              : make();
+      if (measured_ && !made.serves) {
         ++declined_;
         continue;
       }
+      SetBank bank{std::move(made.sets), source_};
+      setMeta(bank.sets, meta::kTarget, specs[k]);
       banks.push_back(std::move(bank));
     }
     setBanks(std::move(banks));

@@ -26,6 +26,8 @@
 // The supplement's network makes sets of its trained N only, so it serves
 // that spp alone; a graph model serves any spp (banks remade per spp).
 
+#include <memory>
+#include <optional>
 #include <string>
 
 #include "renderer/bank_backend.h"
@@ -45,6 +47,33 @@ bool isLobeFamily(const NeuralGenerator &generator);
 inline Dealing modelDealing(const NeuralGenerator &generator) {
   return isLobeFamily(generator) ? Dealing::Shifted : Dealing::AsOptimized;
 }
+
+// A lobe model's bank for one table at one N, and whether it passed the
+// serving test there (it serves only then; NeuralBackend).
+struct LobeBank {
+  PointSet sets;
+  bool serves = false;
+};
+
+// Where lobe banks outlive the process: the tools install the set cache
+// (tools/study/set_cache.h) so that a second process finds the banks, and
+// their verdicts, that the first made. Keyed by the model file's checksum,
+// the table (its content) and N. A store's errors are its own to report: a
+// bank it cannot load is made again, one it cannot save is used anyway.
+class LobeBankStore {
+ public:
+  virtual ~LobeBankStore() = default;
+  virtual std::optional<LobeBank> load(std::uint64_t model, const Target &table,
+                                       std::size_t n) const = 0;
+  virtual void save(std::uint64_t model, const Target &table, std::size_t n,
+                    const LobeBank &bank) const = 0;
+};
+// The store every NeuralBackend asks after its process's own banks; nullptr
+// (the default): none, banks live as long as the process.
+void setLobeBankStore(std::shared_ptr<const LobeBankStore> store);
+// Forgets the lobe banks this process holds (its own cache, not the store):
+// for tests of the store.
+void forgetLobeBanks();
 
 class NeuralBackend final : public BankBackend {
  public:

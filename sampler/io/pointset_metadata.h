@@ -53,6 +53,9 @@ inline constexpr std::string_view kOptimizeSeconds = "optimize_seconds";
 inline constexpr std::string_view kSlicedOt = "sot";
 inline constexpr std::string_view kGaussianBlueNoise = "gbn";
 inline constexpr std::string_view kTargetSamples = "target_samples";
+// A generated lobe bank's verdict in its table's serving test, "yes" or "no"
+// (the renderer's neural backend; banks kept in the set cache).
+inline constexpr std::string_view kServes = "serves";
 
 }  // namespace meta
 

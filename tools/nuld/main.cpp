@@ -8,6 +8,7 @@
 #include <functional>
 #include <iostream>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -23,6 +24,7 @@
 #include "tools/nuld/commands.h"
 #include "tools/study/ranks.h"
 #include "tools/study/render_study.h"
+#include "tools/study/set_cache.h"
 
 namespace {
 
@@ -115,6 +117,8 @@ int main(int argc, char **argv) {
   // warns about.
   if (!ranks.root()) nuld::setWarningHandler([](const std::string &) {});
   nuld::registerMaterialTargets();  // disney:... target specs
+  // Neural lobe banks outlive the process in the set cache (set_cache.h).
+  nuld::setLobeBankStore(std::make_shared<nuld::study::SetCacheLobeBankStore>());
   CLI::App app{"nuld: optimize, evaluate and render with non-uniform low-discrepancy point sets"};
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Print help for every subcommand");

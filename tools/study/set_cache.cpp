@@ -4,9 +4,11 @@
 #include <cctype>
 #include <cstdio>
 #include <cstdlib>
+#include <mutex>
 #include <optional>
 #include <sstream>
 
+#include "sampler/diagnostics.h"
 #include "sampler/io/content_hash.h"
 #include "sampler/io/pointset_io.h"
 #include "sampler/io/pointset_metadata.h"
@@ -75,18 +77,75 @@ std::string withoutSize(const std::string &describe) {
 
 }  // namespace
 
-fs::path SetCache::entry(const Target &target, const OptimizerSettings &settings) const {
-  // The key decides; the readable part is the name of whoever made the
-  // entry first (a map's file stem may differ under another root).
-  const std::string key = setCacheKey(target, settings);
-  const std::string suffix = "_n" + std::to_string(settings.n) + "_" + key + ".ptsb";
-  for (const auto &e : filesIn(setsDir()))
+namespace {
+
+// The key decides; the readable part is the name of whoever made the entry
+// first (a map's file stem may differ under another root).
+fs::path entryFor(const fs::path &dir, const std::string &prefix, const Target &target,
+                  std::size_t n, const std::string &key) {
+  const std::string suffix = "_n" + std::to_string(n) + "_" + key + ".ptsb";
+  for (const auto &e : filesIn(dir))
     if (isEntry(e) && e.path().filename().string().ends_with(suffix)) return e.path();
-  std::string slug = shortSpec(target.spec());
+  std::string slug = prefix + shortSpec(target.spec());
   for (char &c : slug)
     if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '-') c = '_';
   if (slug.size() > 48) slug.resize(48);
-  return setsDir() / (slug + suffix);
+  return dir / (slug + suffix);
+}
+
+}  // namespace
+
+fs::path SetCache::entry(const Target &target, const OptimizerSettings &settings) const {
+  return entryFor(setsDir(), "", target, settings.n, setCacheKey(target, settings));
+}
+
+fs::path SetCache::modelEntry(std::uint64_t modelChecksum, const Target &table,
+                              std::size_t n) const {
+  const std::string key = ContentHash()
+                              .add("nuld-lobe-bank ")
+                              .add(std::to_string(kSetCacheVersion))
+                              .add(" model ")
+                              .add(std::to_string(modelChecksum))
+                              .add(" table ")
+                              .add(table.contentHash())
+                              .add(" n ")
+                              .add(std::to_string(n))
+                              .hex();
+  return entryFor(setsDir(), "neural_", table, n, key);
+}
+
+std::optional<LobeBank> SetCacheLobeBankStore::load(std::uint64_t model, const Target &table,
+                                                    std::size_t n) const {
+  const fs::path file = SetCache::fromEnvironment().modelEntry(model, table, n);
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec)) return std::nullopt;
+  try {
+    LobeBank bank{readPointSet(file.string()), false};
+    const std::string serves = metaOr(bank.sets, meta::kServes, "");
+    if (bank.sets.n != n || (serves != "yes" && serves != "no")) return std::nullopt;
+    bank.serves = serves == "yes";
+    return bank;
+  } catch (const std::exception &) {
+    return std::nullopt;  // made again, and the entry rewritten
+  }
+}
+
+void SetCacheLobeBankStore::save(std::uint64_t model, const Target &table, std::size_t n,
+                                 const LobeBank &bank) const {
+  try {
+    const fs::path file = SetCache::fromEnvironment().modelEntry(model, table, n);
+    PointSet sets = bank.sets;
+    setMeta(sets, meta::kTarget, table.spec());
+    setMeta(sets, meta::kServes, bank.serves ? "yes" : "no");
+    fs::create_directories(file.parent_path());
+    writePointSet(file.string(), sets);
+  } catch (const std::exception &e) {
+    static std::once_flag once;
+    std::call_once(once, [&] {
+      warning(std::string("the set cache: a neural lobe bank was not saved (") + e.what() +
+              "); it is made again in the next process");
+    });
+  }
 }
 
 fs::path SetCache::findNested(const Target &target, const OptimizerSettings &settings,

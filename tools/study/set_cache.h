@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "renderer/neural_backend.h"
 #include "sampler/optimize/optimizer.h"
 #include "sampler/targets/target.h"
 
@@ -45,6 +46,10 @@ class SetCache {
   // its key if there is one (whatever its readable part), else a new name,
   // readable (target and N) and ending in the key.
   std::filesystem::path entry(const Target &target, const OptimizerSettings &settings) const;
+  // The entry for the bank a neural model (its file's checksum) makes for
+  // a lobe table at N (renderer/neural_backend.h, LobeBankStore).
+  std::filesystem::path modelEntry(std::uint64_t modelChecksum, const Target &table,
+                                   std::size_t n) const;
 
   // What an entry's file says of its sets: its metadata (target, settings)
   // and the file's size and modification time.
@@ -84,6 +89,20 @@ class SetCache {
 
 // The key of an entry (16 hex digits): target content, settings, version.
 std::string setCacheKey(const Target &target, const OptimizerSettings &settings);
+
+// The set cache as the renderer's store of neural lobe banks: each bank an
+// entry (SetCache::modelEntry) with its serving verdict in its metadata, in
+// the cache the environment names when the bank is asked for
+// (SetCache::fromEnvironment), so that NULD_CACHE set later still counts.
+// An entry that cannot be read is made again; one that cannot be written is
+// warned about once and the bank used anyway.
+class SetCacheLobeBankStore final : public LobeBankStore {
+ public:
+  std::optional<LobeBank> load(std::uint64_t model, const Target &table,
+                               std::size_t n) const override;
+  void save(std::uint64_t model, const Target &table, std::size_t n,
+            const LobeBank &bank) const override;
+};
 
 // The listing of entries that nuld cache list and nuld bank print: a header
 // and one line per row, columns padded to their widest cell; `lead` columns
