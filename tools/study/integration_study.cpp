@@ -24,6 +24,7 @@
 #include "sampler/sequences/sequence.h"
 #include "sampler/targets/grid_target.h"
 #include "sampler/targets/target_spec.h"
+#include "tools/study/integrate_estimators.h"
 #include "tools/study/integrate_internal.h"
 #include "tools/study/optimized_sets.h"
 #include "tools/study/ranks.h"
@@ -47,17 +48,6 @@ std::string formatPrecise(double v) {
   std::snprintf(buf, sizeof buf, "%.12g", v);
   return buf;
 }
-
-namespace {
-
-// A loaded neural model and the integrands it serves (with their gamma).
-struct NeuralModel {
-  std::string path, name;
-  std::shared_ptr<const NeuralGenerator> generator;
-  std::map<std::string, std::vector<double>> gammaFor;  // integrand name -> gamma
-};
-
-}  // namespace
 
 const std::vector<std::string> &integrateColumns() {
   static const std::vector<std::string> columns{"integrand",
@@ -118,13 +108,6 @@ NeuralModel loadModel(const SamplerChoice &s, const std::vector<Integrand> &inte
   }
   return m;
 }
-
-// One (integrand, sampler, N) measurement: K estimates and the time per set.
-struct Measurement {
-  std::vector<double> estimates;
-  double genSeconds = 0, setupSeconds = 0;  // per set
-  std::size_t zeroPdf = 0;
-};
 
 // One row to make: an integrand, a sampler and N.
 struct Task {
@@ -206,135 +189,7 @@ class StudyRunner {
   void setTotal(long total) { total_ = total; }
   void advance() { ++done_; }
 
-  Measurement classic(const Integrand &in, const SamplerChoice &s, std::size_t n) const {
-    const SequenceKind kind = s.kind == SamplerChoice::Kind::Independent ? SequenceKind::Random
-                              : s.kind == SamplerChoice::Kind::Halton    ? SequenceKind::Halton
-                                                                         : SequenceKind::Sobol;
-    const SequenceOptions so{kind, Scramble::Owen, seedFor(in, s, n)};
-    Measurement m;
-    std::vector<Point2> u(n), x(n);
-    for (std::size_t k = 0; k < o_.instances; ++k) {
-      const auto start = Clock::now();
-      generateSet(so, std::uint32_t(k), u);
-      if (!s.tabulated && in.lobeContribution) {
-        // sample() makes the direction, f and the pdf in one call, so the
-        // time of such a set covers its whole evaluation.
-        double sum = 0;
-        for (const Point2 &ui : u) {
-          const double v = in.lobeContribution(ui);
-          if (std::isfinite(v))
-            sum += v;
-          else
-            ++m.zeroPdf;
-        }
-        m.genSeconds += secondsSince(start);
-        m.estimates.push_back(sum / double(n));
-        continue;
-      }
-      for (std::size_t i = 0; i < n; ++i) x[i] = in.target->invert(u[i]).x;
-      m.genSeconds += secondsSince(start);
-      m.estimates.push_back(importanceEstimate(in, x, m.zeroPdf));
-    }
-    m.genSeconds /= double(o_.instances);
-    return m;
-  }
-
-  Measurement optimized(const Integrand &in, std::size_t n) {
-    double setupPerSet = 0;
-    const PointSet bank = bankFor(*in.target, n, setupPerSet);
-    Measurement m;
-    m.setupSeconds = setupPerSet;
-    std::vector<Point2> x(n);
-    for (std::size_t k = 0; k < o_.optimizedInstances; ++k) {
-      const auto start = Clock::now();
-      const auto set = bank.instance(k);
-      std::copy(set.begin(), set.end(), x.begin());
-      m.genSeconds += secondsSince(start);
-      m.estimates.push_back(importanceEstimate(in, x, m.zeroPdf));
-    }
-    m.genSeconds /= double(o_.optimizedInstances);
-    return m;
-  }
-
-  // The blue-noise baselines (sampler/bluenoise/blue_noise_sets.h), K sets
-  // from independent starts, each method at its own defaults.
-  Measurement blueNoise(const Integrand &in, const SamplerChoice &s, std::size_t n) const {
-    const std::size_t K = o_.optimizedInstances;
-    BlueNoiseRequest request = parseBlueNoiseName(s.name);
-    request.seed = seedFor(in, s, n);
-    const auto start = Clock::now();
-    const PointSet sets = blueNoiseSets(request, *in.target, n, K);
-    Measurement m;
-    m.genSeconds = secondsSince(start) / double(K);
-    for (std::size_t k = 0; k < K; ++k)
-      m.estimates.push_back(importanceEstimate(in, sets.instance(k), m.zeroPdf));
-    return m;
-  }
-
-  // Sets from files: the integrand's own target's as optimized, one
-  // estimate per instance; shifted or uniform ones, `optimizedInstances`
-  // estimates cycling through the instances, each under its own shift, as
-  // the renderer deals them (SetDealer).
-  Measurement fromFiles(const Integrand &in, const SamplerChoice &s, const SetBank &bank,
-                        std::size_t n) const {
-    return dealt(in, s, bank, dealingOf(bank, s.shifted), n);
-  }
-
-  Measurement neural(const Integrand &in, const SamplerChoice &s, const NeuralModel &model,
-                     std::size_t n) const {
-    const std::size_t K = o_.optimizedInstances;
-    const auto start = Clock::now();
-    const SetBank bank{
-        model.generator->generateSets(K, seedFor(in, s, n), model.gammaFor.at(in.name), n), s.name};
-    const double seconds = secondsSince(start) / double(K);
-    Measurement m = dealt(in, s, bank, s.shifted ? Dealing::Shifted : Dealing::AsOptimized, n);
-    m.genSeconds += seconds;
-    return m;
-  }
-
  private:
-  // The estimates of a bank's sets dealt as the renderer deals them: as
-  // optimized, one per instance, or shifted, `optimizedInstances` of them
-  // cycling through the instances, instance k under the shift
-  // hash3(seed, k, 0).
-  Measurement dealt(const Integrand &in, const SamplerChoice &s, const SetBank &bank,
-                    Dealing dealing, std::size_t n) const {
-    Measurement m;
-    const auto start = Clock::now();
-    const SetDealer dealer = [&] {
-      try {
-        return SetDealer(bank, in.target.get(), dealing);
-      } catch (const std::invalid_argument &e) {
-        throw std::runtime_error("--samplers '" + s.name + "': integrand '" + in.name +
-                                 "': " + e.what());
-      }
-    }();
-    m.genSeconds = secondsSince(start);
-    const std::size_t K = dealer.shifts() ? o_.optimizedInstances : dealer.instances();
-    std::vector<Point2> x(n);
-    for (std::size_t k = 0; k < K; ++k) {
-      const auto dealStart = Clock::now();
-      dealer.deal(k % dealer.instances(), hash3(seedFor(in, s, n), k, 0), x);
-      m.genSeconds += secondsSince(dealStart);
-      m.estimates.push_back(importanceEstimate(in, x, m.zeroPdf));
-    }
-    m.genSeconds /= double(K);
-    return m;
-  }
-
-  // Keyed by the estimator's name before the classic words changed meaning
-  // (then `sobol` was a lobe integrand's table and `sobol-lobes` its BRDF
-  // sample()), so every row keeps the numbers it had.
-  std::uint64_t seedFor(const Integrand &in, const SamplerChoice &s, std::size_t n) const {
-    std::string key = s.name;
-    const bool classic = s.kind == SamplerChoice::Kind::Independent ||
-                         s.kind == SamplerChoice::Kind::Sobol ||
-                         s.kind == SamplerChoice::Kind::Halton;
-    if (classic && s.tabulated) key.resize(key.size() - std::string_view("-tabulated").size());
-    if (classic && !s.tabulated && in.lobeContribution) key += "-lobes";
-    return hash3(o_.seed, hashString(in.name + "|" + key), n);
-  }
-
   OptimizedSetsRequest bankRequest(std::size_t n) const {
     OptimizedSetsRequest request;
     request.n = n;
@@ -401,30 +256,17 @@ class StudyRunner {
     const std::string domain = toString(t.in->domain()), n = std::to_string(t.n);
     const std::string row = t.in->name + " " + t.s->name + " N=" + n;
     RowResult result;
-    Measurement m;
-    std::size_t K = o_.instances;
-    switch (t.s->kind) {
-      case SamplerChoice::Kind::Optimized: {
-        const fs::path file = bankPath(*t.in->target, bankRequest(t.n));
-        m = optimized(*t.in, t.n);
-        if (std::find(madeNow.begin(), madeNow.end(), file) == madeNow.end())
-          result.setsFromCache = o_.optimizedInstances;
-        K = o_.optimizedInstances;
-        break;
-      }
-      case SamplerChoice::Kind::Neural:
-        m = neural(*t.in, *t.s, models.at(t.s->name), t.n);
-        K = o_.optimizedInstances;
-        break;
-      case SamplerChoice::Kind::BlueNoise:
-        m = blueNoise(*t.in, *t.s, t.n);
-        K = o_.optimizedInstances;
-        break;
-      case SamplerChoice::Kind::Bank:
-        m = fromFiles(*t.in, *t.s, *t.bank, t.n);
-        K = m.estimates.size();
-        break;
-      default: m = classic(*t.in, *t.s, t.n);
+    const auto estimator = makeEstimator(
+        o_, *t.s, t.s->kind == SamplerChoice::Kind::Neural ? &models.at(t.s->name) : nullptr,
+        t.bank, [&](const Target &target, std::size_t n, double &secondsPerSet) {
+          return bankFor(target, n, secondsPerSet);
+        });
+    const Measurement m = estimator->measure(*t.in, t.n);
+    const std::size_t K = m.estimates.size();
+    if (t.s->kind == SamplerChoice::Kind::Optimized) {
+      const fs::path file = bankPath(*t.in->target, bankRequest(t.n));
+      if (std::find(madeNow.begin(), madeNow.end(), file) == madeNow.end())
+        result.setsFromCache = o_.optimizedInstances;
     }
     const EstimateStats st = summarize(m.estimates, t.in->reference);
     const std::vector<double> values{t.in->reference, st.mean,       st.bias,    st.biasStderr,
