@@ -70,7 +70,7 @@ Resolution parseResolution(const std::string &text) {
 
 void applyResolution(const CLI::App &app, const std::string &res, double scale,
                      RenderOverrides &change) {
-  onlyWhen(app, res.empty(), {"--res-scale"}, "renders at the scene's own resolution (no --res)");
+  onlyWhen(app, res.empty(), {"--res-scale"}, "renders at a scene's own resolution (no --res)");
   if (!res.empty()) {
     const Resolution r = parseResolution(res);
     change.width = r.width;
