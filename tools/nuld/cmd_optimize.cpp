@@ -123,11 +123,11 @@ constexpr double kMaxMetricPairs = 2e10;
 // Up front, before anything is allocated: a size the machine cannot hold is
 // refused, and so is a run whose first epoch (the widest sigmoid, the
 // slowest) would take over an hour before the progress bar first moves; a
-// first epoch over half a minute is announced. The costs were measured here
-// (tools/experiments/README.md, "Optimizer run estimates"): about 110 bytes
-// of state per point, and about 1.8 ns per box-point pair of an epoch at
-// alpha 20 (the exact objectives: per pair of points), falling roughly as
-// alpha^-1/2 and faster above.
+// first epoch over half a minute is announced. The constants are the
+// measured costs (tools/experiments/README.md, "Optimizer run estimates":
+// state per point, seconds per box-point pair of an epoch at alpha 20, per
+// pair of points for the exact objectives, falling roughly as alpha^-1/2
+// and faster above), rounded up so that the check errs on refusing.
 void checkResources(const OptimizerSettings &s, bool quiet) {
   constexpr double kBytesPerPoint = 160, kSecondsPerPair = 2e-9, kMaxFirstEpochSeconds = 3600;
   const double points = double(s.n) * double(s.instances);
