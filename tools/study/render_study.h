@@ -58,8 +58,8 @@ struct SetSettings {
   // value the lobe banks get.
   int lobeEpochs = 0;
   int lobeBankEpochs() const { return lobeEpochs ? lobeEpochs : epochs ? epochs : kLobeBankEpochs; }
-  // The lobe banks' default, not the sphere preset's 5000 (lobe tables are
-  // on the hemisphere): about the same render error for a twentieth of the
+  // The lobe banks' default, far below the sphere preset's (lobe tables are
+  // on the hemisphere): about the same render error in a small part of the
   // time (tools/experiments/README.md, "Setup, nested sets and reuse").
   static constexpr int kLobeBankEpochs = 250;
   // --opt-union-weight, the lobe banks' bank term (optimizer.h,

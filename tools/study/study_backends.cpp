@@ -142,7 +142,7 @@ BackendPlan planBackend(const StudyBackend &backend, const EnvironmentLight *lig
     // A bank per lobe table the renderer will build for this scene (the same
     // settings give the same specs), optimized for the exact L2asd
     // objective: as good as the sphere preset's soft boxes for these targets
-    // at 1/30 to 1/100 of the time (tools/experiments/lobe_banks_log.md).
+    // in a small part of the time (tools/experiments/lobe_banks_log.md).
     if (!tables || tables->materials() == 0)
       return {std::nullopt, {}, "the scene has no Disney material to optimize lobe sets for"};
     request.objective = Objective::ExactL2asd;
