@@ -22,8 +22,8 @@
 # Usage: tools/experiments/lobe_choice.sh OUT
 #   CHOICES (default "uniform weight albedo"), BACKENDS (default sobol,halton),
 #   SCENES, INTEGRATORS (default "direct path"), SPP (16,64), REFERENCE_SPP,
-#   BASELINE_CHOICE, REPEATS (default 8), FLAGS (more options for every study, e.g.
-#   --lobe-routes table).
+#   BASELINE_CHOICE, REPEATS (default 8), SEED (of the studies, default 9173; the
+#   references keep 9173), FLAGS (more options for every study, e.g. --lobe-routes table).
 source "$(dirname "$0")/common.sh"
 out=${1:?usage: lobe_choice.sh OUT}
 choices=${CHOICES:-"uniform weight albedo"}
@@ -62,7 +62,7 @@ for integrator in $integrators; do
       [[ -f "$dir/$slug/reference.exr" ]] || eval cp "$refs/$slug/$files" "$dir/$slug/"
       NULD_CACHE="$out/$choice/set-cache" "$nuld" study render "$scene" \
         --integrator "$integrator" --res-scale 0.25 --spp "$spp" --repeats "${REPEATS:-8}" \
-        --reference-spp "$reference_spp" --seed 9173 --backends "$backends" \
+        --reference-spp "$reference_spp" --seed "${SEED:-9173}" --backends "$backends" \
         $(flags_of "$choice") ${FLAGS:-} --no-report -q -o "$dir" >/dev/null
     done
   done
