@@ -208,9 +208,8 @@ void LobeTables::measureRoutes(const Entry &e, std::size_t material) {
         ++view;
         const Vec3 wo{flipX * std::sin(theta) * std::cos(phi),
                       flipY * std::sin(theta) * std::sin(phi), std::cos(theta)};
-        std::size_t index = 0;
         const RouteVariances v =
-            measureAt(*e.material, wo, binFrame(e, wo, index), settings_.underMis,
+            measureAt(*e.material, wo, frameIn(e, wo, binIndex(e, wo)), settings_.underMis,
                       hashCombine(material * 1000 + b, std::uint64_t(ft * 6)));
         route.classicVariance += v.classic;
         route.tableVariance += v.table;
@@ -220,24 +219,27 @@ void LobeTables::measureRoutes(const Entry &e, std::size_t material) {
   }
 }
 
-LobeFrame LobeTables::binFrame(const Entry &e, Vec3 wo, std::size_t &index) const {
+std::size_t LobeTables::binIndex(const Entry &e, Vec3 wo) const {
   // The bins by comparisons with their edges' cosines and tangents (wo is a
   // unit vector): no atan2 per shading point.
   int t = 0;
   while (t + 1 < settings_.thetaBins && wo.z <= cosThetaEdges_[t]) ++t;
+  if (!e.anisotropic) return std::size_t(t);
+  const double x = std::abs(wo.x), y = std::abs(wo.y);
+  int p = 0;
+  while (p + 1 < settings_.phiBins && y > x * tanPhiEdges_[p]) ++p;
+  return std::size_t(t) * settings_.phiBins + p;
+}
+
+LobeFrame LobeTables::frameIn(const Entry &e, Vec3 wo, std::size_t index) const {
   LobeFrame f;
   f.defensive = settings_.defensive;
   if (!e.anisotropic) {
-    index = std::size_t(t);
     const double r = std::sqrt(wo.x * wo.x + wo.y * wo.y);
     if (r > 0) f.cosPhi = wo.x / r, f.sinPhi = wo.y / r;
   } else {
     f.flipX = wo.x < 0 ? -1 : 1;
     f.flipY = wo.y < 0 ? -1 : 1;
-    const double x = std::abs(wo.x), y = std::abs(wo.y);
-    int p = 0;
-    while (p + 1 < settings_.phiBins && y > x * tanPhiEdges_[p]) ++p;
-    index = std::size_t(t) * settings_.phiBins + p;
   }
   f.table = e.tables[index].get();
   return f;
@@ -247,11 +249,10 @@ std::optional<LobeFrame> LobeTables::frame(const Bsdf *material, Vec3 wo) const 
   const auto it = std::find_if(entries_.begin(), entries_.end(),
                                [&](const Entry &e) { return e.material == material; });
   if (it == entries_.end() || !(wo.z > 0)) return std::nullopt;
-  std::size_t index = 0;
-  const LobeFrame f = binFrame(*it, wo, index);
-  const LobeBinRoute &route = routes_[it->firstRoute + index];
-  if (!route.table) return std::nullopt;  // the bin keeps the material's sampler
-  return f;
+  const std::size_t index = binIndex(*it, wo);
+  // A bin that keeps the material's sampler needs no frame.
+  if (!routes_[it->firstRoute + index].table) return std::nullopt;
+  return frameIn(*it, wo, index);
 }
 
 std::vector<const Target *> LobeTables::targets() const {

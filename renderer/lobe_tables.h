@@ -196,9 +196,10 @@ class LobeTables {
   };
   // Measures and sets the routes of e's bins (e is material `material`).
   void measureRoutes(const Entry &e, std::size_t material);
-  // The frame of the bin of `e` that wo falls in (its index into `index`),
-  // whatever its route.
-  LobeFrame binFrame(const Entry &e, Vec3 wo, std::size_t &index) const;
+  // The bin of `e` that wo falls in (an index into e.tables), and the frame
+  // of that bin's table at wo, whatever its route.
+  std::size_t binIndex(const Entry &e, Vec3 wo) const;
+  LobeFrame frameIn(const Entry &e, Vec3 wo, std::size_t index) const;
   LobeTableSettings settings_;
   // The inner edges of the theta bins as cosines and of the phi bins as
   // tangents, in increasing angle.
