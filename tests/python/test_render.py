@@ -143,6 +143,17 @@ def test_study_words_render_with_their_sets_and_say_what_they_served(tmp_path, m
     assert np.array_equal(img, again)
 
 
+def test_backend_notes_come_with_the_stats(tmp_path, monkeypatch):
+    # The shipped model's banks pass none of the default scene's tables: the
+    # stats carry the note nuld render prints; sobol has none.
+    monkeypatch.setenv("NULD_CACHE", str(tmp_path / "cache"))
+    _, neural = nuld.render("default", backend="neural", spp=16, resolution=(24, 16),
+                            integrator="direct", stats=True)
+    assert "lobe tables sampled Owen-Sobol through the table" in neural["note"]
+    _, sobol = nuld.render("default", backend="sobol", spp=16, resolution=(24, 16), stats=True)
+    assert "note" not in sobol
+
+
 def test_threads_limit_the_cores_and_change_no_pixel():
     one = nuld.render("default", spp=4, resolution=(16, 12), seed=2, threads=1)
     every = nuld.render("default", spp=4, resolution=(16, 12), seed=2)

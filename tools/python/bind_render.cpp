@@ -152,6 +152,11 @@ void bindRender(py::module_ &m) {
         if (word.sets != study::StudyBackend::Sets::None)
           d["backend"] = word.word, d["sets_made"] = prepared.setsMade,
           d["sets_cached"] = prepared.setsCached;
+        // What `nuld render` prints as notes: lobe bins left without banks,
+        // tables a model's banks did not pass.
+        std::string notes = prepared.note;
+        if (const std::string n = b->note(); !n.empty()) notes += (notes.empty() ? "" : "; ") + n;
+        if (!notes.empty()) d["note"] = notes;
         for (const auto &u : b->pairUse()) {
           if (u.served == 0) continue;  // a pair the backend has no sets for
           d[py::str("served_" + u.pair)] = u.served;
@@ -181,7 +186,8 @@ env_importance='luminance'), as --lobe-choice; env_importance: what weighs the
 environment map's sampling in place of the scene's, as --env-importance;
 resolution_scale, lobe_mix, lobe_routes, lobe_defensive and lobe_bounces as
 --res-scale and the --lobe-* options). With stats=True returns
-(image, dict), the dict with what a learned backend's sets served per pair.)");
+(image, dict), the dict with what a learned backend's sets served per pair and,
+under 'note', what nuld render prints as notes.)");
 
   m.def(
       "compare",
