@@ -1,7 +1,7 @@
-// The render study on tiny configurations of the built-in default scene: the
-// reference resumes bit-identically, MSE falls with spp for every backend,
-// the CSV has its columns and units, reruns resume, and the report links
-// only files that exist.
+// The render study on tiny configurations of the built-in default scene:
+// MSE falls with spp for every backend, the CSV has its columns and units,
+// reruns resume, and the report links only files that exist (its references:
+// reference_render_test.cpp; its optimized sets: optimized_sets_test.cpp).
 
 #include "tools/study/render_study.h"
 
@@ -22,7 +22,6 @@
 #include "sampler/io/pointset_io.h"
 #include "sampler/targets/target_spec.h"
 #include "scenes/scene_file.h"
-#include "tests/common/chi_square.h"
 #include "tests/common/temp_dir.h"
 #include "tools/study/csv_table.h"
 #include "tools/study/equal_time.h"
@@ -367,138 +366,6 @@ TEST_F(TinyStudy, ReportLinksOnlyFilesThatExist) {
   EXPECT_EQ(html.find(fs::absolute(*dir_).string()), std::string::npos) << "an absolute path";
 }
 
-std::string readText(const fs::path &path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-TEST(ReferenceRender, ResumedEqualsUninterruptedBitForBit) {
-  TempDir tmp;
-  const LoadedScene scene = loadScene("default", resolveAssetRoot(""));
-  ReferenceSettings s;
-  s.spp = 12, s.passSpp = 4, s.backend = "halton";
-  s.render.width = 12, s.render.height = 8;
-  s.render.integrator = IntegratorKind::Path;
-  const ReferenceResult whole = renderReference(scene.scene, "default", s, tmp / "whole");
-  ASSERT_TRUE(whole.complete);
-  EXPECT_EQ(whole.passesRun, 4u) << "12 spp: two pairs of passes of 4";
-  EXPECT_EQ(s.totalSpp(), 16u);
-  EXPECT_GT(whole.noise.variance, 0);
-  // The reference is the mean of its halves.
-  const Image h0 = readImage((tmp / "whole" / "reference.half0.exr").string()),
-              h1 = readImage((tmp / "whole" / "reference.half1.exr").string());
-  for (std::size_t i = 0; i < whole.image.pixels.size(); ++i)
-    ASSERT_NEAR(whole.image.pixels[i], 0.5f * (h0.pixels[i] + h1.pixels[i]),
-                1e-6f * (1 + whole.image.pixels[i]));
-
-  const ReferenceResult first = renderReference(scene.scene, "default", s, tmp / "split", {}, 1);
-  EXPECT_FALSE(first.complete);
-  EXPECT_EQ(first.passesRun, 1u);
-  EXPECT_FALSE(fs::exists(tmp / "split" / "reference.exr"));
-  // A job killed after saving a round's sums but before its state: the
-  // state lags by a pass, and the resume must not add that pass twice.
-  const std::string lagging = readText(tmp / "split" / "reference.state");
-  renderReference(scene.scene, "default", s, tmp / "split", {}, 1);
-  std::ofstream(tmp / "split" / "reference.state") << lagging;
-  const ReferenceResult rest = renderReference(scene.scene, "default", s, tmp / "split");
-  ASSERT_TRUE(rest.complete);
-  EXPECT_EQ(rest.passesRun, 2u);
-  EXPECT_EQ(rest.image.pixels, whole.image.pixels);
-  EXPECT_EQ(rest.noise.variance, whole.noise.variance);
-  EXPECT_EQ(readImage((tmp / "split" / "reference.half1.exr").string()).pixels, h1.pixels);
-  EXPECT_EQ(readImage((tmp / "split" / "reference.exr").string()).pixels, whole.image.pixels);
-
-  // Complete: read back, nothing rendered.
-  const ReferenceResult again = renderReference(scene.scene, "default", s, tmp / "split");
-  EXPECT_EQ(again.passesRun, 0u);
-  EXPECT_EQ(again.image.pixels, whole.image.pixels);
-  EXPECT_EQ(again.noise.variance, whole.noise.variance);
-}
-
-// A reference made before the halves (its state's description has none) is
-// refused with the reason, complete or in progress, and left as it was.
-TEST(ReferenceRender, OldReferenceWithoutHalvesIsRefusedNotReused) {
-  TempDir tmp;
-  const LoadedScene scene = loadScene("default", resolveAssetRoot(""));
-  ReferenceSettings s;
-  s.spp = 8, s.passSpp = 4;
-  s.render.width = 8, s.render.height = 8;
-  for (const bool complete : {true, false}) {
-    const fs::path dir = tmp / (complete ? "complete" : "partial");
-    renderReference(scene.scene, "default", s, dir, {}, complete ? 0 : 1);
-    // What an older nuld left: one sum or image, a state without halves.
-    std::string description = s.describe("default");
-    description.erase(description.find(" halves="));
-    std::ofstream(dir / "reference.state")
-        << "description=" << description << "\npasses_done=" << (complete ? 2 : 1)
-        << "\nseconds=1\n";
-    for (const char *half : {"reference.half0.exr", "reference.half1.exr"}) fs::remove(dir / half);
-    const auto before = fs::last_write_time(dir / "reference.state");
-    try {
-      renderReference(scene.scene, "default", s, dir);
-      ADD_FAILURE() << "an old reference was reused";
-    } catch (const std::runtime_error &e) {
-      EXPECT_NE(std::string(e.what()).find("without two independent halves"), std::string::npos)
-          << e.what();
-      EXPECT_NE(std::string(e.what()).find("reference.state"), std::string::npos) << e.what();
-    }
-    EXPECT_EQ(fs::last_write_time(dir / "reference.state"), before);
-    EXPECT_FALSE(fs::exists(dir / "reference.half0.exr"));
-  }
-}
-
-TEST(ReferenceRender, OtherSettingsAreRefusedNamingTheStateFile) {
-  TempDir tmp;
-  const LoadedScene scene = loadScene("default", resolveAssetRoot(""));
-  ReferenceSettings s;
-  s.spp = 4, s.passSpp = 4;
-  s.render.width = 8, s.render.height = 8;
-  renderReference(scene.scene, "default", s, tmp.path());
-  s.backend = "sobol";
-  try {
-    renderReference(scene.scene, "default", s, tmp.path());
-    FAIL() << "a reference of other settings was reused";
-  } catch (const std::runtime_error &e) {
-    EXPECT_NE(std::string(e.what()).find("reference.state"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("backend=sobol"), std::string::npos) << e.what();
-  }
-}
-
-// What a reference remembers of its scene: a built-in scene's name; a scene
-// file's slug and the hash of its text, so an edited file gets a new
-// identity (and its old references are refused); and the renderer's revision.
-TEST(ReferenceRender, RemembersTheSceneTextAndTheRendererRevision) {
-  EXPECT_EQ(sceneIdentity("default"), "default");
-  TempDir tmp;
-  const fs::path file = tmp / "box.json";
-  std::ofstream(file) << "{\"a\": 1}";
-  const std::string before = sceneIdentity(file.string());
-  EXPECT_EQ(before.rfind("box scene_hash=", 0), 0u) << before;
-  std::ofstream(file) << "{\"a\": 2}";
-  EXPECT_NE(sceneIdentity(file.string()), before);
-  EXPECT_THROW(sceneIdentity((tmp / "missing.json").string()), std::runtime_error);
-  EXPECT_NE(
-      ReferenceSettings{}.describe("x").find(" renderer=" + std::to_string(kRendererRevision)),
-      std::string::npos);
-}
-
-TEST(OptimizedSets, CachedFileOfOtherSettingsIsRefused) {
-  TempDir tmp;
-  const auto target = makeTarget("uniform");
-  OptimizedSetsRequest r;
-  r.n = 8, r.instances = 2, r.epochs = 5;
-  const OptimizedSets made = optimizedSets(*target, r, tmp / "u.ptsb");
-  EXPECT_FALSE(made.cached);
-  EXPECT_GT(made.seconds, 0);
-  const OptimizedSets reused = optimizedSets(*target, r, tmp / "u.ptsb");
-  EXPECT_TRUE(reused.cached);
-  EXPECT_DOUBLE_EQ(reused.seconds, std::stod(std::to_string(made.seconds)));
-  r.epochs = 6;
-  EXPECT_THROW(optimizedSets(*target, r, tmp / "u.ptsb"), std::runtime_error);
-}
-
 TEST(RenderStudy, BadInputGetsAClearError) {
   TempDir tmp;
   RenderStudySettings s = tinyStudy(tmp.path());
@@ -580,55 +447,6 @@ TEST(RenderStudy, StressSceneHasNoNonFiniteValueAnywhere) {
     const Image ref = readImage((tmp / "stress" / "reference.exr").string());
     for (float v : ref.pixels) ASSERT_TRUE(std::isfinite(v) && v >= 0);
   }
-}
-
-// Chi-square of all a bank's points in 16 x 8 boxes of the upper hemisphere
-// against the table's exact box masses. Optimized sets are more even than
-// independent points, so a wrong density, not chance, is what fails it.
-double bankChiSquarePValue(const std::string &spec, std::size_t n, std::size_t instances,
-                           double unionWeight) {
-  const auto target = makeTarget(spec);
-  TempDir tmp;
-  OptimizedSetsRequest request;
-  request.n = n;
-  request.instances = instances;
-  request.epochs = 1000;
-  request.objective = Objective::ExactL2asd;
-  request.unionWeight = unionWeight;
-  const OptimizedSets made = optimizedSets(*target, request, tmp / "bank.ptsb");
-  const PointSet bank = readPointSet(made.file.string());
-  EXPECT_EQ(bank.points.size(), n * instances);
-  constexpr int kX = 16, kY = 8;
-  std::vector<double> observed(kX * kY, 0), expected(kX * kY, 0);
-  for (const Point2 &p : bank.points) {
-    EXPECT_LE(p.y, 0.5) << "a point below the surface";
-    observed[std::min(kY - 1, int(p.y * 2 * kY)) * kX + std::min(kX - 1, int(p.x * kX))] += 1;
-  }
-  for (int j = 0; j < kY; ++j)
-    for (int i = 0; i < kX; ++i)
-      expected[j * kX + i] =
-          target->mass({{double(i) / kX, 0.5 * j / kY}, {double(i + 1) / kX, 0.5 * (j + 1) / kY}}) *
-          double(bank.points.size());
-  return test::pooledChiSquare(observed, expected).pValue;
-}
-
-// The lobe banks of optimized-bsdf follow their table: the supplement's
-// instance at three view angles (16 sets of 64, as the study makes them;
-// the same points against the lobe 40 degrees away fail: p < 1e-6), and a
-// glossy metal at roughness 0.3 (64 sets of 16) with the study's bank term.
-// Without the term the glossy bank's instances converge to nearly one set
-// and their union misses the table (tools/experiments/lobe_banks_log.md §4):
-// asserted too, since it is why the term is on.
-TEST(OptimizedSets, LobeBanksFollowTheirTable) {
-  registerMaterialTargets();
-  const double level = test::sidakLevel(0.01, 4);
-  for (const int theta : {20, 45, 70}) {
-    const std::string spec = "disney:theta=" + std::to_string(theta) + ",res=64";
-    EXPECT_GT(bankChiSquarePValue(spec, 64, 16, SetSettings{}.lobeUnionWeight), level) << spec;
-  }
-  const std::string glossy = "disney:metallic=1,roughness=0.3,theta=45,res=64";
-  EXPECT_GT(bankChiSquarePValue(glossy, 16, 64, SetSettings{}.lobeUnionWeight), level);
-  EXPECT_LT(bankChiSquarePValue(glossy, 16, 64, 0.0), 1e-4);
 }
 
 TEST(RenderStudy, SlugsAreFileNameSafe) {
