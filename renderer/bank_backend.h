@@ -85,7 +85,6 @@ class SetDealer {
   // it does not have.
   SetDealer(const SetBank &bank, const Target *target, Dealing dealing);
 
-  const SetBank &bank() const { return *bank_; }
   std::size_t instances() const { return bank_->sets.instances(); }
   bool shifts() const { return dealing_ != Dealing::AsOptimized; }
   // Instance k's first out.size() points, shifted by `shift` when the

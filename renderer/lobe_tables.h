@@ -80,9 +80,8 @@ struct LobeTableSettings {
   // f cos / p is at most 1 / d times the material's own at that direction.
   // Off by default: the measured routes already keep the material's sampler
   // wherever a table misses its lobe, and the strip of the square that the
-  // split hands to the material breaks the set's stratification, which cost
-  // the dragon's tables most of their gain at 64 spp (renderer/README.md,
-  // "Lobe routes").
+  // split hands to the material breaks the set's stratification (the
+  // figures: renderer/README.md, "Lobe routes").
   double defensive = 0;
   // How many bounces, from the first, sample the tables (0: every bounce).
   // Beyond the first, a pixel's samples scatter over materials and bins, so

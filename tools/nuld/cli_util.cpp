@@ -188,26 +188,21 @@ std::string targetOptionHelp(const std::string &what) {
 }
 
 void addLobeChoiceOption(CLI::App &app, LobeChoice &choice) {
-  app.add_option_function<std::string>(
-         "--lobe-choice", [&choice](const std::string &v) { choice = kLobeChoiceNames.parse(v); },
-         "how Disney materials pick the lobe they sample, at every bounce and in references: "
-         "albedo (by each lobe's reflectance estimated at the view, as Cycles; the default), "
-         "weight (by Mitsuba 3's static weights) or uniform (each lobe alike: the paper's "
-         "configuration, with --env-importance luminance)")
-      ->check(oneOf(kLobeChoiceNames));
+  addNamedOption(app, "--lobe-choice", choice, kLobeChoiceNames,
+                 "how Disney materials pick the lobe they sample, at every bounce and in "
+                 "references: albedo (by each lobe's reflectance estimated at the view, as "
+                 "Cycles; the default), weight (by Mitsuba 3's static weights) or uniform (each "
+                 "lobe alike: the paper's configuration, with --env-importance luminance)");
 }
 
 void addSceneChoiceOptions(CLI::App &app, SceneChoices &choices) {
   addLobeChoiceOption(app, choices.lobes);
-  app.add_option_function<std::string>(
-         "--env-importance",
-         [&choices](const std::string &v) { choices.importance = kImportanceNames.parse(v); },
-         "what weighs the environment map's sampling density, in place of the scene's: "
-         "luminance (the paper's), mean (of the channels), or either less the map's mean "
-         "over the sphere, luminance-compensated (the default of scenes that name none) or "
-         "mean-compensated; the light integrator samples a compensated map without its "
-         "compensation")
-      ->check(oneOf(kImportanceNames));
+  addNamedOption(app, "--env-importance", choices.importance, kImportanceNames,
+                 "what weighs the environment map's sampling density, in place of the scene's: "
+                 "luminance (the paper's), mean (of the channels), or either less the map's "
+                 "mean over the sphere, luminance-compensated (the default of scenes that name "
+                 "none) or mean-compensated; the light integrator samples a compensated map "
+                 "without its compensation");
 }
 
 void addLobeOptions(CLI::App &app, RenderOverrides &change) {
@@ -216,12 +211,10 @@ void addLobeOptions(CLI::App &app, RenderOverrides &change) {
                  "cos, 1 the material's own sampling pdf, between a mixture (default: 0 for "
                  "--integrator bsdf, 1 under MIS)")
       ->check(numberIn(0, 1));
-  app.add_option_function<std::string>(
-         "--lobe-routes",
-         [&change](const std::string &word) { change.lobeRouting = kLobeRoutingNames.parse(word); },
-         "how each view bin samples its lobe: measured (the material's own sampler or the bin's "
-         "table, whichever measures best; the default) or table (every bin its table)")
-      ->check(oneOf(kLobeRoutingNames));
+  addNamedOption(app, "--lobe-routes", change.lobeRouting, kLobeRoutingNames,
+                 "how each view bin samples its lobe: measured (the material's own sampler or "
+                 "the bin's table, whichever measures best; the default) or table (every bin its "
+                 "table)");
   app.add_option("--lobe-defensive", change.lobeDefensive,
                  "share of tabulated samples drawn by the material's own sampler; weights are "
                  "then at most 1/share times the material's (default 0: the measured routes guard "

@@ -81,6 +81,18 @@ CLI::Validator oneOf(const EnumTable<E, N> &names) {
   return check;
 }
 
+// An option that names a value of `names`, parsed once, when given, into
+// `value` (an E, or an optional<E> left unset when the option is not given),
+// with oneOf's check and help.
+template <class E, std::size_t N, class Value>
+CLI::Option *addNamedOption(CLI::App &app, const std::string &name, Value &value,
+                            const EnumTable<E, N> &names, const std::string &help) {
+  return app
+      .add_option_function<std::string>(
+          name, [&value, &names](const std::string &word) { value = names.parse(word); }, help)
+      ->check(oneOf(names));
+}
+
 // The grammar checks of options that several commands share: a target spec's
 // family (checkTargetFamily), a renderer backend word (parseBackend) and
 // any word of `nuld render --backend` (the study's words included).
