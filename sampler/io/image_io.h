@@ -1,5 +1,5 @@
 #pragma once
-// Image files through OpenImageIO, kept to one translation unit. Reading
+// Image files (through OpenImageIO, in a plugin: image_codec.h). Reading
 // validates the pixels; writing goes through a temporary file and a rename,
 // so a reader never sees a half-written image.
 

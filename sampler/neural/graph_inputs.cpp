@@ -1,4 +1,4 @@
-// The graph generator's per-point and per-edge inputs (NeuralGenerator::Net::graphInputs).
+// The graph generator's per-point and per-edge inputs (TorchNet::graphInputs).
 
 #include <algorithm>
 #include <cmath>
@@ -69,7 +69,7 @@ void writeEdges(Point2 *pe, std::span<const Point2> u, std::span<const Point2> x
 
 }  // namespace
 
-std::pair<torch::Tensor, torch::Tensor> NeuralGenerator::Net::graphInputs(
+std::pair<torch::Tensor, torch::Tensor> TorchNet::graphInputs(
     const NeuralGenerator &gen, std::span<const double> gamma, const torch::Tensor &points,
     const std::vector<TorusGraph> &graphs, std::span<const Target *const> members,
     std::span<const NonuniformL2asd *const> objectives) const {

@@ -1,6 +1,7 @@
 #pragma once
 // The network behind a NeuralGenerator, whichever its architecture. LibTorch
-// internals: only the neural translation units and tests include this.
+// internals: only the plugin's translation units (sampler/neural/
+// neural_runtime.h) and the neural tests include this.
 
 #include <torch/torch.h>
 
@@ -15,11 +16,12 @@
 #include "sampler/neural/fourier_mlp.h"
 #include "sampler/neural/graph_net.h"
 #include "sampler/neural/neural_generator.h"
+#include "sampler/neural/neural_trainer.h"
 #include "sampler/neural/torus_graph.h"
 
 namespace nuld {
 
-struct NeuralGenerator::Net {
+struct TorchNet final : NeuralNet {
   FourierMlp mlp{nullptr};  // NetworkArch::Supplement
   GraphNet graph{nullptr};  // NetworkArch::Graph
   // Graph only: the rotated base set's neighbour graph at the model's n (the
@@ -44,6 +46,14 @@ struct NeuralGenerator::Net {
                         std::span<const double> gamma, const torch::Tensor &base,
                         std::span<const Target *const> members);
 
+  // NeuralNet
+  std::size_t parameterCount() const override;
+  std::vector<ModelTensor> tensors() const override;
+  void loadWeights(const ModelFile &file, const std::string &path) override;
+  void rawPoints(const NeuralGenerator &gen, std::span<const Point2> z,
+                 std::span<const double> gamma, std::size_t n,
+                 std::span<const Target *const> members, std::span<Point2> out) const override;
+
   // Supplement only: the network's outputs for input rows v (no autograd):
   // the same values as mlp->forward(v) up to single-precision summation order.
   torch::Tensor residuals(const torch::Tensor &v) const;
@@ -62,9 +72,22 @@ struct NeuralGenerator::Net {
       std::span<const NonuniformL2asd *const> objectives) const;
 };
 
-// What the neural translation units share (neural_generator.cpp: the
-// network and generation; graph_inputs.cpp: the graph generator's inputs;
-// neural_generator_file.cpp: the model file).
+// The untrained network `gen` describes (its settings and family set);
+// `base` is its rotated base set at offset 0.
+std::unique_ptr<TorchNet> makeTorchNet(const NeuralGenerator &gen, std::span<const Point2> base);
+// The trainer of neural_trainer.cpp.
+std::unique_ptr<NeuralTrainer> makeTorchTrainer(NeuralGenerator &generator,
+                                                const TrainerSettings &settings);
+
+// The LibTorch network of a generator (every generator's in a process
+// that has the plugin's code).
+inline TorchNet &torchNet(NeuralGenerator &gen) { return static_cast<TorchNet &>(gen.net()); }
+inline const TorchNet &torchNet(const NeuralGenerator &gen) {
+  return static_cast<const TorchNet &>(gen.net());
+}
+
+// What the plugin's translation units share (torch_net.cpp: the network
+// and its residuals; graph_inputs.cpp: the graph generator's inputs).
 
 // The graph generator's input widths: per point the torus harmonics of u,
 // the placed point x, three Jacobian features, log N, and gamma raw and

@@ -14,8 +14,9 @@
 // shared by all points, from the point's position and its neighbours in the
 // base set.
 //
-// This header does not include LibTorch; the networks live behind `Net`
-// (sampler/neural/network.h), which only the neural translation units see.
+// This header does not include LibTorch; the networks live behind
+// `NeuralNet`, which the LibTorch plugin implements (sampler/neural/
+// neural_runtime.h: a process that makes no neural sets never loads LibTorch).
 
 #include <cstdint>
 #include <map>
@@ -142,6 +143,27 @@ struct NeuralSettings {
 // is zero or not finite moves x nowhere useful and gets 0.
 Point2 balancedPullback(Point2 pulled, const Jacobian2 &j);
 
+class NeuralGenerator;
+
+// A generator's network, whichever its architecture: what the generator
+// needs of it, implemented by the LibTorch plugin (sampler/neural/network.h).
+class NeuralNet {
+ public:
+  virtual ~NeuralNet() = default;
+  virtual std::size_t parameterCount() const = 0;
+  // Buffers then parameters, as float32 (the model file's tensors).
+  virtual std::vector<ModelTensor> tensors() const = 0;
+  // Copies the weights of `file` (read from `path`), checking each tensor's
+  // shape; throws std::runtime_error naming the file and the tensor.
+  virtual void loadWeights(const ModelFile &file, const std::string &path) = 0;
+  // The raw points of K = z.size() sets of n points (base set plus
+  // residuals, before NeuralGenerator::place), without autograd. `members`
+  // holds each set's target.
+  virtual void rawPoints(const NeuralGenerator &gen, std::span<const Point2> z,
+                         std::span<const double> gamma, std::size_t n,
+                         std::span<const Target *const> members, std::span<Point2> out) const = 0;
+};
+
 class NeuralGenerator {
  public:
   explicit NeuralGenerator(const NeuralSettings &settings);  // untrained
@@ -214,15 +236,16 @@ class NeuralGenerator {
   PointSet generateSets(std::size_t instances, std::uint64_t seed, std::span<const double> gamma,
                         std::size_t n = 0, const Target *member = nullptr) const;
 
-  struct Net;  // LibTorch internals
-  Net &net() { return *net_; }
-  const Net &net() const { return *net_; }
+  NeuralNet &net() { return *net_; }
+  const NeuralNet &net() const { return *net_; }
+  // The first n Sobol points: the rotated base set at offset 0.
+  std::span<const Point2> sobolBase() const { return sobol_; }
 
  private:
   NeuralSettings settings_;
   std::unique_ptr<const TargetFamily> family_;
   std::vector<Point2> sobol_;  // the first n Sobol points (the rotated base)
-  std::unique_ptr<Net> net_;
+  std::unique_ptr<NeuralNet> net_;
   std::uint64_t fileChecksum_ = 0;
 };
 

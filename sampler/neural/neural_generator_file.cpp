@@ -7,7 +7,7 @@
 #include "sampler/io/round_trip.h"
 #include "sampler/neural/model_file.h"
 #include "sampler/neural/model_metadata.h"
-#include "sampler/neural/network.h"
+#include "sampler/neural/neural_generator.h"
 
 namespace nuld {
 namespace {
@@ -56,14 +56,7 @@ ModelFile NeuralGenerator::toModelFile(const std::map<std::string, std::string> 
   ModelFile file;
   file.metadata = extra;
   for (const auto &[k, v] : metadata()) file.metadata[k] = v;
-  auto add = [&](const std::string &name, const torch::Tensor &t) {
-    const torch::Tensor f = t.detach().to(torch::kFloat32).contiguous();
-    file.tensors.push_back(
-        {name, std::vector<std::int64_t>(f.sizes().begin(), f.sizes().end()),
-         std::vector<float>(f.data_ptr<float>(), f.data_ptr<float>() + f.numel())});
-  };
-  for (const auto &item : net_->module().named_buffers()) add(item.key(), item.value());
-  for (const auto &item : net_->module().named_parameters()) add(item.key(), item.value());
+  file.tensors = net_->tensors();
   return file;
 }
 
@@ -73,16 +66,7 @@ void NeuralGenerator::save(const std::string &path,
 }
 
 void NeuralGenerator::loadWeights(const ModelFile &file, const std::string &path) {
-  torch::NoGradGuard noGrad;
-  auto fill = [&](const std::string &name, torch::Tensor &t) {
-    const ModelTensor &mt = file.tensor(name, path);
-    if (std::vector<std::int64_t>(t.sizes().begin(), t.sizes().end()) != mt.shape)
-      throw std::runtime_error(path + ": tensor '" + name +
-                               "' has the wrong shape for the network its metadata describes");
-    t.copy_(torch::from_blob(const_cast<float *>(mt.data.data()), t.sizes(), torch::kFloat32));
-  };
-  for (auto &item : net_->module().named_buffers()) fill(item.key(), item.value());
-  for (auto &item : net_->module().named_parameters()) fill(item.key(), item.value());
+  net_->loadWeights(file, path);
 }
 
 NeuralGenerator NeuralGenerator::load(const std::string &path) {

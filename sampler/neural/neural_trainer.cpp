@@ -81,38 +81,49 @@ struct SoftBoxLossFunction : torch::autograd::Function<SoftBoxLossFunction> {
 
 }  // namespace
 
-struct NeuralTrainer::State {
-  std::unique_ptr<torch::optim::Adam> adam;
+// The trainer the plugin makes (NeuralTrainer::make).
+class TorchTrainer final : public NeuralTrainer {
+ public:
+  TorchTrainer(NeuralGenerator &generator, TrainerSettings settings);
+
+  const TrainerSettings &settings() const override { return settings_; }
+  int step() const override { return step_; }
+  void run(int untilStep, const std::function<void(const TrainReport &)> &progress) override;
+  double evaluate(int step) override;
+  double lossAndGradient(int step) override;
+  Validation validate() override;
+  const std::vector<Validation> &history() const override { return history_; }
+  void batchInputs(int step, std::vector<Point2> &z, std::vector<double> &gamma) const override;
+  void validationInputs(std::vector<Point2> &z, std::vector<double> &gamma) const override;
+  std::size_t sizeAt(int step) const override;
+  std::optional<Validation> best() const override;
+  void saveCheckpoint(const std::string &path) const override;
+  void loadCheckpoint(const std::string &path) override;
+  ResumableRun resumableRun(const std::string &model,
+                            std::function<void(const TrainReport &)> progress) override;
+  Validation validateAndRecord(const std::string &model) override;
+  bool writeModel(const std::string &model, bool keepBest) override;
+
+ private:
+  enum class Mode { Evaluate, Gradient, Train };
+  double stepLoss(int step, Mode mode);
+  std::string formatLosses() const;  // "count sum" of losses since validation
+  // The metadata a written model carries: settings, steps, its held-out L2.
+  std::map<std::string, std::string> modelMetadata(int step, const Validation *scored) const;
+
+  NeuralGenerator &gen_;
+  TorchNet &net_;
+  TrainerSettings settings_;
+  std::unique_ptr<torch::optim::Adam> adam_;
+  int step_ = 0;
+  double mlpSeconds_ = 0, lossSeconds_ = 0;
+  double lossSum_ = 0;  // training losses since the last validation
+  int lossCount_ = 0;
+  std::vector<Validation> history_;
 };
 
-std::string TrainerSettings::describe() const {
-  const auto r = [](double v) { return formatRoundTrip(v); };
-  std::ostringstream s;
-  s << "steps=" << steps << " batch=" << batch << " boxes=" << boxes
-    << " box_kind=" << toString(boxKind) << " lr=" << r(lrStart) << " lr_end=" << r(lrEnd)
-    << " alpha=" << r(alphaStart) << " alpha_end=" << r(alphaEnd) << " ramp=" << r(rampFraction)
-    << " cutoff=" << r(cutoff) << " pullback=" << toString(pullback) << " seed=" << seed
-    << " validation=" << validationSets << " validation_grid=" << validationGrid;
-  if (shiftedSets) s << " shifted=1";  // only when on: older checkpoints keep their line
-  return s.str();
-}
-
-void TrainerSettings::validate() const {
-  auto bad = [](const std::string &what) { throw std::invalid_argument("train: " + what); };
-  if (steps < 1) bad("steps must be positive");
-  if (batch < 1) bad("batch must be positive");
-  if (boxes < 1) bad("boxes must be positive");
-  const auto positive = [](double v) { return v > 0 && std::isfinite(v); };
-  if (!(positive(lrStart) && positive(lrEnd))) bad("learning rates must be finite and positive");
-  if (!(positive(alphaStart) && positive(alphaEnd))) bad("alpha must be finite and positive");
-  // Beyond this the sigmoid is a hard box edge: no gradient reaches a point.
-  if (alphaStart > 1e7 || alphaEnd > 1e7) bad("alpha must be at most 1e7");
-  if (!(rampFraction >= 0 && rampFraction <= 1)) bad("ramp must be in [0, 1]");
-  if (validationGrid < 8) bad("validation grid must be at least 8");
-}
-
-NeuralTrainer::NeuralTrainer(NeuralGenerator &generator, TrainerSettings settings)
-    : gen_(generator), settings_(std::move(settings)), state_(std::make_unique<State>()) {
+TorchTrainer::TorchTrainer(NeuralGenerator &generator, TrainerSettings settings)
+    : gen_(generator), net_(torchNet(generator)), settings_(std::move(settings)) {
   settings_.validate();
   if (settings_.shiftedSets) {
     // Any gamma makes a target of the family's kind; the shift needs its CDF map.
@@ -127,14 +138,12 @@ NeuralTrainer::NeuralTrainer(NeuralGenerator &generator, TrainerSettings setting
     throw std::invalid_argument("train: " + std::to_string(sizes) +
                                 " training sizes need at least as many validation sets, not " +
                                 std::to_string(settings_.validationSets));
-  state_->adam = std::make_unique<torch::optim::Adam>(
-      gen_.net().module().parameters(),
+  adam_ = std::make_unique<torch::optim::Adam>(
+      net_.module().parameters(),
       torch::optim::AdamOptions(settings_.lrStart).betas({0.9, 0.999}).eps(1e-8).weight_decay(0));
 }
 
-NeuralTrainer::~NeuralTrainer() = default;
-
-double NeuralTrainer::stepLoss(int step, Mode mode) {
+double TorchTrainer::stepLoss(int step, Mode mode) {
   const TrainerSettings &s = settings_;
   const std::size_t g = gen_.gammaDimension(), B = s.batch;
   Batch batch;
@@ -162,7 +171,7 @@ double NeuralTrainer::stepLoss(int step, Mode mode) {
   const torch::Tensor base = baseSets(gen_, batch.z, sizeAt(step));
   std::vector<const Target *> members(B);
   for (std::size_t b = 0; b < B; ++b) members[b] = batch.targets[b].get();
-  const torch::Tensor residual = gen_.net().forward(gen_, batch.z, batch.gamma, base, members);
+  const torch::Tensor residual = net_.forward(gen_, batch.z, batch.gamma, base, members);
   torch::Tensor points = base.to(residual.scalar_type()) + residual;
   if (s.shiftedSets) {
     // One offset per set, keyed by (seed, step, set); the loss wraps u.
@@ -177,28 +186,28 @@ double NeuralTrainer::stepLoss(int step, Mode mode) {
   }
   torch::Tensor loss = SoftBoxLossFunction::apply(points, &batch);
   if (mode != Mode::Evaluate) {
-    state_->adam->zero_grad();
+    adam_->zero_grad();
     loss.backward();
   }
   if (mode == Mode::Train) {
     const double lr = logLinear(s.lrStart, s.lrEnd, step, s.steps);
-    for (auto &group : state_->adam->param_groups())
+    for (auto &group : adam_->param_groups())
       static_cast<torch::optim::AdamOptions &>(group.options()).lr(lr);
-    state_->adam->step();
+    adam_->step();
   }
   // Network time is the step's time minus what the kernel took inside it.
   mlpSeconds_ += secondsSince(netStart) - (lossSeconds_ - kernelBefore);
   return loss.item<double>();
 }
 
-double NeuralTrainer::evaluate(int step) {
+double TorchTrainer::evaluate(int step) {
   torch::NoGradGuard noGrad;
   return stepLoss(step, Mode::Evaluate);
 }
 
-double NeuralTrainer::lossAndGradient(int step) { return stepLoss(step, Mode::Gradient); }
+double TorchTrainer::lossAndGradient(int step) { return stepLoss(step, Mode::Gradient); }
 
-void NeuralTrainer::run(int untilStep, const std::function<void(const TrainReport &)> &progress) {
+void TorchTrainer::run(int untilStep, const std::function<void(const TrainReport &)> &progress) {
   const TrainerSettings &s = settings_;
   untilStep = std::min(untilStep, s.steps);
   for (; step_ < untilStep; ++step_) {
@@ -217,12 +226,12 @@ void NeuralTrainer::run(int untilStep, const std::function<void(const TrainRepor
   }
 }
 
-std::size_t NeuralTrainer::sizeAt(int step) const {
+std::size_t TorchTrainer::sizeAt(int step) const {
   const std::vector<std::size_t> sizes = gen_.settings().sizesTrained();
   return sizes[std::size_t(step) % sizes.size()];
 }
 
-Validation NeuralTrainer::validate() {
+Validation TorchTrainer::validate() {
   const TrainerSettings &s = settings_;
   if (s.validationSets == 0) throw std::logic_error("train: validation is turned off");
   const std::size_t K = s.validationSets, g = gen_.gammaDimension();
@@ -273,8 +282,7 @@ Validation NeuralTrainer::validate() {
   return v;
 }
 
-void NeuralTrainer::batchInputs(int step, std::vector<Point2> &z,
-                                std::vector<double> &gamma) const {
+void TorchTrainer::batchInputs(int step, std::vector<Point2> &z, std::vector<double> &gamma) const {
   const std::size_t B = settings_.batch, g = gen_.gammaDimension();
   Rng rng(settings_.seed, hashCombine(0x7EA1, std::uint64_t(step)));
   z.resize(B);
@@ -285,7 +293,7 @@ void NeuralTrainer::batchInputs(int step, std::vector<Point2> &z,
   }
 }
 
-void NeuralTrainer::validationInputs(std::vector<Point2> &z, std::vector<double> &gamma) const {
+void TorchTrainer::validationInputs(std::vector<Point2> &z, std::vector<double> &gamma) const {
   const std::size_t K = settings_.validationSets, g = gen_.gammaDimension();
   // A stream of their own: training batches draw from (seed, 0x7EA1 + step).
   Rng rng(settings_.seed, 0x5A11DA7Eull);
@@ -297,7 +305,7 @@ void NeuralTrainer::validationInputs(std::vector<Point2> &z, std::vector<double>
   }
 }
 
-std::optional<Validation> NeuralTrainer::best() const {
+std::optional<Validation> TorchTrainer::best() const {
   std::optional<Validation> b;
   for (const Validation &v : history_)
     if (!b || v.l2 < b->l2) b = v;
@@ -337,7 +345,7 @@ std::vector<Validation> parseHistory(const std::string &text, const std::string 
 
 }  // namespace
 
-void NeuralTrainer::saveCheckpoint(const std::string &path) const {
+void TorchTrainer::saveCheckpoint(const std::string &path) const {
   ModelFile file = gen_.toModelFile({{"train_step", std::to_string(step_)},
                                      {"train_settings", settings_.describe()},
                                      {"validation_history", formatHistory(history_)},
@@ -346,7 +354,7 @@ void NeuralTrainer::saveCheckpoint(const std::string &path) const {
   // file (as a byte tensor packed into floats) so model and optimizer state
   // are written in one atomic rename and can never disagree.
   std::ostringstream bytes;
-  torch::save(*state_->adam, bytes);
+  torch::save(*adam_, bytes);
   std::string blob = bytes.str();
   file.metadata["adam_state_bytes"] = std::to_string(blob.size());
   blob.resize((blob.size() + 3) / 4 * 4, '\0');
@@ -357,7 +365,7 @@ void NeuralTrainer::saveCheckpoint(const std::string &path) const {
   writeModelFile(path, file);
 }
 
-void NeuralTrainer::loadCheckpoint(const std::string &path) {
+void TorchTrainer::loadCheckpoint(const std::string &path) {
   const ModelFile file = readModelFile(path);
   const std::string &described = file.value("train_settings", path);
   if (described != settings_.describe())
@@ -381,7 +389,7 @@ void NeuralTrainer::loadCheckpoint(const std::string &path) {
   std::memcpy(blob.data(), t.data.data(), blob.size());
   blob.resize(std::stoull(file.value("adam_state_bytes", path)));
   std::istringstream in(blob);
-  torch::load(*state_->adam, in);
+  torch::load(*adam_, in);
   step_ = std::stoi(file.value("train_step", path));
   history_ = parseHistory(file.value("validation_history", path), path);
   std::istringstream losses(file.value("losses_since_validation", path));
@@ -389,7 +397,7 @@ void NeuralTrainer::loadCheckpoint(const std::string &path) {
     throw std::runtime_error(path + ": losses_since_validation is not 'count sum'");
 }
 
-std::string NeuralTrainer::formatLosses() const {
+std::string TorchTrainer::formatLosses() const {
   return std::to_string(lossCount_) + ' ' + formatRoundTrip(lossSum_);
 }
 
@@ -410,23 +418,23 @@ void writeValidationCurve(const std::string &path, const std::vector<Validation>
 
 }  // namespace
 
-std::map<std::string, std::string> NeuralTrainer::modelMetadata(int step,
-                                                                const Validation *scored) const {
+std::map<std::string, std::string> TorchTrainer::modelMetadata(int step,
+                                                               const Validation *scored) const {
   std::map<std::string, std::string> extra = {{"train_settings", settings_.describe()},
                                               {"train_steps", std::to_string(step)}};
   if (scored) extra["validation_l2"] = formatRoundTrip(scored->l2);
   return extra;
 }
 
-Validation NeuralTrainer::validateAndRecord(const std::string &model) {
+Validation TorchTrainer::validateAndRecord(const std::string &model) {
   const Validation v = validate();
   if (best()->step == v.step) gen_.save(bestModelPath(model), modelMetadata(v.step, &v));
   writeValidationCurve(validationCurvePath(model), history_);
   return v;
 }
 
-ResumableRun NeuralTrainer::resumableRun(const std::string &model,
-                                         std::function<void(const TrainReport &)> progress) {
+ResumableRun TorchTrainer::resumableRun(const std::string &model,
+                                        std::function<void(const TrainReport &)> progress) {
   const bool validating = settings_.validationSets > 0;
   ResumableRun run;
   run.unit = "step";
@@ -442,7 +450,7 @@ ResumableRun NeuralTrainer::resumableRun(const std::string &model,
   return run;
 }
 
-bool NeuralTrainer::writeModel(const std::string &model, bool keepBest) {
+bool TorchTrainer::writeModel(const std::string &model, bool keepBest) {
   const bool validating = !history_.empty();
   const std::string bestPath = bestModelPath(model);
   if (keepBest && validating) {
@@ -452,6 +460,11 @@ bool NeuralTrainer::writeModel(const std::string &model, bool keepBest) {
   gen_.save(model, modelMetadata(step_, validating ? &history_.back() : nullptr));
   std::filesystem::remove(bestPath);
   return false;
+}
+
+std::unique_ptr<NeuralTrainer> makeTorchTrainer(NeuralGenerator &generator,
+                                                const TrainerSettings &settings) {
+  return std::make_unique<TorchTrainer>(generator, settings);
 }
 
 }  // namespace nuld

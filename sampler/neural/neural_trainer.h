@@ -88,19 +88,23 @@ struct Validation {
   double meanLoss = 0, l2 = 0;
 };
 
+// The trainer is LibTorch code: make() gets one from the plugin
+// (neural_runtime.h); the generator must outlive it.
 class NeuralTrainer {
  public:
-  NeuralTrainer(NeuralGenerator &generator, TrainerSettings settings);
-  ~NeuralTrainer();
+  static std::unique_ptr<NeuralTrainer> make(NeuralGenerator &generator,
+                                             const TrainerSettings &settings);
+  virtual ~NeuralTrainer() = default;
 
-  const TrainerSettings &settings() const { return settings_; }
-  int step() const { return step_; }
+  virtual const TrainerSettings &settings() const = 0;
+  virtual int step() const = 0;
   // Runs steps [step(), untilStep); `progress` is called after each.
-  void run(int untilStep, const std::function<void(const TrainReport &)> &progress = {});
+  virtual void run(int untilStep,
+                   const std::function<void(const TrainReport &)> &progress = {}) = 0;
   // Step `step`'s loss (its batch, boxes and alpha) without changing the
   // weights; lossAndGradient also leaves dL/dw in the parameters' grad().
-  double evaluate(int step);
-  double lossAndGradient(int step);
+  virtual double evaluate(int step) = 0;
+  virtual double lossAndGradient(int step) = 0;
 
   // The mean grid L2 discrepancy (nonuniformL2asd, each set against its own
   // target) of the sets the current weights give at the held-out pairs,
@@ -108,60 +112,43 @@ class NeuralTrainer {
   // schedule and sees fresh z every step; this measure does neither, so it
   // shows when more steps stop helping at unseen z. Throws when
   // validationSets is 0.
-  Validation validate();
-  const std::vector<Validation> &history() const { return history_; }
+  virtual Validation validate() = 0;
+  virtual const std::vector<Validation> &history() const = 0;
   // Step `step`'s training pairs: batch offsets and their gammas, keyed by
   // (seed, step).
-  void batchInputs(int step, std::vector<Point2> &z, std::vector<double> &gamma) const;
+  virtual void batchInputs(int step, std::vector<Point2> &z, std::vector<double> &gamma) const = 0;
   // The held-out pairs validate() scores: validationSets offsets and their
   // gammas (gammaDimension() each), a pure function of the settings.
-  void validationInputs(std::vector<Point2> &z, std::vector<double> &gamma) const;
+  virtual void validationInputs(std::vector<Point2> &z, std::vector<double> &gamma) const = 0;
   // The set size step `step` trains at: the model's training sizes in turn.
-  std::size_t sizeAt(int step) const;
+  virtual std::size_t sizeAt(int step) const = 0;
   // The validation with the smallest L2 so far; nullopt before the first.
-  std::optional<Validation> best() const;
+  virtual std::optional<Validation> best() const = 0;
 
   // The model file plus the optimizer state and the validation history; atomic.
-  void saveCheckpoint(const std::string &path) const;
+  virtual void saveCheckpoint(const std::string &path) const = 0;
   // Throws naming the file when it is unreadable or made with other settings.
-  void loadCheckpoint(const std::string &path);
+  virtual void loadCheckpoint(const std::string &path) = 0;
 
   // Training toward the model file `model` as a run for driveRun (resumable
   // by the checkpoints above). When validating, the untrained net is scored
   // before the first step and the weights after every segment, each through
   // validateAndRecord.
-  ResumableRun resumableRun(const std::string &model,
-                            std::function<void(const TrainReport &)> progress = {});
+  virtual ResumableRun resumableRun(const std::string &model,
+                                    std::function<void(const TrainReport &)> progress = {}) = 0;
   // validate(), then records it beside `model`: MODEL.validation.csv, the
   // held-out curve (rewritten whole), and MODEL.best, the weights, when they
   // are the best so far. MODEL.best is written before the checkpoint that
   // records the validation, so a resumed run never lacks its file.
-  Validation validateAndRecord(const std::string &model);
+  virtual Validation validateAndRecord(const std::string &model) = 0;
   // Writes `model`: the best held-out weights (MODEL.best) when keepBest and
   // validating, else the current ones; removes MODEL.best. Returns whether
   // the best was kept.
-  bool writeModel(const std::string &model, bool keepBest);
+  virtual bool writeModel(const std::string &model, bool keepBest) = 0;
   static std::string bestModelPath(const std::string &model) { return model + ".best"; }
   static std::string validationCurvePath(const std::string &model) {
     return model + ".validation.csv";
   }
-
- private:
-  struct State;
-  enum class Mode { Evaluate, Gradient, Train };
-  double stepLoss(int step, Mode mode);
-  std::string formatLosses() const;  // "count sum" of losses since validation
-  // The metadata a written model carries: settings, steps, its held-out L2.
-  std::map<std::string, std::string> modelMetadata(int step, const Validation *scored) const;
-
-  NeuralGenerator &gen_;
-  TrainerSettings settings_;
-  std::unique_ptr<State> state_;
-  int step_ = 0;
-  double mlpSeconds_ = 0, lossSeconds_ = 0;
-  double lossSum_ = 0;  // training losses since the last validation
-  int lossCount_ = 0;
-  std::vector<Validation> history_;
 };
 
 }  // namespace nuld

@@ -30,13 +30,13 @@ void TrainStep(benchmark::State &state) {
   t.batch = 16;
   t.boxes = 8192;
   t.alphaStart = t.alphaEnd = double(state.range(2));
-  NeuralTrainer trainer(gen, t);
+  const auto trainer = NeuralTrainer::make(gen, t);
   TrainReport last;
-  trainer.run(1, [&](const TrainReport &r) { last = r; });  // warm-up
+  trainer->run(1, [&](const TrainReport &r) { last = r; });  // warm-up
   const TrainReport warm = last;
   int steps = 0;
   for (auto _ : state) {
-    trainer.run(trainer.step() + 1, [&](const TrainReport &r) { last = r; });
+    trainer->run(trainer->step() + 1, [&](const TrainReport &r) { last = r; });
     ++steps;
   }
   state.counters["mlp_ms"] = 1e3 * (last.mlpSeconds - warm.mlpSeconds) / steps;

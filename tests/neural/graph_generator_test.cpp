@@ -164,8 +164,8 @@ TEST(GraphGenerator, TrainedWeightsSaveAndLoadBitExactly) {
   test::TempDir dir;
   NeuralGenerator gen(tinyGraph("quarterdisc", 24));
   TrainerSettings t = fourQuickSteps();
-  NeuralTrainer trainer(gen, t);
-  trainer.run(4);
+  const auto trainer = NeuralTrainer::make(gen, t);
+  trainer->run(4);
   const std::string path = (dir / "g.nuldnet").string();
   gen.save(path);
   const NeuralGenerator back = NeuralGenerator::load(path);
@@ -173,10 +173,10 @@ TEST(GraphGenerator, TrainedWeightsSaveAndLoadBitExactly) {
   EXPECT_EQ(back.settings().neighbours, 5);
   EXPECT_EQ(back.settings().rounds, 2);
   EXPECT_EQ(back.settings().positionHarmonics, gen.settings().positionHarmonics);
-  const auto pa = gen.net().module().parameters(), pb = back.net().module().parameters();
+  const auto pa = torchNet(gen).module().parameters(), pb = torchNet(back).module().parameters();
   ASSERT_EQ(pa.size(), pb.size());
   for (std::size_t i = 0; i < pa.size(); ++i) EXPECT_TRUE(torch::equal(pa[i], pb[i])) << i;
-  EXPECT_GT(gen.net().graph->out->weight.abs().max().item<float>(), 0);  // trained
+  EXPECT_GT(torchNet(gen).graph->out->weight.abs().max().item<float>(), 0);  // trained
   const PointSet a = gen.generateSets(3, 9, {}), b = back.generateSets(3, 9, {});
   EXPECT_EQ(a.points, b.points);
   const PointSet base = NeuralGenerator(tinyGraph("quarterdisc", 24)).generateSets(3, 9, {});
@@ -238,7 +238,7 @@ TEST(GraphGenerator, MakesSetsOfAnySize) {
   }
   NeuralGenerator trained(tinyGraph("quarterdisc", 24));
   TrainerSettings t = fourQuickSteps();
-  NeuralTrainer(trained, t).run(4);
+  NeuralTrainer::make(trained, t)->run(4);
   for (const std::size_t n : {1, 50, 300}) {
     const PointSet set = trained.generateSets(2, 9, {}, n);
     ASSERT_EQ(set.n, n);
@@ -273,14 +273,14 @@ TEST(GraphGenerator, TrainsOnSeveralSizes) {
   TrainerSettings t = fourQuickSteps();
   t.validationSets = 4;
   t.validationGrid = 64;
-  NeuralTrainer trainer(gen, t);
-  EXPECT_EQ(trainer.sizeAt(0), 16u);
-  EXPECT_EQ(trainer.sizeAt(1), 40u);
-  EXPECT_EQ(trainer.sizeAt(2), 16u);
-  trainer.run(4);
+  const auto trainer = NeuralTrainer::make(gen, t);
+  EXPECT_EQ(trainer->sizeAt(0), 16u);
+  EXPECT_EQ(trainer->sizeAt(1), 40u);
+  EXPECT_EQ(trainer->sizeAt(2), 16u);
+  trainer->run(4);
   std::vector<Point2> z;
   std::vector<double> gamma;
-  trainer.validationInputs(z, gamma);
+  trainer->validationInputs(z, gamma);
   const auto target = gen.family().target({});
   double mean16 = 0, mean40 = 0;
   for (std::size_t k = 0; k < 4; ++k) {
@@ -290,7 +290,7 @@ TEST(GraphGenerator, TrainsOnSeveralSizes) {
     (n == 16 ? mean16 : mean40) += nonuniformL2asd(points, *target, 64) / 2;
   }
   // (Sets made one at a time here: float summation order differs slightly.)
-  EXPECT_NEAR(trainer.validate().l2, std::sqrt(mean16 * mean40), 1e-6 * mean16);
+  EXPECT_NEAR(trainer->validate().l2, std::sqrt(mean16 * mean40), 1e-6 * mean16);
 
   const std::string path = (dir / "multi.nuldnet").string();
   gen.save(path);
@@ -304,11 +304,11 @@ TEST(GraphGenerator, TrainsOnSeveralSizes) {
 
   const std::string ckpt = (dir / "single.ckpt").string();
   NeuralGenerator single(tinyGraph("quarterdisc", 16));
-  NeuralTrainer(single, t).saveCheckpoint(ckpt);
-  EXPECT_THROW(trainer.loadCheckpoint(ckpt), std::runtime_error);
+  NeuralTrainer::make(single, t)->saveCheckpoint(ckpt);
+  EXPECT_THROW(trainer->loadCheckpoint(ckpt), std::runtime_error);
 
   t.validationSets = 1;
-  EXPECT_THROW(NeuralTrainer(gen, t), std::invalid_argument);  // a size never validated
+  EXPECT_THROW(NeuralTrainer::make(gen, t), std::invalid_argument);  // a size never validated
   NeuralSettings bad = s;
   bad.trainingNs = {40, 16};  // n must come first
   EXPECT_THROW(NeuralGenerator{bad}, std::invalid_argument);

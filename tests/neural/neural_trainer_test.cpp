@@ -42,21 +42,21 @@ void checkGradient(const std::string &family, std::size_t n, double lastLayerSca
   settings.neighbours = 3;
   settings.rounds = 2;
   NeuralGenerator gen(settings);
-  torch::nn::Module &net = gen.net().module();
+  torch::nn::Module &net = torchNet(gen).module();
   net.to(torch::kFloat64);
   {
     torch::NoGradGuard noGrad;
     torch::manual_seed(1);
     const torch::nn::Linear last =
-        arch == NetworkArch::Graph ? gen.net().graph->out : gen.net().mlp->l5;
+        arch == NetworkArch::Graph ? torchNet(gen).graph->out : torchNet(gen).mlp->l5;
     last->weight.normal_(0, lastLayerScale);
     last->bias.normal_(0, lastLayerScale);
   }
   TrainerSettings t = tinyTraining(10);
   t.alphaStart = t.alphaEnd = 8;         // smooth enough for differences of 1e-6
   t.pullback = GradientPullback::Exact;  // the true gradient, which differences measure
-  NeuralTrainer trainer(gen, t);
-  trainer.lossAndGradient(2);
+  const auto trainer = NeuralTrainer::make(gen, t);
+  trainer->lossAndGradient(2);
   int checked = 0;
   for (auto &item : net.named_parameters()) {
     torch::Tensor p = item.value();
@@ -71,12 +71,12 @@ void checkGradient(const std::string &family, std::size_t n, double lastLayerSca
         torch::NoGradGuard noGrad;
         flat[i] = w + h;
       }
-      plus = trainer.evaluate(2);
+      plus = trainer->evaluate(2);
       {
         torch::NoGradGuard noGrad;
         flat[i] = w - h;
       }
-      minus = trainer.evaluate(2);
+      minus = trainer->evaluate(2);
       {
         torch::NoGradGuard noGrad;
         flat[i] = w;
@@ -132,18 +132,18 @@ TEST(NeuralTrainer, BalancedPullbackDividesEachComponentByItsJacobianColumn) {
   const std::size_t n = 64;
   auto biasGradient = [&](GradientPullback pullback) {
     NeuralGenerator gen(tinyNet("quarterdisc", n, 6));
-    gen.net().mlp->to(torch::kFloat64);
+    torchNet(gen).mlp->to(torch::kFloat64);
     TrainerSettings t = tinyTraining(10);
     t.batch = 1;
     t.pullback = pullback;
-    NeuralTrainer trainer(gen, t);
-    trainer.lossAndGradient(3);
+    const auto trainer = NeuralTrainer::make(gen, t);
+    trainer->lossAndGradient(3);
     std::vector<Point2> z;
     std::vector<double> gamma;
-    trainer.batchInputs(3, z, gamma);
+    trainer->batchInputs(3, z, gamma);
     std::vector<Point2> base(n);
     gen.baseSet(z[0], base);
-    return std::pair{gen.net().mlp->l5->bias.grad().clone(), base};
+    return std::pair{torchNet(gen).mlp->l5->bias.grad().clone(), base};
   };
   const auto [exact, base] = biasGradient(GradientPullback::Exact);
   const auto [balanced, unused] = biasGradient(GradientPullback::Balanced);
@@ -179,24 +179,24 @@ TEST(NeuralTrainer, UnknownPullbackIsRefusedByName) {
 
 TEST(NeuralTrainer, LossFallsOnATinyConfiguration) {
   NeuralGenerator gen(tinyNet("quarterdisc", 16, 32));
-  NeuralTrainer trainer(gen, tinyTraining(150));
+  const auto trainer = NeuralTrainer::make(gen, tinyTraining(150));
   // Held-out batches: step indices the run never trains on.
   auto heldOut = [&] {
     double sum = 0;
-    for (int s = 1000; s < 1008; ++s) sum += trainer.evaluate(s);
+    for (int s = 1000; s < 1008; ++s) sum += trainer->evaluate(s);
     return sum / 8;
   };
   const double before = heldOut();
-  const double l2Before = trainer.validate().l2;
-  trainer.run(150);
+  const double l2Before = trainer->validate().l2;
+  trainer->run(150);
   const double after = heldOut();
   EXPECT_LT(after, 0.5 * before) << before << " -> " << after;
   // The held-out discrepancy, which no alpha or batch moves, falls too.
-  const Validation v = trainer.validate();
+  const Validation v = trainer->validate();
   EXPECT_LT(v.l2, l2Before);
   EXPECT_EQ(v.step, 150);
   EXPECT_TRUE(std::isfinite(v.meanLoss) && v.meanLoss > 0);
-  EXPECT_EQ(trainer.best()->step, 150);
+  EXPECT_EQ(trainer->best()->step, 150);
 }
 
 // validate() is the mean grid L2 of the generator's own sets at the held-out
@@ -207,11 +207,11 @@ TEST(NeuralTrainer, ValidationIsTheMeanGridL2AtTheHeldOutPairs) {
   TrainerSettings t = tinyTraining(4);
   t.validationSets = 3;
   t.validationGrid = 64;
-  NeuralTrainer trainer(gen, t);
+  const auto trainer = NeuralTrainer::make(gen, t);
   for (int pass = 0; pass < 2; ++pass) {
     std::vector<Point2> z;
     std::vector<double> gamma;
-    trainer.validationInputs(z, gamma);
+    trainer->validationInputs(z, gamma);
     ASSERT_EQ(z.size(), 3u);
     ASSERT_EQ(gamma.size(), 3 * gen.gammaDimension());
     std::vector<Point2> points(3 * 16);
@@ -221,15 +221,15 @@ TEST(NeuralTrainer, ValidationIsTheMeanGridL2AtTheHeldOutPairs) {
       const auto target = gen.family().target(std::span(gamma).subspan(k * 4, 4));
       sum += nonuniformL2asd(std::span(points).subspan(k * 16, 16), *target, 64);
     }
-    const Validation v = trainer.validate();
+    const Validation v = trainer->validate();
     EXPECT_DOUBLE_EQ(v.l2, sum / 3) << "pass " << pass;
     EXPECT_EQ(std::isnan(v.meanLoss), pass == 0) << "no step ran before the first";
-    trainer.run(2 * (pass + 1));
+    trainer->run(2 * (pass + 1));
   }
-  EXPECT_EQ(trainer.history().size(), 2u);
+  EXPECT_EQ(trainer->history().size(), 2u);
   t.validationSets = 0;
-  NeuralTrainer off(gen, t);
-  EXPECT_THROW(off.validate(), std::logic_error);
+  const auto off = NeuralTrainer::make(gen, t);
+  EXPECT_THROW(off->validate(), std::logic_error);
 }
 
 // The validation history and the losses since the last validation travel in
@@ -240,54 +240,54 @@ TEST(NeuralTrainer, ValidationHistoryResumesExactly) {
   TrainerSettings t = tinyTraining(6);
   t.validationSets = 2;
   NeuralGenerator straight(tinyNet("quarterdisc", 8, 8));
-  NeuralTrainer a(straight, t);
-  a.validate();
-  a.run(3);
-  a.validate();
-  a.run(6);
-  a.validate();
+  const auto a = NeuralTrainer::make(straight, t);
+  a->validate();
+  a->run(3);
+  a->validate();
+  a->run(6);
+  a->validate();
 
   NeuralGenerator first(tinyNet("quarterdisc", 8, 8));
-  NeuralTrainer b(first, t);
-  b.validate();
-  b.run(3);
-  b.validate();
-  b.run(4);  // one loss since the last validation
-  b.saveCheckpoint(ckpt);
+  const auto b = NeuralTrainer::make(first, t);
+  b->validate();
+  b->run(3);
+  b->validate();
+  b->run(4);  // one loss since the last validation
+  b->saveCheckpoint(ckpt);
   NeuralGenerator resumed(tinyNet("quarterdisc", 8, 8));
-  NeuralTrainer c(resumed, t);
-  c.loadCheckpoint(ckpt);
-  ASSERT_EQ(c.history().size(), 2u);
-  c.run(6);
-  c.validate();
-  ASSERT_EQ(c.history().size(), a.history().size());
-  for (std::size_t i = 0; i < a.history().size(); ++i) {
-    EXPECT_EQ(c.history()[i].step, a.history()[i].step);
-    EXPECT_EQ(c.history()[i].l2, a.history()[i].l2) << i;
+  const auto c = NeuralTrainer::make(resumed, t);
+  c->loadCheckpoint(ckpt);
+  ASSERT_EQ(c->history().size(), 2u);
+  c->run(6);
+  c->validate();
+  ASSERT_EQ(c->history().size(), a->history().size());
+  for (std::size_t i = 0; i < a->history().size(); ++i) {
+    EXPECT_EQ(c->history()[i].step, a->history()[i].step);
+    EXPECT_EQ(c->history()[i].l2, a->history()[i].l2) << i;
     if (i > 0) {
-      EXPECT_EQ(c.history()[i].meanLoss, a.history()[i].meanLoss) << i;
+      EXPECT_EQ(c->history()[i].meanLoss, a->history()[i].meanLoss) << i;
     }
   }
-  EXPECT_EQ(c.best()->step, a.best()->step);
+  EXPECT_EQ(c->best()->step, a->best()->step);
 }
 
 TEST(NeuralTrainer, ResumedRunEndsBitIdenticalAndSaveLoadIsExact) {
   test::TempDir dir;
   const std::string ckpt = (dir / "run.ckpt").string();
   NeuralGenerator straight(tinyNet("family:bilinear", 8, 8));
-  NeuralTrainer a(straight, tinyTraining(6));
-  a.run(6);
+  const auto a = NeuralTrainer::make(straight, tinyTraining(6));
+  a->run(6);
 
   NeuralGenerator first(tinyNet("family:bilinear", 8, 8));
-  NeuralTrainer b(first, tinyTraining(6));
-  b.run(3);
-  b.saveCheckpoint(ckpt);
+  const auto b = NeuralTrainer::make(first, tinyTraining(6));
+  b->run(3);
+  b->saveCheckpoint(ckpt);
   NeuralGenerator resumed(tinyNet("family:bilinear", 8, 8));
-  NeuralTrainer c(resumed, tinyTraining(6));
-  c.loadCheckpoint(ckpt);
-  EXPECT_EQ(c.step(), 3);
-  c.run(6);
-  const auto pa = straight.net().mlp->parameters(), pc = resumed.net().mlp->parameters();
+  const auto c = NeuralTrainer::make(resumed, tinyTraining(6));
+  c->loadCheckpoint(ckpt);
+  EXPECT_EQ(c->step(), 3);
+  c->run(6);
+  const auto pa = torchNet(straight).mlp->parameters(), pc = torchNet(resumed).mlp->parameters();
   ASSERT_EQ(pa.size(), pc.size());
   for (std::size_t i = 0; i < pa.size(); ++i) EXPECT_TRUE(torch::equal(pa[i], pc[i])) << i;
 
@@ -295,15 +295,15 @@ TEST(NeuralTrainer, ResumedRunEndsBitIdenticalAndSaveLoadIsExact) {
   const std::string model = (dir / "m.nuldnet").string();
   straight.save(model);
   const NeuralGenerator back = NeuralGenerator::load(model);
-  const auto pb = back.net().mlp->parameters();
+  const auto pb = torchNet(back).mlp->parameters();
   for (std::size_t i = 0; i < pa.size(); ++i) EXPECT_TRUE(torch::equal(pa[i], pb[i])) << i;
   EXPECT_GT(pa.back().abs().max().item<float>(), 0);
 
   // A checkpoint made with other settings is refused, naming the file.
   NeuralGenerator other(tinyNet("family:bilinear", 8, 8));
-  NeuralTrainer d(other, tinyTraining(7));
+  const auto d = NeuralTrainer::make(other, tinyTraining(7));
   try {
-    d.loadCheckpoint(ckpt);
+    d->loadCheckpoint(ckpt);
     FAIL();
   } catch (const std::runtime_error &e) {
     EXPECT_NE(std::string(e.what()).find(ckpt), std::string::npos);
@@ -317,12 +317,12 @@ TEST(NeuralGenerator, FewRowInferenceMatchesLibTorchForward) {
   NeuralGenerator gen(tinyNet("quarterdisc", 50, 40));
   torch::NoGradGuard noGrad;
   torch::manual_seed(4);
-  gen.net().mlp->l5->weight.normal_(0, 0.1);
-  gen.net().mlp->l5->bias.normal_(0, 0.1);
+  torchNet(gen).mlp->l5->weight.normal_(0, 0.1);
+  torchNet(gen).mlp->l5->bias.normal_(0, 0.1);
   for (int rows : {1, 3}) {
     const torch::Tensor v = torch::rand({rows, 2}, torch::kFloat32);
-    const torch::Tensor expected = gen.net().mlp->forward(v);
-    const torch::Tensor got = gen.net().residuals(v);
+    const torch::Tensor expected = torchNet(gen).mlp->forward(v);
+    const torch::Tensor got = torchNet(gen).residuals(v);
     ASSERT_EQ(got.sizes(), expected.sizes());
     const double scale = expected.abs().max().item<double>();
     ASSERT_GT(scale, 0.01);

@@ -239,13 +239,13 @@ TEST(ShiftedTraining, TrainsAndTheRunIsRecordedAsShifted) {
   ts.validationSets = 2;
   ts.shiftedSets = true;
   EXPECT_NE(ts.describe().find("shifted=1"), std::string::npos);
-  NeuralTrainer trainer(gen, ts);
-  const double before = trainer.evaluate(0);
-  trainer.run(ts.steps);
-  const double after = trainer.evaluate(0);
+  const auto trainer = NeuralTrainer::make(gen, ts);
+  const double before = trainer->evaluate(0);
+  trainer->run(ts.steps);
+  const double after = trainer->evaluate(0);
   EXPECT_TRUE(std::isfinite(after));
   EXPECT_LT(after, 1.1 * before);
-  EXPECT_GT(trainer.validate().l2, 0);
+  EXPECT_GT(trainer->validate().l2, 0);
   ts.shiftedSets = false;
   EXPECT_EQ(ts.describe().find("shifted"), std::string::npos);
 }

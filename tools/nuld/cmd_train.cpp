@@ -146,20 +146,20 @@ std::pair<NeuralSettings, TrainerSettings> settingsFrom(const TrainOptions &o,
 
 int runTrain(const TrainOptions &o, const NeuralSettings &ns, const TrainerSettings &ts) {
   NeuralGenerator gen(ns);
-  NeuralTrainer trainer(gen, ts);
+  const auto trainer = NeuralTrainer::make(gen, ts);
 
   const std::string ckpt = o.output + ".ckpt";
   const bool quiet = o.run.quiet, validating = ts.validationSets > 0;
   // The progress bar's validation part: the latest held-out L2 and the best.
   const auto heldOut = [&trainer] {
-    if (trainer.history().empty()) return std::string();
-    const Validation best = *trainer.best();
-    return "  held-out L2 " + formatShort(trainer.history().back().l2) + " (best " +
+    if (trainer->history().empty()) return std::string();
+    const Validation best = *trainer->best();
+    return "  held-out L2 " + formatShort(trainer->history().back().l2) + " (best " +
            formatShort(best.l2) + " @" + std::to_string(best.step) + ")";
   };
   std::optional<ProgressBar> bar;
   TrainReport last;
-  const ResumableRun run = trainer.resumableRun(o.output, [&](const TrainReport &r) {
+  const ResumableRun run = trainer->resumableRun(o.output, [&](const TrainReport &r) {
     last = r;
     bar->update(r.step, "loss " + formatShort(r.loss) + "  lr " + formatShort(r.lr) + "  alpha " +
                             formatShort(r.alpha) + heldOut());
@@ -172,25 +172,25 @@ int runTrain(const TrainOptions &o, const NeuralSettings &ns, const TrainerSetti
               << (ns.trainingNs.empty() ? "" : " training_n=" + gen.metadata().at("training_n"))
               << " hidden=" << ns.hidden << " parameters=" << gen.parameterCount() << " "
               << ts.describe() << "\n";
-  bar.emplace("step", ts.steps, trainer.step(), quiet);
+  bar.emplace("step", ts.steps, trainer->step(), quiet);
   if (!driveRun(run, ckpt, o.run, &std::cerr)) return 0;
   bar->finish("loss " + formatShort(last.loss) + heldOut());
-  const bool keptBest = trainer.writeModel(o.output, o.keep == "best");
+  const bool keptBest = trainer->writeModel(o.output, o.keep == "best");
   std::filesystem::remove(ckpt);
   // The split the neural issue asks for (this session's steps only).
   std::printf("final_loss %.6g\nmlp_seconds %.3f\nloss_kernel_seconds %.3f\n", last.loss,
               last.mlpSeconds, last.lossSeconds);
   if (validating) {
-    const Validation best = *trainer.best();
-    std::printf("validation_l2_first %.6g\nvalidation_l2_last %.6g\n", trainer.history().front().l2,
-                trainer.history().back().l2);
+    const Validation best = *trainer->best();
+    std::printf("validation_l2_first %.6g\nvalidation_l2_last %.6g\n",
+                trainer->history().front().l2, trainer->history().back().l2);
     std::printf("validation_l2_best %.6g\nbest_step %d\nkept %s\n", best.l2, best.step,
                 keptBest ? "best" : "last");
   }
   if (!quiet)
     std::cerr << "wrote model " << o.output
               << (keptBest ? " (the best held-out weights, step " +
-                                 std::to_string(trainer.best()->step) + ")"
+                                 std::to_string(trainer->best()->step) + ")"
                            : std::string())
               << (validating ? "; held-out curve in " + NeuralTrainer::validationCurvePath(o.output)
                              : std::string())

@@ -1,0 +1,83 @@
+// The image codec of the plugin libnuld_image.so (image_codec.h): the one
+// translation unit that includes OpenImageIO.
+
+#include <OpenImageIO/imageio.h>
+
+#include <filesystem>
+#include <stdexcept>
+
+#include "sampler/io/image_codec.h"
+
+namespace nuld {
+namespace {
+
+class OiioCodec final : public ImageCodec {
+ public:
+  Image read(const std::string &path,
+             const std::function<void(const Image &)> &checkHeader) const override {
+    auto in = OIIO::ImageInput::open(path);
+    // OpenImageIO's own wording names its internals; ours says what to check.
+    if (!in) {
+      OIIO::geterror();  // clear it
+      throw std::runtime_error(path +
+                               ": cannot read it as an image (a format OpenImageIO does not "
+                               "read, or a damaged file)");
+    }
+    const OIIO::ImageSpec &spec = in->spec();
+    Image img;
+    img.width = spec.width;
+    img.height = spec.height;
+    img.channels = spec.nchannels;
+    checkHeader(img);
+    img.pixels.resize(std::size_t(img.width) * img.height * img.channels);
+    if (!in->read_image(0, 0, 0, img.channels, OIIO::TypeDesc::FLOAT, img.pixels.data()))
+      throw std::runtime_error(path +
+                               ": cannot decode the image data (a truncated or damaged file)");
+    in->close();
+    return img;
+  }
+
+  void write(const std::string &path, const std::string &file, const Image &image,
+             const ImageAttributes &attributes) const override {
+    auto out = OIIO::ImageOutput::create(file);
+    if (!out) {
+      OIIO::geterror();  // clear it
+      throw std::runtime_error(path +
+                               ": cannot write an image with this extension (use .exr, or "
+                               ".png for an 8-bit picture)");
+    }
+    OIIO::ImageSpec spec(image.width, image.height, image.channels, OIIO::TypeDesc::FLOAT);
+    const std::string ext = std::filesystem::path(path).extension().string();
+    if (ext == ".png" || ext == ".jpg" || ext == ".jpeg") spec.set_format(OIIO::TypeDesc::UINT8);
+    if (ext == ".exr") spec.attribute("compression", "zip");
+    for (const auto &[name, value] : attributes) spec.attribute(name, value);
+    if (!out->open(file, spec))
+      throw std::runtime_error(path + ": cannot open " + file +
+                               " for writing (is the directory writable?)");
+    if (!out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data()))
+      throw std::runtime_error(path + ": cannot write the image (is the disk full?)");
+    out->close();
+  }
+
+  ImageAttributes attributes(const std::string &path, const std::string &prefix) const override {
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) {
+      OIIO::geterror();  // clear it
+      throw std::runtime_error(path + ": cannot read the image's header");
+    }
+    ImageAttributes out;
+    for (const OIIO::ParamValue &p : in->spec().extra_attribs)
+      if (p.type() == OIIO::TypeDesc::STRING && p.name().string().rfind(prefix, 0) == 0)
+        out.emplace_back(p.name().string(), p.get_string());
+    return out;
+  }
+};
+
+}  // namespace
+}  // namespace nuld
+
+extern "C" const void *nuld_image_codec(int *version) {
+  static const nuld::OiioCodec codec;
+  *version = nuld::kImageCodecVersion;
+  return &codec;
+}

@@ -1,0 +1,28 @@
+#include "sampler/neural/neural_runtime.h"
+
+#include "sampler/neural/neural_trainer.h"
+#include "sampler/plugin.h"
+
+namespace nuld {
+
+const NeuralRuntime &neuralRuntime() {
+  if (nuld_torch_runtime) {  // linked in
+    int version = 0;
+    return *static_cast<const NeuralRuntime *>(nuld_torch_runtime(&version));
+  }
+#ifdef NULD_TORCH_PLUGIN_BUILT
+  const char *built = NULD_TORCH_PLUGIN_BUILT;
+#else
+  const char *built = nullptr;
+#endif
+  return *static_cast<const NeuralRuntime *>(
+      loadPlugin({"libnuld_torch.so", "NULD_TORCH_PLUGIN", built, "nuld_torch_runtime",
+                  kNeuralRuntimeVersion, "the neural generator"}));
+}
+
+std::unique_ptr<NeuralTrainer> NeuralTrainer::make(NeuralGenerator &generator,
+                                                   const TrainerSettings &settings) {
+  return neuralRuntime().makeTrainer(generator, settings);
+}
+
+}  // namespace nuld

@@ -1,0 +1,34 @@
+#pragma once
+// Heavy libraries as plugins loaded on first use. LibTorch and OpenImageIO
+// (with the 260 libraries OpenImageIO links) cost about 0.35 s and 0.18 s of
+// every process start on a 2-core machine, in relocations and static
+// initializers, and most processes never run a network or touch an image
+// (every refused command line, most tests). So the code that calls them is
+// built as a plugin of this build, and the first caller loads it
+// (docs/architecture.md, "Build and dependencies").
+//
+// A plugin exports one C function, `const void *ENTRY(int *version)`: it
+// writes the interface version it was built with and returns its interface
+// object. A plugin is never unloaded (the objects it makes live until exit).
+
+#include <string>
+
+namespace nuld {
+
+struct PluginSpec {
+  const char *file;      // "libnuld_torch.so"
+  const char *variable;  // an environment variable that names the file instead
+  const char *built;     // the build tree's copy (nullptr: none)
+  const char *entry;     // the exported function's name
+  int version;           // the interface version the caller was built with
+  const char *purpose;   // "the neural generator": what needs the plugin
+};
+
+// The plugin's interface object, loaded from (in this order) the file the
+// spec's variable names, `file` beside the executable, or the build tree's.
+// Loaded once per process, entry and version; a failed load is tried again by the
+// next call (the caller may have set the variable since). Throws
+// std::runtime_error naming the purpose, each place tried and why it failed.
+const void *loadPlugin(const PluginSpec &spec);
+
+}  // namespace nuld
