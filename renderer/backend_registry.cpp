@@ -5,72 +5,115 @@
 
 #include "renderer/bank_backend.h"
 #include "renderer/neural_backend.h"
+#include "sampler/bluenoise/blue_noise_sets.h"
 #include "sampler/enum_names.h"
 
 namespace nuld {
 
 const std::vector<BackendEntry> &backendRegistry() {
+  using K = BackendKind;
+  using S = BackendSets;
+  // The blue-noise words are the sampler's own names for its methods.
+  const auto blueNoise = [](K kind, BlueNoiseMethod method, bool mapped, const char *help) {
+    return BackendEntry{.kind = kind,
+                        .name = std::string(kBlueNoiseNames.name({method, mapped})),
+                        .help = help,
+                        .uses = kIntegration};
+  };
   static const std::vector<BackendEntry> registry{
-      {BackendKind::Independent,
-       "independent",
-       {"random"},
-       "",
-       "independent uniform points; the map's inverse CDF for light samples, the "
-       "material's lobe-selection mapping for BSDF samples",
-       false,
-       0},
-      {BackendKind::Sobol,
-       "sobol",
-       {},
-       "",
-       "Owen-scrambled Sobol per pixel and pair, mapped as independent (the paper's "
-       "baseline)",
-       false,
-       0},
-      {BackendKind::Halton,
-       "halton",
-       {},
-       "",
-       "Owen-scrambled Halton, mapped as independent",
-       false,
-       0},
-      {BackendKind::SobolTabulated,
-       "sobol-tabulated",
-       {},
-       "",
-       "sobol, with first-bounce BSDF samples through the tabulated lobe's "
-       "inverse CDF where the view bin's measured route is the table (the "
-       "strongest classic baseline; --lobe-mix, --lobe-routes)",
-       true,
-       0},
-      {BackendKind::Optimized,
-       "optimized",
-       {"points"},
-       "PATHS",
-       "point-set files or directories (comma-separated): sets for the "
-       "scene's map, lobe tables or the uniform target serve the first "
-       "bounce; everything else is sobol",
-       true,
-       1},
-      {BackendKind::Shifted,
-       "shifted",
-       {},
-       "PATHS",
-       "optimized:PATHS with every set Cranley-Patterson shifted in primary "
-       "space per pixel and pair (unbiased)",
-       true,
-       1},
-      {BackendKind::Neural,
-       "neural",
-       {"neural-bsdf"},
-       "MODEL",
-       "sets a trained model (nuld train) generates for the map or, for a "
-       "family:disney model, for each lobe table; the first bounce. Without "
-       "MODEL: the shipped Disney-family model (models/README.md), which "
-       "serves every scene's lobe tables with no per-scene setup",
-       true,
-       1,
-       true},
+      {.kind = K::Independent,
+       .name = "independent",
+       .aliases = {"random"},
+       .help = "independent uniform points; the map's inverse CDF for light samples, the "
+               "material's lobe-selection mapping for BSDF samples"},
+      {.kind = K::IndependentTabulated,
+       .name = "independent-tabulated",
+       .help = "independent, with BSDF samples through the tabulated lobe as sobol-tabulated",
+       .lobes = true},
+      {.kind = K::Sobol,
+       .name = "sobol",
+       .help = "Owen-scrambled Sobol per pixel and pair, mapped as independent (the paper's "
+               "baseline)"},
+      {.kind = K::SobolTabulated,
+       .name = "sobol-tabulated",
+       .help = "sobol, with first-bounce BSDF samples through the tabulated lobe's "
+               "inverse CDF where the view bin's measured route is the table (the "
+               "strongest classic baseline; --lobe-mix, --lobe-routes)",
+       .lobes = true},
+      {.kind = K::Halton, .name = "halton", .help = "Owen-scrambled Halton, mapped as independent"},
+      {.kind = K::HaltonTabulated,
+       .name = "halton-tabulated",
+       .help = "halton, with BSDF samples through the tabulated lobe as sobol-tabulated",
+       .lobes = true},
+      {.kind = K::Optimized,
+       .name = "optimized",
+       .aliases = {"points"},
+       .argument = "PATHS",
+       .help = "point-set files or directories (comma-separated): sets for the "
+               "scene's map, lobe tables or the uniform target serve the first "
+               "bounce; everything else is sobol. Without PATHS: sets optimized "
+               "for the scene's environment map (light samples) or, in study "
+               "integrate, for each integrand's target, made once and kept in "
+               "the set cache",
+       .lobes = true,
+       .bounces = 1,
+       .optionalArgument = true,
+       .makes = S::EnvMap,
+       .shiftable = true},
+      {.kind = K::OptimizedUniform,
+       .name = "optimized-uniform",
+       .help = "uniform sets made for the periodic L2 discrepancy (primary samples)",
+       .lobes = true,
+       .bounces = 1,
+       .uses = kRenders,
+       .makes = S::Uniform,
+       .shiftable = true},
+      {.kind = K::OptimizedBsdf,
+       .name = "optimized-bsdf",
+       .help = "lobe banks made for the scene's Disney materials (BSDF samples)",
+       .lobes = true,
+       .bounces = 1,
+       .uses = kRenders,
+       .makes = S::Lobes,
+       .shiftable = true},
+      {.kind = K::OptimizedBoth,
+       .name = "optimized-both",
+       .help = "optimized and optimized-bsdf together",
+       .lobes = true,
+       .bounces = 1,
+       .uses = kRenders,
+       .makes = S::EnvMapAndLobes,
+       .shiftable = true},
+      {.kind = K::Shifted,
+       .name = "shifted",
+       .argument = "PATHS",
+       .help = "optimized:PATHS with every set Cranley-Patterson shifted in primary "
+               "space per pixel and pair (unbiased)",
+       .lobes = true,
+       .bounces = 1},
+      {.kind = K::Neural,
+       .name = "neural",
+       .aliases = {"neural-bsdf"},
+       .argument = "MODEL",
+       .help = "sets a trained model (nuld train) generates for the map or, for a "
+               "family:disney model, for each lobe table (those shifted in primary "
+               "space); the first bounce. Without MODEL: the shipped Disney-family "
+               "model (models/README.md), which serves every scene's lobe tables "
+               "with no per-scene setup",
+       .lobes = true,
+       .bounces = 1,
+       .optionalArgument = true,
+       .shiftable = true},
+      blueNoise(K::Sot, BlueNoiseMethod::SlicedOt, false,
+                "sliced optimal transport sets for the integrand's target"),
+      blueNoise(K::SotMapped, BlueNoiseMethod::SlicedOt, true,
+                "sliced optimal transport sets for the uniform square, mapped by the "
+                "target's inverse CDF"),
+      blueNoise(K::Gbn, BlueNoiseMethod::Gaussian, false,
+                "Gaussian blue noise for the integrand's target"),
+      blueNoise(K::GbnMapped, BlueNoiseMethod::Gaussian, true,
+                "Gaussian blue noise for the uniform square, mapped by the target's "
+                "inverse CDF"),
   };
   return registry;
 }
@@ -83,12 +126,28 @@ const BackendEntry &backendEntry(BackendKind kind) {
 
 std::string BackendSpec::text() const {
   const BackendEntry &e = entry();
-  return argument.empty() ? e.name : e.name + ":" + argument;
+  return (argument.empty() ? e.name : e.name + ":" + argument) + (shift ? "+shift" : "");
 }
 
-std::string backendSpellings() {
+BackendSets BackendSpec::setsToMake() const {
+  return argument.empty() ? entry().makes : BackendSets::None;
+}
+
+namespace {
+
+std::string whereServed(const BackendEntry &e) {
+  return e.serves(kRenders) ? "renders only (nuld render, nuld bank, study render)"
+                            : "the integration study only (study integrate)";
+}
+
+constexpr std::string_view kShiftSuffix = "+shift";
+
+}  // namespace
+
+std::string backendSpellings(unsigned use) {
   std::vector<std::string> names;
-  for (const BackendEntry &e : backendRegistry()) names.push_back(e.spelling());
+  for (const BackendEntry &e : backendRegistry())
+    if (e.uses & use) names.push_back(e.spelling());
   return joinAlternatives(names);
 }
 
@@ -101,7 +160,10 @@ std::vector<std::string> backendWords() {
   return names;
 }
 
-BackendSpec parseBackend(const std::string &word) {
+BackendSpec parseBackend(const std::string &text, unsigned use) {
+  std::string word = text;
+  const bool shift = word.size() > kShiftSuffix.size() && word.ends_with(kShiftSuffix);
+  if (shift) word.resize(word.size() - kShiftSuffix.size());
   const auto colon = word.find(':');
   const std::string name = word.substr(0, colon);
   for (const BackendEntry &e : backendRegistry()) {
@@ -109,22 +171,39 @@ BackendSpec parseBackend(const std::string &word) {
       continue;
     const std::string argument = colon == std::string::npos ? "" : word.substr(colon + 1);
     if (e.argument.empty() && colon != std::string::npos)
-      throw std::invalid_argument("backend '" + word + "': " + e.name + " takes no argument");
+      throw std::invalid_argument("backend '" + text + "': " + e.name + " takes no argument");
     if (!e.argument.empty() && argument.empty() && !e.optionalArgument)
-      throw std::invalid_argument("backend '" + word + "': expected " + e.spelling() +
+      throw std::invalid_argument("backend '" + text + "': expected " + e.spelling() +
                                   " (nuld help backends)");
-    return {e.kind, argument};
+    if (shift && !e.shiftable)
+      throw std::invalid_argument(
+          "backend '" + text + "': +shift applies to the words whose " +
+          "sets it can shift (optimized, optimized-uniform, " +
+          "optimized-bsdf, optimized-both, neural)" +
+          (e.kind == BackendKind::Shifted ? "; shifted is shifted already" : ""));
+    if (!(e.uses & use))
+      throw std::invalid_argument("backend '" + text + "': " + e.name + " serves " +
+                                  whereServed(e));
+    // A file's sets shifted are the shifted backend.
+    if (shift && e.kind == BackendKind::Optimized && !argument.empty())
+      return {BackendKind::Shifted, argument, false};
+    return {e.kind, argument, shift};
   }
-  throw std::invalid_argument("unknown backend '" + word + "'" + didYouMean(name, backendWords()) +
-                              ": expected " + backendSpellings() + " (nuld help backends)");
+  throw std::invalid_argument("unknown backend '" + text + "'" + didYouMean(name, backendWords()) +
+                              ": expected " + backendSpellings(use) +
+                              " (the words that make or name sets, and neural, also with "
+                              "+shift; nuld help backends)");
 }
 
 std::unique_ptr<SamplerBackend> makeBackend(const BackendSpec &spec, std::uint64_t seed) {
+  const BackendEntry &e = spec.entry();
+  if (!e.serves(kRenders))
+    throw std::invalid_argument("backend '" + spec.text() + "' serves " + whereServed(e));
+  if (spec.setsToMake() != BackendSets::None)
+    throw std::invalid_argument("backend '" + spec.text() +
+                                "' makes its sets for a scene first: nuld render, nuld bank "
+                                "and nuld study render do (or name the sets: optimized:PATHS)");
   switch (spec.kind) {
-    case BackendKind::Independent:
-    case BackendKind::Sobol:
-    case BackendKind::Halton:
-    case BackendKind::SobolTabulated: return makeClassicBackend(spec.kind, seed);
     case BackendKind::Optimized:
     case BackendKind::Shifted:
       return std::make_unique<BankBackend>(spec.text(), loadSetBanks(spec.argument), seed,
@@ -132,9 +211,10 @@ std::unique_ptr<SamplerBackend> makeBackend(const BackendSpec &spec, std::uint64
                                            spec.kind == BackendKind::Shifted);
     case BackendKind::Neural:
       return std::make_unique<NeuralBackend>(
-          spec.text(), spec.argument.empty() ? shippedLobeModel() : spec.argument, seed);
+          spec.text(), spec.argument.empty() ? shippedLobeModel() : spec.argument, seed,
+          spec.shift);
+    default: return makeClassicBackend(spec.kind, seed);
   }
-  throw std::logic_error("makeBackend: a kind without a factory");
 }
 
 std::unique_ptr<SamplerBackend> makeBackend(const std::string &word, std::uint64_t seed) {

@@ -129,7 +129,8 @@ bool isLobeFamily(const NeuralGenerator &generator) {
   return generator.family().spec().rfind("family:disney", 0) == 0;
 }
 
-NeuralBackend::NeuralBackend(std::string name, const std::string &modelPath, std::uint64_t seed)
+NeuralBackend::NeuralBackend(std::string name, const std::string &modelPath, std::uint64_t seed,
+                             bool shift)
     : BankBackend(std::move(name), {}, seed, kNeuralSalt),
       source_(modelPath),
       generator_(NeuralGenerator::load(modelPath)) {
@@ -140,7 +141,7 @@ NeuralBackend::NeuralBackend(std::string name, const std::string &modelPath, std
   // every pixel; shifted in the table's primary space (its CDF map,
   // GridTarget::primaryOf), every point follows the table exactly and the
   // estimate is unbiased.
-  setShifted(modelDealing(generator_) == Dealing::Shifted);
+  setShifted(modelDealing(generator_, shift) == Dealing::Shifted);
   allowNoBanks(lobeFamily_);
   if (generator_.gammaDimension() > 0 && !lobeFamily_)
     throw std::invalid_argument(

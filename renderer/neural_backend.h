@@ -42,10 +42,11 @@ std::string shippedLobeModel();
 
 // How a model's sets are dealt (SetDealer), in renders and in the
 // integration study alike: a lobe family's (`family:disney...`) shifted in
-// their table's primary space, any other model's as generated.
+// their table's primary space, any other model's as generated unless
+// `shift` (the word's +shift) asks for every set shifted.
 bool isLobeFamily(const NeuralGenerator &generator);
-inline Dealing modelDealing(const NeuralGenerator &generator) {
-  return isLobeFamily(generator) ? Dealing::Shifted : Dealing::AsOptimized;
+inline Dealing modelDealing(const NeuralGenerator &generator, bool shift = false) {
+  return shift || isLobeFamily(generator) ? Dealing::Shifted : Dealing::AsOptimized;
 }
 
 // A lobe model's bank for one table at one N, and whether it passed the
@@ -87,7 +88,9 @@ class NeuralBackend final : public BankBackend {
   static constexpr std::size_t kMaxBankSets = 4096;
   static constexpr std::size_t kSetsPerGamma = 16;
 
-  NeuralBackend(std::string name, const std::string &modelPath, std::uint64_t seed);
+  // `shift`: every set shifted (neural+shift), not only a lobe family's.
+  NeuralBackend(std::string name, const std::string &modelPath, std::uint64_t seed,
+                bool shift = false);
 
   bool samplesLobes() const override { return lobeFamily_; }
   void prepare(std::size_t spp, const SamplingTargets &targets) override;

@@ -11,7 +11,7 @@ import nuld
 def test_every_backend_word_renders(tmp_path, nuld_bin):
     # The words `nuld help backends` prints (the registry's), aliases included.
     text = subprocess.run([nuld_bin, "help", "backends"], check=True, capture_output=True,
-                          text=True).stdout.split("nuld study render")[0]
+                          text=True).stdout.split("Renders only")[0]
     words = [line.split()[0] for line in text.splitlines() if line.startswith("  ")
              and line[2].isalpha()]
     flat = " ".join(text.split())

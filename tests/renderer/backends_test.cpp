@@ -330,15 +330,51 @@ TEST(BackendRegistry, EveryWordParsesToItsKindAndBack) {
     EXPECT_FALSE(e.help.empty()) << e.name;
     EXPECT_EQ(&backendEntry(e.kind), &e);
   }
-  EXPECT_EQ(kinds.size(), 7u);
-  // The classic words make their backends without files; the declared
-  // properties agree with what the backends report.
-  for (const char *word : {"independent", "random", "sobol", "halton", "sobol-tabulated"}) {
+  EXPECT_EQ(kinds.size(), 16u);
+  // The classic words make their backends without files, named by their
+  // word; the declared properties agree with what the backends report.
+  for (const char *word : {"independent", "random", "sobol", "halton", "sobol-tabulated",
+                           "independent-tabulated", "halton-tabulated"}) {
     const BackendSpec spec = parseBackend(word);
     const auto backend = makeBackend(spec, 1);
     EXPECT_EQ(backend->samplesLobes(), spec.entry().lobes) << word;
+    EXPECT_EQ(backend->name(), spec.entry().name) << word;
   }
   EXPECT_EQ(makeBackend("random", 3)->name(), "independent");
+}
+
+// Each entry declares where it serves, what a command makes first and
+// whether +shift applies; the parser and the factory hold to them.
+TEST(BackendRegistry, UsesSetsAndShiftAreTheEntries) {
+  for (const BackendEntry &e : backendRegistry()) {
+    const std::string word = e.argument.empty() || e.optionalArgument ? e.name : e.name + ":f";
+    for (const unsigned use : {unsigned(kRenders), unsigned(kIntegration)}) {
+      if (e.uses & use)
+        EXPECT_NO_THROW(parseBackend(word, use)) << word;
+      else
+        EXPECT_THROW(parseBackend(word, use), std::invalid_argument) << word;
+      EXPECT_EQ(backendSpellings(use).find(e.spelling()) != std::string::npos,
+                (e.uses & use) != 0)
+          << e.name;
+    }
+    if (e.shiftable) {
+      const BackendSpec shifted = parseBackend(word + "+shift");
+      EXPECT_TRUE(shifted.shift) << word;
+      EXPECT_EQ(parseBackend(shifted.text()), shifted) << word;
+    } else {
+      EXPECT_THROW(parseBackend(word + "+shift"), std::invalid_argument) << word;
+    }
+    const BackendSpec spec = parseBackend(word);
+    EXPECT_EQ(spec.setsToMake(), spec.argument.empty() ? e.makes : BackendSets::None) << word;
+    // What makes its sets first, or serves the integration study only, is
+    // refused by the factory with the reason.
+    if (spec.setsToMake() != BackendSets::None || !e.serves(kRenders))
+      EXPECT_THROW(makeBackend(spec, 1), std::invalid_argument) << word;
+  }
+  // A file's sets with +shift are the shifted backend.
+  EXPECT_EQ(parseBackend("optimized:a.txt+shift"), (BackendSpec{BackendKind::Shifted, "a.txt"}));
+  EXPECT_EQ(parseBackend("optimized").setsToMake(), BackendSets::EnvMap);
+  EXPECT_EQ(parseBackend("optimized-both").setsToMake(), BackendSets::EnvMapAndLobes);
 }
 
 }  // namespace

@@ -85,7 +85,7 @@ TEST(IntegrationStudyRun, IndependentEstimatesAreUnbiased) {
   IntegrateOptions o = quickOptions(dir / "out");
   o.assetRoot = writeAssets(dir).string();
   o.envmaps = {"test"};
-  o.samplers = {"independent"};
+  o.samplers = {"independent", "independent-tabulated"};
   o.ns = {32};
   o.instances = 600;
   runIntegrateStudy(o);
@@ -108,7 +108,7 @@ TEST(IntegrationStudyRun, BuiltInSunMapGivesFiniteStatistics) {
   o.assetRoot = (dir / "no_assets").string();
   o.envmaps = {"sun"};
   o.integrands = {"envmap*cos", "disney-grazing*envmap"};
-  o.samplers = {"independent", "sobol"};
+  o.samplers = {"independent", "independent-tabulated", "sobol", "sobol-tabulated"};
   o.ns = {16, 64};
   o.instances = 16;
   runIntegrateStudy(o);
@@ -129,7 +129,7 @@ TEST(IntegrationStudyRun, SphereEstimatesAreUnbiasedToAPercent) {
   o.assetRoot = writeAssets(dir).string();
   o.envmaps = {"test"};
   o.integrands = {"envmap*cos", "disney*envmap"};
-  o.samplers = {"sobol"};
+  o.samplers = {"sobol", "sobol-tabulated"};
   o.ns = {4096};
   o.instances = 48;
   runIntegrateStudy(o);
@@ -278,7 +278,7 @@ TEST(IntegrationStudyRun, SphereIntegrandsUseTheMapAndSkipMissingOnes) {
   o.assetRoot = writeAssets(dir).string();
   o.envmaps = {"test", "nosuchmap"};
   o.integrands = {"envmap*cos", "disney*envmap"};
-  o.samplers = {"sobol"};
+  o.samplers = {"sobol", "sobol-tabulated"};
   o.ns = {64};
   const IntegrateSummary s = runIntegrateStudy(o);
   bool skipped = false;
@@ -379,18 +379,35 @@ TEST(IntegrationStudyRun, NeuralModelServesTheIntegrandOfItsTarget) {
   }
 }
 
-// The words mean what they mean in nuld render: `sobol` is each sampler's
-// own mapping (the BRDF's sample() on a lobe integrand), `sobol-tabulated`
-// the tabulated lobe (made on lobe integrands only); the old -lobes words
-// are refused naming the new ones.
+// The words mean what they mean in nuld render, one row each: `sobol` is
+// each sampler's own mapping (the BRDF's sample() on a lobe integrand),
+// `sobol-tabulated` the tabulated lobe (made on lobe integrands only); the
+// default is every classic word with its -tabulated, and optimized; words
+// that serve renders only are refused, naming where they serve; the old
+// -lobes words are refused naming the new ones.
 TEST(IntegrationStudySamplers, WordsMeanWhatTheyMeanInRenders) {
-  const auto choices = parseSamplers({"sobol", "halton-tabulated"}, {});
-  ASSERT_EQ(choices.size(), 3u);
+  const auto choices = parseSamplers({"sobol", "halton-tabulated", "random", "gbn"}, {});
+  ASSERT_EQ(choices.size(), 4u);
   EXPECT_EQ(choices[0].name, "sobol");
   EXPECT_FALSE(choices[0].tabulated);
-  EXPECT_EQ(choices[1].name, "sobol-tabulated");
+  EXPECT_EQ(choices[1].name, "halton-tabulated");
   EXPECT_TRUE(choices[1].tabulated);
-  EXPECT_EQ(choices[2].name, "halton-tabulated");
+  EXPECT_EQ(choices[1].kind, SamplerChoice::Kind::Halton);
+  EXPECT_EQ(choices[2].name, "independent");
+  EXPECT_EQ(choices[3].kind, SamplerChoice::Kind::BlueNoise);
+  std::vector<std::string> defaults;
+  for (const SamplerChoice &c : parseSamplers({}, {})) defaults.push_back(c.name);
+  EXPECT_EQ(defaults, (std::vector<std::string>{"independent", "independent-tabulated", "sobol",
+                                                "sobol-tabulated", "halton", "halton-tabulated",
+                                                "optimized"}));
+  for (const char *word : {"optimized-bsdf", "optimized-both+shift", "optimized+shift"})
+    EXPECT_THROW(parseSamplers({word}, {}), std::invalid_argument) << word;
+  try {
+    parseSamplers({"optimized-uniform"}, {});
+    FAIL();
+  } catch (const std::invalid_argument &e) {
+    EXPECT_NE(std::string(e.what()).find("serves renders only"), std::string::npos) << e.what();
+  }
   try {
     parseSamplers({"sobol-lobes"}, {});
     FAIL() << "sobol-lobes was accepted";

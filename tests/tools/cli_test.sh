@@ -158,9 +158,13 @@ ok "render optimized:FILE" "$nuld" render default --backend optimized:"$dir/u4.t
 # joins both studies (PATHS: a point-set file, MODEL: a tiny uniform model).
 "$nuld" train --target uniform --n 4 --hidden 8 --steps 2 --batch 2 --boxes 64 -q -o "$dir/u4.nuldnet" >/dev/null 2>&1
 "$nuld" help backends >"$dir/backends.txt"
-words=$( (sed -n '/^nuld study render/q;/^  [a-z]/p' "$dir/backends.txt" | awk '{print $1}'
-  tr '\n' ' ' <"$dir/backends.txt" | grep -o 'also: [^)]*' | cut -d' ' -f2-) |
-  sed -e 's|\[:MODEL\]|:MODEL|g' -e "s|PATHS|$dir/u4.txt|" -e "s|MODEL|$dir/u4.nuldnet|" | tr ' ' '\n' | grep -v '^$')
+# The first section lists the words that serve everywhere; the last, those
+# of study integrate alone.
+words=$( (sed -n '/^Renders only/q;/^  [a-z]/p' "$dir/backends.txt" | awk '{print $1}'
+  sed -n '/^Renders only/q;p' "$dir/backends.txt" | tr '\n' ' ' | grep -o 'also: [^)]*' | cut -d' ' -f2-) |
+  sed -e 's|\[:\([A-Z]*\)\]|:\1|g' -e "s|PATHS|$dir/u4.txt|" -e "s|MODEL|$dir/u4.nuldnet|" | tr ' ' '\n' | grep -v '^$')
+integrateOnly=$(sed -n '/^study integrate only/,$p' "$dir/backends.txt" | sed -n '/^  [a-z]/p' | awk '{print $1}')
+[[ $(echo "$integrateOnly" | wc -l) -ge 4 ]] || { echo "FAIL: help backends lists the integration study's words"; failures=$((failures + 1)); }
 [[ $(echo "$words" | wc -l) -ge 9 ]] || { echo "FAIL: help backends lists the registry's words"; echo "$words"; failures=$((failures + 1)); }
 for word in $words; do
   ok "render --backend $word" "$nuld" render default --backend "$word" --spp 4 --res 8 -q -o "$dir/w.exr"
@@ -237,7 +241,7 @@ ok "study render every backend word" "$nuld" study render default --backends "$(
 # quarterdisc model stands for MODEL.
 "$nuld" train --target quarterdisc --n 4 --hidden 8 --steps 2 --batch 2 --boxes 64 -q -o "$dir/q4.nuldnet" >/dev/null 2>&1
 ok "study integrate every backend word" "$nuld" study integrate --integrands 'quarterdisc*bilinear' \
-  --samplers "$(echo $words | sed "s|$dir/u4.nuldnet|$dir/q4.nuldnet|g" | tr ' ' ',')" --n 4 \
+  --samplers "$(echo $words $integrateOnly | sed "s|$dir/u4.nuldnet|$dir/q4.nuldnet|g" | tr ' ' ',')" --n 4 \
   --instances 4 --optimized-instances 4 --no-plots -q -o "$dir/words.integrate"
 
 fails_with "render spp mismatch" "use --spp 4" "$nuld" render default --backend optimized:"$dir/u4.txt" --spp 8 --res 8 -q -o "$dir/x.exr"

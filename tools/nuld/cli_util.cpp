@@ -254,7 +254,13 @@ void addSetOptions(CLI::App &app, study::SetSettings &s) {
 }
 
 CLI::Validator targetFamily() { return parsedBy(checkTargetFamily); }
-CLI::Validator backendWord() { return parsedBy(parseBackend); }
+CLI::Validator backendWord() {
+  return parsedBy([](const std::string &word) {
+    if (parseBackend(word, kRenders).setsToMake() != BackendSets::None)
+      throw std::invalid_argument("backend '" + word +
+                                  "' makes its sets first; name a backend that needs none");
+  });
+}
 CLI::Validator studyBackendWord() { return parsedBy(study::parseStudyBackend); }
 
 }  // namespace nuld::cli

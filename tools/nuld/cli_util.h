@@ -94,8 +94,9 @@ CLI::Option *addNamedOption(CLI::App &app, const std::string &name, Value &value
 }
 
 // The grammar checks of options that several commands share: a target spec's
-// family (checkTargetFamily), a renderer backend word (parseBackend) and
-// any word of `nuld render --backend` (the study's words included).
+// family (checkTargetFamily), a render backend word that makes no sets
+// (parseBackend) and any word of `nuld render --backend` (those that make
+// their sets included).
 CLI::Validator targetFamily();
 CLI::Validator backendWord();
 CLI::Validator studyBackendWord();

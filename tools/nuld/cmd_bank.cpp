@@ -31,7 +31,7 @@ Runner addBank(CLI::App &app) {
                  "optimized, optimized-uniform, optimized-bsdf or optimized-both (default "
                  "optimized-both)")
       ->check(parsedBy([](const std::string &word) {
-        if (study::parseStudyBackend(word).sets == study::StudyBackend::Sets::None)
+        if (study::parseStudyBackend(word).sets == BackendSets::None)
           throw std::invalid_argument("'" + word +
                                       "': nuld bank makes the study's sets (optimized, "
                                       "optimized-uniform, optimized-bsdf, optimized-both)");

@@ -89,11 +89,11 @@ Runner addRender(CLI::App &app) {
   app.add_option("scene", o->scene, "scene file (JSON) or 'default' (built in, needs no files)")
       ->required();
   app.add_option("--backend", o->backend,
-                 "sampler backend: " + backendSpellings() +
-                     ", or the study's optimized, optimized-uniform, optimized-bsdf, "
-                     "optimized-both (sets made once into the set cache, or found there; "
-                     "+shift for shifted sets) (default: the scene's, else sobol; nuld help "
-                     "backends says what each samples)")
+                 "sampler backend: " + backendSpellings(kRenders) +
+                     " (optimized without PATHS, optimized-uniform, optimized-bsdf and "
+                     "optimized-both make their sets once into the set cache, or find them "
+                     "there; +shift for shifted sets) (default: the scene's, else sobol; nuld "
+                     "help backends says what each samples)")
       ->check(studyBackendWord());
   app.add_option("--spp", o->spp, "samples per pixel (default: the scene's)")
       ->check(wholeNumberIn(1, 1 << 24));
@@ -139,7 +139,7 @@ Runner addRender(CLI::App &app) {
     // with this seed would, then renders through the banks that serve them.
     const study::StudyBackend word =
         study::parseStudyBackend(o->backend.empty() ? loaded.backend : o->backend);
-    onlyWhen(app, word.sets != study::StudyBackend::Sets::None, kSetOptionNames,
+    onlyWhen(app, word.sets != BackendSets::None, kSetOptionNames,
              "the study's backends that make sets (optimized, optimized-bsdf, ...)");
     study::PreparedBackend prepared;
     {
@@ -147,12 +147,11 @@ Runner addRender(CLI::App &app) {
       // continues them by itself.
       const std::string setsDir = setsDirectory(o->sets);
       std::optional<InterruptNote> interruptNote;
-      if (word.sets != study::StudyBackend::Sets::None)
+      if (word.sets != BackendSets::None)
         interruptNote.emplace(setsDir, "the sets being made keep their checkpoints in " + setsDir +
                                            " (the set cache): run the same command again to "
                                            "continue them");
-      ProgressBar setsBar("sets", 1000, 0,
-                          o->quiet || word.sets == study::StudyBackend::Sets::None);
+      ProgressBar setsBar("sets", 1000, 0, o->quiet || word.sets == BackendSets::None);
       prepared = study::prepareStudyBackend(
           word, loaded.scene, s, study::slug(o->scene), o->sets, seed, {},
           [&](const std::string &, double f, const std::string &status) {
@@ -161,7 +160,7 @@ Runner addRender(CLI::App &app) {
       setsBar.finish(std::to_string(prepared.setsMade) + " made, " +
                      std::to_string(prepared.setsCached) + " from the cache");
     }
-    if (word.sets != study::StudyBackend::Sets::None)
+    if (word.sets != BackendSets::None)
       std::cerr << "nuld: " << setsSentence(word.word, prepared) << "\n";
     const auto backend = makeBackend(prepared.spec, seed);
     onlyWhen(app, backend->samplesLobes() && s.integrator != IntegratorKind::Light,
@@ -200,10 +199,10 @@ Runner addRender(CLI::App &app) {
     if (!note.empty()) std::cerr << "nuld: note: " << note << "\n";
     writeRender(o->output, image,
                 renderAttributes(loaded.name, loaded.scene, s, backend->name(), seed, stats));
-    std::printf(
-        "scene %s\nbackend %s\nspp %zu\nresolution %dx%d\nintegrator %s\n", loaded.name.c_str(),
-        (word.sets == study::StudyBackend::Sets::None ? backend->name() : word.word).c_str(), s.spp,
-        s.width, s.height, toString(s.integrator).c_str());
+    std::printf("scene %s\nbackend %s\nspp %zu\nresolution %dx%d\nintegrator %s\n",
+                loaded.name.c_str(),
+                (word.sets == BackendSets::None ? backend->name() : word.word).c_str(), s.spp,
+                s.width, s.height, toString(s.integrator).c_str());
     std::printf("seconds %.3f\nsetup_seconds %.3f\nrays %llu\nrays_per_second %.4g\n",
                 stats.seconds, stats.setupSeconds, (unsigned long long)stats.rays,
                 stats.raysPerSecond());
@@ -213,7 +212,7 @@ Runner addRender(CLI::App &app) {
     if (stats.lobeBins)
       std::printf("lobe_bins %zu\nlobe_bins_tabulated %zu\n", stats.lobeBins,
                   stats.lobeBinsTabulated);
-    if (word.sets != study::StudyBackend::Sets::None)
+    if (word.sets != BackendSets::None)
       std::printf("sets_made %zu\nsets_cached %zu\n", prepared.setsMade, prepared.setsCached);
     // Per pair, the first-bounce contexts the sets served and those that
     // fell back to the classic sampler; not the pairs it has no sets for.

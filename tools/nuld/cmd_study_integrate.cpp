@@ -113,19 +113,27 @@ Runner addStudyIntegrate(CLI::App &app) {
                  "smooth light, at 20, 45 and 70 degrees); or a full name such as "
                  "envmap:grace*cos (default: all)");
   app.add_option("--samplers", o->samplers,
-                 "comma-separated: independent, sobol, halton (each in its own mapping: the "
-                 "BRDF's sample() on lobe integrands; each with its -tabulated variant there, "
-                 "the tabulated lobe's inverse CDF; or name e.g. sobol-tabulated alone), "
-                 "optimized, the "
-                 "blue-noise baselines sot and gbn (sliced optimal transport, Gaussian blue "
-                 "noise: optimized for the target) and sot-mapped, gbn-mapped (optimized "
-                 "uniformly, then the inverse CDF; all four up to --optimized-max-n, "
-                 "--optimized-instances sets), the renderer's bank words optimized:PATHS, "
-                 "points:PATHS, shifted:PATHS (sets from files), neural:MODEL or neural (the "
-                 "shipped Disney-family model; a lobe family's sets are shifted in the "
-                 "table's primary space, as renders deal them, and its rows named +shift), "
-                 "each also as ...+shift (any model's sets shifted so) (default: "
-                 "independent,sobol,halton,optimized)");
+                 "comma-separated backend words that serve the integration study: " +
+                     backendSpellings(kIntegration) +
+                     " (each as in renders: a classic word in its own mapping, the BRDF's "
+                     "sample() on lobe integrands, and -tabulated through the tabulated lobe's "
+                     "inverse CDF; optimized: sets optimized for each integrand's target; sot, "
+                     "gbn: blue noise optimized for the target, sot-mapped, gbn-mapped: "
+                     "optimized uniformly, then the inverse CDF, up to --optimized-max-n; "
+                     "neural: a lobe family's sets shifted in the table's primary space, as "
+                     "renders deal them, and its rows named +shift; +shift: any model's or "
+                     "file's sets shifted so; nuld help backends) (default: every classic "
+                     "word and its -tabulated, and optimized)")
+      // The words only, before any reference is computed.
+      ->check(parsedBy([](const std::string &text) {
+        try {
+          study::parseSamplers(study::splitList(text), {});
+        } catch (const std::invalid_argument &e) {
+          // The refusal names the option already; the check's prefix adds it again.
+          const std::string what = e.what(), prefix = "--samplers: ";
+          throw std::invalid_argument(what.starts_with(prefix) ? what.substr(prefix.size()) : what);
+        }
+      }));
   app.add_option("--n", o->ns, "comma-separated N (default 16,32,...,4096; any N >= 1)");
   app.add_option("--instances", o->instances,
                  "randomized instances per conventional sampler (default 128)")

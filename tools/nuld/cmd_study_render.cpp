@@ -175,13 +175,12 @@ Runner addStudyRender(CLI::App &app) {
   };
   auto o = std::make_shared<Options>();
   app.add_option("scenes", o->s.scenes, "scene files (JSON) or 'default' (default: default)");
-  app.add_option(
-         "--backends", o->s.backends,
-         "comma-separated: the renderer's backends (" + backendSpellings() +
-             ") and the study's own sets: optimized (for the scene's environment map), "
-             "optimized-uniform, optimized-bsdf (lobe banks for the scene's Disney "
-             "materials), optimized-both (each also with the suffix +shift: sets randomized "
-             "in primary space); nuld help backends")
+  app.add_option("--backends", o->s.backends,
+                 "comma-separated backend words: " + backendSpellings(kRenders) +
+                     " (optimized without PATHS: sets for the scene's environment map; "
+                     "optimized-bsdf: lobe banks for the scene's Disney materials; each made once "
+                     "into the set cache, and each also with the suffix +shift: sets randomized "
+                     "in primary space; nuld help backends)")
       ->delimiter(',')
       ->check(studyBackendWord());
   app.add_option("--spp", o->s.spp, "comma-separated samples per pixel (default 4,16,64)")

@@ -87,21 +87,28 @@ bool printTopic(const std::string &topic) {
     return true;
   }
   if (topic == "backends") {
-    std::cout << "Sampler backends (nuld render --backend; study render --backends):\n\n";
-    for (const auto &e : nuld::backendRegistry()) {
-      std::string help = e.help;
-      if (!e.aliases.empty()) {
-        help += " (also:";
-        for (const auto &a : e.aliases) help += " " + e.spelling(a);
-        help += ")";
+    // One registry; each word listed where it serves.
+    const auto list = [](unsigned use) {
+      for (const auto &e : nuld::backendRegistry()) {
+        if (e.uses != use) continue;
+        std::string help = e.help;
+        if (!e.aliases.empty()) {
+          help += " (also:";
+          for (const auto &a : e.aliases) help += " " + e.spelling(a);
+          help += ")";
+        }
+        if (e.shiftable) help += "; NAME+shift: every set shifted in primary space (unbiased)";
+        printEntry(e.spelling(), help);
       }
-      printEntry(e.spelling(), help);
-    }
-    std::cout << "\nnuld study render also makes its own sets (docs/usage.md, \"Comparison "
-                 "studies\"):\n\n";
-    for (const auto &d : nuld::study::studyBackendDescriptions())
-      printEntry(d.spelling, d.description);
-    printEntry("NAME+shift", "any of these, each set shifted in primary space (unbiased)");
+    };
+    std::cout << "Sampler backends (nuld render --backend, study render --backends, nuld bank,\n"
+                 "Python's render; and study integrate --samplers):\n\n";
+    list(nuld::kEverywhere);
+    std::cout << "\nRenders only (the sets are made for the scene and kept in the set cache;\n"
+                 "docs/usage.md, \"Comparison studies\"):\n\n";
+    list(nuld::kRenders);
+    std::cout << "\nstudy integrate only:\n\n";
+    list(nuld::kIntegration);
     return true;
   }
   return false;

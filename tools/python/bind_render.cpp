@@ -149,7 +149,7 @@ void bindRender(py::module_ &m) {
         d["seconds"] = st.seconds, d["setup_seconds"] = st.setupSeconds + prepared.setupSeconds;
         d["rays"] = st.rays;
         d["rejected_samples"] = st.rejectedSamples, d["classic_fallbacks"] = st.classicFallbacks;
-        if (word.sets != study::StudyBackend::Sets::None)
+        if (word.sets != BackendSets::None)
           d["backend"] = word.word, d["sets_made"] = prepared.setsMade,
           d["sets_cached"] = prepared.setsCached;
         // What `nuld render` prints as notes: lobe bins left without banks,

@@ -13,7 +13,7 @@ bool isClassicBackend(const std::string &word) {
   try {
     const StudyBackend b = parseStudyBackend(word);
     // A kind that takes no argument reads no sets and no model.
-    return b.sets == StudyBackend::Sets::None && b.renderer.entry().argument.empty();
+    return b.sets == BackendSets::None && b.spec.entry().argument.empty();
   } catch (const std::invalid_argument &) {
     return false;
   }

@@ -10,13 +10,11 @@
 
 #include "renderer/backend_registry.h"
 #include "renderer/neural_backend.h"
-#include "sampler/bluenoise/blue_noise_sets.h"
 #include "sampler/enum_names.h"
 #include "sampler/targets/target_spec.h"
 #include "scenes/default_scene.h"
 #include "tools/study/integrate_internal.h"
 #include "tools/study/integration_study.h"
-#include "tools/study/shift_suffix.h"
 
 namespace nuld::study {
 namespace fs = std::filesystem;
@@ -61,60 +59,13 @@ std::vector<std::string> splitList(const std::string &text) {
 
 std::vector<std::size_t> parseNList(const std::string &text) { return parseSizeList("--n", text); }
 
-namespace {
-
-// The renderer's bank words (optimized:PATHS, points:PATHS, shifted:PATHS),
-// parsed by its registry; nullopt for any other word.
-std::optional<BackendSpec> bankWord(const std::string &word) {
-  if (word.find(':') == std::string::npos) return std::nullopt;
-  try {
-    const BackendSpec spec = parseBackend(word);
-    if (spec.kind == BackendKind::Optimized || spec.kind == BackendKind::Shifted) return spec;
-  } catch (const std::invalid_argument &) {
-  }
-  return std::nullopt;
-}
-
-// The renderer's neural words (neural[:MODEL] and its alias), each also
-// with the suffix +shift: the model file (the shipped model for none) and
-// whether its sets are shifted; nullopt for any other word.
-std::optional<ShiftSuffix> neuralWord(const std::string &word) {
-  const auto [base, shifted] = splitShiftSuffix(word);
-  try {
-    const BackendSpec spec = parseBackend(base);
-    if (spec.kind != BackendKind::Neural) return std::nullopt;
-    return ShiftSuffix{spec.argument.empty() ? shippedLobeModel() : spec.argument, shifted};
-  } catch (const std::invalid_argument &) {
-  }
-  return std::nullopt;
-}
-
-// A classic word of the renderer's registry (its aliases included: `random`
-// is `independent`) and its sampler here; nullopt for any other word.
-struct ClassicKind {
-  BackendKind renderer;
-  SamplerChoice::Kind integrate;
-};
-std::optional<ClassicKind> classicKind(const std::string &word) {
-  using K = SamplerChoice::Kind;
-  try {
-    switch (parseBackend(word).kind) {
-      case BackendKind::Independent: return ClassicKind{BackendKind::Independent, K::Independent};
-      case BackendKind::Sobol: return ClassicKind{BackendKind::Sobol, K::Sobol};
-      case BackendKind::Halton: return ClassicKind{BackendKind::Halton, K::Halton};
-      default: return std::nullopt;
-    }
-  } catch (const std::invalid_argument &) {
-  }
-  return std::nullopt;
-}
-
-}  // namespace
-
 std::vector<SamplerChoice> parseSamplers(const std::vector<std::string> &tokens,
                                          const std::vector<std::string> &models) {
   using K = SamplerChoice::Kind;
-  const std::vector<std::string> defaults{"independent", "sobol", "halton", "optimized"};
+  using B = BackendKind;
+  const std::vector<std::string> defaults{
+      "independent", "independent-tabulated", "sobol",    "sobol-tabulated",
+      "halton",      "halton-tabulated",      "optimized"};
   std::vector<SamplerChoice> out;
   const auto add = [&](SamplerChoice c) {
     for (const auto &o : out) {
@@ -126,64 +77,76 @@ std::vector<SamplerChoice> parseSamplers(const std::vector<std::string> &tokens,
     }
     out.push_back(std::move(c));
   };
-  // Each classic sampler in its own mapping (`sobol`: a lobe integrand's
-  // BRDF sample(), any other target's inverse CDF) and, on lobe integrands,
-  // through the tabulated lobe's inverse CDF (`sobol-tabulated`): the
-  // meanings `nuld render` gives the same words.
-  const auto classic = [&](const std::string &base, K kind,
-                           int which) {  // 1 own mapping, 2 tabulated, 3 both
-    if (which & 1) add({base, kind, false, {}, {}, false});
-    if (which & 2) add({base + "-tabulated", kind, true, {}, {}, false});
-  };
-  std::vector<ShiftSuffix> modelList;  // each model and whether its sets are shifted
-  for (const std::string &t : tokens.empty() ? defaults : tokens) {
-    std::string base = t;
-    int which = 3;
-    if (base.ends_with("-lobes"))
-      throw std::invalid_argument(
-          "--samplers: '" + t + "' is now '" + base.substr(0, base.size() - 6) +
-          "' (each sampler's own mapping: the BRDF's sample() on lobe integrands, as in nuld "
-          "render); the tabulated lobe's inverse CDF is '" +
-          base.substr(0, base.size() - 6) + "-tabulated'");
-    if (base.ends_with("-tabulated")) {
-      base.resize(base.size() - 10);
-      which = 2;
-    }
-    if (const auto kind = classicKind(base))
-      classic(backendEntry(kind->renderer).name, kind->integrate, which);
-    else if (t == "optimized")
-      add({"optimized", K::Optimized, false, {}, {}, false});
-    else if (kBlueNoiseNames.find(t))
-      add({t, K::BlueNoise, false, {}, {}, false});
-    else if (const auto model = neuralWord(t))
-      modelList.push_back(*model);
-    else if (const auto bank = bankWord(t)) {
-      // Named by the files' stems, as neural models are: the CSV does not
-      // carry this machine's paths.
-      std::string name = bank->entry().name + ":";
-      std::stringstream paths(bank->argument);
-      for (std::string path; std::getline(paths, path, ',');) {
-        if (name.back() != ':') name += ',';
-        name += fs::path(path).stem().string();
-      }
-      add({name, K::Bank, false, {}, bank->argument, bank->kind == BackendKind::Shifted});
-    } else
-      throw std::invalid_argument(
-          "--samplers: unknown sampler '" + t +
-          "' (expected independent, sobol, halton, their -tabulated variants such as "
-          "sobol-tabulated, optimized, optimized:PATHS, shifted:PATHS, sot, sot-mapped, gbn, "
-          "gbn-mapped, neural or neural:MODEL, the last two also with +shift)");
-  }
-  for (const std::string &m : models) modelList.push_back({m, false});
-  for (const auto &[m, shifted] : modelList) {
-    if (m.empty()) throw std::invalid_argument("--neural: empty model path");
-    add({"neural:" + fs::path(m).stem().string() + (shifted ? "+shift" : ""),
+  // A model's row, named by the file's stem (the CSV does not carry this
+  // machine's paths).
+  const auto addModel = [&](const std::string &model, bool shifted) {
+    if (model.empty()) throw std::invalid_argument("--neural: empty model path");
+    add({"neural:" + fs::path(model).stem().string() + (shifted ? "+shift" : ""),
          K::Neural,
          false,
-         m,
+         model,
          {},
          shifted});
+  };
+  std::vector<std::pair<std::string, bool>> modelList;  // after every other row
+  for (const std::string &t : tokens.empty() ? defaults : tokens) {
+    if (t.ends_with("-lobes"))
+      throw std::invalid_argument(
+          "--samplers: '" + t + "' is now '" + t.substr(0, t.size() - 6) +
+          "' (each sampler's own mapping: the BRDF's sample() on lobe integrands, as in nuld "
+          "render); the tabulated lobe's inverse CDF is '" +
+          t.substr(0, t.size() - 6) + "-tabulated'");
+    BackendSpec spec;
+    try {
+      spec = parseBackend(t, kIntegration);
+    } catch (const std::invalid_argument &e) {
+      throw std::invalid_argument(std::string("--samplers: ") + e.what());
+    }
+    const std::string name = spec.entry().name;
+    // Each classic sampler in its own mapping (a lobe integrand's BRDF
+    // sample(), any other target's inverse CDF) or, -tabulated, through the
+    // tabulated lobe's inverse CDF: the meanings renders give the words.
+    switch (spec.kind) {
+      case B::Independent: add({name, K::Independent, false, {}, {}, false}); break;
+      case B::IndependentTabulated: add({name, K::Independent, true, {}, {}, false}); break;
+      case B::Sobol: add({name, K::Sobol, false, {}, {}, false}); break;
+      case B::SobolTabulated: add({name, K::Sobol, true, {}, {}, false}); break;
+      case B::Halton: add({name, K::Halton, false, {}, {}, false}); break;
+      case B::HaltonTabulated: add({name, K::Halton, true, {}, {}, false}); break;
+      case B::Sot:
+      case B::SotMapped:
+      case B::Gbn:
+      case B::GbnMapped: add({name, K::BlueNoise, false, {}, {}, false}); break;
+      case B::Neural:
+        modelList.emplace_back(spec.argument.empty() ? shippedLobeModel() : spec.argument,
+                               spec.shift);
+        break;
+      case B::Optimized:
+      case B::Shifted: {
+        if (spec.argument.empty()) {
+          if (spec.shift)
+            throw std::invalid_argument("--samplers: '" + t +
+                                        "': the study's optimized sets are made for each "
+                                        "integrand's target and dealt as made; +shift applies to "
+                                        "banks from files (shifted:PATHS) and models");
+          add({name, K::Optimized, false, {}, {}, false});
+          break;
+        }
+        // Named by the files' stems, as neural models are.
+        std::string row = name + ":";
+        std::stringstream paths(spec.argument);
+        for (std::string path; std::getline(paths, path, ',');) {
+          if (row.back() != ':') row += ',';
+          row += fs::path(path).stem().string();
+        }
+        add({row, K::Bank, false, {}, spec.argument, spec.kind == B::Shifted});
+        break;
+      }
+      default: throw std::logic_error("parseSamplers: an integration word without a sampler");
+    }
   }
+  for (const std::string &m : models) modelList.emplace_back(m, false);
+  for (const auto &[m, shifted] : modelList) addModel(m, shifted);
   return out;
 }
 

@@ -93,18 +93,20 @@ struct SamplerChoice {
   bool shifted = false;
 };
 
-// Tokens: independent|random, sobol, halton (each also enabling its
-// -tabulated variant), independent-tabulated, sobol-tabulated,
-// halton-tabulated, optimized, the renderer's bank words optimized:PATHS,
-// points:PATHS and shifted:PATHS (sets from files, on the integrands whose
-// target they follow; uniform sets on every integrand, shifted per instance
-// and mapped by its inverse CDF), and neural:PATH (added to `models`) or
-// neural:PATH+shift (its sets shifted in primary space per instance, as the
-// renderer deals them out; targets with a CDF map only; runIntegrateStudy
-// shifts a lobe family's sets, as renders do, and names it so); `neural` alone is
-// the renderer's shipped model (shippedLobeModel). Throws
-// std::invalid_argument naming --samplers and the accepted names; the old
-// -lobes spellings are refused with their new names.
+// Tokens: the backend registry's words that serve the integration study
+// (renderer/backend_registry.h, parsed there; a word means what it means in
+// renders): independent|random, sobol, halton and each -tabulated (on lobe
+// integrands through the tabulated lobe's inverse CDF), optimized (sets
+// optimized for each integrand's target), optimized:PATHS|points:PATHS and
+// shifted:PATHS (sets from files, on the integrands whose target they
+// follow; uniform sets on every integrand, shifted per instance and mapped
+// by its inverse CDF), the blue-noise sot, sot-mapped, gbn, gbn-mapped, and
+// neural[:MODEL] (without MODEL the shipped model, shippedLobeModel; with
+// +shift every set shifted in primary space per instance, as the renderer
+// deals them out; runIntegrateStudy shifts a lobe family's sets as renders
+// do and names the row so). The default is every classic word and
+// optimized. Throws std::invalid_argument naming --samplers and the
+// accepted names; the old -lobes spellings are refused with their new names.
 std::vector<SamplerChoice> parseSamplers(const std::vector<std::string> &tokens,
                                          const std::vector<std::string> &models);
 

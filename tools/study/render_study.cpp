@@ -255,8 +255,8 @@ void RenderStudySettings::validate() const {
 bool StudyBackend::samplesLobes() const {
   // Sets sample the lobe routes where no set serves (BankBackend), except
   // uniform sets, which serve the BSDF pair themselves.
-  if (makesSets()) return sets != Sets::Uniform;
-  return renderer.entry().lobes && makeBackend(renderer, 0)->samplesLobes();
+  if (makesSets()) return sets != BackendSets::Uniform;
+  return spec.entry().lobes && makeBackend(spec, 0)->samplesLobes();
 }
 
 std::string RenderStudySettings::rowOptions() const {

@@ -122,32 +122,26 @@ const std::vector<std::string> &renderStudyDerivedColumns();
 // variance, relvariance (ReferenceNoise), seconds, image.
 const std::vector<std::string> &referenceColumns();
 
-// A --backends word, parsed once: one of the study's own sets (optimized,
-// optimized-uniform, optimized-bsdf, optimized-both, each maybe with +shift)
-// or a renderer backend (renderer/backend_registry.h).
+// A --backends word, parsed once by the backend registry
+// (renderer/backend_registry.h): what the study renders with, and the sets
+// it makes first (optimized, optimized-uniform, optimized-bsdf,
+// optimized-both, each maybe with +shift).
 struct StudyBackend {
-  enum class Sets { None, EnvMap, Uniform, Lobes, EnvMapAndLobes };
-  std::string word;        // as given: the CSV's backend column
-  Sets sets = Sets::None;  // None: `renderer` is the backend
-  bool shifted = false;    // +shift: the sets randomized in primary space
-  BackendSpec renderer;    // for Sets::None
-  bool makesSets() const { return sets != Sets::None; }
-  bool makesLobeSets() const { return sets == Sets::Lobes || sets == Sets::EnvMapAndLobes; }
+  std::string word;  // as given: the CSV's backend column
+  BackendSpec spec;
+  BackendSets sets = BackendSets::None;  // spec.setsToMake(): None renders `spec` as it is
+  bool makesSets() const { return sets != BackendSets::None; }
+  bool makesLobeSets() const {
+    return sets == BackendSets::Lobes || sets == BackendSets::EnvMapAndLobes;
+  }
   // Whether its renders sample the scene's lobe tables: the study's sets
   // but uniform ones (BankBackend::samplesLobes); a file's banks or a model
   // are asked (which loads them).
   bool samplesLobes() const;
 };
-// Throws std::invalid_argument naming the word and the choices.
+// The word parsed for renders; throws std::invalid_argument naming the word
+// and the choices.
 StudyBackend parseStudyBackend(const std::string &word);
-
-// The words of the study's own sets, each also with the suffix +shift: the
-// names `nuld help backends` lists and parseStudyBackend knows.
-struct StudyBackendDescription {
-  const char *spelling, *description;
-  StudyBackend::Sets sets;
-};
-const std::vector<StudyBackendDescription> &studyBackendDescriptions();
 
 struct RenderStudyResult {
   std::filesystem::path csv;                      // out/render.csv

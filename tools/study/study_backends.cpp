@@ -12,7 +12,6 @@
 #include "tools/study/csv_table.h"
 #include "tools/study/ranks.h"
 #include "tools/study/set_cache.h"
-#include "tools/study/shift_suffix.h"
 #include "tools/study/stopwatch.h"
 
 namespace nuld::study {
@@ -28,58 +27,17 @@ constexpr double kMinBinShare = 1e-3;
 
 }  // namespace
 
-const std::vector<StudyBackendDescription> &studyBackendDescriptions() {
-  using Sets = StudyBackend::Sets;
-  static const std::vector<StudyBackendDescription> list{
-      {"optimized", "sets optimized for the scene's environment map (light samples)", Sets::EnvMap},
-      {"optimized-uniform", "uniform sets for the periodic L2 discrepancy (primary samples)",
-       Sets::Uniform},
-      {"optimized-bsdf", "lobe banks for the scene's Disney materials (BSDF samples)", Sets::Lobes},
-      {"optimized-both", "optimized and optimized-bsdf together", Sets::EnvMapAndLobes},
-  };
-  return list;
-}
-
 StudyBackend parseStudyBackend(const std::string &word) {
-  // A study word may carry the suffix "+shift": its non-uniform sets are
-  // then randomized in primary space (the renderer's shifted:PATHS).
-  StudyBackend b;
-  b.word = word;
-  const auto [base, shifted] = splitShiftSuffix(word);
-  b.shifted = shifted;
-  for (const StudyBackendDescription &d : studyBackendDescriptions())
-    if (base == d.spelling) {
-      b.sets = d.sets;
-      return b;
-    }
-  if (b.shifted)
-    throw std::invalid_argument("--backends: '" + word +
-                                "': +shift applies to the study's own sets (optimized, "
-                                "optimized-uniform, optimized-bsdf, optimized-both) only");
-  // A word neither the study nor the renderer knows: every word either
-  // accepts, the closest of them first.
-  const std::string name = word.substr(0, word.find(':'));
-  std::vector<std::string> names = backendWords(), studyWords;
-  const bool renderers = std::find(names.begin(), names.end(), name) != names.end();
-  for (const StudyBackendDescription &d : studyBackendDescriptions()) {
-    names.push_back(d.spelling);
-    studyWords.push_back(d.spelling);
-  }
-  if (!renderers)
-    throw std::invalid_argument("unknown backend '" + word + "'" + didYouMean(name, names) +
-                                ": expected " + backendSpellings() + ", or the study's " +
-                                joinAlternatives(studyWords) +
-                                " (each also with +shift; nuld help backends)");
-  b.renderer = parseBackend(word);
-  return b;
+  const BackendSpec spec = parseBackend(word, kRenders);
+  return {word, spec, spec.setsToMake()};
 }
 
 BackendPlan planBackend(const StudyBackend &backend, const EnvironmentLight *light,
                         const LobeTables *tables, const std::vector<const Target *> &lobeTargets,
                         const std::string &sceneSlug, std::size_t spp, const SetSettings &s,
                         std::uint64_t seed, const std::vector<std::size_t> &sppFamily) {
-  using Sets = StudyBackend::Sets;
-  if (backend.sets == Sets::None) return {backend.renderer, {}, ""};
+  using Sets = BackendSets;
+  if (backend.sets == Sets::None) return {backend.spec, {}, ""};
   OptimizedSetsRequest request;
   request.n = spp;
   request.instances = s.instances;
@@ -95,7 +53,8 @@ BackendPlan planBackend(const StudyBackend &backend, const EnvironmentLight *lig
   const auto banks = [&] {
     std::string argument;
     for (std::size_t i = 0; i < paths.size(); ++i) argument += (i ? "," : "") + paths[i];
-    return BackendSpec{backend.shifted ? BackendKind::Shifted : BackendKind::Optimized, argument};
+    return BackendSpec{backend.spec.shift ? BackendKind::Shifted : BackendKind::Optimized,
+                       argument};
   };
   // The sets of one target: with --opt-nested one nested bank of the
   // largest spp whose prefixes are the other spp (or any nested bank in the
@@ -204,8 +163,8 @@ PreparedBackend prepareStudyBackend(const StudyBackend &backend, const Scene &sc
                                     const std::vector<std::size_t> &sppFamily,
                                     const StudyProgress &progress) {
   PreparedBackend out;
-  if (backend.sets == StudyBackend::Sets::None) {
-    out.spec = backend.renderer;
+  if (backend.sets == BackendSets::None) {
+    out.spec = backend.spec;
     return out;
   }
   const auto start = Clock::now();
