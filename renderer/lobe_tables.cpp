@@ -141,14 +141,21 @@ double LobeFrame::tablePdf(Vec3 wi) const {
   return table->pdf(spherePoint(normalize(local))) * kInvFourPi;
 }
 
+LobeTablesConfig::LobeTablesConfig(const LobeTableSettings &s, bool mis)
+    : settings(s), samplingMix(s.samplingMix.value_or(-1)), underMis(mis) {
+  if (!s.samplingMix || !(*s.samplingMix >= 0 && *s.samplingMix <= 1))
+    throw std::invalid_argument("lobe tables: the sampling mix must be given, in [0, 1]");
+}
+
 LobeTables::LobeTables(const std::vector<std::shared_ptr<const Bsdf>> &materials,
-                       const LobeTableSettings &settings)
-    : settings_(settings) {
+                       const LobeTablesConfig &config)
+    : config_(config) {
+  const LobeTableSettings &settings = config.settings;
   if (settings.thetaBins < 1 || settings.phiBins < 1 || settings.phiCells < 2)
     throw std::invalid_argument(
         "lobe tables: theta and phi bins must be >= 1 and the resolution >= 2");
-  if (!settings.samplingMix || !(*settings.samplingMix >= 0 && *settings.samplingMix <= 1))
-    throw std::invalid_argument("lobe tables: the sampling mix must be given, in [0, 1]");
+  if (!(config.samplingMix >= 0 && config.samplingMix <= 1))
+    throw std::invalid_argument("lobe tables: the sampling mix must be in [0, 1]");
   if (!(settings.defensive >= 0 && settings.defensive <= 1))
     throw std::invalid_argument("lobe tables: the defensive share must be in [0, 1]");
   if (settings.bounces < 0)
@@ -166,7 +173,7 @@ LobeTables::LobeTables(const std::vector<std::shared_ptr<const Bsdf>> &materials
     const int phiBins = e.anisotropic ? settings.phiBins : 1;
     for (int t = 0; t < settings.thetaBins; ++t)
       for (int p = 0; p < phiBins; ++p) {
-        DisneyTargetSpec spec = lobeTableLayout(settings);
+        DisneyTargetSpec spec = lobeTableLayout(config);
         spec.params = disney->params();
         spec.thetaDegrees = binCentre(t, 90, settings.thetaBins);
         spec.phiDegrees = e.anisotropic ? binCentre(p, 90, phiBins) : 0;
@@ -184,11 +191,11 @@ LobeTables::LobeTables(const std::vector<std::shared_ptr<const Bsdf>> &materials
 // table's resolution (a narrow lobe, whose peak moves across the bin with
 // the view) keeps the material's sampler.
 void LobeTables::measureRoutes(const Entry &e, std::size_t material) {
-  const int phiBins = e.anisotropic ? settings_.phiBins : 1;
-  const LobeRouting routing = settings_.routing;
+  const int phiBins = e.anisotropic ? config_.settings.phiBins : 1;
+  const LobeRouting routing = config_.settings.routing;
   for (std::size_t b = 0; b < e.tables.size(); ++b) {
     const int t = int(b) / phiBins, p = int(b) % phiBins;
-    LobeBinRoute route{material, binCentre(t, 90, settings_.thetaBins),
+    LobeBinRoute route{material, binCentre(t, 90, config_.settings.thetaBins),
                        e.anisotropic ? binCentre(p, 90, phiBins) : 0};
     if (routing == LobeRouting::Table) {  // nothing to decide
       route.table = true;
@@ -198,7 +205,7 @@ void LobeTables::measureRoutes(const Entry &e, std::size_t material) {
     int view = 0;
     for (const double ft : {1.0 / 6, 0.5, 5.0 / 6})
       for (const double fp : e.anisotropic ? std::vector{0.25, 0.75} : std::vector{0.4}) {
-        const double theta = (t + ft) * 90 / settings_.thetaBins / kDegrees;
+        const double theta = (t + ft) * 90 / config_.settings.thetaBins / kDegrees;
         // Isotropic: an azimuth away from the table's, so the rotation is
         // part of what is measured. Anisotropic: views in every quadrant,
         // so the folds are.
@@ -209,7 +216,7 @@ void LobeTables::measureRoutes(const Entry &e, std::size_t material) {
         const Vec3 wo{flipX * std::sin(theta) * std::cos(phi),
                       flipY * std::sin(theta) * std::sin(phi), std::cos(theta)};
         const RouteVariances v =
-            measureAt(*e.material, wo, frameIn(e, wo, binIndex(e, wo)), settings_.underMis,
+            measureAt(*e.material, wo, frameIn(e, wo, binIndex(e, wo)), config_.underMis,
                       hashCombine(material * 1000 + b, std::uint64_t(ft * 6)));
         route.classicVariance += v.classic;
         route.tableVariance += v.table;
@@ -223,17 +230,17 @@ std::size_t LobeTables::binIndex(const Entry &e, Vec3 wo) const {
   // The bins by comparisons with their edges' cosines and tangents (wo is a
   // unit vector): no atan2 per shading point.
   int t = 0;
-  while (t + 1 < settings_.thetaBins && wo.z <= cosThetaEdges_[t]) ++t;
+  while (t + 1 < config_.settings.thetaBins && wo.z <= cosThetaEdges_[t]) ++t;
   if (!e.anisotropic) return std::size_t(t);
   const double x = std::abs(wo.x), y = std::abs(wo.y);
   int p = 0;
-  while (p + 1 < settings_.phiBins && y > x * tanPhiEdges_[p]) ++p;
-  return std::size_t(t) * settings_.phiBins + p;
+  while (p + 1 < config_.settings.phiBins && y > x * tanPhiEdges_[p]) ++p;
+  return std::size_t(t) * config_.settings.phiBins + p;
 }
 
 LobeFrame LobeTables::frameIn(const Entry &e, Vec3 wo, std::size_t index) const {
   LobeFrame f;
-  f.defensive = settings_.defensive;
+  f.defensive = config_.settings.defensive;
   if (!e.anisotropic) {
     const double r = std::sqrt(wo.x * wo.x + wo.y * wo.y);
     if (r > 0) f.cosPhi = wo.x / r, f.sinPhi = wo.y / r;
@@ -265,23 +272,23 @@ std::vector<const Target *> LobeTables::targets() const {
   return out;
 }
 
-DisneyTargetSpec lobeTableLayout(const LobeTableSettings &settings) {
+DisneyTargetSpec lobeTableLayout(const LobeTablesConfig &config) {
   DisneyTargetSpec spec;
-  spec.phiCells = settings.phiCells;
-  spec.thetaRows = std::max(1, settings.phiCells / 2);
-  spec.samplingMix = settings.samplingMix.value_or(0);
+  spec.phiCells = config.settings.phiCells;
+  spec.thetaRows = std::max(1, config.settings.phiCells / 2);
+  spec.samplingMix = config.samplingMix;
   return spec;
 }
 
 std::shared_ptr<const LobeTables> LobeTableCache::get(
-    const std::vector<std::shared_ptr<const Bsdf>> &materials, const LobeTableSettings &settings) {
+    const std::vector<std::shared_ptr<const Bsdf>> &materials, const LobeTablesConfig &config) {
   std::vector<const Bsdf *> key;
   for (const auto &m : materials) key.push_back(m.get());
   const std::lock_guard lock(mutex_);
   for (const Item &item : items_)
-    if (item.materials == key && item.settings == settings) return item.tables;
-  auto tables = std::make_shared<const LobeTables>(materials, settings);
-  items_.push_back({std::move(key), settings, tables});
+    if (item.materials == key && item.config == config) return item.tables;
+  auto tables = std::make_shared<const LobeTables>(materials, config);
+  items_.push_back({std::move(key), config, tables});
   return tables;
 }
 

@@ -71,7 +71,7 @@ struct LobeTableSettings {
   int phiCells = 64;
   // The tables' density: 0 f cos, 1 the material's own sampling pdf
   // (`mix` of materials/disney_target.h); nullopt: chosen by the estimator
-  // (lobeTablesFor in renderer/render.h).
+  // (LobeTablesConfig::samplingMix).
   std::optional<double> samplingMix;
   LobeRouting routing = LobeRouting::Measured;
   // The defensive share d: a tabulated sample is drawn by the material's own
@@ -88,22 +88,39 @@ struct LobeTableSettings {
   // a table serves one or two of a pixel's points there: no gain measured,
   // for the lookups' time (renderer/README.md, "Lobe routes").
   int bounces = 1;
-  // Whether a BSDF sample's whole contribution is weighed against light
-  // samples by MIS, as in the direct integrator (lobeTablesFor sets it):
-  // the routes are then measured under MIS, since a route that is best
-  // alone need not be best once light sampling covers the lobe's broad
-  // parts. In path tracing a BSDF sample also carries the indirect light at
-  // full weight, and routes measured by BSDF sampling alone render better
-  // there (renderer/README.md, "Lobe routes").
-  bool underMis = false;
-
   friend bool operator==(const LobeTableSettings &, const LobeTableSettings &) = default;
 };
 
-// The layout of the renderer's lobe tables under `settings` (cells and mix;
+// The lobe tables of one render: the user's settings and what the renderer
+// derives from them for the render's integrator (lobeTablesFor in
+// renderer/render.h, the one place that derives them). No option sets the
+// derived fields.
+struct LobeTablesConfig {
+  LobeTableSettings settings;  // as the user set them
+  // Derived: settings.samplingMix, else the estimator's choice (f cos for
+  // BSDF sampling alone, the material's pdf under MIS).
+  double samplingMix = 0;
+  // Derived: whether a BSDF sample's whole contribution is weighed against
+  // light samples by MIS, as in the direct integrator. The routes are then
+  // measured under MIS, since a route that is best alone need not be best
+  // once light sampling covers the lobe's broad parts. In path tracing a
+  // BSDF sample also carries the indirect light at full weight, and routes
+  // measured by BSDF sampling alone render better there (renderer/README.md,
+  // "Lobe routes").
+  bool underMis = false;
+
+  LobeTablesConfig() = default;
+  // Settings that give their mix, routes measured with or without MIS (for
+  // tests and benchmarks that build tables directly). Throws
+  // std::invalid_argument when the mix is not given or not in [0, 1].
+  LobeTablesConfig(const LobeTableSettings &settings, bool underMis = false);
+  friend bool operator==(const LobeTablesConfig &, const LobeTablesConfig &) = default;
+};
+
+// The layout of the renderer's lobe tables under `config` (cells and mix;
 // the material and the view left at their defaults): the spec a model must
 // match to serve them.
-DisneyTargetSpec lobeTableLayout(const LobeTableSettings &settings);
+DisneyTargetSpec lobeTableLayout(const LobeTablesConfig &config);
 
 // One shading point's table and the map from the table's frame to the
 // shading frame.
@@ -169,10 +186,10 @@ struct LobeBinRoute {
 class LobeTables {
  public:
   // Tables for every distinct DisneyBrdf among `materials`; other materials
-  // get none. Throws std::invalid_argument for bins < 1, a mix outside
-  // [0, 1] or none given.
+  // get none. Throws std::invalid_argument for bins < 1 or a mix outside
+  // [0, 1].
   LobeTables(const std::vector<std::shared_ptr<const Bsdf>> &materials,
-             const LobeTableSettings &settings = {});
+             const LobeTablesConfig &config = {});
 
   // The frame for `material` at wo (shading frame, wo.z > 0); nullopt for a
   // material without tables.
@@ -184,7 +201,8 @@ class LobeTables {
   // Every bin's route and its measurement, in the order of the tables.
   const std::vector<LobeBinRoute> &routes() const { return routes_; }
   std::size_t materials() const { return entries_.size(); }
-  const LobeTableSettings &settings() const { return settings_; }
+  const LobeTableSettings &settings() const { return config_.settings; }
+  const LobeTablesConfig &config() const { return config_; }
 
  private:
   struct Entry {
@@ -199,7 +217,7 @@ class LobeTables {
   // of that bin's table at wo, whatever its route.
   std::size_t binIndex(const Entry &e, Vec3 wo) const;
   LobeFrame frameIn(const Entry &e, Vec3 wo, std::size_t index) const;
-  LobeTableSettings settings_;
+  LobeTablesConfig config_;
   // The inner edges of the theta bins as cosines and of the phi bins as
   // tangents, in increasing angle.
   std::vector<double> cosThetaEdges_, tanPhiEdges_;
@@ -213,12 +231,12 @@ class LobeTables {
 class LobeTableCache {
  public:
   std::shared_ptr<const LobeTables> get(const std::vector<std::shared_ptr<const Bsdf>> &materials,
-                                        const LobeTableSettings &settings);
+                                        const LobeTablesConfig &config);
 
  private:
   struct Item {
     std::vector<const Bsdf *> materials;
-    LobeTableSettings settings;
+    LobeTablesConfig config;
     std::shared_ptr<const LobeTables> tables;
   };
   std::mutex mutex_;

@@ -78,7 +78,7 @@ void renderTile(const Scene &scene, const RenderSettings &s, SamplerBackend &bac
 ImageAttributes renderAttributes(const std::string &sceneName, const Scene &scene,
                                  const RenderSettings &s, const std::string &backend,
                                  std::uint64_t seed, const RenderStats &stats) {
-  const LobeTableSettings lobes = lobeTablesFor(s);
+  const LobeTablesConfig lobes = lobeTablesFor(s);
   return {
       {"nuld:scene", sceneName},
       {"nuld:backend", backend},
@@ -89,10 +89,10 @@ ImageAttributes renderAttributes(const std::string &sceneName, const Scene &scen
       {"nuld:max_depth", std::to_string(s.maxDepth)},
       {"nuld:lobe_choice", toString(scene.lobeChoice)},
       {"nuld:env_importance", scene.environment ? toString(scene.environment->weight()) : "none"},
-      {"nuld:lobe_mix", formatRoundTrip(*lobes.samplingMix)},
-      {"nuld:lobe_routes", toString(lobes.routing)},
-      {"nuld:lobe_defensive", formatRoundTrip(lobes.defensive)},
-      {"nuld:lobe_bounces", std::to_string(lobes.bounces)},
+      {"nuld:lobe_mix", formatRoundTrip(lobes.samplingMix)},
+      {"nuld:lobe_routes", toString(lobes.settings.routing)},
+      {"nuld:lobe_defensive", formatRoundTrip(lobes.settings.defensive)},
+      {"nuld:lobe_bounces", std::to_string(lobes.settings.bounces)},
       {"nuld:render_seconds", formatRoundTrip(stats.seconds)},
       {"nuld:setup_seconds", formatRoundTrip(stats.setupSeconds)},
       {"nuld:renderer_revision", std::to_string(kRendererRevision)},
@@ -159,9 +159,11 @@ RenderSettings RenderOverrides::appliedTo(RenderSettings s, const OverrideNames 
   return s;
 }
 
-LobeTableSettings lobeTablesFor(const RenderSettings &s) {
-  LobeTableSettings out = s.lobeTables;
-  if (!out.samplingMix) out.samplingMix = s.integrator == IntegratorKind::Bsdf ? 0.0 : 1.0;
+LobeTablesConfig lobeTablesFor(const RenderSettings &s) {
+  LobeTablesConfig out;
+  out.settings = s.lobeTables;
+  out.samplingMix =
+      s.lobeTables.samplingMix.value_or(s.integrator == IntegratorKind::Bsdf ? 0.0 : 1.0);
   out.underMis = s.integrator == IntegratorKind::Direct;
   return out;
 }

@@ -72,7 +72,7 @@ struct RenderOverrides {
 // chosen when it is not given, f cos (mix 0) for the BSDF-only estimator and
 // the material's sampling pdf (mix 1) for those that weigh BSDF samples
 // against light samples by MIS (renderer/lobe_tables.h says why).
-LobeTableSettings lobeTablesFor(const RenderSettings &s);
+LobeTablesConfig lobeTablesFor(const RenderSettings &s);
 
 struct RenderStats {
   double seconds = 0;  // the render, setup excluded

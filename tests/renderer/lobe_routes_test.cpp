@@ -163,7 +163,7 @@ TEST(LobeRoutes, DefensiveShareOfZeroAndOneAreTheTwoRoutes) {
 // and targets agree.
 TEST(LobeRoutes, MeasurementKeepsTheMaterialsSamplerForNarrowLobes) {
   const auto shell = material(0.2, 0.15, 1.0), rough = material(0.9, 0.0, 0.0);
-  const LobeTables tables({shell, rough}, {9, 3, 256, 1.0, LobeRouting::Measured});
+  const LobeTables tables({shell, rough}, LobeTableSettings{9, 3, 256, 1.0, LobeRouting::Measured});
   std::size_t shellTabulated = 0, roughTabulated = 0, tabulated = 0;
   for (const LobeBinRoute &r : tables.routes()) {
     EXPECT_GT(r.classicVariance, 0);
@@ -200,8 +200,7 @@ TEST(LobeRoutes, RoutesUnderMisAreMeasuredWithLightSamplingBeside) {
   LobeTableSettings settings;
   settings.samplingMix = 1.0;
   const auto tabulated = [&](bool underMis, double &classic) {
-    settings.underMis = underMis;
-    const LobeTables tables({glaze}, settings);
+    const LobeTables tables({glaze}, LobeTablesConfig(settings, underMis));
     std::size_t count = 0;
     classic = 0;
     for (const LobeBinRoute &r : tables.routes()) {

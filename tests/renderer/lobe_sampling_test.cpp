@@ -66,8 +66,8 @@ TEST(LobeTables, OneSetOfBinsPerDistinctDisneyMaterial) {
   const auto f = tables.frame(iso.get(), direction(30, 0));
   ASSERT_TRUE(f);
   EXPECT_NE(f->table->spec().find("theta=33.75"), std::string::npos) << f->table->spec();
-  EXPECT_THROW(LobeTables({iso}, {0, 1, 64, 0.0}), std::invalid_argument);
-  EXPECT_THROW(LobeTables({iso}, {4, 1, 64, 1.5}), std::invalid_argument);
+  EXPECT_THROW(LobeTables({iso}, LobeTableSettings{0, 1, 64, 0.0}), std::invalid_argument);
+  EXPECT_THROW(LobeTables({iso}, LobeTableSettings{4, 1, 64, 1.5}), std::invalid_argument);
   EXPECT_THROW(LobeTables({iso}, kSmallTables), std::invalid_argument);  // no mix
 }
 
@@ -167,14 +167,19 @@ TEST(LobeSampling, EveryEstimatorAgreesUnderAConstantSky) {
 }
 
 // The tables' density follows the estimator unless given: f cos for BSDF
-// sampling alone, the material's sampling pdf under MIS.
+// sampling alone, the material's sampling pdf under MIS; the routes are
+// measured under MIS for the direct integrator alone. Both are derived, and
+// the user's settings pass through as set.
 TEST(LobeSampling, TableDensityFollowsTheEstimator) {
   RenderSettings s;
   s.integrator = IntegratorKind::Bsdf;
   EXPECT_EQ(lobeTablesFor(s).samplingMix, 0.0);
+  EXPECT_FALSE(lobeTablesFor(s).underMis);
   for (const auto kind : {IntegratorKind::Direct, IntegratorKind::Path}) {
     s.integrator = kind;
     EXPECT_EQ(lobeTablesFor(s).samplingMix, 1.0);
+    EXPECT_EQ(lobeTablesFor(s).underMis, kind == IntegratorKind::Direct);
+    EXPECT_EQ(lobeTablesFor(s).settings, s.lobeTables);
   }
   s.lobeTables.samplingMix = 0.25;
   EXPECT_EQ(lobeTablesFor(s).samplingMix, 0.25);

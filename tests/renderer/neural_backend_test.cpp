@@ -96,7 +96,7 @@ TEST(NeuralBackend, DisneyFamilyModelServesTheLobeTablesOfItsMaterial) {
   NeuralBackend backend("neural:" + model, model, 2);
   ASSERT_TRUE(backend.samplesLobes());
   const auto supplement = std::make_shared<DisneyBrdf>(supplementDisneyParams());
-  const LobeTables tables({supplement}, {3, 2, 256, 0.0, LobeRouting::Table});
+  const LobeTables tables({supplement}, LobeTableSettings{3, 2, 256, 0.0, LobeRouting::Table});
   const auto targets = tables.targets();
   backend.prepare(4, {nullptr, targets});
   EXPECT_EQ(backend.servedTargets(), targets.size());
@@ -110,7 +110,7 @@ TEST(NeuralBackend, DisneyFamilyModelServesTheLobeTablesOfItsMaterial) {
   DisneyParams other = supplementDisneyParams();
   other.roughness = 0.2;
   const LobeTables otherTables({std::make_shared<DisneyBrdf>(other)},
-                               {3, 2, 256, 0.0, LobeRouting::Table});
+                               LobeTableSettings{3, 2, 256, 0.0, LobeRouting::Table});
   EXPECT_NE(errorOf([&] {
               backend.prepare(4, {nullptr, otherTables.targets()});
             }).find("makes none of the scene's"),
