@@ -78,5 +78,43 @@ for command in "${!base[@]}"; do
     fi
   done
 done
-echo "option sweep: $cases options, $failures failed"
+
+# Every word of the backend registry (nuld help backends, by section) is
+# taken exactly where it serves: a word the command takes lets the command
+# line reach the next bad option (the refusal names that option), one it
+# does not is refused naming where it serves. PATHS and MODEL stand for a
+# name the grammar accepts; the files are not opened at parse time.
+"$nuld" help backends >"$out/backends.txt"
+section() { # the words of the section from line $1 to line $2
+  sed -n "/^$1/,/^$2/p" "$out/backends.txt" | sed -n '/^  [a-z]/p' | awk '{print $1}' |
+    sed -e 's/\[:[A-Z]*\]//' -e 's/:PATHS/:f.txt/' -e 's/:MODEL/:m.nuldnet/'
+}
+everywhere=$(section "Sampler backends" "Renders only")
+rendersOnly=$(section "Renders only" "study integrate only")
+integrateOnly=$(section "study integrate only" "NO SUCH LINE")
+words=0
+takes() { # takes WHAT EXPECTED-OPTION COMMAND...: the refusal names EXPECTED-OPTION
+  local what=$1 expected=$2; shift 2
+  words=$((words + 1))
+  "$@" >/dev/null 2>"$out/stderr"
+  if ! grep -q -- "^nuld: error: $expected" "$out/stderr"; then
+    echo "FAIL: $what: expected a refusal of $expected, got:"; head -2 "$out/stderr"
+    failures=$((failures + 1))
+  fi
+}
+for w in $everywhere $rendersOnly $integrateOnly; do
+  rendersToo=1 integratesToo=1
+  # shellcheck disable=SC2086  # the lists are words
+  [[ " $(echo $integrateOnly) " == *" $w "* ]] && rendersToo=0
+  # shellcheck disable=SC2086
+  [[ " $(echo $rendersOnly) " == *" $w "* ]] && integratesToo=0
+  ((rendersToo)) && expected=--spp || expected=--backend
+  takes "render --backend $w" "$expected" "$nuld" render default --backend "$w" --spp 0 -o "$out/w.exr"
+  ((integratesToo)) && expected=--n || expected=--samplers
+  takes "study integrate --samplers $w" "$expected" "$nuld" study integrate --samplers "$w" --n 0 -o "$out/wi"
+done
+(($(echo $everywhere $rendersOnly $integrateOnly | wc -w) >= 16)) ||
+  { echo "FAIL: help backends lists fewer words than the registry holds"; failures=$((failures + 1)); }
+
+echo "option sweep: $cases options, $words backend-word checks, $failures failed"
 ((failures == 0))
