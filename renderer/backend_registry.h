@@ -52,10 +52,10 @@ struct BackendEntry {
   // those their files or family match; SamplerBackend::samplesLobes says
   // whether a made backend does), and for how many bounces from the first
   // its sets serve (0: every; the pairs of deeper bounces get Owen-Sobol
-  // primary points). sobol-tabulated serves the bounces the lobe tables are
-  // set to (LobeTableSettings).
+  // primary points). Not the tables' own bounces (LobeTableSettings::
+  // bounces): sobol-tabulated serves the bounces the tables are set to.
   bool lobes = false;
-  int bounces = 0;
+  int setBounces = 0;
   // Whether the word may go without its argument (neural: the shipped
   // model; optimized: sets made for the scene); the spec's argument is then
   // empty and the factory supplies it.

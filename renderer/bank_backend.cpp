@@ -104,7 +104,7 @@ BankBackend::BankBackend(std::string name, std::vector<SetBank> banks, std::uint
       salt_(salt),
       fallback_(makeClassicBackend(BackendKind::Sobol, seed)),
       shifted_(shifted),
-      bounces_(backendEntry(BackendKind::Optimized).bounces) {
+      setBounces_(backendEntry(BackendKind::Optimized).setBounces) {
   setBanks(std::move(banks));
 }
 
@@ -210,7 +210,8 @@ std::size_t BankBackend::pick(std::size_t instances, std::uint64_t pixel,
 
 void BankBackend::primary(std::uint64_t pixel, std::uint32_t pair, std::span<Point2> out) const {
   const int depth = SamplePairs::depthOf(pair);
-  if (!uniform_ || depth >= bounces_ || pair == SamplePairs::roulette(depth) || out.size() != n_) {
+  if (!uniform_ || depth >= setBounces_ || pair == SamplePairs::roulette(depth) ||
+      out.size() != n_) {
     if (uniform_ && depth == 0 && out.size() == n_ && pair != SamplePairs::roulette(depth))
       use_[2].fellBack.fetch_add(1, std::memory_order_relaxed);
     fallback_->primary(pixel, pair, out);
@@ -233,7 +234,7 @@ bool BankBackend::distributed(const Target &target, std::uint64_t pixel, std::ui
     if (depth == 0) use.fellBack.fetch_add(1, std::memory_order_relaxed);
     return false;
   }
-  if (depth >= bounces_ ||
+  if (depth >= setBounces_ ||
       pair != (&target == light_ ? SamplePairs::light(depth) : SamplePairs::bsdf(depth)))
     return false;
   use.served.fetch_add(1, std::memory_order_relaxed);

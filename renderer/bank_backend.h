@@ -140,7 +140,7 @@ class BankBackend : public SamplerBackend {
   bool allowNoBanks_ = false;
   // The bounces, from the first, its sets serve: the registry's declaration
   // for banks (renderer/backend_registry.h).
-  int bounces_;
+  int setBounces_;  // BackendEntry::setBounces
   // Set by prepare(): the served targets (by address) and their banks'
   // dealers; a uniform bank's, for the primary pairs.
   struct Served {
