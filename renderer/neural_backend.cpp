@@ -133,7 +133,9 @@ NeuralBackend::NeuralBackend(std::string name, const std::string &modelPath, std
                              bool shift)
     : BankBackend(std::move(name), {}, seed, kNeuralSalt),
       source_(modelPath),
-      generator_(NeuralGenerator::load(modelPath)) {
+      // The network waits for the first bank to make: with every bank in
+      // the set cache, the render never loads LibTorch.
+      generator_(NeuralGenerator::load(modelPath, NeuralGenerator::NetworkLoad::OnFirstUse)) {
   const std::string family = generator_.family().spec();
   lobeFamily_ = isLobeFamily(generator_);
   // A lobe model's sets follow their table only roughly (tools/experiments/

@@ -38,7 +38,11 @@ Point2 NeuralGenerator::place(Point2 raw, const Target &target, Jacobian2 *jacob
   return p;
 }
 
-NeuralGenerator::NeuralGenerator(const NeuralSettings &settings) : settings_(settings) {
+NeuralGenerator::NeuralGenerator(const NeuralSettings &settings)
+    : NeuralGenerator(settings, NetworkLoad::Now) {}
+
+NeuralGenerator::NeuralGenerator(const NeuralSettings &settings, NetworkLoad when)
+    : settings_(settings) {
   settings_.validate();
   family_ = makeTargetFamily(settings_.family);
   settings_.family = family_->spec();
@@ -47,14 +51,27 @@ NeuralGenerator::NeuralGenerator(const NeuralSettings &settings) : settings_(set
                                 "' has no inverse CDF; train it unmapped");
   sobol_.resize(settings_.n);
   for (std::size_t i = 0; i < settings_.n; ++i) sobol_[i] = {sobolSample(i, 0), sobolSample(i, 1)};
-  net_ = neuralRuntime().makeNet(*this, sobol_);
+  if (when == NetworkLoad::Now) network();
+}
+
+NeuralNet &NeuralGenerator::network() const {
+  const std::lock_guard guard(*netLock_);
+  if (!net_) {
+    // Built whole before it is kept: weights that do not fit leave no
+    // half-loaded network behind.
+    std::unique_ptr<NeuralNet> net = neuralRuntime().makeNet(*this, sobol_);
+    if (pendingWeights_) net->loadWeights(*pendingWeights_, path_);
+    net_ = std::move(net);
+    pendingWeights_.reset();
+  }
+  return *net_;
 }
 
 NeuralGenerator::NeuralGenerator(NeuralGenerator &&) noexcept = default;
 NeuralGenerator &NeuralGenerator::operator=(NeuralGenerator &&) noexcept = default;
 NeuralGenerator::~NeuralGenerator() = default;
 
-std::size_t NeuralGenerator::parameterCount() const { return net_->parameterCount(); }
+std::size_t NeuralGenerator::parameterCount() const { return network().parameterCount(); }
 
 void NeuralGenerator::checkSize(std::size_t n) const {
   if (n < 1 || n > (std::size_t(1) << 20))
@@ -125,7 +142,7 @@ void NeuralGenerator::generate(std::span<const Point2> z, std::span<const double
     }
   }
   std::vector<Point2> raw(K * n);
-  net_->rawPoints(*this, z, gamma, n, members, raw);
+  network().rawPoints(*this, z, gamma, n, members, raw);
   const Point2 *p = raw.data();
   for (std::size_t k = 0; k < K; ++k)
     for (std::size_t i = k * n; i < (k + 1) * n; ++i) {

@@ -21,6 +21,8 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <mutex>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -167,9 +169,14 @@ class NeuralNet {
 class NeuralGenerator {
  public:
   explicit NeuralGenerator(const NeuralSettings &settings);  // untrained
+  // When load() builds the network: at once (weights that do not fit it are
+  // refused by load itself), or on its first use (a render whose banks are
+  // all in the set cache then never loads LibTorch, neural_runtime.h; such
+  // weights are refused by the first generate(), naming the file).
+  enum class NetworkLoad { Now, OnFirstUse };
   // Throws std::runtime_error naming the file for unreadable, truncated or
   // foreign files and for metadata that does not rebuild a network.
-  static NeuralGenerator load(const std::string &path);
+  static NeuralGenerator load(const std::string &path, NetworkLoad when = NetworkLoad::Now);
   // Weights plus everything needed to rebuild the net; `extra` metadata
   // (training settings, step) is stored alongside. Atomic.
   void save(const std::string &path, const std::map<std::string, std::string> &extra = {}) const;
@@ -236,8 +243,8 @@ class NeuralGenerator {
   PointSet generateSets(std::size_t instances, std::uint64_t seed, std::span<const double> gamma,
                         std::size_t n = 0, const Target *member = nullptr) const;
 
-  NeuralNet &net() { return *net_; }
-  const NeuralNet &net() const { return *net_; }
+  NeuralNet &net() { return network(); }
+  const NeuralNet &net() const { return network(); }
   // The first n Sobol points: the rotated base set at offset 0.
   std::span<const Point2> sobolBase() const { return sobol_; }
 
@@ -245,7 +252,14 @@ class NeuralGenerator {
   NeuralSettings settings_;
   std::unique_ptr<const TargetFamily> family_;
   std::vector<Point2> sobol_;  // the first n Sobol points (the rotated base)
-  std::unique_ptr<NeuralNet> net_;
+  NeuralGenerator(const NeuralSettings &settings, NetworkLoad when);
+  // The network, built (and given pendingWeights_) on the first call.
+  NeuralNet &network() const;
+  mutable std::unique_ptr<NeuralNet> net_;
+  // load()'s file and its path, until the network that takes the weights is built.
+  mutable std::optional<ModelFile> pendingWeights_;
+  std::string path_;
+  std::unique_ptr<std::mutex> netLock_ = std::make_unique<std::mutex>();
   std::uint64_t fileChecksum_ = 0;
 };
 

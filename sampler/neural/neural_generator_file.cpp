@@ -56,7 +56,7 @@ ModelFile NeuralGenerator::toModelFile(const std::map<std::string, std::string> 
   ModelFile file;
   file.metadata = extra;
   for (const auto &[k, v] : metadata()) file.metadata[k] = v;
-  file.tensors = net_->tensors();
+  file.tensors = network().tensors();
   return file;
 }
 
@@ -66,16 +66,18 @@ void NeuralGenerator::save(const std::string &path,
 }
 
 void NeuralGenerator::loadWeights(const ModelFile &file, const std::string &path) {
-  net_->loadWeights(file, path);
+  network().loadWeights(file, path);
 }
 
-NeuralGenerator NeuralGenerator::load(const std::string &path) {
-  const ModelFile file = readModelFile(path);
+NeuralGenerator NeuralGenerator::load(const std::string &path, NetworkLoad when) {
+  ModelFile file = readModelFile(path);
   NeuralSettings s = NeuralSettings::fromModelFile(file, path);
   try {
-    NeuralGenerator gen(std::move(s));
-    gen.loadWeights(file, path);
+    NeuralGenerator gen(std::move(s), NetworkLoad::OnFirstUse);
     gen.fileChecksum_ = file.checksum;
+    gen.path_ = path;
+    gen.pendingWeights_ = std::move(file);
+    if (when == NetworkLoad::Now) gen.network();
     return gen;
   } catch (const std::invalid_argument &e) {
     throw std::runtime_error(path + ": " + e.what());

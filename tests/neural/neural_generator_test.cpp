@@ -209,6 +209,38 @@ TEST(NeuralGenerator, ForeignOrInconsistentModelFilesAreClearErrors) {
   expectLoadError((dir / "sigma").string(), "sigma");
 }
 
+// A generator whose network is built on first use (NetworkLoad::OnFirstUse,
+// the renderer's) describes its model without one, makes the same sets as
+// one loaded at once, and refuses weights that do not fit at its first
+// generate(), naming the file; the network is then not half built.
+TEST(NeuralGenerator, NetworkBuiltOnFirstUseMakesTheSameSets) {
+  test::TempDir dir;
+  const std::string path = (dir / "model").string();
+  NeuralGenerator(tiny("quarterdisc", 8, 8)).save(path);
+  const NeuralGenerator now = NeuralGenerator::load(path);
+  const NeuralGenerator later =
+      NeuralGenerator::load(path, NeuralGenerator::NetworkLoad::OnFirstUse);
+  EXPECT_EQ(later.fileChecksum(), now.fileChecksum());
+  EXPECT_EQ(later.settings().family, now.settings().family);
+  EXPECT_EQ(later.generateSets(4, 9, {}).points, now.generateSets(4, 9, {}).points);
+
+  ModelFile file = now.toModelFile();
+  file.metadata["hidden"] = "9";  // the weights no longer fit the described net
+  const std::string shape = (dir / "shape").string();
+  writeModelFile(shape, file);
+  const NeuralGenerator bad =
+      NeuralGenerator::load(shape, NeuralGenerator::NetworkLoad::OnFirstUse);
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    try {
+      bad.generateSets(1, 1, {});
+      FAIL() << "weights of the wrong shape were taken";
+    } catch (const std::runtime_error &e) {
+      EXPECT_NE(std::string(e.what()).find(shape), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("wrong shape"), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(NeuralGenerator, RejectsBadSettingsAndGamma) {
   EXPECT_THROW(NeuralGenerator(tiny("uniform", 0)), std::invalid_argument);
   NeuralSettings s = tiny("uniform");

@@ -171,6 +171,19 @@ for word in $words; do
 done
 # `neural` alone is the shipped Disney-family model.
 ok "render --backend neural (shipped model)" "$nuld" render default --backend neural --spp 4 --res 8 -q -o "$dir/w.exr"
+# LibTorch is loaded by the process that makes a model's banks, and not by a
+# later one that finds them all in the set cache (sampler/neural/neural_runtime.h).
+for run in cold warm; do
+  NULD_CACHE="$dir/neural-cache" LD_DEBUG=files "$nuld" render default --backend neural --spp 4 \
+    --res 8 -q -o "$dir/n-$run.exr" >/dev/null 2>"$dir/ld-$run.txt" ||
+    { echo "FAIL: render --backend neural ($run cache)"; failures=$((failures + 1)); }
+done
+grep -q "libnuld_torch.so" "$dir/ld-cold.txt" ||
+  { echo "FAIL: the first neural render loads LibTorch's plugin"; failures=$((failures + 1)); }
+grep -q "libnuld_torch.so" "$dir/ld-warm.txt" &&
+  { echo "FAIL: a neural render from cached banks loads LibTorch"; failures=$((failures + 1)); }
+idiff -q -fail 0 -warn 0 "$dir/n-cold.exr" "$dir/n-warm.exr" >/dev/null 2>&1 ||
+  { echo "FAIL: the neural render from cached banks differs"; failures=$((failures + 1)); }
 # The study's own words render too, making their sets into the set cache
 # (the second time finding them there) and saying per pair what they served.
 sets=(--opt-instances 2 --opt-epochs 5 --opt-lobe-epochs 5)
