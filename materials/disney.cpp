@@ -212,7 +212,17 @@ Rgb DisneyBrdf::lobeValue(DisneyLobe lobe, Vec3 wo, Vec3 wi, const Geometry &g, 
 // One code path for f whether or not the pdf is wanted: compiled twice, the
 // same sums could round differently (FMA contraction), and sample() must
 // return exactly eval's f.
-Rgb DisneyBrdf::eval(Vec3 wo, Vec3 wi) const { return evalWithPdf(wo, wi).f; }
+// f alone: the sum evalWithPdf makes, without the lobe probabilities and
+// pdfs (a tabulated route's samples and their light samples' weights need
+// no material pdf).
+Rgb DisneyBrdf::eval(Vec3 wo, Vec3 wi) const {
+  const auto g = geometry(wo, wi);
+  if (!g) return {};
+  Rgb f;
+  for (int k = 0; k < lobeCount_; ++k)
+    if (lobeHasValue_[k]) f += lobeValue(lobe(k), wo, wi, *g, microfacetD(lobe(k), g->h));
+  return f;
+}
 
 Rgb DisneyBrdf::evalLobe(int k, Vec3 wo, Vec3 wi) const {
   const auto g = geometry(wo, wi);

@@ -121,7 +121,8 @@ std::optional<BsdfSample> sampleLobeRoute(const Bsdf &bsdf, Vec3 wo, const LobeF
     GridTarget::Cell cell;
     s.wi = lobe.direction(lobe.table->invert({(u.x - d) / (1 - d), u.y}, cell).x);
     if (!(s.wi.z > 0)) return std::nullopt;
-    const BsdfValue v = bsdf.evalWithPdf(wo, s.wi);
+    // The material's pdf enters the mixture only with a defensive share.
+    const BsdfValue v = d > 0 ? bsdf.evalWithPdf(wo, s.wi) : BsdfValue{bsdf.eval(wo, s.wi), 0.0};
     s.f = v.f;
     s.pdf = lobe.mixture(lobe.table->cellDensity(cell.i, cell.j) * kInvFourPi, v.pdf);
   }

@@ -229,7 +229,11 @@ void PathIntegrator::addLightSamples(std::span<PathState> path, int depth,
       const Ray shadow{p.sh.origin, ls[k]->wi};
       record(counters, shadow);
       if (scene_.geometry.occluded(shadow)) continue;
-      const auto [f, classicPdf] = p.bsdf->evalWithPdf(p.wo, wi);
+      // The material's pdf weighs the sample unless a table without a
+      // defensive share is the route (its density alone is the BSDF side).
+      const bool materialPdf = !lightOnly_ && (!p.lobe.table || p.lobe.defensive > 0);
+      const auto [f, classicPdf] =
+          materialPdf ? p.bsdf->evalWithPdf(p.wo, wi) : BsdfValue{p.bsdf->eval(p.wo, wi), 0.0};
       if (f.isBlack()) continue;
       // Where a table draws the BSDF sample, the MIS weights of both
       // strategies use the route's density for the BSDF side, so that they
