@@ -259,7 +259,12 @@ Runner addStudyRender(CLI::App &app) {
     onlyWhen(app, anyBackend(&study::StudyBackend::makesLobeSets),
              {"--opt-union-weight", "--opt-lobe-epochs"},
              "the lobe banks (backends optimized-bsdf, optimized-both)");
-    onlyWhen(app, anyBackend(&study::StudyBackend::samplesLobes), kLobeOptionNames,
+    // Asked only when a --lobe-* option is given: it reads the files a bank
+    // word names, on every rank, before the study reads them cell by cell.
+    const bool lobeOptionGiven = std::any_of(kLobeOptionNames.begin(), kLobeOptionNames.end(),
+                                             [&](const char *name) { return app.count(name) > 0; });
+    onlyWhen(app, !lobeOptionGiven || anyBackend(&study::StudyBackend::samplesLobes),
+             kLobeOptionNames,
              "backends that sample lobe tables (sobol-tabulated, the study's sets but "
              "optimized-uniform, neural, and banks of lobe sets)");
     onlyWhen(app, !app.count("--integrator") || o->integrator == "path", {"--max-depth"},

@@ -156,7 +156,8 @@ class ByteReader {
       if (n > (bytes_.size() - pos_) / sizeof(T)) need(bytes_.size() - pos_ + 1);  // no overflow
       need(n * sizeof(T));
       v.resize(n);
-      std::memcpy(v.data(), bytes_.data() + pos_, n * sizeof(T));
+      // An empty vector's data() may be null, which memcpy must not get.
+      if (n > 0) std::memcpy(v.data(), bytes_.data() + pos_, n * sizeof(T));
       pos_ += n * sizeof(T);
     } else {
       // Every element takes at least its 8-byte length.
