@@ -2,12 +2,13 @@
 
 #include <dlfcn.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <mutex>
-#include <utility>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 namespace nuld {
@@ -21,7 +22,10 @@ std::vector<std::string> candidates(const PluginSpec &spec) {
   std::error_code error;
   const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", error);
   if (!error) places.push_back((self.parent_path() / spec.file).string());
-  if (spec.built) places.push_back(spec.built);
+#ifdef NULD_PLUGIN_DIR
+  const std::string built = (std::filesystem::path(NULD_PLUGIN_DIR) / spec.file).string();
+  if (std::find(places.begin(), places.end(), built) == places.end()) places.push_back(built);
+#endif
   return places;
 }
 

@@ -19,16 +19,16 @@ namespace nuld {
 struct PluginSpec {
   const char *file;      // "libnuld_torch.so"
   const char *variable;  // an environment variable that names the file instead
-  const char *built;     // the build tree's copy (nullptr: none)
   const char *entry;     // the exported function's name
   int version;           // the interface version the caller was built with
   const char *purpose;   // "the neural generator": what needs the plugin
 };
 
 // The plugin's interface object, loaded from (in this order) the file the
-// spec's variable names, `file` beside the executable, or the build tree's.
-// Loaded once per process, entry and version; a failed load is tried again by the
-// next call (the caller may have set the variable since). Throws
+// spec's variable names, `file` beside the executable, or `file` in the
+// build tree's root, where the build writes every plugin. Loaded once per
+// process, entry and version; a failed load is tried again by the next
+// call (the caller may have set the variable since). Throws
 // std::runtime_error naming the purpose, each place tried and why it failed.
 const void *loadPlugin(const PluginSpec &spec);
 

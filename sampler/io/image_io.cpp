@@ -12,14 +12,9 @@
 namespace nuld {
 
 const ImageCodec &imageCodec() {
-#ifdef NULD_IMAGE_PLUGIN_BUILT
-  const char *built = NULD_IMAGE_PLUGIN_BUILT;
-#else
-  const char *built = nullptr;
-#endif
   return *static_cast<const ImageCodec *>(
-      loadPlugin({"libnuld_image.so", "NULD_IMAGE_PLUGIN", built, "nuld_image_codec",
-                  kImageCodecVersion, "reading or writing an image"}));
+      loadPlugin({"libnuld_image.so", "NULD_IMAGE_PLUGIN", "nuld_image_codec", kImageCodecVersion,
+                  "reading or writing an image"}));
 }
 
 double Image::luminance(int x, int y) const {

@@ -10,13 +10,8 @@ const NeuralRuntime &neuralRuntime() {
     int version = 0;
     return *static_cast<const NeuralRuntime *>(nuld_torch_runtime(&version));
   }
-#ifdef NULD_TORCH_PLUGIN_BUILT
-  const char *built = NULD_TORCH_PLUGIN_BUILT;
-#else
-  const char *built = nullptr;
-#endif
   return *static_cast<const NeuralRuntime *>(
-      loadPlugin({"libnuld_torch.so", "NULD_TORCH_PLUGIN", built, "nuld_torch_runtime",
+      loadPlugin({"libnuld_torch.so", "NULD_TORCH_PLUGIN", "nuld_torch_runtime",
                   kNeuralRuntimeVersion, "the neural generator"}));
 }
 
