@@ -23,7 +23,8 @@ namespace {
 // the lobes whose BSDF samples go through their table's inverse CDF.
 class ClassicBackend : public SamplerBackend {
  public:
-  ClassicBackend(BackendKind kind, bool tabulated) : kind_(kind), tabulated_(tabulated) {}
+  // A -tabulated kind (its entry's `lobes`) maps lobe contexts through their tables.
+  explicit ClassicBackend(BackendKind kind) : kind_(kind), tabulated_(backendEntry(kind).lobes) {}
   std::string name() const override { return backendEntry(kind_).name; }
   bool samplesLobes() const override { return tabulated_; }
   void prepare(std::size_t, const SamplingTargets &targets) override {
@@ -50,8 +51,7 @@ class ClassicBackend : public SamplerBackend {
 
 class IndependentBackend final : public ClassicBackend {
  public:
-  IndependentBackend(BackendKind kind, std::uint64_t seed, bool tabulated)
-      : ClassicBackend(kind, tabulated), seed_(seed) {}
+  IndependentBackend(BackendKind kind, std::uint64_t seed) : ClassicBackend(kind), seed_(seed) {}
   void primary(std::uint64_t pixel, std::uint32_t pair, std::span<Point2> out) const override {
     Rng rng(hashCombine(seed_, pixel), pair);
     for (Point2 &p : out) p = {rng.uniform(), rng.uniform()};
@@ -63,8 +63,8 @@ class IndependentBackend final : public ClassicBackend {
 
 class SequenceBackend final : public ClassicBackend {
  public:
-  SequenceBackend(BackendKind kind, SequenceKind sequence, std::uint64_t seed, bool tabulated)
-      : ClassicBackend(kind, tabulated), sequence_(sequence), seedKey_(mix64(seed)) {}
+  SequenceBackend(BackendKind kind, SequenceKind sequence, std::uint64_t seed)
+      : ClassicBackend(kind), sequence_(sequence), seedKey_(mix64(seed)) {}
   void primary(std::uint64_t pixel, std::uint32_t pair, std::span<Point2> out) const override {
     // One seed per (pixel, pair), by two dependent mixes: hash3's five
     // were most of the cost of a 4-point set.
@@ -85,16 +85,13 @@ std::unique_ptr<SamplerBackend> makeClassicBackend(BackendKind kind, std::uint64
   using K = BackendKind;
   switch (kind) {
     case K::Independent:
-    case K::IndependentTabulated:
-      return std::make_unique<IndependentBackend>(kind, seed, kind == K::IndependentTabulated);
+    case K::IndependentTabulated: return std::make_unique<IndependentBackend>(kind, seed);
     case K::Sobol:
     case K::SobolTabulated:
-      return std::make_unique<SequenceBackend>(kind, SequenceKind::Sobol, seed,
-                                               kind == K::SobolTabulated);
+      return std::make_unique<SequenceBackend>(kind, SequenceKind::Sobol, seed);
     case K::Halton:
     case K::HaltonTabulated:
-      return std::make_unique<SequenceBackend>(kind, SequenceKind::Halton, seed,
-                                               kind == K::HaltonTabulated);
+      return std::make_unique<SequenceBackend>(kind, SequenceKind::Halton, seed);
     default: throw std::invalid_argument("makeClassicBackend: not a classic backend");
   }
 }

@@ -143,9 +143,9 @@ double LobeFrame::tablePdf(Vec3 wi) const {
 }
 
 LobeTablesConfig::LobeTablesConfig(const LobeTableSettings &s, bool mis)
-    : settings(s), samplingMix(s.samplingMix.value_or(-1)), underMis(mis) {
-  if (!s.samplingMix || !(*s.samplingMix >= 0 && *s.samplingMix <= 1))
-    throw std::invalid_argument("lobe tables: the sampling mix must be given, in [0, 1]");
+    : settings(s), samplingMix(s.samplingMix.value_or(0)), underMis(mis) {
+  // Its range is the tables' to check, for derived mixes too (LobeTables).
+  if (!s.samplingMix) throw std::invalid_argument("lobe tables: the sampling mix must be given");
 }
 
 LobeTables::LobeTables(const std::vector<std::shared_ptr<const Bsdf>> &materials,

@@ -112,7 +112,7 @@ struct LobeTablesConfig {
   LobeTablesConfig() = default;
   // Settings that give their mix, routes measured with or without MIS (for
   // tests and benchmarks that build tables directly). Throws
-  // std::invalid_argument when the mix is not given or not in [0, 1].
+  // std::invalid_argument when the mix is not given.
   LobeTablesConfig(const LobeTableSettings &settings, bool underMis = false);
   friend bool operator==(const LobeTablesConfig &, const LobeTablesConfig &) = default;
 };

@@ -4,6 +4,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include <filesystem>
+#include <memory>
 #include <stdexcept>
 
 #include "sampler/io/image_codec.h"
@@ -11,18 +12,24 @@
 namespace nuld {
 namespace {
 
+// The file's reader. OpenImageIO's own wording names its internals, so its
+// error is cleared and ours, `why`, says what to check.
+std::unique_ptr<OIIO::ImageInput> openInput(const std::string &path, const char *why) {
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) {
+    OIIO::geterror();
+    throw std::runtime_error(path + ": " + why);
+  }
+  return in;
+}
+
 class OiioCodec final : public ImageCodec {
  public:
   Image read(const std::string &path,
              const std::function<void(const Image &)> &checkHeader) const override {
-    auto in = OIIO::ImageInput::open(path);
-    // OpenImageIO's own wording names its internals; ours says what to check.
-    if (!in) {
-      OIIO::geterror();  // clear it
-      throw std::runtime_error(path +
-                               ": cannot read it as an image (a format OpenImageIO does not "
-                               "read, or a damaged file)");
-    }
+    const auto in = openInput(path,
+                              "cannot read it as an image (a format OpenImageIO does not read, "
+                              "or a damaged file)");
     const OIIO::ImageSpec &spec = in->spec();
     Image img;
     img.width = spec.width;
@@ -60,11 +67,7 @@ class OiioCodec final : public ImageCodec {
   }
 
   ImageAttributes attributes(const std::string &path, const std::string &prefix) const override {
-    auto in = OIIO::ImageInput::open(path);
-    if (!in) {
-      OIIO::geterror();  // clear it
-      throw std::runtime_error(path + ": cannot read the image's header");
-    }
+    const auto in = openInput(path, "cannot read the image's header");
     ImageAttributes out;
     for (const OIIO::ParamValue &p : in->spec().extra_attribs)
       if (p.type() == OIIO::TypeDesc::STRING && p.name().string().rfind(prefix, 0) == 0)

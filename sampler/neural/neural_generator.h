@@ -245,8 +245,6 @@ class NeuralGenerator {
 
   NeuralNet &net() { return network(); }
   const NeuralNet &net() const { return network(); }
-  // The first n Sobol points: the rotated base set at offset 0.
-  std::span<const Point2> sobolBase() const { return sobol_; }
 
  private:
   NeuralSettings settings_;
