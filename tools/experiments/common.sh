@@ -27,6 +27,15 @@ prepare_output() {
   "$python" "$root/tools/experiments/make_test_image.py" "$1/test_image.pfm"
 }
 
+# copy_reference FROM TO: one scene's study reference (the image, its two
+# halves and its state) from directory FROM into TO, so that a study writing
+# there renders none; nothing when TO holds one already.
+copy_reference() {
+  [[ -f "$2/reference.exr" ]] && return 0
+  mkdir -p "$2"
+  cp "$1"/reference.{exr,state,half0.exr,half1.exr} "$2/"
+}
+
 # seconds_since START_NS (from date +%s%N) -> elapsed seconds, one decimal
 seconds_since() { awk -v ns=$(($(date +%s%N) - $1)) 'BEGIN {printf "%.1f", ns / 1e9}'; }
 

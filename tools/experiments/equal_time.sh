@@ -79,10 +79,7 @@ if [[ " ${PARTS:-1 2} " == *" 2 "* ]]; then
     for integrator in direct path; do
       cell="$out/full/$scene-$integrator"
       for run in cold warm; do
-        if [[ $run == warm && ! -f "$cell/warm/$scene/reference.exr" ]]; then
-          mkdir -p "$cell/warm/$scene"
-          cp "$cell/cold/$scene"/reference.{exr,state,half0.exr,half1.exr} "$cell/warm/$scene/"
-        fi
+        [[ $run == cold ]] || copy_reference "$cell/cold/$scene" "$cell/warm/$scene"
         NULD_CACHE="$cell/cache" "$nuld" study render "scenes/$scene.json" --integrator "$integrator" \
           --spp 64 --repeats "${REPEATS:-8}" --seed 9173 --reference-spp 1024 \
           --backends sobol,sobol-tabulated,optimized,optimized-both --no-report -q \

@@ -36,7 +36,6 @@ baseline=${BASELINE_CHOICE:-albedo}
 mkdir -p "$out"
 out=$(cd "$out" && pwd)
 cd "$root"
-files=reference.{exr,state,half0.exr,half1.exr}
 flags_of() {
   case $1 in
     paper) echo "--lobe-choice uniform --env-importance luminance" ;;
@@ -53,13 +52,11 @@ for integrator in $integrators; do
       "$nuld" study render "$scene" --integrator "$integrator" --res-scale 0.25 --spp 1 \
         --repeats 1 --reference-spp "$reference_spp" --seed 9173 --backends sobol \
         --no-report -q -o "$refs/study" >/dev/null
-      mkdir -p "$refs/$slug"
-      eval cp "$refs/study/$slug/$files" "$refs/$slug/"
+      copy_reference "$refs/study/$slug" "$refs/$slug"
     fi
     for choice in $choices; do
       dir="$out/$choice/$integrator"
-      mkdir -p "$dir/$slug"
-      [[ -f "$dir/$slug/reference.exr" ]] || eval cp "$refs/$slug/$files" "$dir/$slug/"
+      copy_reference "$refs/$slug" "$dir/$slug"
       NULD_CACHE="$out/$choice/set-cache" "$nuld" study render "$scene" \
         --integrator "$integrator" --res-scale 0.25 --spp "$spp" --repeats "${REPEATS:-8}" \
         --reference-spp "$reference_spp" --seed "${SEED:-9173}" --backends "$backends" \

@@ -40,18 +40,12 @@ for integrator in $integrators; do
     export NULD_CACHE="$out/$name/set-cache"
     for scene in $scenes; do
       slug=$(basename "$scene" .json)
-      if [[ -f "$refs/$slug/reference.exr" && ! -f "$dir/$slug/reference.exr" ]]; then
-        mkdir -p "$dir/$slug"
-        cp "$refs/$slug"/reference.{exr,state,half0.exr,half1.exr} "$dir/$slug/"
-      fi
+      if [[ -f "$refs/$slug/reference.exr" ]]; then copy_reference "$refs/$slug" "$dir/$slug"; fi
       # shellcheck disable=SC2086  # flags are words
       "$nuld" study render "$scene" --integrator "$integrator" --res-scale 0.25 --spp "$spp" \
         --repeats 8 --reference-spp "${REFERENCE_SPP:-1024}" --seed 9173 --backends "$backends" $flags \
         --no-report -q -o "$dir" >/dev/null
-      if [[ ! -f "$refs/$slug/reference.exr" ]]; then
-        mkdir -p "$refs/$slug"
-        cp "$dir/$slug"/reference.{exr,state,half0.exr,half1.exr} "$refs/$slug/"
-      fi
+      copy_reference "$dir/$slug" "$refs/$slug"
     done
   done
 done
