@@ -78,10 +78,10 @@ TEST(OptimizedSets, LobeBanksFollowTheirTable) {
   const double level = test::sidakLevel(0.01, 4);
   for (const int theta : {20, 45, 70}) {
     const std::string spec = "disney:theta=" + std::to_string(theta) + ",res=64";
-    EXPECT_GT(bankChiSquarePValue(spec, 64, 16, SetSettings{}.lobeUnionWeight), level) << spec;
+    EXPECT_GT(bankChiSquarePValue(spec, 64, 16, SetSettings{}.unionWeight), level) << spec;
   }
   const std::string glossy = "disney:metallic=1,roughness=0.3,theta=45,res=64";
-  EXPECT_GT(bankChiSquarePValue(glossy, 16, 64, SetSettings{}.lobeUnionWeight), level);
+  EXPECT_GT(bankChiSquarePValue(glossy, 16, 64, SetSettings{}.unionWeight), level);
   EXPECT_LT(bankChiSquarePValue(glossy, 16, 64, 0.0), 1e-4);
 }
 

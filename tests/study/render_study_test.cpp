@@ -337,6 +337,35 @@ TEST(RenderStudy, NestedBanksServeEverySppAndAreReusedByAnotherStudy) {
   EXPECT_EQ(entries, 1) << "the second study made no set";
 }
 
+// The map's sets take the exact objective with the bank term by default (the
+// sphere-exact preset) and the paper's soft boxes on --opt-objective soft:
+// two entries of the set cache, each recording the settings it was made with.
+TEST(RenderStudy, MapSetsTakeTheExactPresetUnlessSoftIsAsked) {
+  TempDir tmp;
+  std::map<std::string, std::string> settingsByObjective;
+  for (const Objective objective : {Objective::ExactL2asd, Objective::SoftBoxes}) {
+    RenderStudySettings s = tinyStudy(tmp / toString(objective));
+    s.backends = {"optimized"};
+    s.spp = {4};
+    s.repeats = 1;
+    s.sets.envObjective = objective;
+    s.sets.cacheDir = tmp / "cache";
+    runRenderStudy(s);
+  }
+  for (const auto &e : fs::directory_iterator(tmp / "cache" / "sets")) {
+    if (e.path().extension() != ".ptsb") continue;
+    const PointSet sets = readPointSet(e.path().string());
+    const std::string settings = sets.metadata.at("settings");
+    settingsByObjective[settings.find("objective=l2asd") != std::string::npos ? "l2asd" : "soft"] =
+        settings;
+  }
+  ASSERT_EQ(settingsByObjective.size(), 2u);
+  EXPECT_NE(settingsByObjective["l2asd"].find("preset=sphere-exact"), std::string::npos);
+  EXPECT_NE(settingsByObjective["l2asd"].find("union=3/"), std::string::npos);
+  EXPECT_NE(settingsByObjective["soft"].find("preset=sphere "), std::string::npos);
+  EXPECT_EQ(settingsByObjective["soft"].find("union="), std::string::npos);
+}
+
 TEST_F(TinyStudy, ReportLinksOnlyFilesThatExist) {
   std::string why;
   ASSERT_EQ(runStudyScript("report.py", *dir_, &why), 0) << why;

@@ -388,7 +388,7 @@ fi
 
 # Ctrl-C while a render makes its sets says where their checkpoints are, and
 # the rerun says it resumed them (render continues sets by itself).
-interrupted=(render default --backend optimized --spp 4 --res 16 --opt-instances 2
+interrupted=(render default --backend optimized --opt-objective soft --spp 4 --res 16 --opt-instances 2
   --opt-epochs 4000 -q -o "$dir/interrupted.exr")
 NULD_CACHE="$dir/interrupt-cache" "$nuld" "${interrupted[@]}" >"$dir/out" 2>"$dir/err" &
 pid=$!

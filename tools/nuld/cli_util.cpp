@@ -246,10 +246,16 @@ void addSetOptions(CLI::App &app, study::SetSettings &s) {
                "one nested bank per target at the largest --spp whose prefixes serve the "
                "smaller spp (nuld optimize --nested), instead of a bank per spp; a nested bank "
                "in the set cache that holds a cell's spp serves it with no setup");
-  app.add_option("--opt-union-weight", s.lobeUnionWeight,
-                 "weight of the lobe banks' bank term (nuld optimize --union-weight), which "
-                 "keeps a glossy lobe's instances from converging to one set (default 3; 0: "
-                 "instances optimized apart)")
+  addNamedOption(app, "--opt-objective", s.envObjective, kObjectiveNames,
+                 "objective of the environment-map sets: l2asd (the exact grid L2asd with the "
+                 "bank term, 500 epochs: nuld optimize --preset sphere-exact) or soft "
+                 "(Algorithm 1, the paper's sphere preset, 5000 epochs) (default l2asd; the lobe "
+                 "banks always take l2asd)");
+  app.add_option("--opt-union-weight", s.unionWeight,
+                 "weight of the bank term of every bank optimized for the exact L2asd (the "
+                 "lobe banks; the map's sets with --opt-objective l2asd; nuld optimize "
+                 "--union-weight), which keeps a glossy lobe's or a sunny map's instances from "
+                 "converging to one set (default 3; 0: instances optimized apart)")
       ->check(nonNegativeNumber());
 }
 

@@ -157,6 +157,7 @@ void addSetOptions(CLI::App &app, study::SetSettings &s);
 // live: the set cache's (s.cacheDir, else $NULD_CACHE, ...).
 std::string setsDirectory(const study::SetSettings &s);
 inline constexpr std::initializer_list<const char *> kSetOptionNames = {
-    "--opt-instances", "--opt-epochs", "--opt-lobe-epochs", "--opt-nested", "--opt-union-weight"};
+    "--opt-instances", "--opt-epochs",    "--opt-lobe-epochs",
+    "--opt-nested",    "--opt-objective", "--opt-union-weight"};
 
 }  // namespace nuld::cli

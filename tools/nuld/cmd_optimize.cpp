@@ -33,7 +33,7 @@ struct OptimizeOptions {
   long epochs = -1, boxes = -1;
   // Unset: the preset's value (no sentinel a user could type by accident).
   std::optional<double> lr, lrEnd, alpha, alphaEnd, ramp;
-  double unionWeight = 0;
+  std::optional<double> unionWeight;  // nullopt: the preset's
   long unionGroup = 0;
   std::string nested;
   double nestedPower = 1;
@@ -75,7 +75,11 @@ OptimizerSettings settingsFrom(const OptimizeOptions &o, const Target &target) {
   if (o.alpha) s.alphaStart = *o.alpha;
   if (o.alphaEnd) s.alphaEnd = *o.alphaEnd;
   if (o.ramp) s.rampFraction = *o.ramp;
-  s.unionWeight = o.unionWeight;
+  // A preset's bank term (sphere-exact's) needs two instances to couple.
+  if (o.unionWeight)
+    s.unionWeight = *o.unionWeight;
+  else if (s.instances < 2)
+    s.unionWeight = 0;
   s.unionGroup = std::size_t(o.unionGroup);
   if (!o.nested.empty()) {
     const std::vector<std::size_t> sizes = parseSizeList("--nested", o.nested);
@@ -286,8 +290,10 @@ Runner addOptimize(CLI::App &app) {
       ->required()
       ->check(targetFamily());
   app.add_option("--n", o->n, "points per set")->required()->check(positiveNumber());
-  app.add_option("--preset", o->preset,
-                 "uniform, nonuniform, nonuniform-mc, sphere or sphere-mc (default: by target)")
+  app.add_option(
+         "--preset", o->preset,
+         "uniform, nonuniform, nonuniform-mc, sphere, sphere-mc or sphere-exact (default: by "
+         "target)")
       ->check(parsedBy([](const std::string &name) { presetSettings(name, 1); }));
   app.add_option("--epochs", o->epochs, "override the preset's epochs")->check(positiveNumber());
   app.add_option("--boxes", o->boxes, "boxes per epoch")->check(positiveNumber());

@@ -18,12 +18,13 @@ namespace nuld::study {
 namespace fs = std::filesystem;
 
 OptimizerSettings optimizerSettings(const Target &target, const OptimizedSetsRequest &r) {
-  OptimizerSettings s = presetSettings(defaultPreset(target), r.n);
+  OptimizerSettings s = presetSettings(r.preset.empty() ? defaultPreset(target) : r.preset, r.n);
   s.instances = r.instances;
   s.seed = r.seed;
   if (r.epochs > 0) s.epochs = r.epochs;
   if (r.objective) s.objective = *r.objective;
-  if (s.objective == Objective::ExactL2asd && s.instances > 1) s.unionWeight = r.unionWeight;
+  // The bank term couples two instances or more (a preset's too).
+  s.unionWeight = s.objective == Objective::ExactL2asd && s.instances > 1 ? r.unionWeight : 0;
   s.nestedSizes = r.nested;
   // Nested prefixes weigh (m / n)^2: each prefix's squared discrepancy, which
   // falls about as 1/m^2, counts about as much as the full set's
@@ -84,6 +85,10 @@ OptimizedSets optimizedSets(const Target &target, const OptimizedSetsRequest &re
 
 PointSet optimizeSets(const Target &target, const OptimizedSetsRequest &request,
                       const fs::path &path, const std::function<void(int, int, double)> &progress) {
+  // Setup counts the objective's own set-up too (the exact L2asd's CDF field
+  // of the map). Time spent before an interruption is not known; this run's
+  // is counted.
+  const auto start = std::chrono::steady_clock::now();
   const DirectOptimizer opt(target, optimizerSettings(target, request));
   fs::create_directories(path.parent_path());
   const std::string ckpt = path.string() + ".ckpt";
@@ -97,8 +102,6 @@ PointSet optimizeSets(const Target &target, const OptimizedSetsRequest &request,
   std::ostringstream resumed;
   resumeRun(run, ckpt, flags, fs::exists(ckpt) ? &resumed : nullptr);
   if (!resumed.str().empty()) std::cerr << "\nnuld: note: sets " << resumed.str();
-  // Time already spent before an interruption is not known; count this run's.
-  const auto start = std::chrono::steady_clock::now();
   driveRun(run, ckpt, flags, nullptr);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -30,7 +30,8 @@ inline constexpr double kBankUnionWeight = 3;
 struct OptimizedSetsRequest {
   std::size_t n = 16;
   std::size_t instances = 16;
-  int epochs = 0;  // 0: the preset's (by the target: uniform, nonuniform, sphere)
+  std::string preset;  // empty: by the target (uniform, nonuniform, sphere)
+  int epochs = 0;      // 0: the preset's
   std::uint64_t seed = 1;
   std::optional<Objective> objective;  // nullopt: the preset's
   double unionWeight = 0;              // the bank term (optimizer.h); l2asd only

@@ -230,8 +230,10 @@ const std::vector<std::string> &referenceColumns() {
 
 void SetSettings::validate() const {
   if (instances == 0) throw std::invalid_argument("--opt-instances: must be at least 1");
-  if (!(lobeUnionWeight >= 0) || !std::isfinite(lobeUnionWeight))
+  if (!(unionWeight >= 0) || !std::isfinite(unionWeight))
     throw std::invalid_argument("--opt-union-weight: expected a finite weight >= 0");
+  if (envObjective != Objective::SoftBoxes && envObjective != Objective::ExactL2asd)
+    throw std::invalid_argument("--opt-objective: expected soft or l2asd");
 }
 
 void RenderStudySettings::validate() const {
@@ -277,7 +279,8 @@ std::string RenderStudySettings::rowOptions() const {
     << " env-importance=" << (choices.importance ? toString(*choices.importance) : "scene")
     << " opt-instances=" << sets.instances << " opt-epochs=" << sets.epochs
     << " opt-lobe-epochs=" << sets.lobeBankEpochs()
-    << " opt-union-weight=" << formatNumber(sets.lobeUnionWeight)
+    << " opt-objective=" << toString(sets.envObjective)
+    << " opt-union-weight=" << formatNumber(sets.unionWeight)
     << (sets.nested ? " opt-nested=on" : "") << " reference-spp=" << reference.spp
     << " reference-pass-spp=" << reference.passSpp << " reference-backend=" << reference.backend;
   return o.str();

@@ -95,7 +95,10 @@ BackendPlan planBackend(const StudyBackend &backend, const EnvironmentLight *lig
   if (backend.sets == Sets::EnvMap || backend.sets == Sets::EnvMapAndLobes) {
     if (!light || !light->target())
       return {std::nullopt, {}, "the scene has no (non-black) environment map to optimize for"};
-    addSets(*light->target(), request, task);
+    OptimizedSetsRequest env = request;
+    if (s.envObjective == Objective::ExactL2asd) env.preset = "sphere-exact";
+    env.unionWeight = s.unionWeight;
+    addSets(*light->target(), env, task);
   }
   if (backend.makesLobeSets()) {
     // A bank per lobe table the renderer will build for this scene (the same
@@ -105,7 +108,7 @@ BackendPlan planBackend(const StudyBackend &backend, const EnvironmentLight *lig
     if (!tables || tables->materials() == 0)
       return {std::nullopt, {}, "the scene has no Disney material to optimize lobe sets for"};
     request.objective = Objective::ExactL2asd;
-    request.unionWeight = s.lobeUnionWeight;
+    request.unionWeight = s.unionWeight;
     request.epochs = s.lobeBankEpochs();
     const auto &targets = lobeTargets;  // the tabulated bins first hits take
     // No bin whose route is the table: every BSDF sample keeps the
