@@ -11,9 +11,11 @@
 // Study backends: the renderer's `independent`, `sobol`, `halton`,
 // `sobol-tabulated`, `neural:MODEL`, `optimized:PATHS` and `shifted:PATHS`, plus four that the
 // study makes itself:
-//   optimized          Algorithm 1 sets for the scene's environment map at
-//                      N = spp, used as distributed light samples at the first
-//                      bounce (skipped for scenes without an environment map)
+//   optimized          sets for the scene's environment map at N = spp (the
+//                      exact L2asd with the bank term, preset sphere-exact;
+//                      Algorithm 1's soft boxes with --opt-objective soft),
+//                      used as distributed light samples at the first bounce
+//                      (skipped for scenes without an environment map)
 //   optimized-uniform  sets for the uniform target optimized for the periodic
 //                      L2 discrepancy (invariant under the toroidal shift the
 //                      backend applies per pixel and pair), served as the
