@@ -8,6 +8,7 @@
 
 #include <vector>
 
+#include "sampler/targets/edge_locator.h"
 #include "sampler/targets/target.h"
 
 namespace nuld {
@@ -15,6 +16,9 @@ namespace nuld {
 class CdfField {
  public:
   CdfField(const Target &target, std::vector<double> xNodes, std::vector<double> yNodes);
+  // From F at the nodes, row by row ((y nodes) x (x nodes)): a grid
+  // target's own table, with no mass query per node.
+  CdfField(std::vector<double> xNodes, std::vector<double> yNodes, std::vector<double> nodeValues);
 
   // Integral of F~ over [x0, x1] x [y0, y1] (inside the unit square).
   double rectIntegral(double x0, double x1, double y0, double y1) const;
@@ -36,12 +40,19 @@ class CdfField {
 
  private:
   std::size_t idx(int i, int j) const { return std::size_t(j) * (cols_ + 1) + i; }
-  int cellOf(const std::vector<double> &nodes, double t) const;
+  // Checks the grid and sizes the node tables; integrate() fills them from f_.
+  void checkNodes() const;
+  void integrate();
+  // The cell of x (of y) holding t: every integral and value the optimizer
+  // asks for looks up its cells, tens of times per point and epoch.
+  int xCell(double t) const { return xCells_.cell(xs_, t); }
+  int yCell(double t) const { return yCells_.cell(ys_, t); }
   double cumulative(double x, double y) const;  // integral over [0,x] x [0,y]
   double lineX(int j, double x) const;          // integral of F~(a, y_j), a in [0, x]
   double lineY(int i, double y) const;          // integral of F~(x_i, b), b in [0, y]
 
   std::vector<double> xs_, ys_;
+  EdgeLocator xCells_, yCells_;
   int cols_, rows_;
   std::vector<double> f_;   // node values
   std::vector<double> g_;   // integral over [0, x_i] x [0, y_j]

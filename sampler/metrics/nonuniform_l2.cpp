@@ -6,6 +6,7 @@
 // formula. For uniform and piecewise-constant targets this is exact.
 #include "sampler/metrics/nonuniform_l2.h"
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -23,48 +24,49 @@ namespace {
 
 CdfField fieldFor(const Target &target, int res) {
   if (const auto *grid = dynamic_cast<const GridTarget *>(&target))
-    return CdfField(target, grid->xEdges(), grid->yEdges());  // exact
+    return CdfField(grid->xEdges(), grid->yEdges(), grid->nodeCdf());  // exact
   if (res < 1) throw std::invalid_argument("l2: grid resolution must be >= 1");
   std::vector<double> nodes(res + 1);
   for (int i = 0; i <= res; ++i) nodes[i] = double(i) / res;
   return CdfField(target, nodes, nodes);
 }
 
-// Integral over one cell of the square of the bilinear function with corner
-// values v[k][l] (k along x): the tensor product of the 1D mass matrix.
-double cellSquareIntegral(const double v[2][2], double area) {
-  constexpr double m[2][2] = {{1.0 / 3, 1.0 / 6}, {1.0 / 6, 1.0 / 3}};
-  double s = 0;
-  for (int a = 0; a < 2; ++a)
-    for (int b = 0; b < 2; ++b)
-      for (int c = 0; c < 2; ++c)
-        for (int d = 0; d < 2; ++d) s += v[a][b] * v[c][d] * m[a][c] * m[b][d];
-  return s * area;
+// Integral over a cell of area `area` of the square of the bilinear function
+// with corner values v00, v10, v01, v11 (first index along x): the tensor
+// product of the 1D mass matrix {{1/3, 1/6}, {1/6, 1/3}}, written out.
+inline double cellSquareIntegral(double v00, double v10, double v01, double v11, double area) {
+  return area * ((v00 * v00 + v10 * v10 + v01 * v01 + v11 * v11 + v00 * v10 + v01 * v11 +
+                  v00 * v01 + v10 * v11) /
+                     9 +
+                 (v00 * v11 + v10 * v01) / 18);
 }
 
 // Sum over corner boxes c in `corners` (bit 0: x side, bit 1: y side; 0 means
-// the box starts at 0) of the integral of mu_c^2.
+// the box starts at 0) of the integral of mu_c^2. The box masses at a node
+// (a, b) follow from F(a, b), F(a, 1) and F(1, b): [0,a] x [0,b] is F,
+// [a,1] x [0,b] is F(1, b) - F, [0,a] x [b,1] is F(a, 1) - F and [a,1] x
+// [b,1] is 1 - F(a, 1) - F(1, b) + F. A map has millions of cells, and every
+// bank optimized for it pays this once.
 double squaredMassTerm(const CdfField &F, const std::vector<int> &corners) {
   const int C = F.cols(), R = F.rows();
+  bool use[4] = {false, false, false, false};
+  for (int c : corners) use[c] = true;
   std::vector<double> rowSums(R, 0.0);
   tbb::parallel_for(0, R, [&](int j) {
+    const double dy = F.yNode(j + 1) - F.yNode(j);
+    const double r0 = F.node(C, j), r1 = F.node(C, j + 1);  // F(1, b) on the cell's two rows
     double s = 0;
     for (int i = 0; i < C; ++i) {
-      const double area = (F.xNode(i + 1) - F.xNode(i)) * (F.yNode(j + 1) - F.yNode(j));
-      for (int c : corners) {
-        double v[2][2];
-        for (int k = 0; k < 2; ++k)
-          for (int l = 0; l < 2; ++l) {
-            const double f = F.node(i + k, j + l), ft = F.node(i + k, R), fr = F.node(C, j + l);
-            switch (c) {
-              case 0: v[k][l] = f; break;                 // [0,a] x [0,b]
-              case 1: v[k][l] = fr - f; break;            // [a,1] x [0,b]
-              case 2: v[k][l] = ft - f; break;            // [0,a] x [b,1]
-              default: v[k][l] = 1 - ft - fr + f; break;  // [a,1] x [b,1]
-            }
-          }
-        s += cellSquareIntegral(v, area);
-      }
+      const double area = (F.xNode(i + 1) - F.xNode(i)) * dy;
+      const double t0 = F.node(i, R), t1 = F.node(i + 1, R);  // F(a, 1) on its two columns
+      const double f00 = F.node(i, j), f10 = F.node(i + 1, j), f01 = F.node(i, j + 1),
+                   f11 = F.node(i + 1, j + 1);
+      if (use[0]) s += cellSquareIntegral(f00, f10, f01, f11, area);
+      if (use[1]) s += cellSquareIntegral(r0 - f00, r0 - f10, r1 - f01, r1 - f11, area);
+      if (use[2]) s += cellSquareIntegral(t0 - f00, t1 - f10, t0 - f01, t1 - f11, area);
+      if (use[3])
+        s += cellSquareIntegral(1 - t0 - r0 + f00, 1 - t1 - r0 + f10, 1 - t0 - r1 + f01,
+                                1 - t1 - r1 + f11, area);
     }
     rowSums[j] = s;
   });
@@ -125,7 +127,7 @@ double NonuniformL2asd::squared(std::span<const Point2> p, std::span<Point2> gra
   const std::size_t n = p.size();
   const double N = double(n);
   std::vector<double> rowTerm(n);
-  tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
+  const auto rowLoss = [&](std::size_t i) {
     double cross = 0;
     for (int c = 0; c < 4; ++c) cross += crossTerm(field_, c, p[i]);
     const double xi = std::clamp(p[i].x, 0.0, 1.0), yi = std::clamp(p[i].y, 0.0, 1.0);
@@ -144,6 +146,14 @@ double NonuniformL2asd::squared(std::span<const Point2> p, std::span<Point2> gra
       grad[i] = {0.25 * (-2 * gc.x / N + 2 * gx / (N * N)),
                  0.25 * (-2 * gc.y / N + 2 * gy / (N * N))};
     }
+  };
+  // Rows in chunks of about 16K pair terms: a bank's small sets (N = 16 or
+  // 64, already optimized in parallel by instance) would otherwise spend
+  // more on scheduling a task per row than on the row. The sum's order is
+  // the rows' either way.
+  const std::size_t grain = std::max<std::size_t>(1, (std::size_t(1) << 14) / n);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, grain), [&](const auto &rows) {
+    for (std::size_t i = rows.begin(); i != rows.end(); ++i) rowLoss(i);
   });
   return 0.25 * (massSquared_ + std::accumulate(rowTerm.begin(), rowTerm.end(), 0.0));
 }

@@ -39,6 +39,11 @@ class GridTarget final : public Target {
   // Uniform cell edges.
   static std::vector<double> uniformEdges(int cells);
 
+  // The normalized mass of [0, x_i] x [0, y_j] for every pair of edges, row
+  // by row ((rows + 1) x (cols + 1)): the CDF at the grid's nodes, which
+  // mass() returns there.
+  const std::vector<double> &nodeCdf() const { return sat_; }
+
   std::string spec() const override { return spec_; }
   // The spec's family (the part before ':', naming e.g. the map's pixel
   // weight), the domain, the edges and the normalized densities.

@@ -11,6 +11,7 @@
 #include "sampler/loss/boxes.h"
 #include "sampler/loss/soft_box_loss.h"
 #include "sampler/metrics/discrepancy.h"
+#include "sampler/metrics/nonuniform_l2.h"
 #include "sampler/sequences/sequence.h"
 #include "sampler/targets/basic_targets.h"
 #include "sampler/targets/image_targets.h"
@@ -85,6 +86,29 @@ BENCHMARK(BM_SoftBoxLossEnvmap)
     ->Arg(6000)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
+
+// The exact L2asd objective on the map (the sphere-exact preset's): built
+// once per bank (the CDF field from the map's own table and the constant
+// mass term over its cells), then one evaluation with gradient per instance
+// and epoch, at N = 16 and 64 (the bank term's unions: 256).
+void BM_ExactObjectiveEnvmapBuild(benchmark::State &state) {
+  const auto target = loadGrace(state);
+  if (!target) return;
+  for (auto _ : state) benchmark::DoNotOptimize(std::make_unique<NonuniformL2asd>(*target));
+}
+BENCHMARK(BM_ExactObjectiveEnvmapBuild)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_ExactObjectiveEnvmap(benchmark::State &state) {
+  const auto target = loadGrace(state);
+  if (!target) return;
+  const NonuniformL2asd objective(*target);
+  auto pts = owenSobol(state.range(0));
+  for (Point2 &p : pts) p = target->invert(p).x;
+  std::vector<Point2> grad(pts.size());
+  for (auto _ : state) benchmark::DoNotOptimize(objective.squared(pts, grad));
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_ExactObjectiveEnvmap)->Arg(16)->Arg(64)->Arg(256);
 
 void BM_BoxSamplingAndExactMass(benchmark::State &state) {
   const std::size_t m = state.range(0);

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "sampler/metrics/cdf_field.h"
 #include "sampler/metrics/discrepancy.h"
 #include "sampler/metrics/integration.h"
 #include "sampler/metrics/spectrum.h"
@@ -86,6 +87,28 @@ TEST(MetricGridL2, GridTargetIsExact) {
     EXPECT_NEAR(nonuniformL2Star(u, grid), exactL2Star(u, mu, xe, ye), 1e-12);
     EXPECT_NEAR(nonuniformL2asd(u, grid), exactL2asd(u, mu, xe, ye), 1e-12);
   }
+}
+
+// A grid target's CDF field is built from its own table of node masses (no
+// mass query per node, which costs a map of millions of cells seconds): the
+// field must be the one the mass queries give, value for value, on uneven
+// cells with an empty row and an empty column.
+TEST(MetricGridL2, CdfFieldFromTheGridsTableEqualsTheOneFromMassQueries) {
+  const std::vector<double> xe = {0, 0.2, 0.55, 1}, ye = {0, 0.4, 0.7, 0.85, 1};
+  const std::vector<double> density = {1, 0, 0.5, 0, 0, 0, 4, 0, 2, 0.25, 0, 1};
+  const GridTarget grid(xe, ye, density, "test-grid", Domain::Square, "metrics_test");
+  const CdfField queried(grid, xe, ye), tabled(xe, ye, grid.nodeCdf());
+  for (const Point2 &p : randomPoints(64, 58)) {
+    EXPECT_EQ(tabled.value(p.x, p.y), queried.value(p.x, p.y));
+    EXPECT_EQ(tabled.rectIntegral(p.x * 0.5, p.x, p.y * 0.3, p.y),
+              queried.rectIntegral(p.x * 0.5, p.x, p.y * 0.3, p.y));
+    EXPECT_EQ(tabled.columnIntegral(p.x, p.y), queried.columnIntegral(p.x, p.y));
+    EXPECT_EQ(tabled.rowIntegral(p.y, p.x), queried.rowIntegral(p.y, p.x));
+    EXPECT_EQ(tabled.topIntegral(p.x), queried.topIntegral(p.x));
+    EXPECT_EQ(tabled.rightIntegral(p.y), queried.rightIntegral(p.y));
+  }
+  EXPECT_NEAR(tabled.value(1, 1), 1, 1e-15);
+  EXPECT_THROW(CdfField(xe, ye, std::vector<double>(3, 0.0)), std::invalid_argument);
 }
 
 TEST(MetricGridL2, ConvergesToExactValuesWithResolution) {
