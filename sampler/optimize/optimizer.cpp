@@ -125,11 +125,11 @@ OptimizerSettings presetSettings(const std::string &name, std::size_t n) {
   } else if (name == "sphere-exact") {
     // The exact L2asd with the bank term, from Owen-Sobol at a learning rate
     // 100x the soft preset's: on the environment maps these sets render at
-    // least as well as the soft preset's 5000 epochs in a tenth of the time,
+    // least as well as the soft preset's 5000 epochs in a few percent of the time,
     // over four seeds (tools/experiments/README.md, "Environment sets in
     // seconds: the exact objective"). Without noisy boxes the steps can be
-    // large: 500 epochs at 1e-2 -> 1e-5 move points about as far as the
-    // soft preset's 5000 at 1e-4 -> 1e-7 never do.
+    // large: the soft preset's 5000 epochs at 1e-4 -> 1e-7 move a point by
+    // at most about 0.07, these 500 at 1e-2 -> 1e-5 ten times as far.
     s.epochs = 500;
     s.objective = Objective::ExactL2asd;
     s.unionWeight = 3;
