@@ -40,7 +40,8 @@ class CdfField {
 
  private:
   std::size_t idx(int i, int j) const { return std::size_t(j) * (cols_ + 1) + i; }
-  // Checks the grid and sizes the node tables; integrate() fills them from f_.
+  // Refuses a grid without a cell; integrate() fills the cell locators and
+  // the integral tables from the node values f_.
   void checkNodes() const;
   void integrate();
   // The cell of x (of y) holding t: every integral and value the optimizer

@@ -45,8 +45,8 @@ inline double cellSquareIntegral(double v00, double v10, double v01, double v11,
 // the box starts at 0) of the integral of mu_c^2. The box masses at a node
 // (a, b) follow from F(a, b), F(a, 1) and F(1, b): [0,a] x [0,b] is F,
 // [a,1] x [0,b] is F(1, b) - F, [0,a] x [b,1] is F(a, 1) - F and [a,1] x
-// [b,1] is 1 - F(a, 1) - F(1, b) + F. A map has millions of cells, and every
-// bank optimized for it pays this once.
+// [b,1] is 1 - F(a, 1) - F(1, b) + F. Every bank optimized for a map pays
+// this once, over all of its cells.
 double squaredMassTerm(const CdfField &F, const std::vector<int> &corners) {
   const int C = F.cols(), R = F.rows();
   bool use[4] = {false, false, false, false};

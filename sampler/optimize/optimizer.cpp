@@ -123,13 +123,12 @@ OptimizerSettings presetSettings(const std::string &name, std::size_t n) {
     s.alphaEnd = 6000;
     if (name == "sphere-mc") s.mcSamples = 65536;
   } else if (name == "sphere-exact") {
-    // The exact L2asd with the bank term, from Owen-Sobol at a learning rate
-    // 100x the soft preset's: on the environment maps these sets render at
-    // least as well as the soft preset's 5000 epochs in a few percent of the time,
-    // over four seeds (tools/experiments/README.md, "Environment sets in
-    // seconds: the exact objective"). Without noisy boxes the steps can be
-    // large: the soft preset's 5000 epochs at 1e-4 -> 1e-7 move a point by
-    // at most about 0.07, these 500 at 1e-2 -> 1e-5 ten times as far.
+    // The exact L2asd with the bank term, from Owen-Sobol. Its gradient has
+    // no sampled boxes, so it takes steps far larger than the soft preset's
+    // and needs a tenth of its epochs; on the environment maps these sets
+    // render at least as well in a small part of the time
+    // (tools/experiments/README.md, "Environment sets in seconds: the exact
+    // objective", has the schedule sweep and the figures).
     s.epochs = 500;
     s.objective = Objective::ExactL2asd;
     s.unionWeight = 3;

@@ -336,6 +336,15 @@ ok "study render tiny" "$nuld" study render default --res 16x12 --spp 2,4 --refe
 grep -q '^halton  *4 ' "$dir/out" || { echo "FAIL: study render prints its table"; failures=$((failures + 1)); }
 [[ -f "$dir/study/index.html" && -f "$dir/study/render.csv" ]] || { echo "FAIL: study render writes CSV and report"; failures=$((failures + 1)); }
 ok "study render rerun" "$nuld" study render default --res 16x12 --spp 2,4 --reference-spp 16 --integrator direct --backends sobol,halton -q --no-report -o "$dir/study"
+# --opt-union-weight weighs every bank made for the exact L2asd: the map's sets
+# by default too, not when they take the soft boxes; --opt-objective needs map sets.
+ok "study render: the map's exact sets take --opt-union-weight" "$nuld" study render default --res 16x12 --spp 2 \
+  --reference-spp 16 --integrator direct --backends optimized --opt-instances 2 --opt-epochs 5 \
+  --opt-union-weight 0 -q --no-report -o "$dir/study-union"
+fails_with "study render: --opt-union-weight with soft map sets" "applies to banks optimized for the exact L2asd" \
+  "$nuld" study render default --backends optimized --opt-objective soft --opt-union-weight 1 -o "$dir/x"
+fails_with "study render: --opt-objective without map sets" "applies to the environment-map sets" \
+  "$nuld" study render default --backends sobol,optimized-bsdf --opt-objective soft -o "$dir/x"
 [[ $(wc -l <"$dir/study/render.csv") == 5 ]] || { echo "FAIL: a rerun adds no rows"; failures=$((failures + 1)); }
 ok "study report" "$nuld" study report "$dir/study"
 ok "study render lobe banks" "$nuld" study render default --res 8x6 --spp 2 --reference-spp 8 --integrator bsdf --backends optimized-bsdf,optimized-both --opt-epochs 5 --opt-instances 2 -q --no-report -o "$dir/lobes"

@@ -256,9 +256,17 @@ Runner addStudyRender(CLI::App &app) {
              {"--opt-instances", "--opt-epochs", "--opt-nested"},
              "the sets the study optimizes (backends optimized, optimized-uniform, "
              "optimized-bsdf, optimized-both)");
-    onlyWhen(app, anyBackend(&study::StudyBackend::makesLobeSets),
-             {"--opt-union-weight", "--opt-lobe-epochs"},
+    onlyWhen(app, anyBackend(&study::StudyBackend::makesLobeSets), {"--opt-lobe-epochs"},
              "the lobe banks (backends optimized-bsdf, optimized-both)");
+    onlyWhen(app, anyBackend(&study::StudyBackend::makesEnvSets), {"--opt-objective"},
+             "the environment-map sets (backends optimized, optimized-both)");
+    onlyWhen(app,
+             anyBackend(&study::StudyBackend::makesLobeSets) ||
+                 (anyBackend(&study::StudyBackend::makesEnvSets) &&
+                  s.sets.envObjective == Objective::ExactL2asd),
+             {"--opt-union-weight"},
+             "banks optimized for the exact L2asd (backends optimized-bsdf, optimized-both, "
+             "and optimized with --opt-objective l2asd)");
     // Asked only when a --lobe-* option is given: it reads the files a bank
     // word names, on every rank, before the study reads them cell by cell.
     const bool lobeOptionGiven = std::any_of(kLobeOptionNames.begin(), kLobeOptionNames.end(),

@@ -65,9 +65,9 @@ struct SetSettings {
   // time (tools/experiments/README.md, "Setup, nested sets and reuse").
   static constexpr int kLobeBankEpochs = 250;
   // --opt-objective: what the environment-map sets minimize: the exact L2asd
-  // (the sphere-exact preset, optimizer.h: as good as the soft boxes' 5000
-  // epochs in a tenth of the time) or the paper's soft boxes (the sphere
-  // preset). The lobe banks always take the exact L2asd.
+  // (the sphere-exact preset, optimizer.h: renders as well as the soft
+  // boxes in a small part of their time) or the paper's soft boxes (the
+  // sphere preset). The lobe banks always take the exact L2asd.
   Objective envObjective = Objective::ExactL2asd;
   // --opt-union-weight, the bank term of every bank optimized for the exact
   // L2asd (optimizer.h, unionWeight): without it the instances of a glossy
@@ -138,6 +138,9 @@ struct StudyBackend {
   BackendSpec spec;
   BackendSets sets = BackendSets::None;  // spec.setsToMake(): None renders `spec` as it is
   bool makesSets() const { return sets != BackendSets::None; }
+  bool makesEnvSets() const {
+    return sets == BackendSets::EnvMap || sets == BackendSets::EnvMapAndLobes;
+  }
   bool makesLobeSets() const {
     return sets == BackendSets::Lobes || sets == BackendSets::EnvMapAndLobes;
   }

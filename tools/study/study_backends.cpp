@@ -92,7 +92,7 @@ BackendPlan planBackend(const StudyBackend &backend, const EnvironmentLight *lig
     plan.spec = banks();
     return plan;
   }
-  if (backend.sets == Sets::EnvMap || backend.sets == Sets::EnvMapAndLobes) {
+  if (backend.makesEnvSets()) {
     if (!light || !light->target())
       return {std::nullopt, {}, "the scene has no (non-black) environment map to optimize for"};
     OptimizedSetsRequest env = request;
