@@ -164,7 +164,7 @@ std::optional<LightSample> EnvironmentLight::sampleTarget(Point2 x) const {
 std::optional<LightSample> EnvironmentLight::sample(Point2 u) const {
   if (!target_) return std::nullopt;
   GridTarget::Cell c;
-  const Point2 x = target_->invert(u, c).x;
+  const Point2 x = target_->invert(u, c);
   return sampleCell(x, c);
 }
 

@@ -44,8 +44,8 @@ Vec3 proxyLightDirection(Point2 u) {
 // classic route (the material's sample()) and of `lobe`'s route, both fed
 // the same Owen-Sobol points as the sobol-tabulated backend feeds them;
 // `underMis`: each estimate combined with as many proxy light samples by
-// the power heuristic, with the route's density on the BSDF side as the
-// path integrator weighs them.
+// the power heuristic, with the material's pdf on the BSDF side as the
+// path integrator weighs them (RouteSample).
 struct RouteVariances {
   double classic = 0, table = 0;
 };
@@ -72,61 +72,66 @@ RouteVariances measureAt(const DisneyBrdf &m, Vec3 wo, const LobeFrame &lobe, bo
         light[i] = {wi, v.f.luminance() * wi.z / kProxyLightPdf / double(kMeasurePoints), v.pdf};
       }
     }
-    const auto add = [&](const std::optional<BsdfSample> &s, auto &sums) {
-      if (!s || !(s->pdf > 0)) return;
-      const double w = (underMis ? powerHeuristic(s->pdf, kProxyLightPdf) : 1.0) *
-                       s->f.luminance() * s->wi.z / s->pdf / double(kMeasurePoints);
-      for (int k = 0; k < kLights; ++k) sums[k][r] += w * smoothLight(k, s->wi);
-    };
-    // The proxy light's samples, weighted against the density of `route`
-    // (no table: the material's sampler), as the path integrator weighs them.
-    const auto addLight = [&](const LobeFrame &route, auto &sums) {
-      for (const LightSample &l : light) {
-        const double w = lightSampleMisWeight(kProxyLightPdf, route, l.wi, l.materialPdf) * l.value;
-        for (int k = 0; k < kLights; ++k) sums[k][r] += w * smoothLight(k, l.wi);
-      }
+    const auto add = [&](const std::optional<RouteSample> &s, auto &sums) {
+      if (!s) return;
+      const BsdfSample &b = s->sample;
+      const double w = (underMis ? powerHeuristic(s->materialPdf, kProxyLightPdf) : 1.0) *
+                       b.f.luminance() * b.wi.z / b.pdf / double(kMeasurePoints);
+      for (int k = 0; k < kLights; ++k) sums[k][r] += w * smoothLight(k, b.wi);
     };
     for (std::size_t i = 0; i < kMeasurePoints; ++i) {
-      add(m.sample(wo, u[i]), classic);
-      add(sampleLobeRoute(m, wo, lobe, u[i]), table);
+      add(sampleRoute(m, wo, LobeFrame{}, u[i]), classic);
+      add(sampleRoute(m, wo, lobe, u[i]), table);
     }
-    if (underMis) {
-      addLight(LobeFrame{}, classic);
-      addLight(lobe, table);
-    }
+    // The proxy light's samples, weighted as the path integrator weighs
+    // them: against the material's pdf whichever route draws the BSDF
+    // sample (RouteSample), so they add the same to both routes' estimates.
+    if (underMis)
+      for (const LightSample &l : light) {
+        const double w = powerHeuristic(kProxyLightPdf, l.materialPdf) * l.value;
+        for (int k = 0; k < kLights; ++k) {
+          classic[k][r] += w * smoothLight(k, l.wi);
+          table[k][r] += w * smoothLight(k, l.wi);
+        }
+      }
   }
   return {summedRelativeVariance(classic), summedRelativeVariance(table)};
 }
 
 }  // namespace
 
-std::optional<BsdfSample> sampleLobeRoute(const Bsdf &bsdf, Vec3 wo, const LobeFrame &lobe,
-                                          Point2 u) {
-  BsdfSample s;
-  // The defensive split, in the table's primary space, where a set that
-  // follows the table is uniform: a strip of width d of the conditional
-  // coordinate goes to the material's sampler, the rest, stretched back to
-  // the whole square, to the table. The points of a set keep their
-  // stratification on both sides, which a random choice per sample would
-  // not.
+std::optional<RouteSample> sampleRoute(const Bsdf &bsdf, Vec3 wo, const LobeFrame &lobe, Point2 u) {
+  RouteSample s;
   const double d = lobe.defensive;
-  if (u.x < d) {
+  if (!lobe.table) {
+    const auto drawn = bsdf.sample(wo, u);
+    if (!drawn) return std::nullopt;
+    s = {*drawn, drawn->pdf};
+  } else if (u.x < d) {
+    // The defensive split, in the table's primary space, where a set that
+    // follows the table is uniform: a strip of width d of the conditional
+    // coordinate goes to the material's sampler, the rest, stretched back to
+    // the whole square, to the table. The points of a set keep their
+    // stratification on both sides, which a random choice per sample would
+    // not.
     const auto drawn = bsdf.sample(wo, {u.x / d, u.y});
     if (!drawn) return std::nullopt;
-    s = *drawn;
-    s.pdf = lobe.pdf(s.wi, s.pdf);
+    s.sample = *drawn;
+    s.materialPdf = drawn->pdf;
+    s.sample.pdf = lobe.pdf(drawn->wi, drawn->pdf);
   } else {
     // The table's density from the cell the point lies in (no second
     // lookup through the direction).
     GridTarget::Cell cell;
-    s.wi = lobe.direction(lobe.table->invert({(u.x - d) / (1 - d), u.y}, cell).x);
-    if (!(s.wi.z > 0)) return std::nullopt;
-    // The material's pdf enters the mixture only with a defensive share.
-    const BsdfValue v = d > 0 ? bsdf.evalWithPdf(wo, s.wi) : BsdfValue{bsdf.eval(wo, s.wi), 0.0};
-    s.f = v.f;
-    s.pdf = lobe.mixture(lobe.table->cellDensity(cell.i, cell.j) * kInvFourPi, v.pdf);
+    s.sample.wi = lobe.direction(lobe.table->invert({(u.x - d) / (1 - d), u.y}, cell));
+    if (!(s.sample.wi.z > 0)) return std::nullopt;
+    const BsdfValue v = bsdf.evalWithPdf(wo, s.sample.wi);
+    s.sample.f = v.f;
+    s.materialPdf = v.pdf;
+    s.sample.pdf = lobe.mixture(lobe.table->cellDensity(cell.i, cell.j) * kInvFourPi, v.pdf);
   }
-  if (!(s.pdf > 0) || !std::isfinite(s.pdf) || !s.f.isFinite()) return std::nullopt;
+  if (!(s.sample.pdf > 0) || !std::isfinite(s.sample.pdf) || !s.sample.f.isFinite())
+    return std::nullopt;
   return s;
 }
 

@@ -75,7 +75,7 @@ struct LobeTableSettings {
   std::optional<double> samplingMix;
   LobeRouting routing = LobeRouting::Measured;
   // The defensive share d: a tabulated sample is drawn by the material's own
-  // sample() with probability d (sampleLobeRoute), and every estimator
+  // sample() with probability d (sampleRoute), and every estimator
   // divides by the mixture (1 - d) table + d material, so a table's weight
   // f cos / p is at most 1 / d times the material's own at that direction.
   // Off by default: the measured routes already keep the material's sampler
@@ -138,9 +138,7 @@ struct LobeFrame {
   // The route's density per unit solid angle at wi: the defensive mixture
   // of the table's and the material's (`materialPdf`, the material's pdf at
   // wi); without a table, the material's sampler is the route and this is
-  // materialPdf. The BSDF side of the MIS weights: weights from it follow
-  // where the route actually sends its samples, which the material's pdf
-  // does not.
+  // materialPdf. What a route's sample divides by.
   double pdf(Vec3 wi, double materialPdf) const {
     return table ? mixture(tablePdf(wi), materialPdf) : materialPdf;
   }
@@ -150,25 +148,29 @@ struct LobeFrame {
   }
 };
 
-// The MIS weight (power heuristic) of a light sample at wi whose density is
-// `lightPdf`, against BSDF sampling by `route` (LobeFrame::pdf): the one
-// weight the path integrator and the route measurement both use. The BSDF
-// sample's own weight is powerHeuristic(its BsdfSample::pdf, lightPdf),
-// since that pdf is already the route's density.
-inline double lightSampleMisWeight(double lightPdf, const LobeFrame &route, Vec3 wi,
-                                   double materialPdf) {
-  return powerHeuristic(lightPdf, route.pdf(wi, materialPdf));
-}
+// One BSDF sample by a route. `sample.pdf` is the route's density at
+// sample.wi (LobeFrame::pdf), which the estimate divides by; `materialPdf`
+// is the material's own sampling pdf there, which the MIS weights of both
+// strategies take (the light sample's too, so the weights still sum to 1 at
+// every direction and the estimate stays unbiased). Under MIS a table holds
+// the material's sampling pdf at its bin's centre, so the two densities
+// differ only by the view's offset within the bin; weights from the
+// material's pdf spare every light sample a table lookup
+// (renderer/README.md, "Lobe routes", has the measurements).
+struct RouteSample {
+  BsdfSample sample;
+  double materialPdf = 0;
+};
 
-// The sample of the route `lobe` at wo for the table's primary point u (a
+// The sample of the route `lobe` at wo for the point u: without a table the
+// material's own sample(u); with one, u is the table's primary point (a
 // point x that follows the table has u = table->primaryOf(x); the table
-// maps u back to x by its inverse CDF): a share `defensive` of the square
-// (u.x < defensive) goes to the material's own sample() and the rest,
-// stretched over the square, through the table. f is the material's and
-// pdf the route's mixture density (LobeFrame::pdf); with u uniform, wi
-// follows that mixture. nullopt when no direction results.
-std::optional<BsdfSample> sampleLobeRoute(const Bsdf &bsdf, Vec3 wo, const LobeFrame &lobe,
-                                          Point2 u);
+// maps u back to x by its inverse CDF), and a share `defensive` of the
+// square (u.x < defensive) goes to the material's own sample() and the
+// rest, stretched over the square, through the table. f is the material's;
+// with u uniform, wi follows the route's density. nullopt when no
+// direction results.
+std::optional<RouteSample> sampleRoute(const Bsdf &bsdf, Vec3 wo, const LobeFrame &lobe, Point2 u);
 
 // What the route measurement found for one bin (renderer/README.md, "Lobe
 // routes"): the relative variance of a 16-point Owen-Sobol estimate of the

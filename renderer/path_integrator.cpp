@@ -97,7 +97,10 @@ LobeVisits lobeTableVisits(const Scene &scene, const LobeTables &tables, int wid
 struct PathIntegrator::PathState {
   Rgb L, beta{1, 1, 1};
   Ray ray;
-  double lastBsdfPdf = 0;  // 0: the camera ray (no MIS on what it sees)
+  // The material's sampling pdf at the last BSDF sample's direction, which
+  // weighs what the ray finds by MIS (RouteSample); none for the camera ray.
+  double lastBsdfPdf = 0;
+  bool cameraRay = true;
   bool alive = true;
   PixelSamples *samples = nullptr;
   std::size_t index = 0;
@@ -157,8 +160,7 @@ bool PathIntegrator::arrive(std::span<PathState> path,
         double lightPdf;
         const Rgb Le =
             light_->radiance(depth > 0 ? p.escape : light_->find(p.ray.direction), lightPdf);
-        const double w =
-            p.lastBsdfPdf > 0 && !bsdfOnly_ ? powerHeuristic(p.lastBsdfPdf, lightPdf) : 1.0;
+        const double w = p.cameraRay || bsdfOnly_ ? 1.0 : powerHeuristic(p.lastBsdfPdf, lightPdf);
         p.L += w * p.beta * Le;
       }
       p.alive = false;
@@ -229,19 +231,12 @@ void PathIntegrator::addLightSamples(std::span<PathState> path, int depth,
       const Ray shadow{p.sh.origin, ls[k]->wi};
       record(counters, shadow);
       if (scene_.geometry.occluded(shadow)) continue;
-      // The material's pdf weighs the sample unless a table without a
-      // defensive share is the route (its density alone is the BSDF side).
-      const bool materialPdf = !lightOnly_ && (!p.lobe.table || p.lobe.defensive > 0);
-      const auto [f, classicPdf] =
-          materialPdf ? p.bsdf->evalWithPdf(p.wo, wi) : BsdfValue{p.bsdf->eval(p.wo, wi), 0.0};
+      const auto [f, materialPdf] =
+          lightOnly_ ? BsdfValue{p.bsdf->eval(p.wo, wi), 0.0} : p.bsdf->evalWithPdf(p.wo, wi);
       if (f.isBlack()) continue;
-      // Where a table draws the BSDF sample, the MIS weights of both
-      // strategies use the route's density for the BSDF side, so that they
-      // follow where the route sends its samples (any weights that sum to 1
-      // would keep the estimate unbiased, since each sample still divides by
-      // what drew it; renderer/README.md, "Lobe routes", has the measured
-      // difference).
-      const double w = lightOnly_ ? 1.0 : lightSampleMisWeight(ls[k]->pdf, p.lobe, wi, classicPdf);
+      // Whatever route draws the BSDF sample, the weights of both
+      // strategies take the material's own sampling pdf (RouteSample).
+      const double w = lightOnly_ ? 1.0 : powerHeuristic(ls[k]->pdf, materialPdf);
       p.L += (w * wi.z / ls[k]->pdf) * p.beta * f * ls[k]->radiance;
     }
   }
@@ -259,15 +254,17 @@ bool PathIntegrator::continuePaths(std::span<PathState> path, int depth,
     PathState &p = path[k];
     if (!p.alive) continue;
     p.alive = false;
-    const auto bs =
-        p.lobe.table ? sampleLobeRoute(*p.bsdf, p.wo, p.lobe, p.lobePoint)
-                     : p.bsdf->sample(p.wo, p.samples->primary(SamplePairs::bsdf(depth), p.index));
-    if (!bs || !(bs->pdf > 0)) continue;
-    if (!(bs->wi.z > 0)) continue;  // below the shading hemisphere: f = 0
-    const Vec3 wiWorld = p.sh.frame.toWorld(bs->wi);
-    p.beta *= (bs->wi.z / bs->pdf) * bs->f;
-    // The MIS weight's BSDF pdf: the route's density (see addLightSamples).
-    p.lastBsdfPdf = bs->pdf;
+    const auto drawn = sampleRoute(
+        *p.bsdf, p.wo, p.lobe,
+        p.lobe.table ? p.lobePoint : p.samples->primary(SamplePairs::bsdf(depth), p.index));
+    if (!drawn) continue;
+    const BsdfSample &bs = drawn->sample;
+    if (!(bs.wi.z > 0)) continue;  // below the shading hemisphere: f = 0
+    const Vec3 wiWorld = p.sh.frame.toWorld(bs.wi);
+    p.beta *= (bs.wi.z / bs.pdf) * bs.f;
+    // The MIS weight's BSDF pdf (see addLightSamples).
+    p.lastBsdfPdf = drawn->materialPdf;
+    p.cameraRay = false;
     p.ray = {p.sh.origin, wiWorld};
     if (p.beta.isBlack()) continue;
     p.alive = true;

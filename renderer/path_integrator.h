@@ -14,8 +14,9 @@
 // (renderer/lobe_tables.h) when the backend hands over points distributed by
 // the shading point's table (in a defensive mixture with the material's own
 // sampler), and the material's own lobe-selection mapping otherwise (and in
-// the bins whose route is the material's); every estimator and MIS weight
-// uses the pdf of the strategy the sample actually used.
+// the bins whose route is the material's); every estimate divides by the
+// density of the strategy that drew it, and the MIS weights of both
+// strategies take the material's own pdf (RouteSample in lobe_tables.h).
 
 #include <cstdint>
 #include <map>

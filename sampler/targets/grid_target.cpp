@@ -250,15 +250,9 @@ Point2 GridTarget::primaryOf(Point2 x) const {
 }
 
 Inversion GridTarget::invert(Point2 u) const {
-  Cell cell;
-  return invert(u, cell);
-}
-
-Inversion GridTarget::invert(Point2 u, Cell &cell) const {
   const Point2 c = clampedUnit(u);
   const InRow r = invertInRow(c, rowOf(c.y));
-  cell = r.cell;
-  const int i = cell.i, j = cell.j;
+  const int i = r.cell.i, j = r.cell.j;
   Inversion out;
   out.x = r.x;
   // Within a cell the map is affine; the conditional does not depend on y
@@ -266,6 +260,13 @@ Inversion GridTarget::invert(Point2 u, Cell &cell) const {
   out.jacobian.m[0][0] = (xEdges_[i + 1] - xEdges_[i]) / r.cellFraction;
   out.jacobian.m[1][1] = (yEdges_[j + 1] - yEdges_[j]) / r.rowMass;
   return out;
+}
+
+Point2 GridTarget::invert(Point2 u, Cell &cell) const {
+  const Point2 c = clampedUnit(u);
+  const InRow r = invertInRow(c, rowOf(c.y));
+  cell = r.cell;
+  return r.x;
 }
 
 void GridTarget::invert(std::span<const Point2> u, std::span<Point2> x,

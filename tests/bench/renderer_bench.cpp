@@ -163,7 +163,7 @@ void BM_LobeRouteSample(benchmark::State &state) {
   const auto us = uniformPoints(4096);
   std::size_t k = 0;
   for (auto _ : state)
-    benchmark::DoNotOptimize(sampleLobeRoute(*dragon.brdf, kWo, lobe, us[k++ & 4095]));
+    benchmark::DoNotOptimize(sampleRoute(*dragon.brdf, kWo, lobe, us[k++ & 4095]));
   state.SetItemsProcessed(state.iterations());
 }
 BENCHMARK(BM_LobeRouteSample)->Arg(0)->Arg(10);

@@ -73,8 +73,8 @@ TEST(LobeRoutes, RouteSamplesFollowTheMixturePdf) {
     // the folds of an anisotropic frame keep those edges in place.
     const auto t = test::testDirections(
         [&](Point2 u) -> std::optional<Vec3> {
-          const auto s = sampleLobeRoute(*m, wo, lobe, u);
-          return s ? std::optional<Vec3>(s->wi) : std::nullopt;
+          const auto s = sampleRoute(*m, wo, lobe, u);
+          return s ? std::optional<Vec3>(s->sample.wi) : std::nullopt;
         },
         [&](Vec3 wi) { return lobe.pdf(wi, m->pdf(wo, wi)); }, kSamples, seed++,
         test::peakAt(reflect(wo, Vec3{0, 0, 1})), 64, 32);
@@ -110,10 +110,12 @@ TEST(LobeRoutes, WeightsStayWithinTheDefensiveBound) {
               const Point2 u{rng.uniform(), rng.uniform()};
               if (const auto own = m->sample(wo, u))
                 ownMax = std::max(ownMax, own->f.luminance() * own->wi.z / own->pdf);
-              const auto s = sampleLobeRoute(*m, wo, lobe, u);
-              if (!s) continue;
-              const double w = s->f.luminance() * s->wi.z / s->pdf;
-              const double own = s->f.luminance() * s->wi.z / m->pdf(wo, s->wi);
+              const auto route = sampleRoute(*m, wo, lobe, u);
+              if (!route) continue;
+              const BsdfSample &s = route->sample;
+              EXPECT_NEAR(route->materialPdf, m->pdf(wo, s.wi), 1e-12 * route->materialPdf);
+              const double w = s.f.luminance() * s.wi.z / s.pdf;
+              const double own = s.f.luminance() * s.wi.z / route->materialPdf;
               ASSERT_TRUE(std::isfinite(w));
               ASSERT_LE(w, own / kDefensive * (1 + 1e-9))
                   << "roughness " << roughness << " anisotropic " << anisotropic << " metallic "
@@ -139,19 +141,23 @@ TEST(LobeRoutes, DefensiveShareOfZeroAndOneAreTheTwoRoutes) {
     Rng rng(5);
     for (int i = 0; i < 200; ++i) {
       const Point2 u{rng.uniform(), rng.uniform()};
-      const auto s = sampleLobeRoute(*m, wo, lobe, u);
+      const auto route = sampleRoute(*m, wo, lobe, u);
       if (d == 1) {
         const auto own = m->sample(wo, u);
-        ASSERT_EQ(bool(s), bool(own));
-        if (!s) continue;
-        EXPECT_EQ(s->wi.x, own->wi.x);
-        EXPECT_NEAR(s->pdf, own->pdf, 1e-12 * own->pdf);
+        ASSERT_EQ(bool(route), bool(own));
+        if (!route) continue;
+        EXPECT_EQ(route->sample.wi.x, own->wi.x);
+        EXPECT_NEAR(route->sample.pdf, own->pdf, 1e-12 * own->pdf);
       } else {
-        ASSERT_TRUE(s);
+        ASSERT_TRUE(route);
+        const BsdfSample &s = route->sample;
         const Point2 x = lobe.table->invert(u).x;
-        EXPECT_EQ(s->wi.x, lobe.direction(x).x);
-        EXPECT_NEAR(s->pdf, lobe.tablePdf(s->wi), 1e-9 * s->pdf);
+        EXPECT_EQ(s.wi.x, lobe.direction(x).x);
+        EXPECT_NEAR(s.pdf, lobe.tablePdf(s.wi), 1e-9 * s.pdf);
       }
+      // Either way the MIS weights take the material's pdf at the direction.
+      if (route)
+        EXPECT_NEAR(route->materialPdf, m->pdf(wo, route->sample.wi), 1e-12 * route->materialPdf);
     }
   }
 }
@@ -316,14 +322,14 @@ TEST(LobeRoutes, GlossyAnisotropicMetalConvergesWithEveryBackend) {
 }
 
 // Multiple importance sampling where a table draws the BSDF sample: both
-// strategies weigh by the route's own density (LobeFrame::pdf), so the
-// weights sum to 1 at every direction and the estimate is unbiased. A rough lobe under a
-// constant map (light and BSDF pdfs of the same size, so both weights
-// matter), every bin forced through a coarse table (whose pdf is far from
-// the material's): direct lighting against light sampling alone, which has
-// no BSDF strategy and no weights. Weights from the route's density on one
-// side and the material's pdf on the other fail it (tools/experiments/
-// README.md, "Lobe routes").
+// strategies weigh by the material's sampling pdf (RouteSample), so the
+// weights sum to 1 at every direction and the estimate is unbiased, while
+// the BSDF sample divides by the table's density that drew it. A rough lobe
+// under a constant map (light and BSDF pdfs of the same size, so both
+// weights matter), every bin forced through a coarse table (whose pdf is
+// far from the material's, so a weight or a division by the wrong density
+// shows): direct lighting against light sampling alone, which has no BSDF
+// strategy and no weights.
 TEST(LobeRoutes, MisWeightsSumToOneWhereTablesDrawTheBsdfSample) {
   const Scene scene =
       test::sceneWith({test::unitSphere()}, {material(1.0, 0.0, 0.0)}, test::constantMap(1.0f),
