@@ -80,8 +80,8 @@ RouteVariances measureAt(const DisneyBrdf &m, Vec3 wo, const LobeFrame &lobe, bo
       for (int k = 0; k < kLights; ++k) sums[k][r] += w * smoothLight(k, b.wi);
     };
     for (std::size_t i = 0; i < kMeasurePoints; ++i) {
-      add(sampleRoute(m, wo, LobeFrame{}, u[i]), classic);
-      add(sampleRoute(m, wo, lobe, u[i]), table);
+      add(sampleRoute(m, wo, LobeFrame{}, {u[i]}), classic);
+      add(sampleRoute(m, wo, lobe, {u[i]}), table);
     }
     // The proxy light's samples, weighted as the path integrator weighs
     // them: against the material's pdf whichever route draws the BSDF
@@ -100,36 +100,50 @@ RouteVariances measureAt(const DisneyBrdf &m, Vec3 wo, const LobeFrame &lobe, bo
 
 }  // namespace
 
-std::optional<RouteSample> sampleRoute(const Bsdf &bsdf, Vec3 wo, const LobeFrame &lobe, Point2 u) {
+std::optional<RouteSample> sampleRoute(const Bsdf &bsdf, Vec3 wo, const LobeFrame &lobe,
+                                       RoutePoint p) {
   RouteSample s;
   const double d = lobe.defensive;
+  GridTarget::Cell cell;
+  Point2 x;
   if (!lobe.table) {
-    const auto drawn = bsdf.sample(wo, u);
+    const auto drawn = bsdf.sample(wo, p.value);
     if (!drawn) return std::nullopt;
     s = {*drawn, drawn->pdf};
-  } else if (u.x < d) {
+    return s;
+  }
+  // A point that follows the table, in a cell the table can draw from, is
+  // the table's sample as it is: pulling it back to primary space and
+  // mapping it forward again would return the same point.
+  if (p.followsTable && d == 0) cell = lobe.table->locate(p.value);
+  if (p.followsTable && d == 0 && lobe.table->cellDensity(cell.i, cell.j) > 0) {
+    x = p.value;
+  } else {
+    const Point2 u = p.followsTable ? lobe.table->primaryOf(p.value) : p.value;
     // The defensive split, in the table's primary space, where a set that
     // follows the table is uniform: a strip of width d of the conditional
     // coordinate goes to the material's sampler, the rest, stretched back to
     // the whole square, to the table. The points of a set keep their
     // stratification on both sides, which a random choice per sample would
     // not.
-    const auto drawn = bsdf.sample(wo, {u.x / d, u.y});
-    if (!drawn) return std::nullopt;
-    s.sample = *drawn;
-    s.materialPdf = drawn->pdf;
-    s.sample.pdf = lobe.pdf(drawn->wi, drawn->pdf);
-  } else {
-    // The table's density from the cell the point lies in (no second
-    // lookup through the direction).
-    GridTarget::Cell cell;
-    s.sample.wi = lobe.direction(lobe.table->invert({(u.x - d) / (1 - d), u.y}, cell));
-    if (!(s.sample.wi.z > 0)) return std::nullopt;
-    const BsdfValue v = bsdf.evalWithPdf(wo, s.sample.wi);
-    s.sample.f = v.f;
-    s.materialPdf = v.pdf;
-    s.sample.pdf = lobe.mixture(lobe.table->cellDensity(cell.i, cell.j) * kInvFourPi, v.pdf);
+    if (u.x < d) {
+      const auto drawn = bsdf.sample(wo, {u.x / d, u.y});
+      if (!drawn) return std::nullopt;
+      s.sample = *drawn;
+      s.materialPdf = drawn->pdf;
+      s.sample.pdf = lobe.pdf(drawn->wi, drawn->pdf);
+      return s;
+    }
+    x = lobe.table->invert({(u.x - d) / (1 - d), u.y}, cell);
   }
+  // The table's density from the cell the point lies in (no second lookup
+  // through the direction).
+  s.sample.wi = lobe.direction(x);
+  if (!(s.sample.wi.z > 0)) return std::nullopt;
+  const BsdfValue v = bsdf.evalWithPdf(wo, s.sample.wi);
+  s.sample.f = v.f;
+  s.materialPdf = v.pdf;
+  s.sample.pdf = lobe.mixture(lobe.table->cellDensity(cell.i, cell.j) * kInvFourPi, v.pdf);
   if (!(s.sample.pdf > 0) || !std::isfinite(s.sample.pdf) || !s.sample.f.isFinite())
     return std::nullopt;
   return s;

@@ -162,15 +162,24 @@ struct RouteSample {
   double materialPdf = 0;
 };
 
-// The sample of the route `lobe` at wo for the point u: without a table the
-// material's own sample(u); with one, u is the table's primary point (a
-// point x that follows the table has u = table->primaryOf(x); the table
-// maps u back to x by its inverse CDF), and a share `defensive` of the
-// square (u.x < defensive) goes to the material's own sample() and the
-// rest, stretched over the square, through the table. f is the material's;
-// with u uniform, wi follows the route's density. nullopt when no
-// direction results.
-std::optional<RouteSample> sampleRoute(const Bsdf &bsdf, Vec3 wo, const LobeFrame &lobe, Point2 u);
+// The point a route samples with: a primary point (uniform in the square),
+// or a point that already follows the route's table (a set dealt for it).
+struct RoutePoint {
+  Point2 value;
+  bool followsTable = false;
+};
+
+// The sample of the route `lobe` at wo for the point p: without a table the
+// material's own sample() of the primary point; with one, a primary point
+// is mapped by the table's inverse CDF, except that a share `defensive` of
+// the square (u.x < defensive) goes to the material's own sample() and the
+// rest, stretched over the square, through the table. A point that follows
+// the table is used as it is where there is no defensive share; with one it
+// is pulled back to the table's primary space (GridTarget::primaryOf) to be
+// split there. f is the material's; with uniform primary points, wi
+// follows the route's density. nullopt when no direction results.
+std::optional<RouteSample> sampleRoute(const Bsdf &bsdf, Vec3 wo, const LobeFrame &lobe,
+                                       RoutePoint p);
 
 // What the route measurement found for one bin (renderer/README.md, "Lobe
 // routes"): the relative variance of a 16-point Owen-Sobol estimate of the

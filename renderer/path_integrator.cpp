@@ -110,11 +110,10 @@ struct PathIntegrator::PathState {
   Shading sh;
   Vec3 wo;
   // The BSDF strategy of this sample at the hit: the tabulated lobe `lobe`
-  // with the table's primary point `lobePoint` (GridTarget::primaryOf of the
-  // backend's point), or (lobe.table null) the material's
-  // own sample().
+  // with the backend's point for its table, `lobePoint`, or (lobe.table
+  // null) the material's own sample().
   LobeFrame lobe;
-  Point2 lobePoint;
+  RoutePoint lobePoint;
 };
 
 namespace {
@@ -206,7 +205,7 @@ void PathIntegrator::chooseBsdfStrategies(std::span<PathState> path, int depth,
       continue;
     const auto frame = lobes_->frame(p.bsdf, p.wo);
     if (!frame) continue;
-    if (const auto u = p.samples->tablePrimary(*frame->table, SamplePairs::bsdf(depth), p.index)) {
+    if (const auto u = p.samples->tablePoint(*frame->table, SamplePairs::bsdf(depth), p.index)) {
       p.lobe = *frame;
       p.lobePoint = *u;
     } else if (depth == 0) {
@@ -256,7 +255,8 @@ bool PathIntegrator::continuePaths(std::span<PathState> path, int depth,
     p.alive = false;
     const auto drawn = sampleRoute(
         *p.bsdf, p.wo, p.lobe,
-        p.lobe.table ? p.lobePoint : p.samples->primary(SamplePairs::bsdf(depth), p.index));
+        p.lobe.table ? p.lobePoint
+                     : RoutePoint{p.samples->primary(SamplePairs::bsdf(depth), p.index)});
     if (!drawn) continue;
     const BsdfSample &bs = drawn->sample;
     if (!(bs.wi.z > 0)) continue;  // below the shading hemisphere: f = 0

@@ -14,6 +14,7 @@
 #include <optional>
 #include <vector>
 
+#include "renderer/lobe_tables.h"
 #include "renderer/sampler_backend.h"
 #include "sampler/targets/grid_target.h"
 #include "sampler/targets/target.h"
@@ -55,15 +56,15 @@ class PixelSamples {
     return c.served ? &c.points[i] : nullptr;
   }
 
-  // The table's primary point (its CDF map, GridTarget::primaryOf) of point
-  // i of the pair distributed by `table`, if the backend has such points:
-  // for a backend that maps primary points (mapsPrimaryThrough) the pair's
-  // primary point itself, with no inverse CDF taken.
-  std::optional<Point2> tablePrimary(const GridTarget &table, std::uint32_t pair, std::size_t i) {
+  // Point i of the pair for the route through `table`, if the backend has
+  // such points: the backend's point, which follows the table, or for a
+  // backend that maps primary points (mapsPrimaryThrough) the pair's primary
+  // point itself, which the route maps by the table's inverse CDF.
+  std::optional<RoutePoint> tablePoint(const GridTarget &table, std::uint32_t pair, std::size_t i) {
     const Context &c = context(table, pair);
-    if (c.mapped) return primary(pair, i);
+    if (c.mapped) return RoutePoint{primary(pair, i), false};
     if (!c.served) return std::nullopt;
-    return table.primaryOf(c.points[i]);
+    return RoutePoint{c.points[i], true};
   }
 
  private:

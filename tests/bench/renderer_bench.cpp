@@ -4,9 +4,11 @@
 //  - Backend/SCENE/BACKEND: a 16-spp path render at the scene's resolution
 //    with sobol and with sobol-tabulated side by side (the lobe tables are
 //    built before timing: a scene builds them once);
-//  - BM_MaterialSample, BM_LobeRouteSample: one BSDF sample through the
-//    material's own sampler and through a tabulated route (table inverse CDF
-//    and the defensive split), at the dragon's material;
+//  - BM_MaterialSample, BM_LobeRouteSample, BM_LobeRouteFromTablePoint: one
+//    BSDF sample through the material's own sampler and through a tabulated
+//    route (table inverse CDF and the defensive split; or from a point that
+//    already follows the table, as lobe banks deal them), at the dragon's
+//    material;
 //  - BM_NeuralLobeBank/N: one lobe table's bank of 16 sets from the shipped
 //    model (the neural backend's inference per table);
 //  - EmbreeRaw/SCENE/spp:N: the same rays, recorded from one such render,
@@ -163,10 +165,25 @@ void BM_LobeRouteSample(benchmark::State &state) {
   const auto us = uniformPoints(4096);
   std::size_t k = 0;
   for (auto _ : state)
-    benchmark::DoNotOptimize(sampleRoute(*dragon.brdf, kWo, lobe, us[k++ & 4095]));
+    benchmark::DoNotOptimize(sampleRoute(*dragon.brdf, kWo, lobe, {us[k++ & 4095]}));
   state.SetItemsProcessed(state.iterations());
 }
 BENCHMARK(BM_LobeRouteSample)->Arg(0)->Arg(10);
+
+// The same from points that already follow the table, as a lobe bank deals
+// them (arg: the defensive share in percent; with one, each point is
+// pulled back to the table's primary space first).
+void BM_LobeRouteFromTablePoint(benchmark::State &state) {
+  const DragonTables dragon(double(state.range(0)) / 100);
+  const LobeFrame lobe = dragon.frame();
+  std::vector<Point2> xs;
+  for (const Point2 u : uniformPoints(4096)) xs.push_back(lobe.table->invert(u).x);
+  std::size_t k = 0;
+  for (auto _ : state)
+    benchmark::DoNotOptimize(sampleRoute(*dragon.brdf, kWo, lobe, {xs[k++ & 4095], true}));
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_LobeRouteFromTablePoint)->Arg(0)->Arg(10);
 
 // One lobe table's bank from the shipped model, as the neural backend makes
 // it per table and render (16 sets of N = spp points, the renderer's table

@@ -73,7 +73,7 @@ TEST(LobeRoutes, RouteSamplesFollowTheMixturePdf) {
     // the folds of an anisotropic frame keep those edges in place.
     const auto t = test::testDirections(
         [&](Point2 u) -> std::optional<Vec3> {
-          const auto s = sampleRoute(*m, wo, lobe, u);
+          const auto s = sampleRoute(*m, wo, lobe, {u});
           return s ? std::optional<Vec3>(s->sample.wi) : std::nullopt;
         },
         [&](Vec3 wi) { return lobe.pdf(wi, m->pdf(wo, wi)); }, kSamples, seed++,
@@ -110,7 +110,7 @@ TEST(LobeRoutes, WeightsStayWithinTheDefensiveBound) {
               const Point2 u{rng.uniform(), rng.uniform()};
               if (const auto own = m->sample(wo, u))
                 ownMax = std::max(ownMax, own->f.luminance() * own->wi.z / own->pdf);
-              const auto route = sampleRoute(*m, wo, lobe, u);
+              const auto route = sampleRoute(*m, wo, lobe, {u});
               if (!route) continue;
               const BsdfSample &s = route->sample;
               EXPECT_NEAR(route->materialPdf, m->pdf(wo, s.wi), 1e-12 * route->materialPdf);
@@ -141,7 +141,7 @@ TEST(LobeRoutes, DefensiveShareOfZeroAndOneAreTheTwoRoutes) {
     Rng rng(5);
     for (int i = 0; i < 200; ++i) {
       const Point2 u{rng.uniform(), rng.uniform()};
-      const auto route = sampleRoute(*m, wo, lobe, u);
+      const auto route = sampleRoute(*m, wo, lobe, {u});
       if (d == 1) {
         const auto own = m->sample(wo, u);
         ASSERT_EQ(bool(route), bool(own));
@@ -159,6 +159,44 @@ TEST(LobeRoutes, DefensiveShareOfZeroAndOneAreTheTwoRoutes) {
       if (route)
         EXPECT_NEAR(route->materialPdf, m->pdf(wo, route->sample.wi), 1e-12 * route->materialPdf);
     }
+  }
+}
+
+// A point that follows the table (as a lobe bank deals it) gives the sample
+// its primary point (GridTarget::primaryOf) gives: used as it is without a
+// defensive share, pulled back and split with one; a point in a cell the
+// table cannot draw from (the lower hemisphere's, density 0) is pulled back
+// to a point it can.
+TEST(LobeRoutes, APointThatFollowsTheTableGivesItsPrimaryPointsSample) {
+  const auto m = material(0.4, 0.3, 0.2);
+  const Vec3 wo = direction(35, 10);
+  for (const double d : {0.0, 0.1}) {
+    const LobeTables tables({m}, everyBin(d));
+    const LobeFrame lobe = *tables.frame(m.get(), wo);
+    Rng rng(9);
+    int drawn = 0;
+    for (int i = 0; i < 500; ++i) {
+      const Point2 x = lobe.table->invert({rng.uniform(), rng.uniform()}).x;
+      const auto fromPoint = sampleRoute(*m, wo, lobe, {x, true});
+      const auto fromPrimary = sampleRoute(*m, wo, lobe, {lobe.table->primaryOf(x)});
+      ASSERT_EQ(bool(fromPoint), bool(fromPrimary)) << d;
+      if (!fromPoint) continue;
+      ++drawn;
+      const BsdfSample &a = fromPoint->sample, &b = fromPrimary->sample;
+      EXPECT_NEAR(a.wi.x, b.wi.x, 1e-9) << d;
+      EXPECT_NEAR(a.wi.y, b.wi.y, 1e-9) << d;
+      EXPECT_NEAR(a.pdf, b.pdf, 1e-9 * b.pdf) << d;
+      EXPECT_NEAR(fromPoint->materialPdf, fromPrimary->materialPdf, 1e-9 * b.pdf) << d;
+    }
+    EXPECT_GT(drawn, 450) << d;
+    // Below the surface the table has no density: pulled back to its CDF.
+    const Point2 below{0.3, 0.8};
+    ASSERT_EQ(lobe.table->pdf(below), 0);
+    const auto fromPoint = sampleRoute(*m, wo, lobe, {below, true});
+    const auto fromPrimary = sampleRoute(*m, wo, lobe, {lobe.table->primaryOf(below)});
+    ASSERT_TRUE(fromPoint && fromPrimary) << d;
+    EXPECT_GT(fromPoint->sample.wi.z, 0) << d;
+    EXPECT_EQ(fromPoint->sample.wi.x, fromPrimary->sample.wi.x) << d;
   }
 }
 
