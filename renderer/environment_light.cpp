@@ -163,9 +163,8 @@ std::optional<LightSample> EnvironmentLight::sampleTarget(Point2 x) const {
 
 std::optional<LightSample> EnvironmentLight::sample(Point2 u) const {
   if (!target_) return std::nullopt;
-  GridTarget::Cell c;
-  const Point2 x = target_->invert(u, c);
-  return sampleCell(x, c);
+  const GridTarget::Draw d = target_->draw(u);
+  return sampleCell(d.x, d.cell);
 }
 
 namespace {

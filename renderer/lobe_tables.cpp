@@ -104,21 +104,22 @@ std::optional<RouteSample> sampleRoute(const Bsdf &bsdf, Vec3 wo, const LobeFram
                                        RoutePoint p) {
   RouteSample s;
   const double d = lobe.defensive;
-  GridTarget::Cell cell;
-  Point2 x;
   if (!lobe.table) {
     const auto drawn = bsdf.sample(wo, p.value);
     if (!drawn) return std::nullopt;
     s = {*drawn, drawn->pdf};
     return s;
   }
+  // The table's point and its density there (per unit area of the square).
+  GridTarget::Draw x;
   // A point that follows the table, in a cell the table can draw from, is
   // the table's sample as it is: pulling it back to primary space and
   // mapping it forward again would return the same point.
-  if (p.followsTable && d == 0) cell = lobe.table->locate(p.value);
-  if (p.followsTable && d == 0 && lobe.table->cellDensity(cell.i, cell.j) > 0) {
-    x = p.value;
-  } else {
+  if (p.followsTable && d == 0) {
+    const GridTarget::Cell c = lobe.table->locate(p.value);
+    x = {p.value, c, lobe.table->cellDensity(c.i, c.j)};
+  }
+  if (!(x.density > 0)) {
     const Point2 u = p.followsTable ? lobe.table->primaryOf(p.value) : p.value;
     // The defensive split, in the table's primary space, where a set that
     // follows the table is uniform: a strip of width d of the conditional
@@ -134,16 +135,14 @@ std::optional<RouteSample> sampleRoute(const Bsdf &bsdf, Vec3 wo, const LobeFram
       s.sample.pdf = lobe.pdf(drawn->wi, drawn->pdf);
       return s;
     }
-    x = lobe.table->invert({(u.x - d) / (1 - d), u.y}, cell);
+    x = lobe.table->draw({(u.x - d) / (1 - d), u.y});
   }
-  // The table's density from the cell the point lies in (no second lookup
-  // through the direction).
-  s.sample.wi = lobe.direction(x);
+  s.sample.wi = lobe.direction(x.x);
   if (!(s.sample.wi.z > 0)) return std::nullopt;
   const BsdfValue v = bsdf.evalWithPdf(wo, s.sample.wi);
   s.sample.f = v.f;
   s.materialPdf = v.pdf;
-  s.sample.pdf = lobe.mixture(lobe.table->cellDensity(cell.i, cell.j) * kInvFourPi, v.pdf);
+  s.sample.pdf = lobe.mixture(x.density * kInvFourPi, v.pdf);
   if (!(s.sample.pdf > 0) || !std::isfinite(s.sample.pdf) || !s.sample.f.isFinite())
     return std::nullopt;
   return s;

@@ -205,9 +205,8 @@ void PathIntegrator::chooseBsdfStrategies(std::span<PathState> path, int depth,
       continue;
     const auto frame = lobes_->frame(p.bsdf, p.wo);
     if (!frame) continue;
-    if (const auto u = p.samples->tablePoint(*frame->table, SamplePairs::bsdf(depth), p.index)) {
+    if (p.samples->tablePoint(*frame->table, SamplePairs::bsdf(depth), p.index, p.lobePoint)) {
       p.lobe = *frame;
-      p.lobePoint = *u;
     } else if (depth == 0) {
       ++counters.classicFallbacks;
     }

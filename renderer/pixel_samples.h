@@ -56,15 +56,19 @@ class PixelSamples {
     return c.served ? &c.points[i] : nullptr;
   }
 
-  // Point i of the pair for the route through `table`, if the backend has
-  // such points: the backend's point, which follows the table, or for a
-  // backend that maps primary points (mapsPrimaryThrough) the pair's primary
-  // point itself, which the route maps by the table's inverse CDF.
-  std::optional<RoutePoint> tablePoint(const GridTarget &table, std::uint32_t pair, std::size_t i) {
+  // Point i of the pair for the route through `table` into `out`, if the
+  // backend has such points (else false): the backend's point, which
+  // follows the table, or for a backend that maps primary points
+  // (mapsPrimaryThrough) the pair's primary point itself, which the route
+  // maps by the table's inverse CDF. (An out parameter, written field by
+  // field: a point built on the stack and copied whole was read back before
+  // its parts' stores could forward, a stall on every first-bounce sample.)
+  bool tablePoint(const GridTarget &table, std::uint32_t pair, std::size_t i, RoutePoint &out) {
     const Context &c = context(table, pair);
-    if (c.mapped) return RoutePoint{primary(pair, i), false};
-    if (!c.served) return std::nullopt;
-    return RoutePoint{c.points[i], true};
+    if (!c.mapped && !c.served) return false;
+    out.value = c.mapped ? primary(pair, i) : c.points[i];
+    out.followsTable = !c.mapped;
+    return true;
   }
 
  private:

@@ -262,11 +262,12 @@ Inversion GridTarget::invert(Point2 u) const {
   return out;
 }
 
-Point2 GridTarget::invert(Point2 u, Cell &cell) const {
+GridTarget::Draw GridTarget::draw(Point2 u) const {
   const Point2 c = clampedUnit(u);
   const InRow r = invertInRow(c, rowOf(c.y));
-  cell = r.cell;
-  return r.x;
+  const int i = r.cell.i, j = r.cell.j;
+  const double area = (xEdges_[i + 1] - xEdges_[i]) * (yEdges_[j + 1] - yEdges_[j]);
+  return {r.x, r.cell, r.rowMass * r.cellFraction / area};
 }
 
 void GridTarget::invert(std::span<const Point2> u, std::span<Point2> x,

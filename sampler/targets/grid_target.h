@@ -53,14 +53,22 @@ class GridTarget final : public Target {
   double mass(const Box2 &b) const override;
   Inversion invert(Point2 u) const override;
 
-  // The cell (column i, row j) holding p, clamped to the grid; and invert()'s
-  // point without its Jacobian, reporting the cell it landed in, so callers
-  // with per-cell data (a lobe table's density) need no second lookup.
+  // The cell (column i, row j) holding p, clamped to the grid.
   struct Cell {
     int i = 0, j = 0;
   };
   Cell locate(Point2 p) const { return {xCells_.cell(xEdges_, p.x), yCells_.cell(yEdges_, p.y)}; }
-  Point2 invert(Point2 u, Cell &cell) const;
+  // invert()'s point without its Jacobian, with the cell it landed in (so
+  // callers with per-cell data, a map's radiance, need no second lookup)
+  // and that cell's density, cellDensity() to rounding, from the masses the
+  // inversion read (its mass over its area) rather than another table's
+  // cache line.
+  struct Draw {
+    Point2 x;
+    Cell cell;
+    double density = 0;
+  };
+  Draw draw(Point2 u) const;
   // The inverse of invert(): the primary point u that invert() maps to x
   // (the Rosenblatt CDF map: the row's marginal CDF, then the column's
   // conditional CDF in that row, each linear within a cell). Exact for x in

@@ -207,15 +207,20 @@ TEST(TargetJacobian, DeterminantTimesPdfIsOne) {
 namespace nuld {
 namespace {
 
-// GridTarget::primaryOf is the inverse of invert(): u -> x -> u round-trips
-// for every u, and so x -> u -> x for every x that invert() makes, on a
-// grid of uneven cells with zero-density cells and a zero-density row.
-TEST(TargetInvert, PrimaryOfInvertsTheGridMap) {
+// Uneven cells, zero-density cells and a zero-density row.
+GridTarget unevenGrid() {
   const std::vector<double> xs{0, 0.1, 0.5, 0.55, 1}, ys{0, 0.3, 0.5, 1};
   const std::vector<double> density{1, 0, 3, 0.5,  // row 0
                                     2, 7, 0, 1,    // row 1
                                     0, 0, 0, 0};   // row 2: none
-  const GridTarget grid(xs, ys, density, "test-grid", Domain::Square, "test");
+  return GridTarget(xs, ys, density, "test-grid", Domain::Square, "test");
+}
+
+// GridTarget::primaryOf is the inverse of invert(): u -> x -> u round-trips
+// for every u, and so x -> u -> x for every x that invert() makes, on a
+// grid of uneven cells with zero-density cells and a zero-density row.
+TEST(TargetInvert, PrimaryOfInvertsTheGridMap) {
+  const GridTarget grid = unevenGrid();
   Rng rng(4);
   for (int k = 0; k < 20000; ++k) {
     const Point2 u{rng.uniform(), rng.uniform()};
@@ -224,6 +229,33 @@ TEST(TargetInvert, PrimaryOfInvertsTheGridMap) {
     ASSERT_NEAR(back.x, u.x, 1e-12);
     ASSERT_NEAR(back.y, u.y, 1e-12);
     EXPECT_GT(grid.pdf(x), 0);
+  }
+}
+
+// GridTarget::draw gives invert()'s point, the cell that holds it, and that
+// cell's density (from the inversion's masses, not the density table), on
+// the same uneven grid; u at the square's edges included.
+TEST(TargetInvert, DrawGivesThePointItsCellAndTheCellsDensity) {
+  const GridTarget grid = unevenGrid();
+  const std::vector<double> &xs = grid.xEdges(), &ys = grid.yEdges();
+  Rng rng(5);
+  std::vector<Point2> us{{0, 0}, {1, 1}, {0, 1}, {1, 0}};
+  for (int k = 0; k < 20000; ++k) us.push_back({rng.uniform(), rng.uniform()});
+  for (const Point2 u : us) {
+    const GridTarget::Draw d = grid.draw(u);
+    const Point2 x = grid.invert(u).x;
+    ASSERT_EQ(d.x.x, x.x);
+    ASSERT_EQ(d.x.y, x.y);
+    ASSERT_GE(d.cell.i, 0);
+    ASSERT_GE(d.cell.j, 0);
+    const double expected = grid.cellDensity(d.cell.i, d.cell.j);
+    ASSERT_GT(expected, 0) << u.x << " " << u.y;
+    ASSERT_NEAR(d.density, expected, 1e-12 * expected) << u.x << " " << u.y;
+    // The point lies in its cell (on its edge at most).
+    ASSERT_GE(x.x, xs[d.cell.i]);
+    ASSERT_LE(x.x, xs[d.cell.i + 1]);
+    ASSERT_GE(x.y, ys[d.cell.j]);
+    ASSERT_LE(x.y, ys[d.cell.j + 1]);
   }
 }
 
