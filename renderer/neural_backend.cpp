@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cstdlib>
 #include <map>
 #include <mutex>
@@ -191,6 +192,7 @@ void NeuralBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
           "' makes none of the scene's " + std::to_string(targets.lobes.size()) +
           " lobe tables (it serves a scene material with the family's parameters)");
   }
+  madeSeconds_ = 0;
   if (specs != bankSpecs_ || n != bankN_) {
     const std::size_t total = std::clamp<std::size_t>((std::size_t(1) << 22) / n, 1, kMaxBankSets);
     const std::size_t each = lobeFamily_ ? std::min(total, kSetsPerGamma) : total;
@@ -202,11 +204,14 @@ void NeuralBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
       // model in renders"): the verdict is made with the bank, once.
       const auto *grid = dynamic_cast<const GridTarget *>(members[k]);
       const auto make = [&] {
+        const auto start = std::chrono::steady_clock::now();
         // A lobe bank's offsets are keyed by its table (see LobeBankCache).
         const std::uint64_t offsets = lobeFamily_ ? hashString(specs[k]) : seed() + k;
         LobeBank made{generator_.generateSets(each, offsets, gammas[k], n, members[k]), true};
         if (lobeFamily_ && grid)
           made.serves = dealsAtLeastAsWell(made.sets, *grid, hashString(specs[k]));
+        madeSeconds_ +=
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         return made;
       };
       LobeBank made =

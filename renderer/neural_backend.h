@@ -97,6 +97,7 @@ class NeuralBackend final : public BankBackend {
 
   std::size_t bankSets() const;
   std::string note() const override;
+  double setsMadeSeconds() const override { return madeSeconds_; }
   // Every lobe table its model makes is served, measured or not: for the
   // tests and experiments that examine the sets as dealt (takes effect at
   // the next prepare()).
@@ -113,6 +114,7 @@ class NeuralBackend final : public BankBackend {
   std::size_t bankN_ = 0;               // and their set size
   std::size_t declined_ = 0;            // tables whose bank failed the serving test
   bool measured_ = true;                // whether banks must pass it to serve
+  double madeSeconds_ = 0;              // making banks in the last prepare()
 };
 
 }  // namespace nuld

@@ -76,8 +76,10 @@ LobeTablesConfig lobeTablesFor(const RenderSettings &s);
 
 struct RenderStats {
   double seconds = 0;  // the render, setup excluded
-  double setupSeconds =
-      0;  // building the lobe tables (first render of a scene) and preparing the backend
+  // Building the lobe tables (first render of a scene) and preparing the
+  // backend; of that, the sets the backend made as it prepared
+  // (SamplerBackend::setsMadeSeconds).
+  double setupSeconds = 0, setsMadeSeconds = 0;
   std::uint64_t rays = 0;
   std::uint64_t rejectedSamples = 0;   // non-finite values dropped
   std::uint64_t classicFallbacks = 0;  // first-bounce lobe contexts the backend declined

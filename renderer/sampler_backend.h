@@ -110,6 +110,10 @@ class SamplerBackend {
   // What the last prepare() decided that a user should hear ("" for
   // nothing): e.g. the lobe tables a learned backend left to its fallback.
   virtual std::string note() const { return ""; }
+  // The seconds the last prepare() spent making sets it found nowhere (a
+  // neural model's banks): one-time setup, which a study reports apart from
+  // render time. 0 for backends whose sets are made before any render.
+  virtual double setsMadeSeconds() const { return 0; }
 };
 
 }  // namespace nuld

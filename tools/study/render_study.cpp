@@ -128,7 +128,7 @@ CellOutcome renderCell(
     const Cell &c, const RenderStudySettings &s,
     const std::function<void(std::size_t r, std::size_t d, std::size_t n)> &progress) {
   CellOutcome out;
-  std::vector<double> mse, relmse, seconds, raysPerSecond;
+  std::vector<double> mse, relmse, whole, made, raysPerSecond;
   std::size_t nonFinite = 0;
   std::uint64_t rejected = 0;
   for (std::size_t r = 0; r < s.repeats; ++r) {
@@ -143,7 +143,8 @@ CellOutcome renderCell(
       out.refusal = e.what();
       return out;
     }
-    seconds.push_back(secondsSince(start));
+    whole.push_back(secondsSince(start));
+    made.push_back(stats.setsMadeSeconds);
     raysPerSecond.push_back(stats.raysPerSecond());
     const ImageError e = compareImages(img, c.reference);
     mse.push_back(e.mse);
@@ -155,8 +156,11 @@ CellOutcome renderCell(
       out.image = std::move(img);
     }
   }
-  const MeanAndError m = meanAndError(mse), rm = meanAndError(relmse), t = meanAndError(seconds),
-                     rps = meanAndError(raysPerSecond);
+  // Banks a backend made in its first repeat (neural) are setup, not render
+  // time (splitRepeatSeconds).
+  const RepeatSeconds split = splitRepeatSeconds(whole, made);
+  const MeanAndError m = meanAndError(mse), rm = meanAndError(relmse),
+                     t = meanAndError(split.render), rps = meanAndError(raysPerSecond);
   out.row = {c.sceneSlug,
              c.backend,
              std::to_string(c.settings.spp),
@@ -166,7 +170,7 @@ CellOutcome renderCell(
              formatNumber(rm.mean),
              formatNumber(rm.stderr_),
              formatNumber(t.mean),
-             formatNumber(c.setupSeconds),
+             formatNumber(c.setupSeconds + split.setup),
              "",  // total_seconds .. amortize: fillEqualTime, over the whole table
              "",
              "",

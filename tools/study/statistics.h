@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <span>
+#include <vector>
 
 namespace nuld::study {
 
@@ -43,6 +44,26 @@ inline Ratio ratioOfMeans(double a, double aStderr, double b, double bStderr) {
   };
   const double q = a / b, ra = relative(a, aStderr), rb = relative(b, bStderr);
   return {q, q * std::sqrt(ra * ra + rb * rb)};
+}
+
+// A render cell's repeats split into render time and one-time setup: each
+// repeat's `whole` seconds include `made`, the seconds its backend spent
+// making sets as it prepared (RenderStats::setsMadeSeconds: a neural
+// model's banks, made in the first repeat and found by the others), which
+// are the cell's setup, not its render time.
+struct RepeatSeconds {
+  std::vector<double> render;
+  double setup = 0;
+};
+inline RepeatSeconds splitRepeatSeconds(std::span<const double> whole,
+                                        std::span<const double> made) {
+  RepeatSeconds out;
+  for (std::size_t r = 0; r < whole.size(); ++r) {
+    const double m = r < made.size() ? made[r] : 0.0;
+    out.render.push_back(whole[r] - m);
+    out.setup += m;
+  }
+  return out;
 }
 
 }  // namespace nuld::study
