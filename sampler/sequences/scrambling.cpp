@@ -1,5 +1,6 @@
 #include "sampler/sequences/scrambling.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <numeric>
@@ -28,18 +29,48 @@ double cranleyPatterson(double x, std::uint64_t seed) {
   return wrapUnit(x + toUnitDouble(mix64(seed ^ 0x9e3779b97f4a7c15ull)));
 }
 
-namespace {
-
 // The image of `digit` under a uniformly random permutation of {0..base-1}
-// chosen by `key` (Fisher-Yates driven by the counter-based generator).
+// chosen by `key`: the permutation rng.h's Fisher-Yates shuffle makes with
+// Rng(key), found without making it. The shuffle's step i (i = base down to
+// 2, draw number base - i + 1) swaps positions i - 1 and j_i <= i - 1, so
+// position `digit` is final after step digit + 1 and no later step touches
+// it; tracing where its value stood before each step, from that step back
+// to the first, ends at the value's start, which is its value (the shuffle
+// starts from the identity). The generator is counter-based, so each step's
+// draw is made directly: base - digit draws instead of base - 1, and no
+// array (a Halton coordinate permutes a digit per level, at bases up to the
+// dimension's prime).
 std::uint32_t permuteDigit(std::uint32_t digit, std::uint32_t base, std::uint64_t key) {
   constexpr std::uint32_t kMaxBase = 1024;
   if (base > kMaxBase) throw std::invalid_argument("radicalInverse: base too large to scramble");
-  std::array<std::uint16_t, kMaxBase> perm;
-  std::iota(perm.begin(), perm.begin() + base, 0);
-  Rng rng(key);
-  shuffle(std::span(perm.data(), base), rng);
-  return perm[digit];
+  const Rng rng(key);
+  std::uint32_t p = digit;
+  for (std::uint32_t i = std::max(2u, digit + 1); i <= base; ++i) {
+    Rng step = rng;
+    step.advance(base - i);
+    const std::uint32_t j = step.uniformInt(i);
+    if (p == i - 1) {
+      p = j;
+    } else if (p == j) {
+      p = i - 1;
+    }
+  }
+  return p;
+}
+
+namespace {
+
+// The digits radicalInverse scrambles before the next is below double
+// precision: ceil(54 / log2 base), for the bases Halton's primes reach.
+int scrambledDigits(std::uint32_t base) {
+  static const std::array<int, 1025> table = [] {
+    std::array<int, 1025> t{};
+    for (std::uint32_t b = 2; b < t.size(); ++b)
+      t[b] = static_cast<int>(std::ceil(54.0 / std::log2(double(b))));
+    return t;
+  }();
+  return base < table.size() ? table[base]
+                             : static_cast<int>(std::ceil(54.0 / std::log2(double(base))));
 }
 
 }  // namespace
@@ -49,9 +80,7 @@ double radicalInverse(std::uint64_t index, std::uint32_t base, DigitRandomizatio
   if (base < 2) throw std::invalid_argument("radicalInverse: base must be at least 2");
   const double invBase = 1.0 / base;
   // Enough digits that the next one is below double precision.
-  const int digits = r == DigitRandomization::None
-                         ? 64
-                         : static_cast<int>(std::ceil(54.0 / std::log2(double(base))));
+  const int digits = r == DigitRandomization::None ? 64 : scrambledDigits(base);
   double scale = invBase, result = 0;
   std::uint64_t prefixKey = mix64(seed);
   for (int i = 0; i < digits; ++i) {

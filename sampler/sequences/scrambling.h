@@ -77,6 +77,12 @@ inline Point2 cranleyPatterson(Point2 p, std::uint64_t seed) {
 
 enum class DigitRandomization { None, Owen, Shift };
 
+// The image of `digit` under the uniformly random permutation of
+// {0..base-1} that shuffle() in rng.h makes with Rng(key): the permutation
+// the Owen-scrambled radical inverse applies to a digit under one prefix,
+// found without making it. Throws std::invalid_argument for base > 1024.
+std::uint32_t permuteDigit(std::uint32_t digit, std::uint32_t base, std::uint64_t key);
+
 // Radical inverse of `index` in `base` with its digits randomized. With a
 // randomization, all digits down to double precision are randomized, not only
 // the non-zero ones, so the result is uniform on [0, 1).

@@ -3,7 +3,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <set>
+#include <span>
+#include <stdexcept>
+#include <vector>
 
 #include "sampler/sequences/rng.h"
 #include "sampler/sequences/scrambling.h"
@@ -71,6 +75,25 @@ TEST(Halton, RadicalInverseValues) {
 
 // Owen scrambling in any base keeps the stratification: the first b^m points
 // of a randomized radical inverse hit each interval of width b^-m once.
+// Owen-scrambled Halton permutes each digit by the permutation shuffle()
+// makes from the prefix's key; permuteDigit finds one digit's image without
+// making it, and must give the same permutation: every digit of bases up to
+// the largest allowed, over many keys. A base beyond it is refused.
+TEST(Halton, PermuteDigitIsTheShufflesPermutation) {
+  Rng keys(17);
+  for (const std::uint32_t base : {2u, 3u, 5u, 7u, 13u, 97u, 211u, 1024u})
+    for (int k = 0; k < 20; ++k) {
+      const std::uint64_t key = keys.nextBits();
+      std::vector<std::uint32_t> perm(base);
+      std::iota(perm.begin(), perm.end(), 0u);
+      Rng rng(key);
+      shuffle(std::span(perm), rng);
+      for (std::uint32_t d = 0; d < base; ++d)
+        ASSERT_EQ(permuteDigit(d, base, key), perm[d]) << "base " << base << " digit " << d;
+    }
+  EXPECT_THROW(permuteDigit(0, 1025, 1), std::invalid_argument);
+}
+
 TEST(Halton, ScrambledDigitsKeepStratification) {
   for (auto r : {DigitRandomization::Owen, DigitRandomization::Shift})
     for (std::uint32_t base : {2u, 3u, 5u}) {
