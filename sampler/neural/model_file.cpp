@@ -2,7 +2,11 @@
 
 #include <bit>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
+#include <map>
+#include <mutex>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -103,8 +107,57 @@ void writeModelFile(const std::string &path, const ModelFile &model) {
   writeFileAtomically(path, out);
 }
 
+namespace {
+
+// What identifies a model file's content without reading it all: its size,
+// modification time and closing checksum (which any change to the content
+// changes, FNV-1a over every byte before it).
+struct FileStamp {
+  std::uintmax_t size = 0;
+  std::filesystem::file_time_type modified;
+  std::uint64_t checksum = 0;
+  bool operator==(const FileStamp &) const = default;
+};
+
+std::optional<FileStamp> stampOf(const std::string &path) {
+  std::error_code ec;
+  FileStamp s;
+  s.size = std::filesystem::file_size(path, ec);
+  if (ec || s.size < sizeof kMagic + 8) return std::nullopt;
+  s.modified = std::filesystem::last_write_time(path, ec);
+  if (ec) return std::nullopt;
+  std::ifstream in(path, std::ios::binary);
+  in.seekg(std::streamoff(s.size - 8));
+  if (!in.read(reinterpret_cast<char *>(&s.checksum), 8)) return std::nullopt;
+  return s;
+}
+
+ModelFile readWholeModelFile(const std::string &path);
+
+}  // namespace
+
 ModelFile readModelFile(const std::string &path) {
   requireInputFile(path, "the model file");
+  static std::mutex mutex;
+  static std::map<std::string, std::pair<FileStamp, ModelFile>> read;
+  const auto stamp = stampOf(path);
+  if (stamp) {
+    const std::lock_guard lock(mutex);
+    if (const auto it = read.find(path); it != read.end() && it->second.first == *stamp)
+      return it->second.second;
+  }
+  ModelFile model = readWholeModelFile(path);
+  // Kept only when the file did not change while it was read.
+  if (stamp && model.checksum == stamp->checksum && stampOf(path) == stamp) {
+    const std::lock_guard lock(mutex);
+    read[path] = {*stamp, model};
+  }
+  return model;
+}
+
+namespace {
+
+ModelFile readWholeModelFile(const std::string &path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error(path + ": cannot open the model file");
   std::ostringstream buffer;
@@ -162,5 +215,7 @@ ModelFile readModelFile(const std::string &path) {
   if (r.position() != bytes.size() - 8) r.fail("unexpected bytes after the last tensor");
   return model;
 }
+
+}  // namespace
 
 }  // namespace nuld

@@ -9,6 +9,8 @@
 //    route (table inverse CDF and the defensive split; or from a point that
 //    already follows the table, as lobe banks deal them), at the dragon's
 //    material;
+//  - BM_NeuralModelLoad, BM_NeuralBackendMake: reading the shipped model, and
+//    a whole `neural` backend made from it (per render and repeat);
 //  - BM_NeuralLobeBank/N: one lobe table's bank of 16 sets from the shipped
 //    model (the neural backend's inference per table);
 //  - EmbreeRaw/SCENE/spp:N: the same rays, recorded from one such render,
@@ -184,6 +186,25 @@ void BM_LobeRouteFromTablePoint(benchmark::State &state) {
   state.SetItemsProcessed(state.iterations());
 }
 BENCHMARK(BM_LobeRouteFromTablePoint)->Arg(0)->Arg(10);
+
+// What making a `neural` backend costs before it renders, which every
+// repeat of a study and every `nuld render` pays: reading the shipped model
+// (its file parsed and checksummed; the network waits for a bank to make)
+// and the whole backend made from it.
+void BM_NeuralModelLoad(benchmark::State &state) {
+  registerMaterialTargets();
+  const std::string path = shippedLobeModel();
+  for (auto _ : state)
+    benchmark::DoNotOptimize(
+        NeuralGenerator::load(path, NeuralGenerator::NetworkLoad::OnFirstUse).fileChecksum());
+}
+BENCHMARK(BM_NeuralModelLoad)->Unit(benchmark::kMicrosecond);
+void BM_NeuralBackendMake(benchmark::State &state) {
+  registerMaterialTargets();
+  std::uint64_t seed = 0;
+  for (auto _ : state) benchmark::DoNotOptimize(makeBackend("neural", ++seed));
+}
+BENCHMARK(BM_NeuralBackendMake)->Unit(benchmark::kMicrosecond);
 
 // One lobe table's bank from the shipped model, as the neural backend makes
 // it per table and render (16 sets of N = spp points, the renderer's table

@@ -57,6 +57,30 @@ TEST(ModelFile, RoundTripsBitExactly) {
   EXPECT_THROW(back.value("missing", path), std::runtime_error);
 }
 
+// The process keeps the last model read from a path while the file keeps its
+// size, time and closing checksum: a read again returns the same model; a
+// different model of the same size written there at once (the same time to
+// the file system's resolution, perhaps) has another checksum and is read
+// anew; so is the file after a truncation, which is an error.
+TEST(ModelFile, ReadingAgainFollowsTheFilesContent) {
+  test::TempDir dir;
+  const std::string path = (dir / "m.nuldnet").string();
+  writeModelFile(path, sample());
+  const ModelFile first = readModelFile(path);
+  const ModelFile again = readModelFile(path);
+  EXPECT_EQ(again.checksum, first.checksum);
+  EXPECT_EQ(again.tensors[0].data, first.tensors[0].data);
+  ModelFile other = sample();
+  other.tensors[0].data[0] = 2.5f;  // the same size, other content
+  writeModelFile(path, other);
+  const ModelFile changed = readModelFile(path);
+  EXPECT_NE(changed.checksum, first.checksum);
+  EXPECT_EQ(changed.tensors[0].data[0], 2.5f);
+  const std::string bytes = readAll(path);
+  dir.write("m.nuldnet", bytes.substr(0, bytes.size() - 5));
+  expectErrorNaming(path, "checksum");
+}
+
 TEST(ModelFile, EveryTruncationIsAnErrorNamingTheFile) {
   test::TempDir dir;
   const std::string good = (dir / "good.nuldnet").string();
