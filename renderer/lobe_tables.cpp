@@ -90,60 +90,70 @@ RouteVariances measureAt(const DisneyBrdf &m, Vec3 wo, const LobeFrame &lobe, bo
       for (const LightSample &l : light) {
         const double w = powerHeuristic(kProxyLightPdf, l.materialPdf) * l.value;
         for (int k = 0; k < kLights; ++k) {
-          classic[k][r] += w * smoothLight(k, l.wi);
-          table[k][r] += w * smoothLight(k, l.wi);
+          const double estimate = w * smoothLight(k, l.wi);
+          classic[k][r] += estimate;
+          table[k][r] += estimate;
         }
       }
   }
   return {summedRelativeVariance(classic), summedRelativeVariance(table)};
 }
 
-}  // namespace
-
-std::optional<RouteSample> sampleRoute(const Bsdf &bsdf, Vec3 wo, const LobeFrame &lobe,
-                                       RoutePoint p) {
+// The table's sample at the drawn point x (with its cell's density per unit
+// area of the square): f and the material's pdf there, and the route's
+// mixture density.
+std::optional<RouteSample> tableSample(const Bsdf &bsdf, Vec3 wo, const LobeFrame &lobe,
+                                       const GridTarget::Draw &x) {
   RouteSample s;
-  const double d = lobe.defensive;
-  if (!lobe.table) {
-    const auto drawn = bsdf.sample(wo, p.value);
-    if (!drawn) return std::nullopt;
-    s = {*drawn, drawn->pdf};
-    return s;
-  }
-  // The table's point and its density there (per unit area of the square).
-  GridTarget::Draw x;
-  // A point that follows the table, in a cell the table can draw from, is
-  // the table's sample as it is: pulling it back to primary space and
-  // mapping it forward again would return the same point.
-  if (p.followsTable && d == 0) {
-    const GridTarget::Cell c = lobe.table->locate(p.value);
-    x = {p.value, c, lobe.table->cellDensity(c.i, c.j)};
-  }
-  if (!(x.density > 0)) {
-    const Point2 u = p.followsTable ? lobe.table->primaryOf(p.value) : p.value;
-    // The defensive split, in the table's primary space, where a set that
-    // follows the table is uniform: a strip of width d of the conditional
-    // coordinate goes to the material's sampler, the rest, stretched back to
-    // the whole square, to the table. The points of a set keep their
-    // stratification on both sides, which a random choice per sample would
-    // not.
-    if (u.x < d) {
-      const auto drawn = bsdf.sample(wo, {u.x / d, u.y});
-      if (!drawn) return std::nullopt;
-      s.sample = *drawn;
-      s.materialPdf = drawn->pdf;
-      s.sample.pdf = lobe.pdf(drawn->wi, drawn->pdf);
-      return s;
-    }
-    x = lobe.table->draw({(u.x - d) / (1 - d), u.y});
-  }
   s.sample.wi = lobe.direction(x.x);
   if (!(s.sample.wi.z > 0)) return std::nullopt;
   const BsdfValue v = bsdf.evalWithPdf(wo, s.sample.wi);
   s.sample.f = v.f;
   s.materialPdf = v.pdf;
   s.sample.pdf = lobe.mixture(x.density * kInvFourPi, v.pdf);
-  if (!(s.sample.pdf > 0) || !std::isfinite(s.sample.pdf) || !s.sample.f.isFinite())
+  return s;
+}
+
+// The route's sample before its one validity check (sampleRoute).
+std::optional<RouteSample> drawRoute(const Bsdf &bsdf, Vec3 wo, const LobeFrame &lobe,
+                                     RoutePoint p) {
+  if (!lobe.table) {
+    const auto drawn = bsdf.sample(wo, p.value);
+    if (!drawn) return std::nullopt;
+    return RouteSample{*drawn, drawn->pdf};
+  }
+  const double d = lobe.defensive;
+  // A point that follows the table, in a cell the table can draw from, is
+  // the table's sample as it is: pulling it back to primary space and
+  // mapping it forward again would return the same point.
+  if (p.followsTable && d == 0) {
+    const GridTarget::Cell c = lobe.table->locate(p.value);
+    const double density = lobe.table->cellDensity(c.i, c.j);
+    if (density > 0) return tableSample(bsdf, wo, lobe, {p.value, c, density});
+  }
+  const Point2 u = p.followsTable ? lobe.table->primaryOf(p.value) : p.value;
+  // The defensive split, in the table's primary space, where a set that
+  // follows the table is uniform: a strip of width d of the conditional
+  // coordinate goes to the material's sampler, the rest, stretched back to
+  // the whole square, to the table. The points of a set keep their
+  // stratification on both sides, which a random choice per sample would
+  // not.
+  if (u.x < d) {
+    const auto drawn = bsdf.sample(wo, {u.x / d, u.y});
+    if (!drawn) return std::nullopt;
+    RouteSample s{*drawn, drawn->pdf};
+    s.sample.pdf = lobe.pdf(drawn->wi, drawn->pdf);
+    return s;
+  }
+  return tableSample(bsdf, wo, lobe, lobe.table->draw({(u.x - d) / (1 - d), u.y}));
+}
+
+}  // namespace
+
+std::optional<RouteSample> sampleRoute(const Bsdf &bsdf, Vec3 wo, const LobeFrame &lobe,
+                                       RoutePoint p) {
+  auto s = drawRoute(bsdf, wo, lobe, p);
+  if (!s || !(s->sample.pdf > 0) || !std::isfinite(s->sample.pdf) || !s->sample.f.isFinite())
     return std::nullopt;
   return s;
 }

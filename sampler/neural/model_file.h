@@ -41,9 +41,9 @@ void writeModelFile(const std::string &path, const ModelFile &model);  // atomic
 // model read from each path and returns it again while the file keeps its
 // size, modification time and closing checksum (8 bytes read), without
 // reading and checksumming the rest: the renderer makes a neural backend
-// per render and study repeat, and the whole read of the shipped model costs
-// 0.4 ms (bench_renderer's BM_NeuralModelLoad), most of it the byte-wise
-// checksum.
+// per render and study repeat, and the byte-wise checksum of a whole model
+// would be most of each one's cost (tools/experiments/README.md, "Neural
+// banks across processes", has the figures).
 ModelFile readModelFile(const std::string &path);
 
 // The file's closing checksum (FNV-1a, 64 bits) of `size` bytes: for tools
