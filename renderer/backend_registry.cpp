@@ -45,6 +45,28 @@ const std::vector<BackendEntry> &backendRegistry() {
        .name = "halton-tabulated",
        .help = "halton, with BSDF samples through the tabulated lobe as sobol-tabulated",
        .lobes = true},
+      {.kind = K::Stratified,
+       .name = "stratified",
+       .aliases = {"jittered"},
+       .help = "jittered: one uniform point in each cell of a square grid per pixel and pair "
+               "(pbrt-v4's StratifiedSampler, Mitsuba's stratified); spp that are not a "
+               "square take distinct random cells of the next square grid"},
+      {.kind = K::Pmj02,
+       .name = "pmj02",
+       .help = "progressive multi-jittered (0,2) sets (Christensen, Kensler and Kilpatrick "
+               "2018, made by Pharr's 2019 method; RenderMan's and Cycles' PMJ), "
+               "Owen-scrambled per pixel and pair: every power-of-two prefix a (0,2)-net"},
+      {.kind = K::ZSobol,
+       .name = "zsobol",
+       .help = "one Owen-scrambled Sobol sequence over the image, each pixel's block at its "
+               "Morton code with random base-4 digit permutations, so that error spreads "
+               "as blue noise over the screen (Ahmed and Wonka 2020, as pbrt-v4's "
+               "ZSobolSampler)",
+       .uses = kRenders},
+      {.kind = K::Lattice,
+       .name = "lattice",
+       .help = "a rank-1 lattice (the best-separated generator up to 65536 points, the "
+               "Fibonacci rule beyond) Cranley-Patterson shifted per pixel and pair"},
       {.kind = K::Optimized,
        .name = "optimized",
        .aliases = {"points"},

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "renderer/sampler_backend.h"
+#include "sampler/sequences/rng.h"
 
 namespace nuld {
 
@@ -22,6 +23,10 @@ enum class BackendKind {
   SobolTabulated,
   Halton,
   HaltonTabulated,
+  Stratified,
+  Pmj02,
+  ZSobol,
+  Lattice,
   Optimized,         // optimized[:PATHS]: sets from files, or made for the scene's map
   OptimizedUniform,  // made: uniform sets for the periodic L2 discrepancy
   OptimizedBsdf,     // made: lobe banks for the scene's Disney materials
@@ -119,11 +124,6 @@ std::vector<std::string> backendWords();
 // only is refused, saying so.
 std::unique_ptr<SamplerBackend> makeBackend(const BackendSpec &spec, std::uint64_t seed);
 
-// The seed when none is given, the same for every command that makes or
-// reads learned sets (nuld render, nuld bank, the studies, Python's render),
-// so that sets a bank or a study made serve a later render from the set
-// cache: it seeds the backend's randomization and the sets' optimization.
-inline constexpr std::uint64_t kDefaultSeed = 1;
 std::unique_ptr<SamplerBackend> makeBackend(const std::string &word, std::uint64_t seed);
 
 // "independent, sobol, ..., neural[:MODEL]": every spelling of the words

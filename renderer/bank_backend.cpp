@@ -173,8 +173,19 @@ void BankBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
       if (followsTarget(b->sets, spec, hash)) return b;
     return nullptr;
   };
+  note_.clear();
   for (const SetBank *b : sized)
-    if (!uniform_ && b->targetSpec() == "uniform") uniform_.emplace(*b, nullptr, Dealing::Primary);
+    if (!uniform_ && b->targetSpec() == "uniform") {
+      uniform_.emplace(*b, nullptr, Dealing::Primary);
+      // A file that names no target may hold points already mapped to one:
+      // taken as uniform, they would be mapped again, so the user hears it.
+      if (!findMeta(b->sets, meta::kTarget))
+        note_ = b->source + ": names no target (no '# " + std::string(meta::kTarget) +
+                ": SPEC' line), so its points serve as uniform primary samples, which each "
+                "light and BSDF maps by its own inverse CDF; if they already follow a target, "
+                "add that line naming it, or '# " +
+                std::string(meta::kTarget) + ": uniform' to keep this use without the note";
+    }
   const auto serve = [&](const Target *t) {
     const SetBank *b = bankFor(t);
     if (!b) return;

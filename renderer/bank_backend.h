@@ -112,6 +112,8 @@ class BankBackend : public SamplerBackend {
                    std::span<Point2> out) const override;
   bool mapsPrimaryThrough(const Target &target) const override;
   std::vector<PairUse> pairUse() const override;
+  // Says when a bank without a `target` serves as uniform primary samples.
+  std::string note() const override { return note_; }
 
   const std::vector<SetBank> &banks() const { return banks_; }
   // How many of the scene's targets the last prepare() matched to a bank.
@@ -149,6 +151,7 @@ class BankBackend : public SamplerBackend {
   };
   std::vector<Served> served_;
   std::optional<SetDealer> uniform_;
+  std::string note_;  // note(), set by prepare()
   const Target *light_ = nullptr;
   std::vector<const Target *> lobes_;  // the scene's lobe tables (prepare())
   std::size_t n_ = 0;

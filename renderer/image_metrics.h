@@ -6,23 +6,48 @@
 // relmse = mean over pixels and RGB channels of (I - R)^2 / (R^2 + 0.01)
 // (the 0.01 keeps black reference pixels from dominating, as in the common
 // relMSE definition used by denoising and sampling papers).
+// screen = mean over pixels and RGB channels of (G * (I - R))^2, the error
+//          image low-passed by a Gaussian G of kScreenErrorSigma pixels
+//          before squaring: the error a viewer sees at a normal distance,
+//          where blue-noise error (high frequencies) fades and clumped,
+//          white-noise error stays (the perceptual-error literature's
+//          measure, e.g. Heitz and Belcour 2019, Ahmed and Wonka 2020).
 
 #include <string>
+#include <vector>
 
 #include "sampler/io/image_io.h"
 
 namespace nuld {
 
+// The Gaussian's standard deviation in pixels; truncated at 3 sigma and
+// renormalized at the image's borders.
+inline constexpr double kScreenErrorSigma = 1.0;
+
 struct ImageError {
-  double mse = 0, relmse = 0;
+  double mse = 0, relmse = 0, screen = 0;
   std::size_t nonFinitePixels = 0;  // in the image under test (counted, then skipped)
 };
 
-// Throws std::invalid_argument when the sizes differ (naming both sizes).
+// "" when every value of `image` is a finite number, else the first that is
+// not: "pixel (x, y) channel c is not a finite number".
+std::string nonFinitePixel(const Image &image);
+
+// Throws std::invalid_argument when the sizes or the channel counts differ
+// (naming both) or a pixel of the reference is not finite ("reference: "
+// and nonFinitePixel's words). The image under test may hold non-finite
+// pixels: they are counted (nonFinitePixels) and left out of the error
+// (their difference counts as 0 in the low-passed one).
 ImageError compareImages(const Image &image, const Image &reference);
 
+// `values` (width x height, one channel) convolved with the truncated,
+// border-renormalized Gaussian of `sigma` pixels, separably.
+std::vector<double> gaussianBlur(const std::vector<double> &values, int width, int height,
+                                 double sigma);
+
 // Per-pixel relative squared error, log-scaled over [1e-4, 1] and coloured
-// from dark blue (small) through green and yellow to white (large).
+// from dark blue (small) through green and yellow to white (large); the
+// sizes and channel counts checked as compareImages checks them.
 Image errorMap(const Image &image, const Image &reference);
 
 // Exposure, clamp and the sRGB transfer curve: an 8-bit-ready preview.
@@ -35,5 +60,7 @@ void writeRender(const std::string &exrPath, const Image &image,
 // The checks writeRender makes of its two outputs, for a command to make
 // before it spends time rendering.
 void checkRenderOutputs(const std::string &exrPath);
+// Its rule on the name alone (a command checks it as it parses the option).
+void checkRenderName(const std::string &exrPath);
 
 }  // namespace nuld

@@ -197,7 +197,7 @@ void NeuralBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
     const std::size_t total = std::clamp<std::size_t>((std::size_t(1) << 22) / n, 1, kMaxBankSets);
     const std::size_t each = lobeFamily_ ? std::min(total, kSetsPerGamma) : total;
     std::vector<SetBank> banks;
-    declined_ = 0;
+    declined_ = banksMade_ = 0;
     for (std::size_t k = 0; k < specs.size(); ++k) {
       // A table whose bank deals worse than Owen-Sobol through it keeps the
       // fallback's points (tools/experiments/README.md, "The shipped lobe
@@ -212,6 +212,7 @@ void NeuralBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
           made.serves = dealsAtLeastAsWell(made.sets, *grid, hashString(specs[k]));
         madeSeconds_ +=
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        ++banksMade_;
         return made;
       };
       LobeBank made =
@@ -235,9 +236,13 @@ void NeuralBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
 
 std::string NeuralBackend::note() const {
   if (declined_ == 0) return "";
+  const std::size_t found = bankSpecs_.size() - banksMade_;
   return name() + ": " + std::to_string(declined_) + " of " + std::to_string(bankSpecs_.size()) +
          " lobe tables sampled Owen-Sobol through the table: the model's sets, as dealt, "
-         "estimate smooth light under them worse";
+         "estimate smooth light under them worse than Owen-Sobol through the same table "
+         "(measured when each bank was made; " +
+         std::to_string(banksMade_) + " made now, " + std::to_string(found) +
+         " found made in this process)";
 }
 
 }  // namespace nuld

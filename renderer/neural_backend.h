@@ -113,6 +113,7 @@ class NeuralBackend final : public BankBackend {
   std::vector<std::string> bankSpecs_;  // the targets of the banks made so far
   std::size_t bankN_ = 0;               // and their set size
   std::size_t declined_ = 0;            // tables whose bank failed the serving test
+  std::size_t banksMade_ = 0;           // banks the last prepare() made (the rest were found)
   bool measured_ = true;                // whether banks must pass it to serve
   double madeSeconds_ = 0;              // making banks in the last prepare()
 };

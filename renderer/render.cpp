@@ -1,6 +1,7 @@
 #include "renderer/render.h"
 
 #include <tbb/enumerable_thread_specific.h>
+#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -13,6 +14,7 @@
 #include <stdexcept>
 
 #include "sampler/io/round_trip.h"
+#include "sampler/resources.h"
 
 namespace nuld {
 
@@ -104,6 +106,7 @@ OverrideNames OverrideNames::options() {
           "--spp",
           "--res",
           "--res-scale",
+          "--integrator",
           "--max-depth",
           "--lobe-mix",
           "--lobe-defensive",
@@ -111,8 +114,21 @@ OverrideNames OverrideNames::options() {
 }
 
 OverrideNames OverrideNames::python() {
-  return {"render: ",  "spp",      "resolution",     "resolution_scale",
+  return {"render: ",  "spp",      "resolution",     "resolution_scale", "integrator",
           "max_depth", "lobe_mix", "lobe_defensive", "lobe_bounces"};
+}
+
+double renderMemoryBytes(const RenderSettings &s) {
+  constexpr double kPixelBytes = 2 * 3 * sizeof(float);  // the image and its caller's copy
+  // A tile's task renders max(1, 16 / spp) pixels at once (renderTile),
+  // each with spp points of every pair its paths reach (a camera pair, then
+  // a light, a BSDF and a roulette pair a bounce) and of one context a pair.
+  const int bounces = s.integrator == IntegratorKind::Path ? s.maxDepth : 1;
+  const double samples = std::max<double>(double(s.spp), double(PathIntegrator::kMaxPaths));
+  const double threadBytes = samples * (1 + 3.0 * bounces) * 2 * sizeof(Point2);
+  const double threads =
+      double(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+  return double(s.width) * double(s.height) * kPixelBytes + threads * threadBytes;
 }
 
 void RenderOverrides::check(const OverrideNames &names) const {
@@ -156,7 +172,18 @@ RenderSettings RenderOverrides::appliedTo(RenderSettings s, const OverrideNames 
   if (lobeRouting) s.lobeTables.routing = *lobeRouting;
   if (lobeDefensive) s.lobeTables.defensive = *lobeDefensive;
   if (lobeBounces) s.lobeTables.bounces = *lobeBounces;
+  requireMemory(renderMemoryBytes(s),
+                names.prefix + names.resolution + ": a " + std::to_string(s.width) + " x " +
+                    std::to_string(s.height) + " render at " + std::to_string(s.spp) + " spp");
   return s;
+}
+
+void RenderOverrides::checkApplicable(const RenderSettings &applied,
+                                      const OverrideNames &names) const {
+  if (maxDepth && applied.integrator != IntegratorKind::Path)
+    throw std::invalid_argument(names.prefix + names.maxDepth + " applies to " + names.integrator +
+                                " path only (" + toString(applied.integrator) +
+                                " traces one bounce)");
 }
 
 LobeTablesConfig lobeTablesFor(const RenderSettings &s) {
@@ -176,6 +203,7 @@ Image render(const Scene &scene, const RenderSettings &s, SamplerBackend &backen
     throw std::invalid_argument("render: every mesh needs a material");
   const auto setupStart = std::chrono::steady_clock::now();
   SamplingTargets targets;
+  targets.width = std::uint32_t(s.width), targets.height = std::uint32_t(s.height);
   const EnvironmentLight *light = sampledLight(scene, s.integrator);
   targets.light = light ? light->target() : nullptr;
   std::shared_ptr<const LobeTables> lobes;

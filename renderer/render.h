@@ -40,11 +40,21 @@ struct RenderSettings {
 // RenderOverrides::check: the command line's options, or the Python module's
 // keyword arguments.
 struct OverrideNames {
-  std::string prefix, spp, resolution, resolutionScale, maxDepth, lobeMix, lobeDefensive,
-      lobeBounces;
-  static OverrideNames options();  // --spp, --res, --res-scale, --max-depth, --lobe-*
-  static OverrideNames python();   // render: spp, resolution, resolution_scale, max_depth, lobe_*
+  std::string prefix, spp, resolution, resolutionScale, integrator, maxDepth, lobeMix,
+      lobeDefensive, lobeBounces;
+  // --spp, --res, --res-scale, --integrator, --max-depth, --lobe-*
+  static OverrideNames options();
+  // render: spp, resolution, resolution_scale, integrator, max_depth, lobe_*
+  static OverrideNames python();
 };
+
+// The memory a render with `s` takes beyond its scene: the image (3 floats a
+// pixel), the copy of it its caller keeps while writing or returning it (the
+// tone-mapped preview nuld render writes beside the EXR, the array
+// nuld.render returns: 3 floats a pixel), and each thread's sample buffers
+// (spp points of every dimension pair a path may reach, and of a context
+// each; renderer/pixel_samples.h).
+double renderMemoryBytes(const RenderSettings &s);
 
 // What a command changes of a scene's render settings (`nuld render`, the
 // render study, the Python module): an unset field keeps the scene's value.
@@ -63,9 +73,17 @@ struct RenderOverrides {
   // Throws std::invalid_argument "NAME: expected ... (got V)" for the first
   // value out of range.
   void check(const OverrideNames &names) const;
-  // The settings with the overrides applied, after check(names).
+  // The settings with the overrides applied, after check(names); throws
+  // std::invalid_argument "RES: a W x H render at S spp needs about X of
+  // memory, more than this machine's Y" (requireMemory, renderMemoryBytes)
+  // for settings the machine cannot render, before anything is allocated.
   RenderSettings appliedTo(RenderSettings s,
                            const OverrideNames &names = OverrideNames::options()) const;
+  // What nuld render and nuld.render refuse of the overrides as applied
+  // (`applied`, from appliedTo): a max depth under an integrator other than
+  // path, which traces one bounce whatever the depth. Throws
+  // std::invalid_argument "MAX-DEPTH applies to INTEGRATOR path only".
+  void checkApplicable(const RenderSettings &applied, const OverrideNames &names) const;
 };
 
 // The lobe tables a render with `s` builds: s.lobeTables with the density

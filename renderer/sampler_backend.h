@@ -43,10 +43,13 @@ struct SamplePairs {
 };
 
 // Every target a render may ask a backend for: the context of the light pairs
-// and, when the backend samples lobes, those of the BSDF pairs.
+// and, when the backend samples lobes, those of the BSDF pairs; and the
+// image's size, whose pixel (x, y) is asked as pixel y * width + x (a
+// backend that orders its samples over the screen, zsobol, needs it).
 struct SamplingTargets {
   const Target *light = nullptr;        // the environment map's, null without one
   std::vector<const Target *> lobes{};  // every lobe table (LobeTables::targets)
+  std::uint32_t width = 0, height = 0;  // 0: not a render (a backend's own tests)
 };
 
 // What prepare() throws when the backend cannot serve a render (sets of

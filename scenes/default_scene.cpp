@@ -69,10 +69,7 @@ LoadedScene makeDefaultScene(const SceneChoices &choices) {
   add(makeFloor(20, 0, "floor"), std::make_shared<Lambertian>(Rgb::grey(0.5)));
 
   LoadedScene out{"default",
-                  Scene{EmbreeScene(std::move(meshes)), std::move(materials), std::nullopt, {}},
-                  {},
-                  "sobol",
-                  0};
+                  Scene{EmbreeScene(std::move(meshes)), std::move(materials), std::nullopt, {}}};
   out.scene.lobeChoice = lobes;
   out.scene.environment.emplace(proceduralSky(512, 256), 1.0, 0.0, "procedural-sky", Vec3{0, 1, 0},
                                 choices.importance.value_or(kDefaultImportance));

@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "sampler/diagnostics.h"
+#include "sampler/io/image_io.h"
 #include "sampler/io/input_file.h"
 #include "sampler/io/round_trip.h"
 #include "scenes/default_scene.h"
@@ -173,7 +174,7 @@ LoadedScene loadScene(const std::string &path, const std::string &assetRoot,
   const JsonReader root(doc, path);
   root.allowOnly({"camera", "film", "render", "environment", "materials", "meshes", "comment"});
 
-  LoadedScene out{path, Scene{EmbreeScene({}), {}, std::nullopt, {}}, {}, "sobol", 0};
+  LoadedScene out{path, Scene{EmbreeScene({}), {}, std::nullopt, {}}};
   out.scene.lobeChoice = lobes;
   out.scene.camera = readCamera(root["camera"]);
   if (root.has("film")) {
@@ -234,6 +235,13 @@ LoadedScene loadScene(const std::string &path, const std::string &assetRoot,
     if (!fs::exists(file))
       throw std::runtime_error(path + ": field 'environment.file': '" + file +
                                "' does not exist (check --assets or NULD_ASSETS)");
+    // A display image (8 bits, sRGB-encoded, clipped at 1) read as radiance
+    // would light the scene wrongly without a word.
+    if (imageEncoding(file) != ImageEncoding::Linear)
+      throw std::runtime_error(path + ": field 'environment.file': '" + file +
+                               "': expected a linear HDR map (.exr, .hdr or .pfm); a display "
+                               "image is sRGB-encoded and clipped at 1 (convert it, e.g. oiiotool "
+                               "IN --colorconvert sRGB linear -d float -o OUT.exr)");
     const Vec3 up = env.has("up") ? readDirection(env["up"], " (the map's zenith in the world)")
                                   : Vec3{0, 1, 0};
     // The file's importance is read (and checked) even where a choice

@@ -10,6 +10,15 @@ namespace nuld {
 
 namespace {
 
+// A file its owner made read-only is kept (a rename would replace it even
+// so, and root's writes ignore the mode).
+std::filesystem::path writable(const std::filesystem::path &file, std::filesystem::perms mode) {
+  using std::filesystem::perms;
+  if ((mode & (perms::owner_write | perms::group_write | perms::others_write)) == perms::none)
+    throw std::runtime_error(file.string() + ": is read-only; refusing to replace it");
+  return file;
+}
+
 // Refuses a destination that exists and is not a regular file: a rename
 // would replace a device, a pipe or a socket by a plain file (and cannot
 // replace a directory). A link to a regular file is followed, so the file it
@@ -25,7 +34,7 @@ std::filesystem::path regularDestination(std::filesystem::path destination) {
         throw std::runtime_error(destination.string() +
                                  ": names a link to something that is not a regular file; "
                                  "refusing to write over it");
-      return std::filesystem::canonical(destination);
+      return writable(std::filesystem::canonical(destination), target.permissions());
     }
     return destination;  // a dangling link: the rename replaces the link itself
   }
@@ -34,7 +43,7 @@ std::filesystem::path regularDestination(std::filesystem::path destination) {
         destination.string() + ": exists and is not a regular file (" +
         (std::filesystem::is_directory(link) ? "a directory" : "a device, pipe or socket") +
         "); refusing to write over it");
-  return destination;
+  return writable(destination, link.permissions());
 }
 
 }  // namespace

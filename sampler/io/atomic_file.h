@@ -9,8 +9,9 @@
 namespace nuld {
 
 // The checks AtomicFile makes of a destination, without creating anything:
-// it must be a regular file or not exist (a link to a regular file is
-// followed; the file it names is returned), in a directory that exists.
+// it must be a regular file that is not read-only, or not exist (a link to
+// a regular file is followed; the file it names is returned), in a directory
+// that exists.
 // Commands with several outputs check them all first, so that none is
 // written when another cannot be.
 std::filesystem::path checkDestination(const std::filesystem::path &destination);

@@ -1,6 +1,8 @@
 #include "sampler/io/image_io.h"
 
+#include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <stdexcept>
 
 #include "sampler/io/atomic_file.h"
@@ -20,6 +22,14 @@ const ImageCodec &imageCodec() {
 double Image::luminance(int x, int y) const {
   if (channels < 3) return at(x, y, 0);
   return rec709Luminance(at(x, y, 0), at(x, y, 1), at(x, y, 2));
+}
+
+ImageEncoding imageEncoding(const std::string &path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char &c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  if (ext == ".exr" || ext == ".hdr" || ext == ".pfm") return ImageEncoding::Linear;
+  if (ext == ".png" || ext == ".jpg" || ext == ".jpeg") return ImageEncoding::Display;
+  return ImageEncoding::Unknown;
 }
 
 Image readImage(const std::string &path, bool requireFinite) {

@@ -26,6 +26,12 @@ struct Image {
   double luminance(int x, int y) const;
 };
 
+// What a file's extension (in any case) says its pixels hold: linear
+// radiance (.exr, .hdr, .pfm), display values (.png, .jpg, .jpeg: 8 bits,
+// sRGB-encoded, clipped at 1), or unknown (any other).
+enum class ImageEncoding { Linear, Display, Unknown };
+ImageEncoding imageEncoding(const std::string &path);
+
 // Throws std::runtime_error naming the file on failure. With `requireFinite`
 // a NaN or infinite pixel is an error naming the pixel.
 Image readImage(const std::string &path, bool requireFinite = true);

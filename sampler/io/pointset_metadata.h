@@ -56,6 +56,9 @@ inline constexpr std::string_view kTargetSamples = "target_samples";
 // A generated lobe bank's verdict in its table's serving test, "yes" or "no"
 // (the renderer's neural backend; banks kept in the set cache).
 inline constexpr std::string_view kServes = "serves";
+// The neural model that generated a lobe bank: its file's closing checksum
+// (ModelFile::checksum) in hex.
+inline constexpr std::string_view kModel = "model";
 
 }  // namespace meta
 

@@ -10,6 +10,12 @@
 
 namespace nuld {
 
+// The seed when none is given, the same for every command and Python entry
+// point (docs/usage.md, "Seeds"): sets a bank or a study made then serve a
+// later render from the set cache, and a run without --seed is the run
+// with --seed 1.
+inline constexpr std::uint64_t kDefaultSeed = 1;
+
 // The splitmix64 finalizer: a bijective 64-bit mixer with full avalanche.
 constexpr std::uint64_t mix64(std::uint64_t z) {
   z ^= z >> 30;

@@ -5,9 +5,13 @@
 #include <vector>
 
 #include "sampler/io/pointset_metadata.h"
+#include "sampler/sequences/lattice.h"
+#include "sampler/sequences/owen_set.h"
+#include "sampler/sequences/pmj02.h"
 #include "sampler/sequences/rng.h"
 #include "sampler/sequences/scrambling.h"
 #include "sampler/sequences/sobol.h"
+#include "sampler/sequences/stratified.h"
 
 namespace nuld {
 
@@ -37,7 +41,44 @@ std::uint64_t dimensionSeed(std::uint64_t seed, std::uint32_t instance, std::uin
   return mix64(mix64(seed) + 0x9e3779b97f4a7c15ull * ((std::uint64_t(instance) << 32) | dim));
 }
 
+Scramble defaultScramble(SequenceKind kind) {
+  switch (kind) {
+    case SequenceKind::Lattice: return Scramble::CranleyPatterson;
+    case SequenceKind::Stratified:
+    case SequenceKind::Random: return Scramble::None;
+    default: return Scramble::Owen;
+  }
+}
+
+void checkScramble(const SequenceOptions &o) {
+  const auto refuse = [&](const std::string &why) {
+    throw std::invalid_argument("scrambling '" + std::string(toString(o.scramble)) +
+                                "' does not apply to sequence '" + std::string(toString(o.kind)) +
+                                "'" + why);
+  };
+  const Scramble s = o.scramble;
+  if (o.kind == SequenceKind::Stratified && s != Scramble::None)
+    refuse(": its jitter, one uniform point per cell, is its randomization (expected none)");
+  if (o.kind == SequenceKind::Pmj02 && s == Scramble::CranleyPatterson)
+    refuse(": a toroidal shift would break its (0,2) nets (expected owen, shift or none)");
+  if (o.kind == SequenceKind::Lattice && s == Scramble::Owen)
+    refuse(" (expected cp or shift, its random toroidal shift, or none)");
+}
+
+bool randomizesInstances(const SequenceOptions &o) {
+  return o.kind == SequenceKind::Random || o.kind == SequenceKind::Stratified ||
+         o.scramble != Scramble::None;
+}
+
 namespace {
+
+// The digit randomization a scrambling names (cp is none: it is applied
+// after the digits).
+DigitRandomization digitRandomization(Scramble s) {
+  return s == Scramble::Owen    ? DigitRandomization::Owen
+         : s == Scramble::Shift ? DigitRandomization::Shift
+                                : DigitRandomization::None;
+}
 
 // Digits that tell the first n points apart: ceil(log_base n).
 int distinctDigits(std::size_t n, std::uint32_t base) {
@@ -63,63 +104,36 @@ double sample(const SequenceOptions &o, std::uint64_t index, std::uint32_t dim,
       return o.scramble == Scramble::CranleyPatterson ? cranleyPatterson(x, seed) : x;
     }
     case SequenceKind::Halton: {
-      const std::uint32_t base = nthPrime(dim);
-      const DigitRandomization r = o.scramble == Scramble::Owen    ? DigitRandomization::Owen
-                                   : o.scramble == Scramble::Shift ? DigitRandomization::Shift
-                                                                   : DigitRandomization::None;
-      const double x = radicalInverse(index, base, r, seed, distinct < 0 ? 64 : distinct);
+      const double x = radicalInverse(index, nthPrime(dim), digitRandomization(o.scramble), seed,
+                                      distinct < 0 ? 64 : distinct);
       return o.scramble == Scramble::CranleyPatterson ? cranleyPatterson(x, seed) : x;
     }
+    case SequenceKind::Pmj02:
+      return pmj02Sample(dimensionSeed(o.seed, instance, dim & ~1u), index, int(dim & 1),
+                         digitRandomization(o.scramble));
+    case SequenceKind::Stratified:
+    case SequenceKind::Lattice:
+      throw std::invalid_argument("sequence '" + std::string(toString(o.kind)) +
+                                  "' is a set of N points, not a sequence: its points depend on "
+                                  "N, so it has no point by index (make whole sets)");
   }
   return 0;
 }
 
 // One coordinate of an Owen-scrambled Sobol set of n = out.size() points,
 // the same values as sample() with `distinct` = d = ceil(log2 n) digits, with
-// far fewer hashes: sample() walks the scrambling tree from the root for
-// every point, while the n points share their short prefixes (level l has at
-// most 2^l). Here the flips of the d leading digits are computed once per
-// prefix, in a table by level; each point then adds its own tail. The
+// one hash per shared prefix instead of per digit (owen_set.h). The
 // renderer's sobol backend scrambles every pixel and pair afresh with it.
 void owenSobolCoordinate(std::uint64_t seed, std::uint32_t dim, int d, std::span<Point2> out,
                          double Point2::*coordinate) {
-  const OwenTree tree(seed);
-  // flips[(1 << l) - 1 + q]: the flips of digits 0..l under the l-digit
-  // prefix q; all[p]: every flip of a point with d-digit prefix p, tail
-  // included; bits: the points' Sobol integers. On the stack for the
-  // renderer's small sets (spp <= 256), in per-thread buffers beyond.
-  constexpr int kStackLevels = 8;
-  std::array<std::uint32_t, (1 << kStackLevels) - 1> smallFlips;
-  std::array<std::uint32_t, 1 << kStackLevels> smallAll, smallBits;
-  thread_local std::vector<std::uint32_t> largeFlips, largeAll, largeBits;
-  const bool small = d <= kStackLevels;
-  if (!small) {
-    largeFlips.resize((std::size_t(1) << d) - 1);
-    largeAll.resize(std::size_t(1) << d);
-    largeBits.resize(out.size());
-  }
-  std::uint32_t *const flips = small ? smallFlips.data() : largeFlips.data();
-  std::uint32_t *const all = small ? smallAll.data() : largeAll.data();
-  const std::span<std::uint32_t> bits(small ? smallBits.data() : largeBits.data(), out.size());
-  for (int l = 0; l < d; ++l)
-    for (std::uint64_t q = 0; q < (std::uint64_t(1) << l); ++q)
-      flips[(std::size_t(1) << l) - 1 + q] =
-          tree.digitFlip(q, l) | (l == 0 ? 0u : flips[(std::size_t(1) << (l - 1)) - 1 + (q >> 1)]);
+  // The points' Sobol integers: on the stack for the renderer's small sets.
+  std::array<std::uint32_t, 256> small;
+  thread_local std::vector<std::uint32_t> large;
+  if (out.size() > small.size()) large.resize(out.size());
+  const std::span<std::uint32_t> bits(out.size() > small.size() ? large.data() : small.data(),
+                                      out.size());
   sobolRun(dim, bits);
-  if (d == 0) {  // one point: every digit sits under the empty prefix
-    out[0].*coordinate = (bits[0] ^ tree.tailFlips(0, 0)) * 0x1.0p-32;
-    return;
-  }
-  // The tails by prefix, one hash per pair of siblings (2^d < 2n, so fewer
-  // hashes than one per point); d < 32 here, so every point has a tail.
-  const std::uint32_t *const deepest = flips + (std::size_t(1) << (d - 1)) - 1;
-  for (std::uint64_t q = 0; q < (std::uint64_t(1) << (d - 1)); ++q) {
-    const auto tails = tree.siblingTailFlips(q, d);
-    all[2 * q] = deepest[q] | tails[0];
-    all[2 * q + 1] = deepest[q] | tails[1];
-  }
-  for (std::size_t i = 0; i < out.size(); ++i)
-    out[i].*coordinate = (bits[i] ^ all[bits[i] >> (32 - d)]) * 0x1.0p-32;
+  owenScrambleSet(seed, d, bits, out, coordinate);
 }
 
 // Sets up to this size use the prefix table (it has about n entries).
@@ -129,6 +143,19 @@ constexpr std::size_t kMaxTabulatedOwenSet = std::size_t(1) << 20;
 // every digit is scrambled separately (generatePoints).
 void fill(const SequenceOptions &o, std::uint32_t instance, std::span<Point2> out,
           std::uint32_t firstDim, bool asSet) {
+  checkScramble(o);
+  const std::uint64_t setSeed = dimensionSeed(o.seed, instance, firstDim);
+  switch (o.kind) {
+    case SequenceKind::Stratified: return stratifiedSet(setSeed, out);
+    case SequenceKind::Lattice:
+      return o.scramble == Scramble::None ? rank1Lattice(out) : latticeSet(setSeed, out);
+    case SequenceKind::Pmj02:
+      checkPmj02Count(out.size());
+      // A pair's set: its two coordinates share one base sequence.
+      if (asSet && firstDim % 2 == 0) return pmj02Set(setSeed, out, digitRandomization(o.scramble));
+      break;
+    default: break;
+  }
   const auto digits = [&](std::uint32_t dim) {
     if (!asSet) return -1;
     return distinctDigits(out.size(), o.kind == SequenceKind::Halton ? nthPrime(dim) : 2);
@@ -149,6 +176,7 @@ void fill(const SequenceOptions &o, std::uint32_t instance, std::span<Point2> ou
 
 double sequenceSample(const SequenceOptions &o, std::uint64_t index, std::uint32_t dim,
                       std::uint32_t instance) {
+  checkScramble(o);
   return sample(o, index, dim, instance, -1);
 }
 

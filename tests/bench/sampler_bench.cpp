@@ -12,7 +12,11 @@
 #include "sampler/loss/soft_box_loss.h"
 #include "sampler/metrics/discrepancy.h"
 #include "sampler/metrics/nonuniform_l2.h"
+#include "sampler/sequences/lattice.h"
+#include "sampler/sequences/pmj02.h"
 #include "sampler/sequences/sequence.h"
+#include "sampler/sequences/stratified.h"
+#include "sampler/sequences/zsobol.h"
 #include "sampler/targets/basic_targets.h"
 #include "sampler/targets/image_targets.h"
 
@@ -177,7 +181,7 @@ void BM_OwenSobolSet(benchmark::State &state) {
   state.counters["points_per_second"] = benchmark::Counter(
       double(state.iterations()) * double(pts.size()), benchmark::Counter::kIsRate);
 }
-BENCHMARK(BM_OwenSobolSet)->Arg(4)->Arg(64)->Arg(256);
+BENCHMARK(BM_OwenSobolSet)->Arg(4)->Arg(16)->Arg(64)->Arg(256);
 
 // The same for Owen-scrambled Halton (the halton backend), args N and the
 // first dimension: its digits are permuted per prefix, at the dimension's
@@ -195,6 +199,52 @@ void BM_OwenHaltonSet(benchmark::State &state) {
       double(state.iterations()) * double(pts.size()), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_OwenHaltonSet)->Args({16, 0})->Args({16, 40})->Args({64, 40});
+
+// The classic sets the same way, one fresh seed per set (pmj02's base
+// sequences are made by an untimed first set, as a renderer's first pixel
+// would make them).
+template <class Make>
+void timeSets(benchmark::State &state, Make make) {
+  std::vector<Point2> pts(std::size_t(state.range(0)));
+  std::uint64_t seed = 0;
+  make(seed, std::span<Point2>(pts));
+  for (auto _ : state) {
+    make(++seed, std::span<Point2>(pts));
+    benchmark::DoNotOptimize(pts.data());
+  }
+  state.counters["points_per_second"] = benchmark::Counter(
+      double(state.iterations()) * double(pts.size()), benchmark::Counter::kIsRate);
+}
+
+void BM_StratifiedSet(benchmark::State &state) {
+  timeSets(state, [](std::uint64_t s, std::span<Point2> out) { stratifiedSet(s, out); });
+}
+BENCHMARK(BM_StratifiedSet)->Arg(16)->Arg(256);
+
+void BM_Pmj02Set(benchmark::State &state) {
+  timeSets(state, [](std::uint64_t s, std::span<Point2> out) { pmj02Set(s, out); });
+}
+BENCHMARK(BM_Pmj02Set)->Arg(16)->Arg(256);
+
+void BM_LatticeSet(benchmark::State &state) {
+  timeSets(state, [](std::uint64_t s, std::span<Point2> out) { latticeSet(s, out); });
+}
+BENCHMARK(BM_LatticeSet)->Arg(16)->Arg(256);
+
+// ZSobol's pixels of a 1024 x 1024 image in scan order, one pair, one seed.
+void BM_ZSobolSet(benchmark::State &state) {
+  timeSets(state, [](std::uint64_t s, std::span<Point2> out) {
+    zsobolSet(7, 3, std::uint32_t(s & 1023), std::uint32_t((s >> 10) & 1023), 1024, out);
+  });
+}
+BENCHMARK(BM_ZSobolSet)->Arg(16)->Arg(256);
+
+// One pmj02 base sequence of 2^k points: the cost of a base's first use.
+void BM_Pmj02Sequence(benchmark::State &state) {
+  std::uint64_t seed = 0;
+  for (auto _ : state) benchmark::DoNotOptimize(pmj02Sequence(++seed, int(state.range(0))));
+}
+BENCHMARK(BM_Pmj02Sequence)->Arg(10)->Arg(16)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace nuld

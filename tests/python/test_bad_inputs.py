@@ -1,11 +1,17 @@
 # The Python twin of the CLI's option sweep (tests/tools/option_sweep_test.sh):
 # every public function, constructor and engine method, each argument given
 # each bad input that applies to its kind (NaN, Inf, out of the domain, a
-# wrong shape, negative, fractional, a wrong type, None where a value is
-# needed), must raise ValueError or TypeError in the module's own words:
-# the message starts with the function's name and names the argument, and
-# no pybind11 or Python internals reach the user.
+# wrong shape, a complex or bool array, negative, fractional, a seed past
+# 2^64 - 1, a wrong type, None where a value is needed), must raise
+# ValueError or TypeError in the module's own words: the message starts with
+# the function's name and names the argument, and no pybind11, C++ library
+# or Python internals reach the user. Then the classes a sweep of one
+# argument cannot reach: unknown keywords, images compared across channel
+# counts, sizes the machine cannot hold (refused in under a second), the
+# CLI's rules of which arguments apply, scipy's engine contract at its edges,
+# and write_points by extension.
 import subprocess
+import time
 
 import numpy as np
 import pytest
@@ -14,14 +20,28 @@ import nuld
 
 NAN = np.array([[0.5, np.nan], [0.2, 0.3]])
 INF = np.array([[0.5, 0.5], [np.inf, 0.3]])
+IMAGE = np.zeros((2, 2, 3), dtype=np.float32)
+
+
+def image_with(value):
+    image = IMAGE.copy()
+    image[1, 0, 2] = value
+    return image
+
 
 # The bad values each kind of argument is given, by input class.
 BAD = {
     "points": {"nan": NAN, "inf": INF, "out-of-domain": np.array([[0.5, 1.5]]),
-               "wrong shape": np.zeros((3, 3)), "wrong type": {"x": 0.5}, "none": None},
-    "image": {"wrong shape": np.zeros((2, 2, 7)), "wrong type": "image", "none": None},
+               "wrong shape": np.zeros((3, 3)), "complex": np.array([[0.5 + 0.5j, 0.25]]),
+               "bool": np.array([[True, False], [False, True]]), "wrong type": {"x": 0.5},
+               "none": None},
+    # An image whose values must be finite (a reference, an image written).
+    "image": {"nan": image_with(np.nan), "inf": image_with(np.inf),
+              "wrong shape": np.zeros((2, 2, 7)), "empty": np.zeros((0, 2, 3)),
+              "complex": IMAGE.astype(complex), "bool": IMAGE.astype(bool), "wrong type": "image",
+              "none": None},
     "count": {"negative": -1, "fractional": 2.5, "wrong type": "4", "none": None},
-    "seed": {"negative": -1, "fractional": 2.5, "wrong type": "4"},
+    "seed": {"negative": -1, "fractional": 2.5, "past 2^64 - 1": 2**64, "wrong type": "4"},
     "number": {"nan": np.nan, "inf": np.inf, "wrong type": "0.5"},
     "pair": {"nan": (np.nan, 0.5), "wrong shape": (0.1, 0.2, 0.3), "wrong type": "lo",
              "none": None},
@@ -34,14 +54,24 @@ BAD = {
     "numbers": {"nan": [np.nan], "wrong type": "x"},
     "metadata": {"wrong type": ["a"]},
 }
+# The image compare measures may hold non-finite pixels (counted, as nuld
+# compare counts them); both of compare's images must have the other's
+# channels (a grey one against the colour one here).
+BAD["test image"] = {c: v for c, v in BAD["image"].items() if c not in ("nan", "inf")}
+BAD["test image"]["channels"] = np.zeros((2, 2), dtype=np.float32)
+BAD["image"]["channels"] = np.zeros((2, 2), dtype=np.float32)
 # Optional arguments take None; these kinds are the optional versions.
 OPTIONAL = {"count?": "count", "seed?": "seed", "number?": "number", "text?": "text",
-            "target?": "target", "pair?": "pair", "resolution?": "resolution"}
+            "target?": "target", "pair?": "pair", "resolution?": "resolution",
+            "callable?": "callable"}
 
 
-def kinds(kind):
+def kinds(kind, name):
     base = OPTIONAL.get(kind, kind)
-    return {c: v for c, v in BAD[base].items() if not (kind in OPTIONAL and c == "none")}
+    # A grey image is an image write_image writes.
+    return {c: v for c, v in BAD[base].items()
+            if not (kind in OPTIONAL and c == "none") and
+            not (name == "write_image" and c == "channels")}
 
 
 @pytest.fixture(scope="module")
@@ -77,7 +107,7 @@ def entries(model, tmp):
         ("Target.invert", u.invert, dict(u=pts), {"u": "points"}),
         ("sequence", nuld.sequence,
          dict(n=4, kind="sobol", scramble="owen", seed=0, instances=None, target=None),
-         {"n": "count", "kind": "text", "scramble": "text", "seed": "seed",
+         {"n": "count", "kind": "text", "scramble": "text?", "seed": "seed",
           "instances": "count?", "target": "target?"}),
         ("optimize", nuld.optimize, dict(target="uniform", n=4, instances=1, preset=None,
                                                progress=None, epochs=2, seed=0, lr=(0.1, 0.01),
@@ -96,31 +126,40 @@ def entries(model, tmp):
           "n": "count?"}),
         ("render", nuld.render,
          dict(scene="default", backend="sobol", spp=1, resolution=(4, 4), integrator=None,
-              max_depth=None, seed=None, assets="", lobe_mix=None, stats=False, opt_instances=2,
-              opt_epochs=2, opt_lobe_epochs=2, threads=None, lobe_choice="albedo",
-              env_importance=None, resolution_scale=1.0, lobe_routes=None,
-              lobe_defensive=None, lobe_bounces=None),
+              max_depth=None, seed=None, assets=None, lobe_mix=None, stats=False,
+              opt_instances=None, opt_epochs=None, opt_lobe_epochs=None, threads=None,
+              lobe_choice="albedo", env_importance=None, resolution_scale=1.0, lobe_routes=None,
+              lobe_defensive=None, lobe_bounces=None, opt_nested=False, opt_objective=None,
+              opt_union_weight=None, progress=None),
          {"scene": "text", "backend": "text?", "spp": "count?", "resolution": "resolution?",
-          "integrator": "text?", "max_depth": "count?", "seed": "seed?", "assets": "text",
-          "lobe_mix": "number?", "stats": "flag", "opt_instances": "count",
-          "opt_epochs": "count", "opt_lobe_epochs": "count", "threads": "count?",
+          "integrator": "text?", "max_depth": "count?", "seed": "seed?", "assets": "text?",
+          "lobe_mix": "number?", "stats": "flag", "opt_instances": "count?",
+          "opt_epochs": "count?", "opt_lobe_epochs": "count?", "threads": "count?",
           "lobe_choice": "text", "env_importance": "text?", "resolution_scale": "number",
-          "lobe_routes": "text?", "lobe_defensive": "number?", "lobe_bounces": "count?"}),
+          "lobe_routes": "text?", "lobe_defensive": "number?", "lobe_bounces": "count?",
+          "opt_nested": "flag", "opt_objective": "text?", "opt_union_weight": "number?",
+          "progress": "callable?"}),
         ("compare", nuld.compare, dict(image=image, reference=image),
-         {"image": "image", "reference": "image"}),
+         {"image": "test image", "reference": "image"}),
         ("read_image", nuld.read_image, dict(path=out), {"path": "text"}),
         ("read_image_attributes", nuld.read_image_attributes, dict(path=out), {"path": "text"}),
         ("write_image", nuld.write_image, dict(path=str(tmp / "i.pfm"), image=image),
          {"path": "text", "image": "image"}),
-        ("nuld.qmc.Sobol", qmc.Sobol, dict(scramble=True), {"scramble": "flag"}),
-        ("nuld.qmc.Halton", qmc.Halton, dict(scramble=True), {"scramble": "flag"}),
-        ("nuld.qmc.PointSetEngine", qmc.PointSetEngine, dict(points=pts), {"points": "points"}),
+        ("nuld.qmc.Sobol", qmc.Sobol, dict(scramble=True, seed=1),
+         {"scramble": "flag", "seed": "seed?"}),
+        ("nuld.qmc.Halton", qmc.Halton, dict(scramble=True, seed=1),
+         {"scramble": "flag", "seed": "seed?"}),
+        ("nuld.qmc.PointSetEngine", qmc.PointSetEngine, dict(points=pts, seed=1),
+         {"points": "points", "seed": "seed?"}),
         ("nuld.qmc.OptimizedEngine", qmc.OptimizedEngine,
-         dict(target="uniform", n=4, instances=1, epochs=2),
-         {"target": "target", "n": "count?", "instances": "count"}),
-        # NeuralEngine hands its model and gamma to generate_neural.
-        ("nuld.qmc.NeuralEngine", qmc.NeuralEngine, dict(model=model, instances=1, n=None),
-         {"instances": "count", "n": "count?"}),
+         dict(target="uniform", n=4, instances=1, epochs=2, seed=1),
+         {"target": "target", "n": "count?", "instances": "count", "seed": "seed?"}),
+        # NeuralEngine's model and gamma are read by generate_neural, and
+        # refused in the engine's name.
+        ("nuld.qmc.NeuralEngine", qmc.NeuralEngine,
+         dict(model=model, instances=1, n=None, gamma=(), seed=1),
+         {"model": "text", "instances": "count", "n": "count?", "gamma": "numbers",
+          "seed": "seed?"}),
     ]
     for name, make in engines(model).items():
         rows += [(name + ".random", lambda make=make, **a: make().random(**a), dict(n=2),
@@ -132,15 +171,21 @@ def entries(model, tmp):
     return rows
 
 
-FOREIGN = ("incompatible function arguments", "Unable to cast", "unsupported operand",
-           "NoneType", "not supported between", "object cannot be interpreted",
-           "PYBIND11", "could not convert", "must be real number")
+# pybind11's, C++'s and Python's own words, which no refusal may show.
+FOREIGN = ("incompatible function arguments", "Invoked with", "Unable to cast",
+           "unsupported operand", "NoneType", "not supported between",
+           "object cannot be interpreted", "PYBIND11", "could not convert",
+           "must be real number", "std::", "_M_", "bad_alloc", "got an unexpected keyword")
+
+
+def foreign(text):
+    return [f for f in FOREIGN if f in text]
 
 
 def sweep(model, tmp):
     for name, call, valid, args in entries(model, tmp):
         for arg, kind in args.items():
-            for bad_class, value in kinds(kind).items():
+            for bad_class, value in kinds(kind, name).items():
                 yield name, call, dict(valid, **{arg: value}), arg, bad_class
 
 
@@ -155,7 +200,7 @@ def test_every_entry_point_refuses_every_bad_input_in_its_own_words(model, tmp_p
             text = str(e)
             if not text.startswith(name + ":") or arg not in text:
                 failures.append("%s: not in the module's words: %s" % (case, text))
-            elif any(f in text for f in FOREIGN):
+            elif foreign(text):
                 failures.append("%s: foreign text: %s" % (case, text))
             else:
                 refused += 1
@@ -165,9 +210,10 @@ def test_every_entry_point_refuses_every_bad_input_in_its_own_words(model, tmp_p
             continue
         failures.append("%s: returned %r" % (case, result))
     assert not failures, "\n".join(failures)
-    assert classes == {"nan", "inf", "out-of-domain", "wrong shape", "negative", "fractional",
+    assert classes == {"nan", "inf", "out-of-domain", "wrong shape", "empty", "channels",
+                       "complex", "bool", "negative", "fractional", "past 2^64 - 1",
                        "wrong type", "none"}
-    assert refused > 150
+    assert refused > 200
 
 
 def test_import_nuld_exposes_qmc():
@@ -177,3 +223,323 @@ def test_import_nuld_exposes_qmc():
         del sys.modules[mod]
     fresh = importlib.import_module("nuld")
     assert fresh.qmc.Sobol(d=2, seed=1).random(4).shape == (4, 2)
+
+
+def refusal(call, kind, *words):
+    """The exception `call()` raises: of `kind`, in the module's words (the
+    first of `words`, the function, starts the message; the others are in
+    it), without pybind11's, C++'s or Python's own text."""
+    with pytest.raises(kind) as info:
+        call()
+    text = str(info.value)
+    assert text.startswith(words[0] + ":"), text
+    for word in words[1:]:
+        assert word in text, (word, text)
+    assert not foreign(text), text
+    return text
+
+
+def misspelt(name):
+    """A typo of `name` close enough for a 'did you mean'."""
+    return name[:-1] + name[-1] * 2 if len(name) > 3 else name + "x"
+
+
+def test_unknown_keywords_are_refused_with_the_closest_name(model, tmp_path):
+    # The issue's two, word for word.
+    text = refusal(lambda: nuld.render("default", resolutoin=(4, 4)), TypeError, "render")
+    assert text == "render: unknown keyword 'resolutoin'; did you mean 'resolution'?"
+    text = refusal(lambda: nuld.sequence(16, instancez=2), TypeError, "sequence")
+    assert text == "sequence: unknown keyword 'instancez'; did you mean 'instances'?"
+    # Every public function, constructor and engine method: each argument
+    # misspelt, and a word close to none of them.
+    checked = 0
+    for name, call, valid, args in entries(model, tmp_path):
+        for arg in args:
+            typo = misspelt(arg)
+            arguments = {k: v for k, v in valid.items() if k != arg}
+            arguments[typo] = valid[arg]
+            # A one-letter name has no close misspelling: the names are listed.
+            refusal(lambda: call(**arguments), TypeError, name, "unknown keyword '%s'%s" % (
+                typo, "; did you mean '%s'?" % arg if len(arg) > 1 else " (expected "))
+            checked += 1
+        refusal(lambda: call(**dict(valid, zzzzzz=1)), TypeError, name,
+                "unknown keyword 'zzzzzz' (expected ")
+    assert checked > 80
+    # optimize's settings are keywords too, and so are OptimizedEngine's.
+    refusal(lambda: nuld.optimize("uniform", 4, epoch=2), TypeError, "optimize",
+            "did you mean 'epochs'?")
+    refusal(lambda: nuld.qmc.OptimizedEngine(d=2, epoch=2), TypeError,
+            "nuld.qmc.OptimizedEngine", "did you mean 'epochs'?")
+    refusal(lambda: nuld.qmc.Sobol(d=2, seed=1).reset(1), TypeError, "nuld.qmc.Sobol.reset",
+            "positional")
+    # The other ways a call goes wrong, in the same words.
+    refusal(lambda: nuld.sequence(), TypeError, "sequence", "missing argument 'n'")
+    refusal(lambda: nuld.sequence(4, n=4), TypeError, "sequence", "'n' given twice")
+    refusal(lambda: nuld.read_points("a", "b"), TypeError, "read_points",
+            "at most 1 positional argument (got 2)")
+    refusal(lambda: nuld.Target(), TypeError, "Target", "missing argument 'spec'")
+    refusal(lambda: nuld.Target("uniform").pdf(), TypeError, "Target.pdf", "'points'")
+
+
+def test_help_shows_each_functions_own_signature():
+    import inspect
+    assert str(inspect.signature(nuld.sequence)) == (
+        "(n, kind='sobol', scramble=None, seed=1, instances=None, target=None)")
+    assert "opt_union_weight=None" in str(inspect.signature(nuld.render))
+    assert str(inspect.signature(nuld.optimize)).endswith("progress=None, **settings)")
+    assert nuld.sequence.__doc__.startswith("N points of a sequence")
+
+
+def test_images_are_checked_as_nuld_compare_checks_them(tmp_path):
+    image = np.full((4, 6, 3), 0.5, dtype=np.float32)
+    grey = np.full((4, 6), 0.5, dtype=np.float32)
+    refusal(lambda: nuld.compare(image, grey), ValueError, "compare",
+            "images differ in channels: 3 vs reference 1")
+    refusal(lambda: nuld.compare(grey, image), ValueError, "compare", "channels")
+    refusal(lambda: nuld.compare(image, image[:, :, :2].copy()), ValueError, "compare",
+            "channels")
+    refusal(lambda: nuld.compare(image, image[:2]), ValueError, "compare", "differ in size")
+    for bad in (np.nan, np.inf, -np.inf):
+        reference = image.copy()
+        reference[2, 1, 0] = bad
+        refusal(lambda: nuld.compare(image, reference), ValueError, "compare",
+                "reference: pixel (1, 2) channel 0 is not a finite number")
+        refusal(lambda: nuld.write_image(str(tmp_path / "x.exr"), reference), ValueError,
+                "write_image", "image: pixel (1, 2) channel 0 is not a finite number")
+        # The image under test may hold them: counted and left out, as nuld
+        # compare does.
+        assert nuld.compare(reference, image)["nonfinite_pixels"] == 1
+    assert not (tmp_path / "x.exr").exists()
+    for bad in (image.astype(complex), image.astype(bool), image.astype(object)):
+        refusal(lambda: nuld.compare(bad, image), TypeError, "compare", "image",
+                "real numbers")
+    # A grey image is an image: written and read back as one.
+    nuld.write_image(str(tmp_path / "grey.exr"), grey)
+    assert nuld.read_image(str(tmp_path / "grey.exr")).shape == (4, 6)
+
+
+def test_the_cli_refuses_images_of_other_channels(tmp_path, nuld_bin):
+    nuld.write_image(str(tmp_path / "rgb.exr"), np.full((4, 6, 3), 0.5, dtype=np.float32))
+    nuld.write_image(str(tmp_path / "grey.exr"), np.full((4, 6), 0.5, dtype=np.float32))
+    run = subprocess.run([nuld_bin, "compare", str(tmp_path / "rgb.exr"),
+                          str(tmp_path / "grey.exr")], capture_output=True, text=True)
+    assert run.returncode == 1 and "images differ in channels: 3 vs reference 1" in run.stderr
+
+
+def test_only_real_numeric_arrays_are_points(tmp_path):
+    pts = np.array([[0.25, 0.5], [0.75, 0.125]])
+    u = nuld.Target("uniform")
+    calls = {"discrepancy": lambda p: nuld.discrepancy(p), "Target.pdf": u.pdf,
+             "Target.invert": u.invert,
+             "write_points": lambda p: nuld.write_points(str(tmp_path / "p.txt"), p),
+             "nuld.qmc.PointSetEngine": nuld.qmc.PointSetEngine}
+    for name, call in calls.items():
+        for bad, dtype in ((pts + 0.5j, "complex128"), (pts > 0.3, "bool"),
+                           (pts.astype(object), "object"), (pts.astype(str), "<U")):
+            refusal(lambda: call(bad), TypeError, name, "real numbers", "got an array of " + dtype)
+        # Integer and every floating dtype are numbers.
+        for good in (pts.astype(np.float32), pts.astype(np.float16), np.zeros((2, 2), np.int64),
+                     np.zeros((2, 2), np.uint8), pts.tolist()):
+            call(good)
+    assert not (tmp_path / "p.npy").exists()
+
+
+def test_oversized_counts_are_refused_before_memory_is_taken(model):
+    cases = [
+        ("sequence", lambda: nuld.sequence(10**12), "n: 1000000000000 points"),
+        ("sequence", lambda: nuld.sequence(16, instances=2**40),
+         "instances x n: 1099511627776 x 16 points"),
+        ("render", lambda: nuld.render("default", resolution=(400000, 400000)),
+         "resolution: a 400000 x 400000 render"),
+        ("render", lambda: nuld.render("default", resolution=(8, 8), spp=2**40),
+         "resolution: a 8 x 8 render at 1099511627776 spp"),
+        # The optimizer's count overflowed 64 bits here and crashed.
+        ("optimize", lambda: nuld.optimize("uniform", 2**40, instances=2**30, epochs=1),
+         "instances x n: 1073741824 x 1099511627776 points"),
+        ("nuld.qmc.OptimizedEngine", lambda: nuld.qmc.OptimizedEngine(n=10**12, epochs=1),
+         "instances x n: 1 x 1000000000000 points"),
+        ("nuld.qmc.OptimizedEngine.random",
+         lambda: nuld.qmc.OptimizedEngine(d=2, epochs=1).random(10**12), "n: 1 x 1000000000000"),
+        ("generate_neural", lambda: nuld.generate_neural(model, instances=2**40),
+         "instances x n: 1099511627776 x 8 points"),
+        ("nuld.qmc.Sobol.random", lambda: nuld.qmc.Sobol(d=2, seed=1).random(2**40),
+         "n: 1099511627776 points"),
+        ("nuld.qmc.Halton.random_base2", lambda: nuld.qmc.Halton(d=2, seed=1).random_base2(50),
+         "m: "),
+        ("nuld.qmc.NeuralEngine", lambda: nuld.qmc.NeuralEngine(model, instances=2**40),
+         "instances x n"),
+    ]
+    for name, call, words in cases:
+        start = time.monotonic()
+        text = refusal(call, ValueError, name, words, "needs about", "more than this machine's")
+        seconds = time.monotonic() - start
+        assert seconds < 1, (name, seconds, text)
+
+
+def test_the_cli_refuses_a_render_the_machine_cannot_hold_as_python_does(nuld_bin, tmp_path):
+    # The renderer's one check (renderMemoryBytes), in each front end's words;
+    # --spp past any machine's memory at the CLI's largest resolution.
+    start = time.monotonic()
+    run = subprocess.run([nuld_bin, "render", "default", "--res", "32768x32768", "--spp",
+                          "16777216", "--max-depth", "1000", "-q", "-o", str(tmp_path / "x.exr")],
+                         capture_output=True, text=True)
+    assert time.monotonic() - start < 1
+    assert run.returncode == 2 and "--res: a 32768 x 32768 render at 16777216 spp needs about" \
+        in run.stderr, run.stderr
+    assert not list(tmp_path.iterdir())
+
+
+def test_seeds_past_2_to_the_64_are_refused(model):
+    top = 2**64 - 1
+    assert nuld.sequence(4, seed=top).shape == (4, 2)
+    assert nuld.qmc.Sobol(d=2, seed=top).random(4).shape == (4, 2)
+    calls = {
+        "sequence": lambda s: nuld.sequence(4, seed=s),
+        "render": lambda s: nuld.render("default", resolution=(4, 4), spp=1, seed=s),
+        "generate_neural": lambda s: nuld.generate_neural(model, seed=s),
+        "optimize": lambda s: nuld.optimize("uniform", 4, epochs=1, seed=s),
+        "nuld.qmc.Sobol": lambda s: nuld.qmc.Sobol(d=2, seed=s),
+        "nuld.qmc.Halton": lambda s: nuld.qmc.Halton(d=2, seed=s),
+        "nuld.qmc.OptimizedEngine": lambda s: nuld.qmc.OptimizedEngine(d=2, seed=s),
+        "nuld.qmc.PointSetEngine": lambda s: nuld.qmc.PointSetEngine(nuld.sequence(4), seed=s),
+        "nuld.qmc.NeuralEngine": lambda s: nuld.qmc.NeuralEngine(d=2, model=model, seed=s),
+    }
+    for name, call in calls.items():
+        for seed in (2**64, 2**70, -(2**64)):
+            refusal(lambda: call(seed), ValueError, name, "seed", "2^64 - 1")
+
+
+def test_render_applies_the_clis_rules_of_what_applies():
+    def render(**kw):
+        return lambda: nuld.render("default", resolution=(4, 4), spp=1, **kw)
+    # --max-depth under direct: one rule (RenderOverrides::checkApplicable)
+    # for nuld render and nuld.render.
+    for integrator in ("direct", "light", "bsdf"):
+        refusal(render(integrator=integrator, max_depth=3), ValueError, "render",
+                "max_depth applies to integrator path only")
+    assert render(integrator="path", max_depth=3)().shape == (4, 4, 3)
+    # The study's set options, for the backends that make sets only.
+    for kw in (dict(opt_instances=2), dict(opt_epochs=5), dict(opt_lobe_epochs=5),
+               dict(opt_nested=True), dict(opt_objective="soft"), dict(opt_union_weight=0.0)):
+        refusal(render(backend="sobol", **kw), ValueError, "render", list(kw)[0],
+                "applies to the study's backends that make sets")
+    # The lobe options, for a backend that samples lobe tables under an
+    # integrator other than light.
+    for kw in (dict(lobe_mix=0.5), dict(lobe_routes="table"), dict(lobe_defensive=0.1),
+               dict(lobe_bounces=1)):
+        refusal(render(backend="sobol", **kw), ValueError, "render", list(kw)[0],
+                "applies to a backend that samples lobe tables")
+        refusal(render(backend="sobol-tabulated", integrator="light", **kw), ValueError,
+                "render", list(kw)[0])
+    refusal(render(assets="/tmp"), ValueError, "render", "assets applies to scene files")
+    # Their values, as the CLI checks them.
+    refusal(render(backend="optimized", opt_objective="l2per"), ValueError, "render",
+            "opt_objective: expected 'soft' or 'l2asd'")
+    refusal(render(backend="optimized", opt_union_weight=-1.0), ValueError, "render",
+            "opt_union_weight: expected a weight >= 0")
+    refusal(render(backend="optimized", opt_epochs=0), ValueError, "render", "opt_epochs")
+
+
+def test_the_cli_refuses_max_depth_under_direct_with_the_same_rule(nuld_bin, tmp_path):
+    run = subprocess.run([nuld_bin, "render", "default", "--integrator", "direct", "--max-depth",
+                          "3", "--res", "4", "--spp", "1", "-q", "-o", str(tmp_path / "x.exr")],
+                         capture_output=True, text=True)
+    assert run.returncode == 2
+    assert "--max-depth applies to --integrator path only" in run.stderr
+
+
+def test_render_reports_progress_and_draws_a_bar(capfd):
+    reports = []
+    nuld.render("default", resolution=(40, 40), spp=1, progress=reports.append)
+    assert reports and reports[-1]["stage"] == "render"
+    assert reports[-1]["done"] == reports[-1]["total"] == 9  # 3 x 3 tiles of 16
+    assert len(reports) <= 1001
+    nuld.render("default", resolution=(8, 8), spp=1, progress=True)
+    assert "render [" in capfd.readouterr().err
+    nuld.render("default", resolution=(8, 8), spp=1)
+    assert capfd.readouterr().err == ""  # off by default
+
+
+def test_render_takes_the_clis_set_options(tmp_path, monkeypatch, nuld_bin):
+    # --opt-nested, --opt-objective and --opt-union-weight as keywords: the
+    # same sets (made once into the cache, then found) and the same image.
+    monkeypatch.setenv("NULD_CACHE", str(tmp_path / "cache"))
+    kw = dict(backend="optimized", spp=4, resolution=(8, 6), seed=3, opt_instances=2,
+              opt_epochs=3, opt_objective="soft", opt_union_weight=0.5, opt_nested=True,
+              stats=True)
+    img, stats = nuld.render("default", **kw)
+    assert stats["sets_made"] > 0
+    exr = str(tmp_path / "o.exr")
+    run = subprocess.run([nuld_bin, "render", "default", "--backend", "optimized", "--spp", "4",
+                          "--res", "8x6", "--seed", "3", "--opt-instances", "2", "--opt-epochs",
+                          "3", "--opt-objective", "soft", "--opt-union-weight", "0.5",
+                          "--opt-nested", "-q", "-o", exr], capture_output=True, text=True,
+                         env=dict(__import__("os").environ, NULD_CACHE=str(tmp_path / "cache")))
+    assert run.returncode == 0, run.stderr
+    assert "sets_made 0" in run.stdout
+    assert np.array_equal(nuld.read_image(exr), img)
+
+
+def test_engines_meet_scipys_contract_at_its_edges(model):
+    from scipy.stats import qmc
+    assert qmc.Sobol(d=2, seed=1).random(0).shape == (0, 2)
+    for engine in (nuld.qmc.Sobol(d=2, seed=1), nuld.qmc.Halton(d=2, seed=1),
+                   nuld.qmc.OptimizedEngine(d=2, seed=1, epochs=2),
+                   nuld.qmc.PointSetEngine(nuld.sequence(4, instances=2)),
+                   nuld.qmc.NeuralEngine(d=2, model=model, seed=1)):
+        empty = engine.random(0)
+        assert empty.shape == (0, 2) and engine.num_generated == 0
+    # Every refusal names the method called, never the function underneath.
+    sobol = nuld.qmc.Sobol(d=2, seed=1)
+    refusal(lambda: sobol.fast_forward(3).random_base2(2), ValueError,
+            "nuld.qmc.Sobol.random_base2", "m: ", "not a power of 2")
+    bank = nuld.qmc.PointSetEngine(nuld.sequence(4, instances=2))
+    refusal(lambda: bank.random_base2(4), ValueError, "nuld.qmc.PointSetEngine.random_base2",
+            "bank holds 8")
+    refusal(lambda: bank.random(9), ValueError, "nuld.qmc.PointSetEngine.random", "bank holds 8")
+    refusal(lambda: bank.fast_forward(9), ValueError, "nuld.qmc.PointSetEngine.fast_forward")
+    refusal(lambda: nuld.qmc.OptimizedEngine(d=2, seed=1, epochs=0).random(4), ValueError,
+            "nuld.qmc.OptimizedEngine.random", "epochs")
+    refusal(lambda: nuld.qmc.OptimizedEngine(n=4, seed=1, epochs=0), ValueError,
+            "nuld.qmc.OptimizedEngine", "epochs")
+    refusal(lambda: nuld.qmc.NeuralEngine(d=2, model=model, gamma=[0.5]), ValueError,
+            "nuld.qmc.NeuralEngine", "gamma")
+    refusal(lambda: nuld.qmc.PointSetEngine("no_such_file.ptsb"), RuntimeError,
+            "nuld.qmc.PointSetEngine", "no_such_file.ptsb")
+    # E(d=2, seed=...) for NeuralEngine, with its model as a keyword; without
+    # one it has nothing to make sets with, and says so.
+    neural = nuld.qmc.NeuralEngine(d=2, model=model, seed=1)
+    assert neural.random(8).shape == (8, 2)
+    assert np.array_equal(neural.bank, nuld.qmc.NeuralEngine(model, seed=1).bank)
+    refusal(lambda: nuld.qmc.NeuralEngine(d=2, seed=1), TypeError, "nuld.qmc.NeuralEngine",
+            "model: expected the path of a model")
+    refusal(lambda: nuld.qmc.NeuralEngine(d=3, model=model), ValueError,
+            "nuld.qmc.NeuralEngine", "2-dimensional")
+
+
+def test_write_points_writes_by_extension(tmp_path, nuld_bin):
+    bank = nuld.sequence(5, instances=3, seed=1)
+    one = nuld.sequence(7, seed=2)
+    # .npy: numpy.load gives the shape nuld export writes, (K, N, 2).
+    nuld.write_points(str(tmp_path / "b.npy"), bank)
+    nuld.write_points(str(tmp_path / "one.npy"), one)
+    assert np.array_equal(np.load(str(tmp_path / "b.npy")), bank)
+    assert np.array_equal(np.load(str(tmp_path / "one.npy")), one[None])
+    nuld.write_points(str(tmp_path / "b.txt"), bank, {"comment": "c"})
+    subprocess.run([nuld_bin, "export", str(tmp_path / "b.txt"), "-o", str(tmp_path / "e.npy")],
+                   check=True, capture_output=True)
+    assert (tmp_path / "e.npy").read_bytes() == (tmp_path / "b.npy").read_bytes()
+    for ext in (".csv", ".dat"):
+        nuld.write_points(str(tmp_path / ("b" + ext)), bank)
+        subprocess.run([nuld_bin, "export", str(tmp_path / "b.txt"), "-o",
+                        str(tmp_path / ("e" + ext))], check=True, capture_output=True)
+        assert (tmp_path / ("e" + ext)).read_bytes() == (tmp_path / ("b" + ext)).read_bytes()
+    assert np.array_equal(nuld.read_points(str(tmp_path / "b.dat"))[0], bank)
+    # .txt and .ptsb keep the metadata; the points-only formats refuse it.
+    refusal(lambda: nuld.write_points(str(tmp_path / "m.npy"), bank, {"comment": "c"}),
+            ValueError, "write_points", "metadata", ".npy")
+    for name in ("o.xyz", "o", "o.NPY", "o.pts"):
+        refusal(lambda: nuld.write_points(str(tmp_path / name), bank), ValueError,
+                "write_points", "path", "expected a name ending in .txt")
+    assert sorted(p.name for p in tmp_path.iterdir()) == [
+        "b.csv", "b.dat", "b.npy", "b.txt", "e.csv", "e.dat", "e.npy", "one.npy"]

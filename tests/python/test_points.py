@@ -26,7 +26,8 @@ def test_bad_input_raises_with_the_clis_message():
         nuld.Target("uniform").pdf(np.zeros((4, 3)))
     with pytest.raises(ValueError, match="unknown metric 'l3'"):
         nuld.discrepancy(np.zeros((4, 2)), "l3")
-    with pytest.raises(ValueError, match="unknown setting 'epoch'"):
+    # An unknown setting is an unknown keyword, as Python has it: a TypeError.
+    with pytest.raises(TypeError, match="optimize: unknown keyword 'epoch'; did you mean 'epochs'"):
         nuld.optimize("uniform", 4, epoch=3)
     with pytest.raises(RuntimeError, match="no_such_file.ptsb"):
         nuld.read_points("no_such_file.ptsb")

@@ -121,8 +121,10 @@ def test_other_dimensions_and_bad_seeds_are_refused(make):
     for d in (1, 3, 2.0, True):
         with pytest.raises(ValueError, match="2-dimensional"):
             make(d=d)
-    for seed in (-1, 1.5, "s"):
-        with pytest.raises(ValueError, match="seed must be None, a non-negative int"):
+    for seed, error in ((-1, ValueError), (2**64, ValueError), (1.5, TypeError),
+                        ("s", TypeError)):
+        with pytest.raises(error, match="seed: expected None, a whole number from 0 to "
+                                        r"2\^64 - 1 or a numpy.random.Generator"):
             make(d=2, seed=seed)
 
 
@@ -146,3 +148,24 @@ def test_partial_sets_warn_as_scipys_sobol_does():
 def test_the_module_has_a_version_as_the_cli():
     import re
     assert re.fullmatch(r"\d+\.\d+\.\d+", nuld.__version__)
+
+
+def test_the_classic_sets_and_pmj02_engine():
+    # Every elementary interval of area 1/16 holds one of 16 pmj02 points
+    # (each of the five shapes); stratified 16 fills the 4 x 4 grid; the
+    # lattice's 16 points differ pairwise by multiples of one vector mod 1.
+    def one_per_interval(p, m):
+        for a in range(m + 1):
+            cells = (np.floor(p[:, 0] * 2**a) * 2**(m - a) + np.floor(p[:, 1] * 2**(m - a)))
+            if len(np.unique(cells)) != len(p):
+                return False
+        return True
+
+    pmj = nuld.qmc.PMJ02(d=2, seed=3).random(16)
+    assert pmj.shape == (16, 2) and one_per_interval(pmj, 4)
+    grid = nuld.sequence(16, kind="stratified", seed=3)
+    assert len(np.unique(np.floor(grid * 4) @ [4, 1])) == 16
+    lattice = nuld.sequence(16, kind="lattice", scramble="none")
+    assert np.allclose(np.sort(lattice[:, 0]), np.arange(16) / 16)
+    with pytest.raises(ValueError, match="stratified"):
+        nuld.sequence(16, kind="stratified", scramble="owen")

@@ -1,5 +1,6 @@
 # Rendering from Python: the image the CLI writes, bit for bit; images
 # compared; bad input refused with the CLI's message.
+import re
 import subprocess
 
 import numpy as np
@@ -141,6 +142,33 @@ def test_study_words_render_with_their_sets_and_say_what_they_served(tmp_path, m
     assert "sets_seconds" not in first and first["setup_seconds"] > second["setup_seconds"]
     assert first["served_light"] > 0 and first["served_bsdf"] > 0
     assert np.array_equal(img, again)
+
+
+def test_one_seed_default_makes_the_sets_once_across_commands(tmp_path, monkeypatch, nuld_bin):
+    # nuld bank, then a study, then nuld render, then nuld.render, none given
+    # a seed: the first makes the map's sets, the other three find them.
+    monkeypatch.setenv("NULD_CACHE", str(tmp_path / "cache"))
+    opts = ["--opt-instances", "2", "--opt-epochs", "4"]
+    bank = subprocess.run([nuld_bin, "bank", "default", "--backend", "optimized", "--spp", "4",
+                           "-q"] + opts, capture_output=True, text=True, check=True)
+    assert re.search(r"^4 +light +made ", bank.stdout, re.M), bank.stdout
+    (made,) = (tmp_path / "cache" / "sets").glob("*.ptsb")
+    written = made.stat().st_mtime_ns
+    study = subprocess.run([nuld_bin, "study", "render", "default", "--res", "8x6", "--spp", "4",
+                            "--reference-spp", "8", "--repeats", "2", "--backends",
+                            "sobol,optimized", "--no-report", "-q", "-o",
+                            str(tmp_path / "study")] + opts,
+                           capture_output=True, text=True, check=True)
+    assert re.search(r"^optimized +4 ", study.stdout, re.M), study.stdout
+    render = subprocess.run([nuld_bin, "render", "default", "--backend", "optimized", "--spp",
+                             "4", "--res", "8", "-q", "-o", str(tmp_path / "r.exr")] + opts,
+                            capture_output=True, text=True, check=True)
+    assert "its 1 sets came from the set cache" in render.stderr, render.stderr
+    _, stats = nuld.render("default", backend="optimized", spp=4, resolution=(8, 5), stats=True,
+                           opt_instances=2, opt_epochs=4)
+    assert stats["sets_made"] == 0 and stats["sets_cached"] == 1
+    assert list((tmp_path / "cache" / "sets").glob("*.ptsb")) == [made]
+    assert made.stat().st_mtime_ns == written  # found three times, never made again
 
 
 def test_backend_notes_come_with_the_stats(tmp_path, monkeypatch):

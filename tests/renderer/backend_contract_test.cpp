@@ -75,7 +75,8 @@ TEST_P(BackendContract, PointsAreInTheUnitSquareAndAPureFunctionOfTheirArguments
   RenderSettings rs;
   rs.lobeTables.routing = LobeRouting::Table;  // every bin a context
   const LobeTables lobes(scene.materials, lobeTablesFor(rs));
-  SamplingTargets targets{scene.environment->target(), lobes.targets()};
+  // An image large enough for the pixels asked below (zsobol orders by it).
+  SamplingTargets targets{scene.environment->target(), lobes.targets(), 2048, 1024};
   auto a = makeBackend(spec(), 7), b = makeBackend(spec(), 7);
   a->prepare(kSpp, targets);
   b->prepare(kSpp, targets);
@@ -104,7 +105,7 @@ TEST_P(BackendContract, PointsAreInTheUnitSquareAndAPureFunctionOfTheirArguments
 
 TEST_P(BackendContract, AnSppItCannotServeIsRefusedAsARefusal) {
   const Scene scene = contractScene();
-  const SamplingTargets targets{scene.environment->target(), {}};
+  const SamplingTargets targets{scene.environment->target(), {}, 64, 32};
   const auto backend = makeBackend(spec(), 1);
   // Classic backends serve any spp; those with sets of one size refuse the
   // others, and only with a BackendRefusal (a study's skipped row).
@@ -141,7 +142,8 @@ TEST_P(BackendContract, RendersIdenticallyForAnyThreadCount) {
 }
 
 INSTANTIATE_TEST_SUITE_P(EverySpec, BackendContract,
-                         ::testing::Values("independent", "sobol", "halton", "sobol-tabulated",
+                         ::testing::Values("independent", "sobol", "halton", "stratified", "pmj02",
+                                           "zsobol", "lattice", "sobol-tabulated",
                                            "optimized:DIR/uniform.txt", "shifted:DIR/uniform.txt",
                                            "neural:DIR/uniform.nuldnet"),
                          [](const auto &info) {

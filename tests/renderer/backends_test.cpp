@@ -330,11 +330,12 @@ TEST(BackendRegistry, EveryWordParsesToItsKindAndBack) {
     EXPECT_FALSE(e.help.empty()) << e.name;
     EXPECT_EQ(&backendEntry(e.kind), &e);
   }
-  EXPECT_EQ(kinds.size(), 16u);
+  EXPECT_EQ(kinds.size(), 20u);
   // The classic words make their backends without files, named by their
   // word; the declared properties agree with what the backends report.
-  for (const char *word : {"independent", "random", "sobol", "halton", "sobol-tabulated",
-                           "independent-tabulated", "halton-tabulated"}) {
+  for (const char *word :
+       {"independent", "random", "sobol", "halton", "sobol-tabulated", "independent-tabulated",
+        "halton-tabulated", "stratified", "jittered", "pmj02", "zsobol", "lattice"}) {
     const BackendSpec spec = parseBackend(word);
     const auto backend = makeBackend(spec, 1);
     EXPECT_EQ(backend->samplesLobes(), spec.entry().lobes) << word;
@@ -353,8 +354,7 @@ TEST(BackendRegistry, UsesSetsAndShiftAreTheEntries) {
         EXPECT_NO_THROW(parseBackend(word, use)) << word;
       else
         EXPECT_THROW(parseBackend(word, use), std::invalid_argument) << word;
-      EXPECT_EQ(backendSpellings(use).find(e.spelling()) != std::string::npos,
-                (e.uses & use) != 0)
+      EXPECT_EQ(backendSpellings(use).find(e.spelling()) != std::string::npos, (e.uses & use) != 0)
           << e.name;
     }
     if (e.shiftable) {

@@ -25,6 +25,49 @@ TEST(ImageMetrics, MseAndRelMseByHand) {
   EXPECT_EQ(compareImages(ref, ref).mse, 0);
 }
 
+// The low-pass against a brute-force 2D convolution with the product
+// kernel, renormalized over the neighbours inside the image (which the
+// separable passes equal, the in-image neighbourhood being a rectangle).
+TEST(ImageMetrics, GaussianBlurIsTheRenormalizedProductKernel) {
+  const int w = 9, h = 6;
+  std::vector<double> v(std::size_t(w) * h);
+  for (std::size_t i = 0; i < v.size(); ++i) v[i] = std::sin(1.7 * double(i)) + 0.1 * double(i % 5);
+  for (const double sigma : {0.5, 1.0, 2.0}) {
+    const std::vector<double> blurred = gaussianBlur(v, w, h, sigma);
+    const int r = std::max(1, int(std::ceil(3 * sigma)));
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        double sum = 0, weight = 0;
+        for (int dy = -r; dy <= r; ++dy)
+          for (int dx = -r; dx <= r; ++dx) {
+            if (x + dx < 0 || x + dx >= w || y + dy < 0 || y + dy >= h) continue;
+            const double g = std::exp(-0.5 * (dx * dx + dy * dy) / (sigma * sigma));
+            sum += g * v[std::size_t(y + dy) * w + x + dx];
+            weight += g;
+          }
+        EXPECT_NEAR(blurred[std::size_t(y) * w + x], sum / weight, 1e-12) << x << "," << y;
+      }
+  }
+}
+
+// A uniform error is all the viewer sees (screen = mse); a pixel-by-pixel
+// alternating error of the same MSE mostly averages away; the Gaussian of
+// one pixel keeps exp(-2 pi^2 sigma^2 f^2)^2 of a frequency f's power
+// (Nyquist: f = 1/2 per axis, so about 0.005 inside the image).
+TEST(ImageMetrics, ScreenErrorSeesLowFrequenciesAndNotHighOnes) {
+  const Image ref = filled(32, 32, 1.0f);
+  const ImageError flat = compareImages(filled(32, 32, 1.25f), ref);
+  EXPECT_NEAR(flat.screen, flat.mse, 1e-12);
+  Image checker = ref;
+  for (int y = 0; y < 32; ++y)
+    for (int x = 0; x < 32; ++x)
+      for (int c = 0; c < 3; ++c) checker.at(x, y, c) = (x + y) % 2 ? 1.25f : 0.75f;
+  const ImageError hf = compareImages(checker, ref);
+  EXPECT_NEAR(hf.mse, flat.mse, 1e-12);
+  EXPECT_LT(hf.screen, 0.02 * hf.mse);
+  EXPECT_GT(hf.screen, 0.0);
+}
+
 TEST(ImageMetrics, NonFinitePixelsAreCountedNotAveraged) {
   Image ref = filled(2, 2, 0.5f), img = filled(2, 2, 0.5f);
   img.at(0, 1, 0) = std::nanf("");

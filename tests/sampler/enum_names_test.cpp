@@ -67,7 +67,9 @@ TEST(EnumNames, AliasesParseButAreNotListed) {
   EXPECT_EQ(parseBoxKind("two-point"), BoxKind::TwoPoint);
   EXPECT_EQ(toString(BoxKind::TwoPoint), "twopoint");
   EXPECT_EQ(parseEnum<SequenceKind>("independent"), SequenceKind::Random);
-  EXPECT_EQ(kSequenceKindNames.names(), (std::vector<std::string>{"sobol", "halton", "random"}));
+  EXPECT_EQ(
+      kSequenceKindNames.names(),
+      (std::vector<std::string>{"sobol", "halton", "random", "stratified", "pmj02", "lattice"}));
   EXPECT_EQ(kBoxKindNames.expected(), "multicorner, anchored or twopoint");
 }
 

@@ -199,5 +199,26 @@ TEST(AtomicFile, RefusesToReplaceWhatIsNotARegularFile) {
   EXPECT_EQ(text, "new");
 }
 
+// A file made read-only is kept, also through a link and for root (whose
+// writes ignore the mode).
+TEST(AtomicFile, RefusesToReplaceAReadOnlyFile) {
+  const test::TempDir dir;
+  const auto file = dir / "kept.txt", link = dir / "link.txt";
+  writeFileAtomically(file, "mine");
+  std::filesystem::permissions(
+      file, std::filesystem::perms::owner_read | std::filesystem::perms::group_read);
+  std::filesystem::create_symlink(file, link);
+  for (const auto &path : {file, link}) {
+    const std::string message =
+        test::errorMessage<std::runtime_error>([&] { writeFileAtomically(path, "new"); });
+    EXPECT_NE(message.find("kept.txt: is read-only; refusing to replace it"), std::string::npos)
+        << message;
+  }
+  std::ifstream in(file);
+  std::string text;
+  in >> text;
+  EXPECT_EQ(text, "mine");
+}
+
 }  // namespace
 }  // namespace nuld

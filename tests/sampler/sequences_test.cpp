@@ -178,9 +178,9 @@ TEST(Sequences, ParsingErrorsNameTheValue) {
     parseSequenceKind("sobel");
     FAIL();
   } catch (const std::invalid_argument &e) {
-    EXPECT_EQ(
-        std::string(e.what()),
-        "unknown sequence 'sobel' (did you mean 'sobol'?) (expected sobol, halton or random)");
+    EXPECT_EQ(std::string(e.what()),
+              "unknown sequence 'sobel' (did you mean 'sobol'?) (expected sobol, halton, random, "
+              "stratified, pmj02 or lattice)");
   }
   EXPECT_THROW(parseScramble("xor"), std::invalid_argument);
 }

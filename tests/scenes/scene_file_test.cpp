@@ -93,6 +93,16 @@ TEST_F(SceneFileTest, ValidFileBuildsWhatItNames) {
   for (float v : img.pixels) EXPECT_TRUE(std::isfinite(v));
 }
 
+// Without a "seed", a file's scene and the built-in ones take the one
+// default every command has (sampler/sequences/rng.h).
+TEST_F(SceneFileTest, TheSeedDefaultsToTheCommandsOne) {
+  const std::string path = valid(R"(, "seed": 3)", "");
+  EXPECT_EQ(loadScene(path, dir_.path().string()).seed, kDefaultSeed);
+  EXPECT_EQ(loadScene("default", "").seed, kDefaultSeed);
+  EXPECT_EQ(loadScene("stress", "").seed, kDefaultSeed);
+  EXPECT_EQ(kDefaultSeed, 1u);
+}
+
 TEST_F(SceneFileTest, NoEnvironmentMeansNoMapIsRead) {
   const std::string path = valid(R"("environment": {"file": "sky.exr", "scale": 2},)", "");
   EXPECT_FALSE(loadScene(path, dir_.path().string()).scene.environment);
@@ -159,6 +169,10 @@ TEST_F(SceneFileTest, DegenerateInputIsReportedAndExtremesRefused) {
       valid("\"radius\": 0.5", "\"radius\": 0.5, \"transform\": {\"translate\": [2e7, 0, 0]}"),
       {"scene.json", "meshes[1]", "mesh 'sphere' has a vertex at (2e+07", "+-1e7"});
   expectError(valid("\"eye\": [0, 2, 5]", "\"eye\": [0, 2, 5e9]"), {"camera.eye", "within +-1e7"});
+  // A display image is not radiance: refused, even where it exists.
+  std::filesystem::copy_file(dir_ / "sky.exr", dir_ / "sky.png");
+  expectError(valid("sky.exr", "sky.png"),
+              {"environment.file", "sky.png", "expected a linear HDR map (.exr, .hdr or .pfm)"});
   expectError(valid("\"look_at\": [0, 0, 0]", "\"look_at\": [0, 2, 5.0000000001]"),
               {"camera.look_at", "at least 1e-6 from 'eye'"});
   expectError(valid("\"fov\": 40", "\"fov\": 40, \"up\": [0, 0, 0]"),
@@ -282,7 +296,8 @@ namespace {
 // anything else and maps were compensated (tests/data/renders: made by
 // `nuld render default --res 48x32 --spp 4 --seed 3` with --backend sobol
 // --integrator path, and sobol-tabulated direct, before those changes),
-// while either default alone renders another image of the same scene. The
+// (up to the rounding of another CPU's Embree kernels) while either default
+// alone renders another image of the same scene. The
 // sobol-tabulated render was made again (`--lobe-choice uniform`, luminance
 // importance) when the primary-space lobe tables were removed, which its
 // measured routes had used; it equals the render from before their removal
@@ -315,9 +330,21 @@ TEST(DefaultScene, PapersConfigurationReproducesThePapersRenders) {
       const Image image = render(loaded.scene, s, *backend);
       ASSERT_EQ(image.pixels.size(), stored.pixels.size());
       const bool isPaper = choices.lobes == paper.lobes && choices.importance == paper.importance;
-      EXPECT_EQ(image.pixels == stored.pixels, isPaper)
-          << backendName << " " << toString(choices.lobes) << " "
-          << toString(loaded.scene.environment->weight());
+      // The largest difference of a value, relative to the stored one's
+      // magnitude (at least 0.01).
+      double largest = 0;
+      for (std::size_t i = 0; i < image.pixels.size(); ++i)
+        largest = std::max(largest, std::abs(double(image.pixels[i]) - stored.pixels[i]) /
+                                        std::max(0.01, std::abs(double(stored.pixels[i]))));
+      // Embree picks its intersection kernels by the CPU's instruction set,
+      // so another machine may trace a few rays a rounding apart (measured:
+      // 91 of 4608 values, at most 2.7e-5 relative, on an AMD EPYC without
+      // AVX-512); another configuration differs by whole percents.
+      if (isPaper)
+        EXPECT_LT(largest, 1e-3) << backendName;
+      else
+        EXPECT_GT(largest, 0.05) << backendName << " " << toString(choices.lobes) << " "
+                                 << toString(loaded.scene.environment->weight());
     }
   }
 }

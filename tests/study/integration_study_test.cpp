@@ -392,14 +392,15 @@ TEST(IntegrationStudySamplers, WordsMeanWhatTheyMeanInRenders) {
   EXPECT_FALSE(choices[0].tabulated);
   EXPECT_EQ(choices[1].name, "halton-tabulated");
   EXPECT_TRUE(choices[1].tabulated);
-  EXPECT_EQ(choices[1].kind, SamplerChoice::Kind::Halton);
+  EXPECT_EQ(choices[1].kind, SamplerChoice::Kind::Classic);
+  EXPECT_EQ(choices[1].sequence, SequenceKind::Halton);
   EXPECT_EQ(choices[2].name, "independent");
   EXPECT_EQ(choices[3].kind, SamplerChoice::Kind::BlueNoise);
   std::vector<std::string> defaults;
   for (const SamplerChoice &c : parseSamplers({}, {})) defaults.push_back(c.name);
   EXPECT_EQ(defaults, (std::vector<std::string>{"independent", "independent-tabulated", "sobol",
                                                 "sobol-tabulated", "halton", "halton-tabulated",
-                                                "optimized"}));
+                                                "stratified", "pmj02", "lattice", "optimized"}));
   for (const char *word : {"optimized-bsdf", "optimized-both+shift", "optimized+shift"})
     EXPECT_THROW(parseSamplers({word}, {}), std::invalid_argument) << word;
   try {

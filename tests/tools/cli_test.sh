@@ -222,7 +222,7 @@ grep -q '^sets_made 0$' "$dir/out" && grep -q '^setup_seconds ' "$dir/out" && ! 
 export NULD_CACHE="$dir/list-cache"
 "$nuld" render default --backend optimized-both --spp 4 --res 8 "${sets[@]}" --seed 3 -q -o "$dir/w.exr" >/dev/null 2>&1
 "$nuld" bank default --spp 4 --res 8 "${sets[@]}" --seed 3 -q >"$dir/out" 2>"$dir/err"
-head -1 "$dir/out" | grep -q '^spp  *pair  *state  *n  *instances  *seed  *epochs  *optimize_s  *size  *age  *key  *target$' &&
+head -1 "$dir/out" | grep -q '^spp  *pair  *state  *n  *instances  *seed  *epochs  *optimize_s  *size  *age  *kind  *nested  *union  *key  *target$' &&
   grep -q '^4  *light  *cached  *4  *2  *3  *5 .* envmap-compensated:procedural-sky$' "$dir/out" &&
   [[ $(grep -c '^4  *bsdf  *cached  *4  *2  *3  *5 .* disney:' "$dir/out") -ge 2 ]] && ! grep -q ' made ' "$dir/out" &&
   [[ -z $(grep ' bsdf ' "$dir/out" | awk '{print $NF}' | sort | uniq -d) ]] ||
@@ -241,6 +241,17 @@ head -1 "$dir/out" | grep -q '^n  *instances  *seed  *epochs ' &&
   [[ $(grep 'envmap-compensated:procedural-sky$' "$dir/out" | awk '{print $3 "/" $4}' | sort | tr '\n' ' ') == "3/5 4/6 5/6 " ]] &&
   [[ -z $(grep 'disney:' "$dir/out" | awk '{print $NF}' | sort | uniq -d) ]] ||
   { echo "FAIL: nuld cache list tells rows of one target apart by seed and epochs, and shows whole targets"; cat "$dir/out"; failures=$((failures + 1)); }
+# ... and tells a nested bank and the bank term's weight from the default
+# sets, and lists a checkpoint left behind with its size.
+grep -q ' 5  *6 .* optimized  *4,8  *3  *[0-9a-f]\{16\}  *envmap-compensated:procedural-sky$' "$dir/out" &&
+  grep -q ' 4  *6 .* optimized  *-  *3  *[0-9a-f]\{16\}  *envmap-compensated:procedural-sky$' "$dir/out" ||
+  { echo "FAIL: nuld cache list shows each entry's kind, nesting and union weight"; cat "$dir/out"; failures=$((failures + 1)); }
+printf 'x%.0s' {1..2000} >"$NULD_CACHE/sets/left_n4_0123456789abcdef.ptsb.ckpt"
+"$nuld" cache list >"$dir/out" 2>&1
+grep -q '^1 checkpoint of sets being made or left by an interrupted run' "$dir/out" &&
+  grep -q '^  2.0 KiB  [0-9]*s  left_n4_0123456789abcdef.ptsb.ckpt$' "$dir/out" ||
+  { echo "FAIL: nuld cache list shows stale checkpoints with their size"; cat "$dir/out"; failures=$((failures + 1)); }
+rm "$NULD_CACHE/sets/left_n4_0123456789abcdef.ptsb.ckpt"
 export NULD_CACHE="$dir/set-cache"
 # Sets for the MIS tables serve nothing under BSDF sampling alone through the
 # tables, whose density differs between the two.
@@ -368,7 +379,9 @@ grep -q 'mse/classic.*best_classic' "$dir/out" && grep -q '^optimized-uniform .*
   { echo "FAIL: the table gives learned rows their ratio to the best classic and flags noisy references"; cat "$dir/out"; failures=$((failures + 1)); }
 sed -i 's/ halves=2//' "$dir/classic/default/reference.state"
 fails_with "study render refuses a reference without halves" "without two independent halves" "$nuld" study render default --res 16x12 --spp 4 --reference-spp 16 --integrator direct --backends sobol,sobol-tabulated,optimized-uniform --opt-epochs 5 --opt-instances 2 --repeats 2 -q --no-report -o "$dir/classic"
-fails_with "study report of an empty directory" "neither render.csv nor integrate.csv" "$nuld" study report "$dir/empty_study"
+fails_with "study report of a folder that does not exist" "empty_study: no such folder" "$nuld" study report "$dir/empty_study"
+mkdir "$dir/empty_study" && echo study >"$dir/empty_study/.nuld-folder"
+fails_with "study report of an empty study folder" "neither render.csv nor integrate.csv" "$nuld" study report "$dir/empty_study"
 
 # Integration study: the 2D integrands need no files.
 ok "study integrate tiny" "$nuld" study integrate --integrands gaussian*step,quarterdisc*bilinear --samplers independent,sobol --n 4,16 --instances 8 --no-plots -q -o "$dir/integ"
@@ -399,23 +412,99 @@ fi
 # the rerun says it resumed them (render continues sets by itself).
 interrupted=(render default --backend optimized --opt-objective soft --spp 4 --res 16 --opt-instances 2
   --opt-epochs 4000 -q -o "$dir/interrupted.exr")
-NULD_CACHE="$dir/interrupt-cache" "$nuld" "${interrupted[@]}" >"$dir/out" 2>"$dir/err" &
-pid=$!
-for _ in $(seq 1 300); do
-  compgen -G "$dir/interrupt-cache/sets/*.ckpt" >/dev/null && break
-  sleep 0.1
-done
-kill -INT "$pid"
-wait "$pid"
-rc=$?
-if [[ $rc -ne 130 ]] || ! grep -q "nuld: interrupted; the sets being made keep their checkpoints in $dir/interrupt-cache/sets" "$dir/err"; then
-  echo "FAIL: an interrupted render notes where its sets' checkpoints are: exit $rc"; tail -c 300 "$dir/err"
-  failures=$((failures + 1))
-fi
+# interrupted_while_making_sets WHAT CACHE COMMAND...: runs nuld with the set
+# cache CACHE, presses Ctrl-C once a set's checkpoint exists, and expects exit
+# 130 with the note naming where the checkpoints are.
+interrupted_while_making_sets() {
+  local what=$1 cache=$2; shift 2
+  NULD_CACHE="$cache" "$nuld" "$@" >"$dir/out" 2>"$dir/err" &
+  local pid=$!
+  for _ in $(seq 1 300); do
+    compgen -G "$cache/sets/*.ckpt" >/dev/null && break
+    sleep 0.1
+  done
+  kill -INT "$pid"
+  wait "$pid"
+  local rc=$?
+  if [[ $rc -ne 130 ]] || ! grep -q "nuld: interrupted; the sets being made keep their checkpoints in $cache/sets" "$dir/err"; then
+    echo "FAIL: an interrupted $what notes where its sets' checkpoints are: exit $rc"; tail -c 300 "$dir/err"
+    failures=$((failures + 1))
+  fi
+}
+interrupted_while_making_sets render "$dir/interrupt-cache" "${interrupted[@]}"
 NULD_CACHE="$dir/interrupt-cache" "$nuld" "${interrupted[@]}" >"$dir/out" 2>"$dir/err" ||
   { echo "FAIL: the interrupted render's rerun"; failures=$((failures + 1)); }
 grep -q "nuld: note: sets resuming from $dir/interrupt-cache/sets/.*\.ckpt at epoch" "$dir/err" ||
   { echo "FAIL: a rerun says it resumed the interrupted sets"; tail -c 300 "$dir/err"; failures=$((failures + 1)); }
+
+# Nothing lost: a study and a bank pointed at a folder holding files they did
+# not write leave every one of them byte for byte, naming one of them; a
+# render refuses a read-only output; a study's own folder takes its reruns.
+mkdir -p "$dir/proj/plots" "$dir/proj/default" "$dir/mybank"
+echo "<html>mine</html>" >"$dir/proj/index.html"
+echo "my plot" >"$dir/proj/plots/render_default.png"
+echo "my render" >"$dir/proj/default/sobol_spp4.exr"
+echo "# my bank" >"$dir/mybank/README.md"
+cp -r "$dir/proj" "$dir/proj.orig"
+cp -r "$dir/mybank" "$dir/mybank.orig"
+fails_with "a study into a folder of other files" "holds files nuld study did not write (e.g. " \
+  "$nuld" study render default --res 8x6 --spp 4 --reference-spp 8 --backends sobol -q -o "$dir/proj"
+fails_with "a bank into a folder of other files" "mybank: holds files nuld bank did not write (e.g. README.md)" \
+  "$nuld" bank default --backend optimized --spp 4 --res 8 --opt-instances 2 --opt-epochs 4 -q -o "$dir/mybank"
+fails_with "a study report of a folder no study made" "not a folder nuld study made" "$nuld" study report "$dir/proj"
+diff -r "$dir/proj" "$dir/proj.orig" >/dev/null && diff -r "$dir/mybank" "$dir/mybank.orig" >/dev/null &&
+  [[ ! -e "$dir/proj/.nuld-folder" && ! -e "$dir/mybank/.nuld-folder" ]] ||
+  { echo "FAIL: a refused study or bank left the folder's files as they were"; failures=$((failures + 1)); }
+fails_with "a bank into a study's folder" "a folder nuld study wrote" \
+  "$nuld" bank default --backend optimized --spp 4 --res 8 --opt-instances 2 --opt-epochs 4 -q -o "$dir/study"
+ok "a bank into an empty folder, twice" "$nuld" bank default --backend optimized --spp 4 --res 8 --opt-instances 2 --opt-epochs 4 -q -o "$dir/emptybank"
+ok "a bank rerun into its own folder" "$nuld" bank default --backend optimized --spp 4 --res 8 --opt-instances 2 --opt-epochs 4 -q -o "$dir/emptybank"
+ok "render the marked bank folder" "$nuld" render default --backend optimized:"$dir/emptybank" --spp 4 --res 8 -q -o "$dir/eb.exr"
+cp "$dir/eb.exr" "$dir/ro.exr" && chmod a-w "$dir/ro.exr" && cp "$dir/ro.exr" "$dir/ro.orig"
+fails_with "a render over a read-only file" "ro.exr: is read-only; refusing to replace it" \
+  "$nuld" render default --spp 1 --res 8 -q -o "$dir/ro.exr"
+cmp -s "$dir/ro.exr" "$dir/ro.orig" || { echo "FAIL: a read-only output was replaced"; failures=$((failures + 1)); }
+exits_with 2 "an output named .EXR" "$nuld" render default --spp 1 --res 8 -q -o "$dir/out.EXR"
+# Messages that tell the truth: a backend whose sets the integrator never
+# draws is refused before rendering, saying so; one repeat decides nothing.
+fails_with "optimized under the bsdf integrator" "the bsdf integrator samples BSDFs only" \
+  "$nuld" render default --backend optimized --integrator bsdf --spp 4 --res 8 -q -o "$dir/x.exr"
+fails_with "optimized-bsdf under the light integrator" "the light integrator samples the light only" \
+  "$nuld" render default --backend optimized-bsdf --integrator light --spp 4 --res 8 -q -o "$dir/x.exr"
+"$nuld" study render default --res 8x6 --spp 4 --reference-spp 8 --repeats 1 --backends sobol,halton -q --no-report -o "$dir/one" >"$dir/out" 2>&1
+grep -q '^halton  *4 .* n/a ' "$dir/out" && ! grep -Eq '^halton .* (better|worse) ' "$dir/out" ||
+  { echo "FAIL: a study of one repeat gives no verdict"; cat "$dir/out"; failures=$((failures + 1)); }
+# A point-set file that names no target serves as uniform points, with a note.
+"$nuld" generate --sequence sobol --n 4 --instances 4 -o "$dir/plain.txt" >/dev/null 2>&1
+sed -i '/^# target/d' "$dir/plain.txt"
+"$nuld" render default --backend optimized:"$dir/plain.txt" --spp 4 --res 8 -q -o "$dir/x.exr" >/dev/null 2>"$dir/err"
+grep -q "plain.txt: names no target (no '# target: SPEC' line), so its points serve as uniform primary samples" "$dir/err" ||
+  { echo "FAIL: a point file without a target is used with a note"; cat "$dir/err"; failures=$((failures + 1)); }
+# Ctrl-C in nuld bank says where the checkpoints of its sets are.
+interrupted_while_making_sets bank "$dir/bank-interrupt" bank default --backend optimized --opt-objective soft \
+  --spp 4 --res 16 --opt-instances 2 --opt-epochs 4000 -q
+
+# One seed default everywhere: bank, then a study, then a render, with no
+# --seed, make the map's sets once (the one entry is never written again).
+export NULD_CACHE="$dir/flow-cache"
+"$nuld" bank default --backend optimized --spp 4 --opt-instances 2 --opt-epochs 4 -q >"$dir/out" 2>&1
+entries=("$NULD_CACHE"/sets/*.ptsb)
+cp "${entries[0]}" "$dir/flow-set.orig"
+"$nuld" study render default --res 8x6 --spp 4 --reference-spp 8 --repeats 2 --backends sobol,optimized \
+  --opt-instances 2 --opt-epochs 4 -q --no-report -o "$dir/flow-study" >"$dir/out.study" 2>&1
+"$nuld" render default --backend optimized --spp 4 --res 8 --opt-instances 2 --opt-epochs 4 -q -o "$dir/flow.exr" >"$dir/out" 2>"$dir/err"
+entries=("$NULD_CACHE"/sets/*.ptsb)
+[[ ${#entries[@]} -eq 1 ]] && cmp -s "${entries[0]}" "$dir/flow-set.orig" && grep -q '^optimized  *4 ' "$dir/out.study" &&
+  grep -q '^nuld: optimized: its 1 sets came from the set cache$' "$dir/err" ||
+  { echo "FAIL: bank, study and render with no seed make one set"; ls "$NULD_CACHE/sets"; cat "$dir/out.study" "$dir/err"; failures=$((failures + 1)); }
+export NULD_CACHE="$dir/set-cache"
+
+# Sizes are checked before memory is taken: refused at once, with the memory.
+start=$(date +%s%N)
+fails_with "generate beyond the machine's memory" "generate: --n 2000000000 x --instances 1 points needs about .* of memory, more than this machine's" \
+  "$nuld" generate --n 2000000000 -o "$dir/big.txt"
+(( ($(date +%s%N) - start) / 1000000 < 1000 )) || { echo "FAIL: the refusal of a huge --n took a second or more"; failures=$((failures + 1)); }
+[[ ! -e "$dir/big.txt" ]] || { echo "FAIL: a refused generate wrote its output"; failures=$((failures + 1)); }
 
 echo "$((failures == 0 ? 1 : 0)) passed, $failures failed"
 exit $((failures > 0))

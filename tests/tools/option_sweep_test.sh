@@ -116,5 +116,28 @@ done
 (($(echo $everywhere $rendersOnly $integrateOnly | wc -w) >= 16)) ||
   { echo "FAIL: help backends lists fewer words than the registry holds"; failures=$((failures + 1)); }
 
+# A render the machine cannot hold is refused before anything is allocated
+# (the renderer's check, renderMemoryBytes through requireMemory, which
+# nuld.render makes too): a rejected value, exit 2, in under a second, with
+# the memory it would need. The CLI's largest request (32768 x 32768 pixels,
+# 2^24 spp, paths of 1000 bounces) exceeds any machine's memory; a 32000 x
+# 32000 render at the scene's spp needs about 23 GiB (the image and its
+# preview), which only a smaller machine refuses.
+cases=$((cases + 1))
+start=$(date +%s%N)
+timeout 20 "$nuld" render default --res 32768x32768 --spp 16777216 --max-depth 1000 -q \
+  -o "$out/huge.exr" >"$out/stdout" 2>"$out/stderr"
+rc=$? ms=$((($(date +%s%N) - start) / 1000000))
+if [[ $rc -ne 2 ]] || ! grep -q '^nuld: error: render: --res: a 32768 x 32768 render at 16777216 spp needs about .* of memory, more than this machine' "$out/stderr"; then
+  echo "FAIL ($rc): render --res 32768x32768 --spp 16777216: expected exit 2 and the memory needed:"
+  head -3 "$out/stderr"; failures=$((failures + 1))
+elif ((ms >= 1000)); then
+  echo "FAIL: render --res 32768x32768 --spp 16777216: refused after $ms ms, not under a second"
+  failures=$((failures + 1))
+elif compgen -G "$out/huge.*" >/dev/null; then
+  echo "FAIL: render --res 32768x32768: wrote $(ls "$out"/huge.*) although it refused"
+  failures=$((failures + 1))
+fi
+
 echo "option sweep: $cases options, $words backend-word checks, $failures failed"
 ((failures == 0))

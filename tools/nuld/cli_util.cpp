@@ -13,6 +13,7 @@
 #include "sampler/diagnostics.h"
 #include "sampler/io/pointset_metadata.h"
 #include "sampler/io/round_trip.h"
+#include "sampler/optimize/optimizer.h"
 #include "sampler/targets/basic_targets.h"
 #include "sampler/targets/target_spec.h"
 #include "tools/study/set_cache.h"
@@ -232,12 +233,24 @@ std::string setsDirectory(const study::SetSettings &s) {
       .string();
 }
 
+std::string setsInterruptNote(const std::string &setsDir) {
+  return "the sets being made keep their checkpoints in " + setsDir +
+         " (the set cache): run the same command again to continue them";
+}
+
 void addSetOptions(CLI::App &app, study::SetSettings &s) {
   app.add_option("--opt-instances", s.instances,
                  "instances of the optimized backends' sets (default 16, as the paper)")
       ->check(positiveNumber());
+  const auto epochsOf = [](const char *preset) {
+    return std::to_string(presetSettings(preset, 16).epochs);
+  };
   app.add_option("--opt-epochs", s.epochs,
-                 "epochs of their optimization (default: the preset's, e.g. 5000 on the sphere)")
+                 "epochs of the map's and the uniform sets' optimization (default: the "
+                 "preset's: " +
+                     epochsOf("sphere-exact") + " for the map's sets (" + epochsOf("sphere") +
+                     " under --opt-objective soft), " + epochsOf("uniform") +
+                     " for optimized-uniform)")
       ->check(positiveNumber());
   app.add_option("--opt-lobe-epochs", s.lobeEpochs,
                  "epochs of the lobe banks (default: --opt-epochs if given, else 250)")

@@ -156,6 +156,8 @@ void addSetOptions(CLI::App &app, study::SetSettings &s);
 // The directory where those sets, and the checkpoints of sets being made,
 // live: the set cache's (s.cacheDir, else $NULD_CACHE, ...).
 std::string setsDirectory(const study::SetSettings &s);
+// What an interrupted command that makes sets says (InterruptNote's note).
+std::string setsInterruptNote(const std::string &setsDir);
 inline constexpr std::initializer_list<const char *> kSetOptionNames = {
     "--opt-instances", "--opt-epochs",    "--opt-lobe-epochs",
     "--opt-nested",    "--opt-objective", "--opt-union-weight"};

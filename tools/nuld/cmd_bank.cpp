@@ -6,9 +6,11 @@
 #include <filesystem>
 #include <iostream>
 
+#include "sampler/io/output_folder.h"
 #include "scenes/scene_file.h"
 #include "tools/nuld/cli_util.h"
 #include "tools/nuld/commands.h"
+#include "tools/nuld/interrupt_note.h"
 #include "tools/nuld/progress.h"
 #include "tools/study/render_study.h"
 #include "tools/study/set_cache.h"
@@ -72,9 +74,13 @@ Runner addBank(CLI::App &app) {
     RenderSettings s = change.appliedTo(loaded.settings);
     if (o->spp.empty()) o->spp = {s.spp};
     const std::uint64_t seed = o->seed >= 0 ? std::uint64_t(o->seed) : loaded.seed;
-    if (!o->output.empty()) std::filesystem::create_directories(o->output);
+    if (!o->output.empty()) claimOutputFolder(o->output, "bank");
     std::vector<study::SetListingRow> rows;
     std::filesystem::path dir;
+    // Sets are made with checkpoints in the set cache, and a rerun
+    // continues them by itself.
+    const std::string setsDir = setsDirectory(o->sets);
+    const InterruptNote interruptNote(setsDir, setsInterruptNote(setsDir));
     for (const std::size_t spp : o->spp) {
       s.spp = spp;
       ProgressBar bar("sets spp " + std::to_string(spp), 1000, 0, o->quiet);

@@ -1,6 +1,8 @@
 // nuld cache: the shared set cache (tools/study/set_cache.h): where it is,
 // what it holds and how much, and clearing it.
 
+#include <chrono>
+#include <filesystem>
 #include <iostream>
 
 #include "tools/nuld/commands.h"
@@ -15,7 +17,9 @@ Runner addCache(CLI::App &app) {
       "keyed by content (the target's density, the optimizer's settings), so studies in any\n"
       "directory, nuld render and the Python module share them across asset roots.");
   CLI::App *list = app.add_subcommand(
-      "list", "List the cached sets: N, instances, seed, epochs, size, age, key, target");
+      "list",
+      "List the cached sets (N, instances, seed, epochs, size, age, kind, nesting, bank term "
+      "weight, key, target), then any checkpoints with their size and age");
   CLI::App *clear = app.add_subcommand("clear", "Remove every cached set and checkpoint");
   CLI::App *path = app.add_subcommand("path", "Print the cache's directory");
   return [list, clear, path] {
@@ -38,6 +42,19 @@ Runner addCache(CLI::App &app) {
     std::cout << entries.size() << (entries.size() == 1 ? " entry, " : " entries, ")
               << study::humanBytes(cache.bytes()) << " in " << cache.setsDir().string()
               << " (each file's name ends in _KEY.ptsb)\n";
+    const auto checkpoints = cache.checkpoints();
+    if (!checkpoints.empty()) {
+      std::cout << "\n"
+                << checkpoints.size() << (checkpoints.size() == 1 ? " checkpoint" : " checkpoints")
+                << " of sets being made or left by an interrupted run (the same command "
+                   "continues one; nuld cache clear removes them):\n";
+      const auto now = std::filesystem::file_time_type::clock::now();
+      for (const auto &c : checkpoints)
+        std::cout << "  " << study::humanBytes(c.bytes) << "  "
+                  << study::humanAge(
+                         std::chrono::duration_cast<std::chrono::seconds>(now - c.modified))
+                  << "  " << c.file.filename().string() << "\n";
+    }
     return 0;
   };
 }

@@ -5,6 +5,7 @@
 #include "sampler/io/pointset_io.h"
 #include "sampler/io/pointset_metadata.h"
 #include "sampler/neural/neural_generator.h"
+#include "sampler/resources.h"
 #include "sampler/sequences/rng.h"
 #include "sampler/sequences/sequence.h"
 #include "sampler/targets/target_spec.h"
@@ -92,7 +93,7 @@ Runner addGenerate(CLI::App &app) {
   struct Options {
     std::string sequence = "sobol", scramble = "owen", target, output, model, gamma;
     std::size_t n = 0, instances = 1;
-    std::uint64_t seed = 0;
+    std::uint64_t seed = kDefaultSeed;
     int iterations = 0, slices = SlicedOtSettings{}.slices;
     double step = 0, sigma = GaussianBlueNoiseSettings{}.sigma;
     std::size_t targetSamples = 0;
@@ -100,10 +101,13 @@ Runner addGenerate(CLI::App &app) {
     bool quiet = false;
   };
   auto o = std::make_shared<Options>();
-  app.add_option("--sequence", o->sequence,
-                 "sobol, halton, random, the blue-noise baselines sot (sliced optimal "
-                 "transport) and gbn (Gaussian blue noise), optimized for --target, or "
-                 "sot-mapped and gbn-mapped (optimized uniformly, then --target's inverse CDF)")
+  app.add_option(
+         "--sequence", o->sequence,
+         "sobol, halton, random, the classic sets stratified (jittered: one point per "
+         "cell), pmj02 (progressive multi-jittered (0,2), N <= 65536) and lattice "
+         "(rank-1, its best-separated generator), the blue-noise baselines sot (sliced optimal "
+         "transport) and gbn (Gaussian blue noise), optimized for --target, or "
+         "sot-mapped and gbn-mapped (optimized uniformly, then --target's inverse CDF)")
       ->check(CLI::IsMember([] {
         std::vector<std::string> names = kSequenceKindNames.names();
         for (const std::string &b : kBlueNoiseNames.names()) names.push_back(b);
@@ -132,9 +136,12 @@ Runner addGenerate(CLI::App &app) {
                  "sot, gbn: size of the target's stratified sample (default max(64 N, 16384) "
                  "for sot, max(4 N, 4096) for gbn; the uniform target needs none)");
   app.add_flag("-q,--quiet", o->quiet, "no progress bar");
-  app.add_option("--scramble", o->scramble, "owen, shift (digital), cp (Cranley-Patterson) or none")
-      ->check(oneOf(kScrambleNames))
-      ->capture_default_str();
+  app.add_option("--scramble", o->scramble,
+                 "owen, shift (digital), cp (Cranley-Patterson) or none; default owen, but cp "
+                 "for lattice (cp and shift both shift it on the torus) and none for stratified "
+                 "(its jitter is its randomization; nothing else applies); pmj02 takes owen, "
+                 "shift or none (one fixed sequence)")
+      ->check(oneOf(kScrambleNames));
   app.add_option("--n", o->n,
                  "points per set (any N >= 1; required unless --model; a graph model makes "
                  "any N, its training size by default)")
@@ -170,14 +177,26 @@ Runner addGenerate(CLI::App &app) {
     }
     onlyWhen(app, false, {"--gamma"}, "--model");
     if (o->n == 0) throw std::invalid_argument("generate: --n is required (or --model)");
+    // The sets are held whole before they are written.
+    requireMemory(double(o->n) * double(o->instances) * sizeof(Point2),
+                  "generate: --n " + std::to_string(o->n) + " x --instances " +
+                      std::to_string(o->instances) + " points");
     if (blueNoise) {
       if (app.count("--scramble"))
         throw std::invalid_argument("generate: --scramble does not apply to --sequence " +
                                     o->sequence + " (its sets start from independent points)");
       return generateBlueNoise(*o, app);
     }
-    SequenceOptions so{parseSequenceKind(o->sequence), parseScramble(o->scramble), o->seed};
-    if (so.kind != SequenceKind::Random && so.scramble == Scramble::None && o->instances > 1)
+    const SequenceKind kind = parseSequenceKind(o->sequence);
+    const SequenceOptions so{
+        kind, app.count("--scramble") ? parseScramble(o->scramble) : defaultScramble(kind),
+        o->seed};
+    try {
+      checkScramble(so);
+    } catch (const std::invalid_argument &e) {
+      throw UsageError(std::string("generate: --scramble: ") + e.what());  // exits 2
+    }
+    if (!randomizesInstances(so) && o->instances > 1)
       std::cerr << "nuld: warning: unscrambled " << o->sequence << " gives identical instances\n";
     PointSet set = generatePointSet(so, o->n, o->instances);
     if (!o->target.empty()) mapByInverseCdf(set, *makeTarget(o->target));
@@ -192,7 +211,7 @@ Runner addMap(CLI::App &app) {
   struct Options {
     std::string input, target, output;
     std::size_t shifts = 0;
-    std::uint64_t seed = 0;
+    std::uint64_t seed = kDefaultSeed;
   };
   auto o = std::make_shared<Options>();
   app.add_option("file", o->input, "point-set file of uniform points")->required();

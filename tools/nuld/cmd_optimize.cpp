@@ -13,6 +13,7 @@
 #include "sampler/metrics/discrepancy.h"
 #include "sampler/optimize/optimizer.h"
 #include "sampler/resources.h"
+#include "sampler/sequences/rng.h"
 #include "sampler/targets/target_spec.h"
 #include "tools/nuld/cli_util.h"
 #include "tools/nuld/commands.h"
@@ -37,7 +38,7 @@ struct OptimizeOptions {
   long unionGroup = 0;
   std::string nested;
   double nestedPower = 1;
-  std::uint64_t seed = 0;
+  std::uint64_t seed = kDefaultSeed;
   RunFlags run;
 };
 
@@ -331,6 +332,7 @@ Runner addOptimize(CLI::App &app) {
                  "weight (M / N)^power of a prefix's loss beside the full set's (default 1)")
       ->check(nonNegativeNumber());
   app.add_option("--seed", o->seed, "seed of the Sobol start and of the boxes")
+      ->capture_default_str()
       ->check(wholeNumber());
   addRunFlags(app, o->run, "epoch");
   app.add_option("-o,--output", o->output, "point-set file to write")->required();

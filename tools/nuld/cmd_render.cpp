@@ -53,10 +53,12 @@ std::string joinReasons(const std::string &plan, const std::string &backend) {
 }
 
 // One note when the served pairs fell back for some first-bounce contexts:
-// the share served and why the rest fell back ("" when all were served).
+// the share served and why the rest fell back (the plan's and the
+// backend's reasons); when all were served, what the backend decided alone.
 std::string fallbackNote(const std::string &backend,
                          const std::vector<SamplerBackend::PairUse> &served,
-                         const std::string &why) {
+                         const std::string &plan, const std::string &decided) {
+  const std::string why = joinReasons(plan, decided);
   std::uint64_t ok = 0, all = 0;
   std::string parts;
   for (const auto &u : served) {
@@ -64,7 +66,7 @@ std::string fallbackNote(const std::string &backend,
     parts += (parts.empty() ? "" : ", ") + u.pair + " " + std::to_string(u.served) + " of " +
              std::to_string(u.served + u.fellBack);
   }
-  if (ok == all) return "";
+  if (ok == all) return decided;  // what the backend decided still stands
   char share[16];
   std::snprintf(share, sizeof share, "%.0f %%", 100.0 * double(ok) / double(all));
   return backend + " served " + share + " of its first-bounce contexts (" + parts +
@@ -121,7 +123,8 @@ Runner addRender(CLI::App &app) {
                      std::to_string(kDefaultSeed) + ", as nuld bank's and the studies')")
       ->check(wholeNumberIn(0, std::int64_t(1) << 62));
   app.add_option("-o,--output", o->output, "output EXR (a tone-mapped PNG is written beside it)")
-      ->required();
+      ->required()
+      ->check(parsedBy(checkRenderName));
   app.add_flag("-q,--quiet", o->quiet, "no progress bar");
   return [o, &app] {
     checkRenderOutputs(o->output);
@@ -132,8 +135,17 @@ Runner addRender(CLI::App &app) {
     applyResolution(app, o->res, o->resScale, change);
     if (!o->integrator.empty()) change.integrator = parseIntegrator(o->integrator);
     if (o->maxDepth) change.maxDepth = o->maxDepth;
-    const RenderSettings s = change.appliedTo(loaded.settings);
-    onlyWhen(app, s.integrator == IntegratorKind::Path, {"--max-depth"}, "--integrator path");
+    // What the scene's settings with the command line's refuse (a render
+    // the machine cannot hold, --max-depth under an integrator other than
+    // path; the renderer's rules, which nuld.render applies too) is a usage
+    // error, as the options' own checks are.
+    RenderSettings s;
+    try {
+      s = change.appliedTo(loaded.settings);
+      change.checkApplicable(s, OverrideNames::options());
+    } catch (const std::invalid_argument &e) {
+      throw UsageError(std::string("render: ") + e.what());
+    }
     const std::uint64_t seed = o->seed >= 0 ? std::uint64_t(o->seed) : loaded.seed;
     // A study word makes (or finds in the set cache) its sets as a study
     // with this seed would, then renders through the banks that serve them.
@@ -148,9 +160,7 @@ Runner addRender(CLI::App &app) {
       const std::string setsDir = setsDirectory(o->sets);
       std::optional<InterruptNote> interruptNote;
       if (word.sets != BackendSets::None)
-        interruptNote.emplace(setsDir, "the sets being made keep their checkpoints in " + setsDir +
-                                           " (the set cache): run the same command again to "
-                                           "continue them");
+        interruptNote.emplace(setsDir, setsInterruptNote(setsDir));
       ProgressBar setsBar("sets", 1000, 0, o->quiet || word.sets == BackendSets::None);
       prepared = study::prepareStudyBackend(
           word, loaded.scene, s, study::slug(o->scene), o->sets, seed, {},
@@ -193,9 +203,8 @@ Runner addRender(CLI::App &app) {
     const std::string backendWord = o->backend.empty() ? loaded.backend : o->backend;
     // One note: what the sets served and why the rest fell back, the
     // backend's own decision included; or that decision alone.
-    const std::string note = served == 0 ? decided
-                                         : fallbackNote(backendWord, servedPairs(use),
-                                                        joinReasons(prepared.note, decided));
+    const std::string note =
+        served == 0 ? decided : fallbackNote(backendWord, servedPairs(use), prepared.note, decided);
     if (!note.empty()) std::cerr << "nuld: note: " << note << "\n";
     writeRender(o->output, image,
                 renderAttributes(loaded.name, loaded.scene, s, backend->name(), seed, stats));
@@ -233,16 +242,16 @@ Runner addCompare(CLI::App &app) {
   app.add_option("--error-map", o->errorMapPath,
                  "false-colour relative-error PNG (default: IMAGE_error.png)");
   app.footer(
-      "Prints 'mse VALUE' and 'relmse VALUE' over pixels and RGB channels;\n"
-      "relmse divides each squared error by (reference^2 + 0.01).");
+      "Prints 'mse VALUE', 'relmse VALUE' and 'screen_mse VALUE' over pixels and RGB\n"
+      "channels; relmse divides each squared error by (reference^2 + 0.01); screen_mse\n"
+      "low-passes the error image by a Gaussian of 1 pixel (truncated at 3) before\n"
+      "squaring: the error a viewer sees, where blue-noise error fades.");
   return [o] {
     // A PNG or JPEG holds tone-mapped display values (nuld render writes one
     // beside each EXR), an EXR, PFM or HDR linear radiance: their difference
     // measures the tone map, not the render.
     const auto display = [](const std::string &path) {
-      std::string ext = std::filesystem::path(path).extension().string();
-      for (char &c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-      return ext == ".png" || ext == ".jpg" || ext == ".jpeg";
+      return imageEncoding(path) == ImageEncoding::Display;
     };
     if (display(o->image) != display(o->reference)) {
       const std::string &png = display(o->image) ? o->image : o->reference;
@@ -259,7 +268,7 @@ Runner addCompare(CLI::App &app) {
           "render error");
     const Image img = readImage(o->image, false), ref = readImage(o->reference);
     const ImageError e = compareImages(img, ref);
-    std::printf("mse %.9g\nrelmse %.9g\n", e.mse, e.relmse);
+    std::printf("mse %.9g\nrelmse %.9g\nscreen_mse %.9g\n", e.mse, e.relmse, e.screen);
     if (e.nonFinitePixels) std::printf("nonfinite_pixels %zu\n", e.nonFinitePixels);
     std::string path = o->errorMapPath;
     if (path.empty())  // IMAGE.exr -> IMAGE_error.png, beside it

@@ -9,6 +9,7 @@
 #include <iostream>
 #include <optional>
 
+#include "sampler/sequences/rng.h"
 #include "scenes/scene_file.h"
 #include "tools/nuld/cli_util.h"
 #include "tools/nuld/commands.h"
@@ -28,7 +29,7 @@ struct IntegrateCliOptions {
   int optEpochs = 0;
   double optUnionWeight = study::kBankUnionWeight;
   std::string optObjective;
-  std::uint64_t seed = 0;
+  std::uint64_t seed = kDefaultSeed;
   LobeChoice lobeChoice = kDefaultLobeChoice;
   bool noPlots = false, quiet = false;
   bool envmapsNamed = false;  // --envmaps given
@@ -169,6 +170,7 @@ Runner addStudyIntegrate(CLI::App &app) {
                  "three Debevec maps, e.g. grace,galileo,beach; 'sun' is built in: the default "
                  "scene's sky with a sun 1e6 times brighter, the stability case)");
   app.add_option("--seed", o->seed, "seed of every randomization and of the optimization")
+      ->capture_default_str()
       ->check(wholeNumber());
   addLobeChoiceOption(app, o->lobeChoice);
   app.add_flag("--no-plots", o->noPlots, "write only the CSV");

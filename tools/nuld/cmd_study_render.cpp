@@ -10,6 +10,7 @@
 
 #include "renderer/path_integrator.h"
 #include "renderer/render.h"
+#include "sampler/io/output_folder.h"
 #include "scenes/scene_file.h"
 #include "tools/nuld/cli_util.h"
 #include "tools/nuld/commands.h"
@@ -52,10 +53,7 @@ class TaskBars {
   std::unique_ptr<ProgressBar> bar_;
 };
 
-// Better, worse or a tie against 1 at two standard errors.
-const char *verdictOf(double q, double se) {
-  return q + 2 * se < 1 ? "better" : q - 2 * se > 1 ? "worse" : "tie";
-}
+const char *verdictOf(double q, double se) { return study::verdictName(study::verdictOf(q, se)); }
 
 // MSE per (scene, backend, spp), with the ratio to sobol at the same spp,
 // the comparison the studies are about, to the best classic backend there
@@ -71,7 +69,12 @@ void printTable(const study::CsvTable &table, const study::CsvTable &references,
                     classicRatio = table.column("mse_ratio_best_classic"),
                     classicStderr = table.column("mse_ratio_best_classic_stderr"),
                     tooNoisy = table.column("reference_too_noisy"),
-                    breakEven = table.column("break_even_renders");
+                    breakEven = table.column("break_even_renders"),
+                    screen = table.column("screen_mse"),
+                    screenSobol = table.column("screen_ratio_sobol"),
+                    screenSobolStderr = table.column("screen_ratio_sobol_stderr"),
+                    screenClassic = table.column("screen_ratio_best_classic"),
+                    screenClassicStderr = table.column("screen_ratio_best_classic_stderr");
   std::map<std::pair<std::string, std::size_t>, const study::TimedRow *> sobol;
   for (const auto &r : rows)
     if (r.backend == "sobol") sobol[{r.scene, r.spp}] = &r;
@@ -104,9 +107,12 @@ void printTable(const study::CsvTable &table, const study::CsvTable &references,
                     study::parseNumber(value("variance")),
                     study::parseNumber(value("relvariance")));
       }
-      std::printf("\n%-22s %5s %11s %11s %13s %6s %13s %6s %-15s %8s %8s %8s %13s %6s %6s\n",
-                  "backend", "spp", "mse", "relmse", "mse/sobol", "vs", "mse/classic", "vs",
-                  "best_classic", "seconds", "setup_s", "total_s", "time/sobol", "vs", "pays@");
+      std::printf(
+          "\n%-22s %5s %11s %11s %13s %6s %13s %6s %-15s %8s %8s %8s %13s %6s %6s %11s %13s %6s "
+          "%13s\n",
+          "backend", "spp", "mse", "relmse", "mse/sobol", "vs", "mse/classic", "vs", "best_classic",
+          "seconds", "setup_s", "total_s", "time/sobol", "vs", "pays@", "screen", "scr/sobol", "vs",
+          "scr/classic");
       lastScene = r.scene;
     }
     const auto it = sobol.find({r.scene, r.spp});
@@ -137,15 +143,30 @@ void printTable(const study::CsvTable &table, const study::CsvTable &references,
       else if (std::isfinite(k))
         std::snprintf(paysAt, sizeof paysAt, "%.0f", k);
     }
+    // The screen-space error and its ratios (every row; "-" in an older file).
+    char screenText[24] = "-", screenSobolText[48] = "-", screenClassicText[48] = "-";
+    const char *screenVerdict = "-";
+    if (const double v = study::parseNumber(csv[screen]); std::isfinite(v))
+      std::snprintf(screenText, sizeof screenText, "%.4e", v);
+    if (const double q = study::parseNumber(csv[screenSobol]); std::isfinite(q)) {
+      const double se = study::parseNumber(csv[screenSobolStderr]);
+      std::snprintf(screenSobolText, sizeof screenSobolText, "%.3f+-%.3f", q, se);
+      if (r.backend != "sobol") screenVerdict = verdictOf(q, se);
+    }
+    if (const double q = study::parseNumber(csv[screenClassic]); std::isfinite(q))
+      std::snprintf(screenClassicText, sizeof screenClassicText, "%.3f+-%.3f", q,
+                    study::parseNumber(csv[screenClassicStderr]));
     const auto shortened = [](std::string name, std::size_t width) {
       return name.size() > width ? "..." + name.substr(name.size() - (width - 3)) : name;
     };
     std::printf(
-        "%-22s %5zu %11.4e %11.4e %13s %6s %13s %6s %-15s %8.3f %8.2f %8.3f %13s %6s %6s%s\n",
+        "%-22s %5zu %11.4e %11.4e %13s %6s %13s %6s %-15s %8.3f %8.2f %8.3f %13s %6s %6s %11s "
+        "%13s %6s %13s%s\n",
         shortened(r.backend, 22).c_str(), r.spp, r.mse, study::parseNumber(csv[relmse]), ratio,
         verdict, classicText, classicVerdict,
         csv[classic].empty() ? "-" : shortened(csv[classic], 15).c_str(), r.seconds, r.setupSeconds,
-        times[i].totalSeconds, timeRatio, timeVerdict, paysAt,
+        times[i].totalSeconds, timeRatio, timeVerdict, paysAt, screenText, screenSobolText,
+        screenVerdict, screenClassicText,
         csv[tooNoisy] == "1" ? "  reference too noisy for this row" : "");
   }
   std::printf("\nLowest error for the time (MSE x total seconds, setup over %s render%s):\n",
@@ -155,6 +176,7 @@ void printTable(const study::CsvTable &table, const study::CsvTable &references,
 }
 
 int runReport(const std::string &dir) {
+  requireOwnedFolder(dir, study::kStudyFolder);
   std::string why;
   const int status = study::runStudyScript("report.py", dir, &why);
   if (status < 0) {
@@ -313,7 +335,8 @@ Runner addStudyRender(CLI::App &app) {
     std::printf(
         "\n(MSE against the reference; mse/sobol < 1 beats Owen-Sobol at equal spp, +- its\n"
         " standard error over the repeats; vs: better or worse than sobol by more than two\n"
-        " standard errors, else tie. mse/classic, vs: a learned row against the classic\n"
+        " standard errors, else tie; n/a with one repeat. mse/classic, vs: a learned row against "
+        "the classic\n"
         " backend (best_classic) with the lowest MSE at that spp. A row whose MSE is below\n"
         " %gx the reference's own variance is marked: there the reference's noise, part of\n"
         " every MSE, decides the comparison. seconds: one render incl. the backend's sample\n"
@@ -321,7 +344,10 @@ Runner addStudyRender(CLI::App &app) {
         " cached); total_s: seconds + setup_s / --amortize; time/sobol: MSE x total_s over\n"
         " sobol's, below 1 reaching sobol's error sooner. pays@: a learned row's\n"
         " break_even_renders, the fewest renders sharing its setup after which it reaches\n"
-        " the best classic row's error sooner (never: it is not ahead per render). CSV: %s)\n",
+        " the best classic row's error sooner (never: it is not ahead per render). screen:\n"
+        " the MSE of the error image low-passed by a Gaussian of 1 pixel, the error a viewer\n"
+        " sees (blue-noise error fades); scr/sobol, vs: its ratio to sobol's; scr/classic: to\n"
+        " the classic row with the lowest screen error. CSV: %s)\n",
         study::kTooNoisyFactor, result.csv.string().c_str());
     std::fflush(stdout);  // the table before the report script's own lines
     return o->noReport ? 0 : runReport(o->out);

@@ -94,7 +94,9 @@ void addTrainingOptions(CLI::App &app, TrainOptions &o) {
   app.add_option("--lr-end", o.train.lrEnd, "final learning rate")->capture_default_str();
   app.add_option("--alpha", o.train.alphaStart, "initial sigmoid scale")->capture_default_str();
   app.add_option("--alpha-end", o.train.alphaEnd, "final sigmoid scale")->capture_default_str();
+  o.net.seed = kDefaultSeed;  // the commands' one default (sampler/sequences/rng.h)
   app.add_option("--seed", o.net.seed, "seed of the weights, B, batches and boxes")
+      ->capture_default_str()
       ->check(wholeNumber());
   app.add_option("--validation", o.train.validationSets,
                  "held-out (z, gamma) pairs scored by the grid L2 at every checkpoint (0: none)")

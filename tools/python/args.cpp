@@ -1,10 +1,16 @@
 #include "tools/python/args.h"
 
+#include <pybind11/stl.h>
+
+#include <algorithm>
 #include <climits>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
+#include <new>
 #include <stdexcept>
 
+#include "sampler/enum_names.h"
 #include "sampler/io/pointset_io.h"
 
 namespace nuld::python {
@@ -98,13 +104,27 @@ std::vector<double> numbers(py::handle h, const Arg &a) {
   return out;
 }
 
+py::array realArray(py::handle h, const Arg &a, const std::string &what) {
+  if (h.is_none() || py::isinstance<py::str>(h) || py::isinstance<py::bytes>(h))
+    a.typeError(what, h);
+  const py::array arr = py::array::ensure(h);
+  if (!arr) a.typeError(what, h);
+  // Integers and floats only: numpy would cast a bool to 0 or 1 and drop a
+  // complex number's imaginary part without a word.
+  const char kind = arr.dtype().kind();
+  if (kind != 'i' && kind != 'u' && kind != 'f') {
+    if (!py::isinstance<py::array>(h)) a.typeError(what, h);
+    throw py::type_error(a.function + ": " + a.name + ": expected " + what + " (got an array of " +
+                         std::string(py::str(arr.dtype())) + ")");
+  }
+  return arr;
+}
+
 namespace {
 
 DoubleArray pointArray(py::handle h, const Arg &a) {
-  if (h.is_none() || py::isinstance<py::str>(h))
-    a.typeError(kPointsShape + std::string(" of numbers"), h);
-  DoubleArray arr = DoubleArray::ensure(h);
-  if (!arr) a.typeError(kPointsShape + std::string(" of numbers"), h);
+  const DoubleArray arr =
+      DoubleArray::ensure(realArray(h, a, kPointsShape + std::string(" of real numbers")));
   if (!((arr.ndim() == 2 && arr.shape(1) == 2) || (arr.ndim() == 3 && arr.shape(2) == 2)) ||
       arr.size() == 0) {
     std::string shape;
@@ -143,6 +163,157 @@ bool flag(py::handle h, const Arg &a) {
   return py::cast<bool>(py::bool_(py::reinterpret_borrow<py::object>(h)));
 }
 
+Progress::Progress(py::handle h, const Arg &a) {
+  if (h.is_none()) return;
+  if (py::isinstance<py::bool_>(h)) {
+    bar_ = h.cast<bool>();
+    if (bar_) callback_ = py::module_::import("nuld.progress").attr("TextProgress")(a.function);
+    return;
+  }
+  if (!PyCallable_Check(h.ptr())) a.typeError("None, True, False or a callable", h);
+  callback_ = py::reinterpret_borrow<py::object>(h);
+}
+
+Progress::~Progress() {
+  if (!bar_) return;
+  try {
+    callback_.attr("close")();  // ends the bar's line
+  } catch (...) {
+    // a failing bar does not hide the call's own result or error
+  }
+}
+
+bool Progress::operator()(const py::dict &report) const {
+  const py::object answer = callback_(report);
+  return answer.is_none() || answer.cast<bool>();
+}
+
+std::vector<py::object> Signature::bind(const py::args &args, const py::kwargs &kwargs,
+                                        py::dict *rest) const {
+  const std::size_t most = std::min(positional, params.size());
+  if (args.size() > most)
+    throw py::type_error(function + ": takes " +
+                         (most == 0 ? std::string("no positional arguments")
+                                    : "at most " + std::to_string(most) + " positional argument" +
+                                          (most == 1 ? "" : "s")) +
+                         " (got " + std::to_string(args.size()) + ")");
+  std::vector<py::object> v(params.size());
+  for (std::size_t i = 0; i < args.size(); ++i) v[i] = args[i];
+  for (const auto &[key, value] : kwargs) {
+    const std::string k = py::str(key);
+    const auto p =
+        std::find_if(params.begin(), params.end(), [&](const Param &q) { return q.name == k; });
+    if (p != params.end()) {
+      py::object &slot = v[std::size_t(p - params.begin())];
+      if (slot)
+        throw py::type_error(function + ": argument '" + k +
+                             "' given twice (by position and by keyword)");
+      slot = py::reinterpret_borrow<py::object>(value);
+    } else if (rest && std::find(settings.begin(), settings.end(), k) != settings.end()) {
+      (*rest)[key] = value;
+    } else {
+      throw py::type_error(unknownKeyword(function, k, keywords()));
+    }
+  }
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    if (v[i]) continue;
+    if (!params[i].value)
+      throw py::type_error(function + ": missing argument '" + params[i].name + "'");
+    v[i] = params[i].value;
+  }
+  return v;
+}
+
+std::string Signature::docstring(const std::string &name, const std::string &doc,
+                                 bool method) const {
+  std::string s = name + "(" + (method ? "$self" : "");
+  for (std::size_t i = 0; i < params.size(); ++i) {
+    if (i > 0 || method) s += ", ";
+    if (i == positional) s += "*, ";
+    s += params[i].name;
+    if (params[i].value) s += "=" + std::string(py::repr(params[i].value));
+  }
+  if (!settings.empty()) s += ", **settings";
+  return s + ")\n--\n\n" + doc;
+}
+
+std::vector<std::string> Signature::keywords() const {
+  std::vector<std::string> out;
+  for (const Param &p : params) out.push_back(p.name);
+  out.insert(out.end(), settings.begin(), settings.end());
+  return out;
+}
+
+std::string unknownKeyword(const std::string &function, const std::string &word,
+                           const std::vector<std::string> &keywords) {
+  const std::string near = closestName(word, keywords);
+  return function + ": unknown keyword '" + word + "'" +
+         (near.empty() ? " (expected " + joinAlternatives(keywords) + ")"
+                       : "; did you mean '" + near + "'?");
+}
+
+void detail::requireArity(const Signature &s, std::size_t arguments) {
+  if (s.params.size() != arguments)
+    throw std::logic_error(s.function + ": the signature names " + std::to_string(s.params.size()) +
+                           " parameters, the binding takes " + std::to_string(arguments));
+}
+
+namespace {
+
+// The C++ library's own words (std::bad_alloc, vector::_M_default_append,
+// basic_string::substr, std::stoi's "stoi"), which say nothing to a Python
+// user.
+bool libraryText(const std::string &what) {
+  for (const char *word : {"std::", "_M_", "bad_alloc", "bad_array_new_length",
+                           "basic_string::", "__cxx", "vector::", "bitset::"})
+    if (what.find(word) != std::string::npos) return true;
+  for (const char *whole : {"stoi", "stol", "stoll", "stoul", "stoull", "stof", "stod", "stold"})
+    if (what == whole) return true;
+  return false;
+}
+
+std::string namedText(const std::string &function, const std::string &what) {
+  return what.rfind(function + ":", 0) == 0 ? what : function + ": " + what;
+}
+
+// A Python exception of `type` (pybind11 has no class for some).
+[[noreturn]] void raise(PyObject *type, const std::string &message) {
+  PyErr_SetString(type, message.c_str());
+  throw py::error_already_set();
+}
+
+[[noreturn]] void memoryError(const std::string &function) {
+  raise(PyExc_MemoryError, function +
+                               ": not enough memory for this call (fewer points, instances or "
+                               "pixels would fit)");
+}
+
+}  // namespace
+
+void rethrowNamed(const std::string &function) {
+  const std::string generic = function + ": a value out of the range this call can handle";
+  try {
+    throw;
+  } catch (py::error_already_set &) {
+    throw;  // a Python exception: a callback's, or KeyboardInterrupt
+  } catch (py::builtin_exception &) {
+    throw;  // the module's own refusal (Arg), named already
+  } catch (const std::bad_alloc &) {
+    memoryError(function);
+  } catch (const std::length_error &e) {
+    if (libraryText(e.what())) memoryError(function);  // a container asked for too much
+    throw py::value_error(namedText(function, e.what()));
+  } catch (const std::filesystem::filesystem_error &e) {
+    // The path first, as nuld's CLI says it (tools/nuld/main.cpp).
+    raise(PyExc_RuntimeError, namedText(function, e.path1().string() + ": " + e.code().message()));
+  } catch (const std::logic_error &e) {  // std::invalid_argument, std::out_of_range, ...
+    throw py::value_error(libraryText(e.what()) ? generic : namedText(function, e.what()));
+  } catch (const std::exception &e) {
+    raise(PyExc_RuntimeError, libraryText(e.what()) ? function + ": failed in a library it uses"
+                                                    : namedText(function, e.what()));
+  }
+}
+
 void bindArgs(py::module_ &m) {
   // The same reading for the pure-Python engines (nuld/qmc.py).
   m.def("_count", [](py::object v, const std::string &f, const std::string &name, std::size_t lo) {
@@ -151,11 +322,27 @@ void bindArgs(py::module_ &m) {
   m.def("_flag", [](py::object v, const std::string &f, const std::string &name) {
     return flag(v, {f, name});
   });
+  m.def("_seed", [](py::object v, const std::string &f, const std::string &name) {
+    return seed(v, {f, name});
+  });
   m.def("_points", [](py::object v, const std::string &f, const std::string &name) {
     std::size_t n, instances;
     const std::vector<Point2> p = points(v, {f, name}, n, &instances);
     return arrayOf(p, n, std::max<std::size_t>(instances, 1));
   });
+  // A call of a Python function read as Signature::bind reads one: refused
+  // in the module's words, else None.
+  m.def("_check_call",
+        [](const std::string &f, const std::vector<std::string> &names,
+           const std::vector<bool> &required, std::size_t positional,
+           const std::vector<std::string> &settings, py::tuple args, py::dict kwargs) {
+          Signature s{f, {}, settings, positional};
+          for (std::size_t i = 0; i < names.size(); ++i)
+            s.params.push_back(required[i] ? Param(names[i]) : Param(names[i], py::none()));
+          py::dict rest;
+          s.bind(py::reinterpret_borrow<py::args>(args), py::reinterpret_borrow<py::kwargs>(kwargs),
+                 &rest);
+        });
 }
 
 }  // namespace nuld::python

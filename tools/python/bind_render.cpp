@@ -4,9 +4,13 @@
 #include <pybind11/stl.h>
 #include <tbb/global_control.h>
 
+#include <atomic>
+#include <climits>
 #include <cstring>
+#include <initializer_list>
 #include <optional>
 #include <stdexcept>
+#include <thread>
 
 #include "renderer/backend_registry.h"
 #include "renderer/image_metrics.h"
@@ -30,18 +34,23 @@ FloatArray arrayOf(const Image &img) {
   return out;
 }
 
-Image imageOf(py::handle h, const Arg &arg) {
-  const std::string what = arg.function + ": " + arg.name;
-  if (h.is_none() || py::isinstance<py::str>(h)) arg.typeError("an image array of numbers", h);
-  const FloatArray a = FloatArray::ensure(h);
-  if (!a) arg.typeError("an image array of numbers", h);
+// An image array (H, W) or (H, W, C), C from 1 to 4, of real numbers; with
+// `finite`, every value finite as nuld's image readers require.
+Image imageOf(py::handle h, const Arg &arg, bool finite) {
+  const std::string shape = "an image array of shape (H, W) or (H, W, C), C from 1 to 4";
+  const FloatArray a = FloatArray::ensure(realArray(h, arg, shape + ", of real numbers"));
   if (!(a.ndim() == 2 || (a.ndim() == 3 && a.shape(2) >= 1 && a.shape(2) <= 4)) ||
-      a.shape(0) == 0 || a.shape(1) == 0)
-    throw std::invalid_argument(what +
-                                ": expected an image array of shape (H, W) or (H, W, C), "
-                                "C from 1 to 4");
+      a.shape(0) == 0 || a.shape(1) == 0) {
+    std::string got;
+    for (py::ssize_t d = 0; d < a.ndim(); ++d) got += (d ? ", " : "") + std::to_string(a.shape(d));
+    throw py::value_error(arg.function + ": " + arg.name + ": expected " + shape + ", got (" + got +
+                          ")");
+  }
   Image img{int(a.shape(1)), int(a.shape(0)), a.ndim() == 3 ? int(a.shape(2)) : 1, {}};
   img.pixels.assign(a.data(), a.data() + a.size());
+  if (finite)
+    if (const std::string why = nonFinitePixel(img); !why.empty())
+      throw py::value_error(arg.function + ": " + arg.name + ": " + why);
   return img;
 }
 
@@ -55,17 +64,90 @@ std::pair<int, int> resolutionArg(py::handle h, const Arg &a) {
           int(wholeNumber(wh[1], {a.function, a.name + "[1]"}, 1, INT_MAX))};
 }
 
+// A render's progress for Python (render's `progress`, Ctrl-C): the sets'
+// making and the tiles, reported from whichever thread does the work. The
+// callable is called with the GIL, at most once a permille of each stage;
+// Ctrl-C is seen when the calling thread (the one Python's signal handlers
+// run on) finishes a tile or a report.
+class RenderProgress {
+ public:
+  explicit RenderProgress(const Progress &callback)
+      : callback_(callback), main_(std::this_thread::get_id()) {}
+  void operator()(const char *stage, long done, long total, const std::string &status) {
+    const bool report = callback_ && (1000 * done / total != last_.load() || done == total);
+    const bool main = std::this_thread::get_id() == main_;
+    if (!report && !main) return;
+    py::gil_scoped_acquire acquire;
+    if (main && PyErr_CheckSignals() != 0) throw py::error_already_set();  // Ctrl-C
+    if (!report) return;
+    last_ = 1000 * done / total;
+    py::dict d;
+    d["stage"] = stage, d["done"] = done, d["total"] = total, d["status"] = status;
+    callback_(d);
+  }
+  void nextStage() { last_ = -1; }
+
+ private:
+  const Progress &callback_;
+  const std::thread::id main_;
+  std::atomic<long> last_ = -1;  // the permille last reported
+};
+
+// "render: NAME applies to WHEN only", for each argument given that does not
+// apply (the rules of nuld render's onlyWhen).
+void onlyWhen(bool applies, std::initializer_list<std::pair<const char *, bool>> given,
+              const std::string &when) {
+  if (applies) return;
+  for (const auto &[name, isGiven] : given)
+    if (isGiven)
+      throw std::invalid_argument("render: " + std::string(name) + " applies to " + when + " only");
+}
+
 }  // namespace
 
 void bindRender(py::module_ &m) {
-  m.def(
-      "render",
-      [](py::object sceneArg, py::object backendArg, py::object sppArg, py::object resArg,
-         py::object integratorArg, py::object depthArg, py::object seedArg, py::object assetsArg,
-         py::object mixArg, py::object statsArg, py::object instancesArg, py::object epochsArg,
-         py::object lobeEpochsArg, py::object threadsArg, py::object choiceArg,
-         py::object importanceArg, py::object scaleArg, py::object routesArg,
-         py::object defensiveArg, py::object bouncesArg) {
+  // Any whole number (the range is RenderOverrides::check's), and one >= 1.
+  const auto anyWhole = [](py::handle h, const Arg &a) {
+    return int(wholeNumber(h, a, INT_MIN, INT_MAX));
+  };
+  const auto positive = [](py::handle h, const Arg &a) {
+    return int(wholeNumber(h, a, 1, INT_MAX));
+  };
+  defFunction(
+      m, "render",
+      {"render",
+       {Param("scene", "default"),
+        Param("backend", py::none()),
+        Param("spp", py::none()),
+        Param("resolution", py::none()),
+        Param("integrator", py::none()),
+        Param("max_depth", py::none()),
+        Param("seed", py::none()),
+        Param("assets", py::none()),
+        Param("lobe_mix", py::none()),
+        Param("stats", false),
+        Param("opt_instances", py::none()),
+        Param("opt_epochs", py::none()),
+        Param("opt_lobe_epochs", py::none()),
+        Param("threads", py::none()),
+        Param("lobe_choice", std::string(toString(kDefaultLobeChoice))),
+        Param("env_importance", py::none()),
+        Param("resolution_scale", 1.0),
+        Param("lobe_routes", py::none()),
+        Param("lobe_defensive", py::none()),
+        Param("lobe_bounces", py::none()),
+        Param("opt_nested", false),
+        Param("opt_objective", py::none()),
+        Param("opt_union_weight", py::none()),
+        Param("progress", py::none())}},
+      [anyWhole, positive](py::object sceneArg, py::object backendArg, py::object sppArg,
+                           py::object resArg, py::object integratorArg, py::object depthArg,
+                           py::object seedArg, py::object assetsArg, py::object mixArg,
+                           py::object statsArg, py::object instancesArg, py::object epochsArg,
+                           py::object lobeEpochsArg, py::object threadsArg, py::object choiceArg,
+                           py::object importanceArg, py::object scaleArg, py::object routesArg,
+                           py::object defensiveArg, py::object bouncesArg, py::object nestedArg,
+                           py::object objectiveArg, py::object unionArg, py::object progressArg) {
         const std::string f = "render";
         const std::string scene = text(sceneArg, {f, "scene"});
         const auto backend = optional(backendArg, {f, "backend"}, text);
@@ -73,20 +155,19 @@ void bindRender(py::module_ &m) {
             optional(sppArg, {f, "spp"}, [](py::handle h, const Arg &a) { return count(h, a); });
         const auto resolution = optional(resArg, {f, "resolution"}, resolutionArg);
         const auto integrator = optional(integratorArg, {f, "integrator"}, text);
-        const auto maxDepth = optional(depthArg, {f, "max_depth"}, [](py::handle h, const Arg &a) {
-          return int(wholeNumber(h, a, INT_MIN, INT_MAX));
-        });
+        const auto maxDepth = optional(depthArg, {f, "max_depth"}, anyWhole);
         const auto seed = optional(seedArg, {f, "seed"}, python::seed);
-        const std::string assets = text(assetsArg, {f, "assets"});
+        const auto assets = optional(assetsArg, {f, "assets"}, text);
         const auto lobeMix = optional(mixArg, {f, "lobe_mix"}, number);
         const bool stats = flag(statsArg, {f, "stats"});
-        const std::size_t optInstances = count(instancesArg, {f, "opt_instances"});
-        const int optEpochs = int(wholeNumber(epochsArg, {f, "opt_epochs"}, 0, INT_MAX));
-        const int optLobeEpochs =
-            int(wholeNumber(lobeEpochsArg, {f, "opt_lobe_epochs"}, 0, INT_MAX));
-        const auto threads = optional(threadsArg, {f, "threads"}, [](py::handle h, const Arg &a) {
-          return int(wholeNumber(h, a, 1, INT_MAX));
-        });
+        // The study's sets (--opt-*): unset, the study's defaults.
+        const auto optInstances = optional(instancesArg, {f, "opt_instances"}, positive);
+        const auto optEpochs = optional(epochsArg, {f, "opt_epochs"}, positive);
+        const auto optLobeEpochs = optional(lobeEpochsArg, {f, "opt_lobe_epochs"}, positive);
+        const bool optNested = flag(nestedArg, {f, "opt_nested"});
+        const auto optObjective = optional(objectiveArg, {f, "opt_objective"}, text);
+        const auto optUnion = optional(unionArg, {f, "opt_union_weight"}, number);
+        const auto threads = optional(threadsArg, {f, "threads"}, positive);
         const std::string lobeChoice = text(choiceArg, {f, "lobe_choice"});
         const auto importance = optional(importanceArg, {f, "env_importance"}, text);
         const double scale = number(scaleArg, {f, "resolution_scale"});
@@ -95,18 +176,34 @@ void bindRender(py::module_ &m) {
               "render: resolution_scale: not with resolution (give one of the two)");
         const auto routes = optional(routesArg, {f, "lobe_routes"}, text);
         const auto defensive = optional(defensiveArg, {f, "lobe_defensive"}, number);
-        const auto bounces = optional(
-            bouncesArg, {f, "lobe_bounces"},
-            [](py::handle h, const Arg &a) { return int(wholeNumber(h, a, INT_MIN, INT_MAX)); });
+        const auto bounces = optional(bouncesArg, {f, "lobe_bounces"}, anyWhole);
+        const Progress progress(progressArg, {f, "progress"});
+        study::SetSettings sets;
+        if (optInstances) sets.instances = std::size_t(*optInstances);
+        sets.epochs = optEpochs.value_or(0);
+        sets.lobeEpochs = optLobeEpochs.value_or(0);
+        sets.nested = optNested;
+        if (optObjective) {
+          sets.envObjective = kObjectiveNames.parse(*optObjective);
+          if (sets.envObjective != Objective::SoftBoxes &&
+              sets.envObjective != Objective::ExactL2asd)
+            Arg{f, "opt_objective"}.valueError("'soft' or 'l2asd'", objectiveArg);
+        }
+        if (optUnion) {
+          if (*optUnion < 0) Arg{f, "opt_union_weight"}.valueError("a weight >= 0", unionArg);
+          sets.unionWeight = *optUnion;
+        }
         // Cores for this call (as the CLI's --threads), released on return.
         std::optional<tbb::global_control> limit;
         if (threads) limit.emplace(tbb::global_control::max_allowed_parallelism, *threads);
         const bool builtIn = isBuiltInScene(scene);
+        onlyWhen(!builtIn, {{"assets", bool(assets)}},
+                 "scene files (the built-in scenes need no assets)");
         const SceneChoices choices{
             kLobeChoiceNames.parse(lobeChoice),
             importance ? std::optional(kImportanceNames.parse(*importance)) : std::nullopt};
-        LoadedScene loaded =
-            loadScene(scene, builtIn ? std::string() : resolveAssetRoot(assets), choices);
+        LoadedScene loaded = loadScene(
+            scene, builtIn ? std::string() : resolveAssetRoot(assets.value_or("")), choices);
         RenderOverrides change;
         change.spp = spp;
         if (resolution) change.width = resolution->first, change.height = resolution->second;
@@ -117,26 +214,49 @@ void bindRender(py::module_ &m) {
         if (routes) change.lobeRouting = kLobeRoutingNames.parse(*routes);
         change.lobeDefensive = defensive;
         change.lobeBounces = bounces;
+        // The values, the memory the render takes and the renderer's rules,
+        // as nuld render checks them.
         const RenderSettings s = change.appliedTo(loaded.settings, OverrideNames::python());
+        change.checkApplicable(s, OverrideNames::python());
         const std::uint64_t seedValue = seed ? *seed : loaded.seed;
         // The study's words make (or find in the set cache) their sets as
         // `nuld render` does, with the study's default --opt-* settings.
         const study::StudyBackend word =
             study::parseStudyBackend(backend ? *backend : loaded.backend);
-        study::SetSettings sets;
-        sets.instances = optInstances;
-        sets.epochs = optEpochs;
-        sets.lobeEpochs = optLobeEpochs;
+        onlyWhen(word.makesSets(),
+                 {{"opt_instances", bool(optInstances)},
+                  {"opt_epochs", bool(optEpochs)},
+                  {"opt_lobe_epochs", bool(optLobeEpochs)},
+                  {"opt_nested", optNested},
+                  {"opt_objective", bool(optObjective)},
+                  {"opt_union_weight", bool(optUnion)}},
+                 "the study's backends that make sets (optimized, optimized-bsdf, ...)");
+        if (lobeMix || routes || defensive || bounces)
+          onlyWhen(s.integrator != IntegratorKind::Light && word.samplesLobes(),
+                   {{"lobe_mix", bool(lobeMix)},
+                    {"lobe_routes", bool(routes)},
+                    {"lobe_defensive", bool(defensive)},
+                    {"lobe_bounces", bool(bounces)}},
+                   "a backend that samples lobe tables (sobol-tabulated, lobe banks) and an "
+                   "integrator other than light");
         study::PreparedBackend prepared;
         RenderStats st;
         Image img;
         std::unique_ptr<SamplerBackend> b;
+        RenderProgress report(progress);
         {
           py::gil_scoped_release release;
-          prepared = study::prepareStudyBackend(word, loaded.scene, s, study::slug(scene), sets,
-                                                seedValue);
+          prepared = study::prepareStudyBackend(
+              word, loaded.scene, s, study::slug(scene), sets, seedValue, {},
+              [&](const std::string &, double fraction, const std::string &status) {
+                report("sets", long(1000 * fraction), 1000, status);
+              });
+          report.nextStage();
           b = makeBackend(prepared.spec, seedValue);
-          img = render(loaded.scene, s, *b, &st);
+          img = render(loaded.scene, s, *b, &st, [&](std::size_t done, std::size_t all) {
+            report("render", long(done), long(all),
+                   std::to_string(done) + "/" + std::to_string(all) + " tiles");
+          });
         }
         FloatArray out = arrayOf(img);
         if (!stats) return py::object(out);
@@ -164,51 +284,50 @@ void bindRender(py::module_ &m) {
         }
         return py::object(py::make_tuple(out, d));
       },
-      py::arg("scene") = "default", py::arg("backend") = py::none(), py::arg("spp") = py::none(),
-      py::arg("resolution") = py::none(), py::arg("integrator") = py::none(),
-      py::arg("max_depth") = py::none(), py::arg("seed") = py::none(), py::arg("assets") = "",
-      py::arg("lobe_mix") = py::none(), py::arg("stats") = false, py::arg("opt_instances") = 16,
-      py::arg("opt_epochs") = 0, py::arg("opt_lobe_epochs") = 0, py::arg("threads") = py::none(),
-      py::arg("lobe_choice") = std::string(toString(kDefaultLobeChoice)),
-      py::arg("env_importance") = py::none(), py::arg("resolution_scale") = 1.0,
-      py::arg("lobe_routes") = py::none(), py::arg("lobe_defensive") = py::none(),
-      py::arg("lobe_bounces") = py::none(),
       R"(Renders a scene file (or 'default', 'stress') as `nuld render` does, to a
 linear float32 (H, W, 3) array, row 0 at the top. Unset arguments take the
-scene's values; resolution is (width, height); assets defaults to
-$NULD_ASSETS, else ../shared/assets. backend: any word `nuld help backends`
-lists, the study's optimized, optimized-bsdf, ... included (their sets made
-into the set cache, $NULD_CACHE, or found there; opt_instances, opt_epochs and
-opt_lobe_epochs as nuld render's --opt-*, 0 for the defaults; threads: the cores to
-use, default all; lobe_choice: how Disney materials pick a lobe, 'albedo' (the
-default), 'weight' or 'uniform' (the paper's configuration, with
-env_importance='luminance'), as --lobe-choice; env_importance: what weighs the
-environment map's sampling in place of the scene's, as --env-importance;
-resolution_scale, lobe_mix, lobe_routes, lobe_defensive and lobe_bounces as
---res-scale and the --lobe-* options). With stats=True returns
-(image, dict), the dict with what a learned backend's sets served per pair and,
-under 'note', what nuld render prints as notes.)");
+scene's values; resolution is (width, height); assets (scene files only)
+defaults to $NULD_ASSETS, else ../shared/assets. backend: any word `nuld
+help backends` lists, the study's optimized, optimized-bsdf, ... included
+(their sets made into the set cache, $NULD_CACHE, or found there; for those
+only, opt_instances, opt_epochs, opt_lobe_epochs, opt_nested, opt_objective
+and opt_union_weight as nuld render's --opt-*, unset: the CLI's defaults);
+threads: the cores to use, default all; lobe_choice: how Disney materials
+pick a lobe, 'albedo' (the default), 'weight' or 'uniform' (the paper's
+configuration, with env_importance='luminance'), as --lobe-choice;
+env_importance: what weighs the environment map's sampling in place of the
+scene's, as --env-importance; resolution_scale, max_depth (integrator path
+only), lobe_mix, lobe_routes, lobe_defensive and lobe_bounces (backends that
+sample lobe tables) as --res-scale, --max-depth and the --lobe-* options.
+progress: None (the default), True (a text bar on stderr) or a callable
+taking a dict (stage 'sets' or 'render', done, total, status); Ctrl-C raises
+KeyboardInterrupt. A render the machine cannot hold is refused before
+anything is made. With stats=True returns (image, dict), the dict with what
+a learned backend's sets served per pair and, under 'note', what nuld render
+prints as notes.)");
 
-  m.def(
-      "compare",
+  defFunction(
+      m, "compare", {"compare", {Param("image"), Param("reference")}},
       [](py::object image, py::object reference) {
-        const ImageError e = compareImages(imageOf(image, {"compare", "image"}),
-                                           imageOf(reference, {"compare", "reference"}));
+        // As nuld compare reads them: the image may hold non-finite pixels
+        // (counted), the reference may not (compareImages).
+        const ImageError e = compareImages(imageOf(image, {"compare", "image"}, false),
+                                           imageOf(reference, {"compare", "reference"}, false));
         py::dict d;
         d["mse"] = e.mse, d["relmse"] = e.relmse, d["nonfinite_pixels"] = e.nonFinitePixels;
         return d;
       },
-      py::arg("image"), py::arg("reference"),
-      "mse and relmse (as `nuld compare`) of an image against a reference of the same size");
+      "mse and relmse (as `nuld compare`) of an image against a finite reference of the same "
+      "size and channels; nonfinite_pixels counts the image's pixels left out");
 
-  m.def(
-      "read_image",
+  defFunction(
+      m, "read_image", {"read_image", {Param("path")}},
       [](py::object path) {
         return arrayOf(readImage(text(path, {"read_image", "path"}), false));
       },
-      py::arg("path"), "an EXR, PFM or PNG as a float32 array (H, W[, C])");
-  m.def(
-      "read_image_attributes",
+      "an EXR, PFM or PNG as a float32 array (H, W[, C])");
+  defFunction(
+      m, "read_image_attributes", {"read_image_attributes", {Param("path")}},
       [](py::object path) {
         py::dict d;
         for (const auto &[name, value] :
@@ -216,15 +335,15 @@ under 'note', what nuld render prints as notes.)");
           d[py::str(name)] = value;
         return d;
       },
-      py::arg("path"),
       "the nuld:* attributes of a render's EXR or PNG (scene, backend, spp, seed, ...)");
-  m.def(
-      "write_image",
+  defFunction(
+      m, "write_image", {"write_image", {Param("path"), Param("image")}},
       [](py::object path, py::object image) {
         const std::string file = text(path, {"write_image", "path"});
-        writeImage(file, imageOf(image, {"write_image", "image"}));
+        writeImage(file, imageOf(image, {"write_image", "image"}, true));
       },
-      py::arg("path"), py::arg("image"), "writes an image (EXR, PFM or PNG by extension)");
+      "writes an image (EXR or PNG, by extension); its values must be finite, as nuld's image "
+      "readers require");
 }
 
 }  // namespace nuld::python

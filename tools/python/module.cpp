@@ -1,6 +1,8 @@
-// The extension module behind `import nuld` (tools/python/README.md). C++
-// exceptions become Python's with the same message: std::invalid_argument
-// ValueError, std::runtime_error RuntimeError (pybind11's own translation).
+// The extension module behind `import nuld` (tools/python/README.md). Every
+// public function reads its call itself (args.h, Signature): its docstring
+// carries the signature Python's help and inspect show, and what C++ throws
+// reaches Python named by the function (ValueError, RuntimeError,
+// MemoryError), never in the library's words.
 
 #include "materials/disney_target.h"
 #include "tools/python/args.h"
@@ -8,6 +10,10 @@
 
 PYBIND11_MODULE(_nuld, m) {
   m.doc() = "nuld: non-uniform low-discrepancy point sets and a path tracer to test them";
+  // The functions take (*args, **kwargs); their docstrings say their own
+  // signatures (Signature::docstring).
+  pybind11::options options;
+  options.disable_function_signatures();
   nuld::registerMaterialTargets();  // `disney:...` target specs, as the CLI has them
   // Neural lobe banks in the set cache, as the CLI keeps them.
   nuld::setLobeBankStore(std::make_shared<nuld::study::SetCacheLobeBankStore>());

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <map>
 #include <stdexcept>
 
 #include "tools/study/csv_table.h"
@@ -80,7 +81,66 @@ const std::vector<std::string> &baselineColumns() {
   return names;
 }
 
+const std::vector<std::string> &screenColumns() {
+  static const std::vector<std::string> names{"screen_mse",
+                                              "screen_mse_stderr",
+                                              "screen_ratio_sobol",
+                                              "screen_ratio_sobol_stderr",
+                                              "best_classic_screen",
+                                              "screen_ratio_best_classic",
+                                              "screen_ratio_best_classic_stderr"};
+  return names;
+}
+
+namespace {
+
+// The screen columns' ratios, from each row's screen_mse (rows without one,
+// from an older file, get none).
+void fillScreenRatios(CsvTable &table) {
+  const std::size_t scene = table.column("scene"), backend = table.column("backend"),
+                    spp = table.column("spp"), mean = table.column(screenColumns()[0]),
+                    stderr_ = table.column(screenColumns()[1]);
+  struct Screen {
+    std::string backend;
+    double mean = NAN, stderr_ = NAN;
+  };
+  std::map<std::pair<std::string, std::string>, Screen> sobol, best;
+  std::vector<Screen> rows;
+  for (const auto &r : table.rows()) {
+    const Screen s{r[backend], parseNumber(r[mean]), parseNumber(r[stderr_])};
+    rows.push_back(s);
+    if (!std::isfinite(s.mean)) continue;
+    const auto key = std::pair(r[scene], r[spp]);
+    if (s.backend == "sobol") sobol[key] = s;
+    if (!isClassicBackend(s.backend)) continue;
+    if (const auto it = best.find(key); it == best.end() || s.mean < it->second.mean) best[key] = s;
+  }
+  std::vector<std::vector<std::string>> values(5);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const auto &r = table.rows()[i];
+    const auto key = std::pair(r[scene], r[spp]);
+    const auto ratioTo = [&](const std::map<std::pair<std::string, std::string>, Screen> &to) {
+      const auto it = to.find(key);
+      return it == to.end()
+                 ? Ratio{}
+                 : ratioOfMeans(rows[i].mean, rows[i].stderr_, it->second.mean, it->second.stderr_);
+    };
+    const Ratio toSobol = ratioTo(sobol), toBest = ratioTo(best);
+    const auto b = best.find(key);
+    values[0].push_back(formatNumber(toSobol.value));
+    values[1].push_back(formatNumber(toSobol.stderr_));
+    values[2].push_back(b == best.end() ? "" : b->second.backend);
+    values[3].push_back(formatNumber(toBest.value));
+    values[4].push_back(formatNumber(toBest.stderr_));
+  }
+  for (std::size_t k = 0; k < values.size(); ++k)
+    table.setColumn(screenColumns()[2 + k], values[k]);
+}
+
+}  // namespace
+
 void fillBaselineColumns(CsvTable &table, const std::map<std::string, ReferenceNoise> &noise) {
+  fillScreenRatios(table);
   const std::vector<TimedRow> rows = timedRows(table);
   const std::vector<ClassicBaseline> classic = classicBaselines(rows);
   const std::size_t relmseColumn = table.column("relmse");

@@ -68,7 +68,16 @@ struct NoiseCorrected {
 };
 NoiseCorrected lessReferenceNoise(double mse, double relmse, const ReferenceNoise &noise);
 
-// The names of render.csv's columns that fillBaselineColumns fills.
+// The screen-space error (renderer/image_metrics.h, ImageError::screen):
+// each row's mean over its repeats with its standard error (measured), then
+// its ratio to sobol's, the classic row with the lowest screen error at the
+// row's scene and spp, and the ratio to that one's, for every row (a
+// classic row's ratio says how far it is from the best). A file written
+// before these existed lacks them all.
+const std::vector<std::string> &screenColumns();
+
+// The names of render.csv's columns that fillBaselineColumns fills, beside
+// the screen columns' ratios (all of screenColumns but the first two).
 const std::vector<std::string> &baselineColumns();
 // Fills them in every row of the table (rewriting its file), from the
 // rows themselves and each scene's reference noise (a scene missing from

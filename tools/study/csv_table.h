@@ -10,6 +10,10 @@
 
 namespace nuld::study {
 
+// The owner's word in a study folder's mark (sampler/io/output_folder.h):
+// both studies and their report write into one folder.
+inline constexpr const char *kStudyFolder = "study";
+
 class CsvTable {
  public:
   // `derived`: columns computed from the others (setColumn), which a file

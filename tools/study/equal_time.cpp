@@ -83,7 +83,7 @@ std::vector<TimeVerdict> timeVerdicts(const std::vector<TimedRow> &rows, double 
     v.best.push_back(best.backend);
     for (std::size_t k = 1; k < g.size(); ++k) {
       const auto [q, se] = ratioOf(best, rows[g[k]], amortize);
-      if (q + 2 * se < 1) {  // separated: the first one beyond the tie
+      if (verdictOf(q, se) == Verdict::Better) {  // separated: the first one beyond the tie
         v.runnerUp = rows[g[k]].backend;
         v.separation = q;
         v.separationStderr = se;

@@ -59,25 +59,20 @@ namespace {
 std::uint64_t rowSeed(const IntegrateOptions &o, const Integrand &in, const SamplerChoice &s,
                       std::size_t n) {
   std::string key = s.name;
-  const bool classic = s.kind == SamplerChoice::Kind::Independent ||
-                       s.kind == SamplerChoice::Kind::Sobol ||
-                       s.kind == SamplerChoice::Kind::Halton;
+  const bool classic = s.kind == SamplerChoice::Kind::Classic;
   if (classic && s.tabulated) key.resize(key.size() - std::string_view("-tabulated").size());
   if (classic && !s.tabulated && in.lobeContribution) key += "-lobes";
   return hash3(o.seed, hashString(in.name + "|" + key), n);
 }
 
-// Owen-scrambled independent, Sobol or Halton sets, through the BRDF's own
+// A classic sampler's sets (its default randomization), through the BRDF's own
 // sample() on a lobe integrand (unless tabulated), else the target's inverse
 // CDF.
 class ClassicEstimator final : public Estimator {
  public:
   ClassicEstimator(const IntegrateOptions &o, const SamplerChoice &s) : o_(o), s_(s) {}
   Measurement measure(const Integrand &in, std::size_t n) const override {
-    const SequenceKind kind = s_.kind == SamplerChoice::Kind::Independent ? SequenceKind::Random
-                              : s_.kind == SamplerChoice::Kind::Halton    ? SequenceKind::Halton
-                                                                          : SequenceKind::Sobol;
-    const SequenceOptions so{kind, Scramble::Owen, rowSeed(o_, in, s_, n)};
+    const SequenceOptions so{s_.sequence, defaultScramble(s_.sequence), rowSeed(o_, in, s_, n)};
     Measurement m;
     std::vector<Point2> u(n), x(n);
     for (std::size_t k = 0; k < o_.instances; ++k) {
@@ -248,9 +243,7 @@ std::unique_ptr<Estimator> makeEstimator(const IntegrateOptions &o, const Sample
     case K::Neural:
       if (!model) throw std::logic_error("makeEstimator: a neural row without its model");
       return std::make_unique<NeuralEstimator>(o, s, *model);
-    case K::Independent:
-    case K::Sobol:
-    case K::Halton: break;
+    case K::Classic: break;
   }
   return std::make_unique<ClassicEstimator>(o, s);
 }

@@ -63,9 +63,11 @@ std::vector<SamplerChoice> parseSamplers(const std::vector<std::string> &tokens,
                                          const std::vector<std::string> &models) {
   using K = SamplerChoice::Kind;
   using B = BackendKind;
-  const std::vector<std::string> defaults{
-      "independent", "independent-tabulated", "sobol",    "sobol-tabulated",
-      "halton",      "halton-tabulated",      "optimized"};
+  const std::vector<std::string> defaults{"independent", "independent-tabulated",
+                                          "sobol",       "sobol-tabulated",
+                                          "halton",      "halton-tabulated",
+                                          "stratified",  "pmj02",
+                                          "lattice",     "optimized"};
   std::vector<SamplerChoice> out;
   const auto add = [&](SamplerChoice c) {
     for (const auto &o : out) {
@@ -103,16 +105,24 @@ std::vector<SamplerChoice> parseSamplers(const std::vector<std::string> &tokens,
       throw std::invalid_argument(std::string("--samplers: ") + e.what());
     }
     const std::string name = spec.entry().name;
+    const auto classic = [&](SequenceKind sequence, bool tabulated) {
+      SamplerChoice c{name, K::Classic, tabulated};
+      c.sequence = sequence;
+      return c;
+    };
     // Each classic sampler in its own mapping (a lobe integrand's BRDF
     // sample(), any other target's inverse CDF) or, -tabulated, through the
     // tabulated lobe's inverse CDF: the meanings renders give the words.
     switch (spec.kind) {
-      case B::Independent: add({name, K::Independent, false, {}, {}, false}); break;
-      case B::IndependentTabulated: add({name, K::Independent, true, {}, {}, false}); break;
-      case B::Sobol: add({name, K::Sobol, false, {}, {}, false}); break;
-      case B::SobolTabulated: add({name, K::Sobol, true, {}, {}, false}); break;
-      case B::Halton: add({name, K::Halton, false, {}, {}, false}); break;
-      case B::HaltonTabulated: add({name, K::Halton, true, {}, {}, false}); break;
+      case B::Independent: add(classic(SequenceKind::Random, false)); break;
+      case B::IndependentTabulated: add(classic(SequenceKind::Random, true)); break;
+      case B::Sobol: add(classic(SequenceKind::Sobol, false)); break;
+      case B::SobolTabulated: add(classic(SequenceKind::Sobol, true)); break;
+      case B::Halton: add(classic(SequenceKind::Halton, false)); break;
+      case B::HaltonTabulated: add(classic(SequenceKind::Halton, true)); break;
+      case B::Stratified: add(classic(SequenceKind::Stratified, false)); break;
+      case B::Pmj02: add(classic(SequenceKind::Pmj02, false)); break;
+      case B::Lattice: add(classic(SequenceKind::Lattice, false)); break;
       case B::Sot:
       case B::SotMapped:
       case B::Gbn:

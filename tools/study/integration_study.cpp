@@ -16,6 +16,7 @@
 #include "renderer/bank_backend.h"
 #include "renderer/neural_backend.h"
 #include "sampler/bluenoise/blue_noise_sets.h"
+#include "sampler/io/output_folder.h"
 #include "sampler/io/pointset_io.h"
 #include "sampler/neural/neural_generator.h"
 #include "sampler/optimize/optimizer.h"
@@ -406,6 +407,7 @@ IntegrateSummary runIntegrateStudy(const IntegrateOptions &o, const IntegrateHoo
       runner.note(s.name + ": no set of '" + s.paths + "' follows an integrand's target" +
                   (s.shifted ? " with a CDF map (image, envmap, disney)" : "") +
                   " or the uniform target; no rows");
+  if (Ranks::world().root()) claimOutputFolder(o.outDir, kStudyFolder);
   CsvTable table(integrateCsvPath(o.outDir), integrateColumns());
   table.loadExisting();
   table.requireOptions(rowOptions(o), Ranks::world().root());

@@ -31,6 +31,7 @@
 
 #include "sampler/optimize/optimizer.h"
 #include "sampler/point.h"
+#include "sampler/sequences/sequence.h"
 #include "tools/study/csv_table.h"
 #include "tools/study/integrands.h"
 #include "tools/study/optimized_sets.h"
@@ -81,9 +82,9 @@ std::vector<std::size_t> parseNList(const std::string &text);
 std::vector<std::string> splitList(const std::string &text);
 
 struct SamplerChoice {
-  enum class Kind { Independent, Sobol, Halton, Optimized, Neural, BlueNoise, Bank };
+  enum class Kind { Classic, Optimized, Neural, BlueNoise, Bank };
   std::string name;  // the CSV value
-  Kind kind = Kind::Sobol;
+  Kind kind = Kind::Classic;
   bool tabulated = false;  // a lobe integrand's table, not the BRDF's own sample()
   std::string model;       // Neural: the model file
   // Bank: the renderer's optimized:PATHS / points:PATHS / shifted:PATHS, the
@@ -91,12 +92,15 @@ struct SamplerChoice {
   // sets are shifted.
   std::string paths;
   bool shifted = false;
+  // Classic: the sampler (its default randomization: sequence.h).
+  SequenceKind sequence = SequenceKind::Sobol;
 };
 
 // Tokens: the backend registry's words that serve the integration study
 // (renderer/backend_registry.h, parsed there; a word means what it means in
 // renders): independent|random, sobol, halton and each -tabulated (on lobe
-// integrands through the tabulated lobe's inverse CDF), optimized (sets
+// integrands through the tabulated lobe's inverse CDF), stratified, pmj02,
+// lattice, optimized (sets
 // optimized for each integrand's target), optimized:PATHS|points:PATHS and
 // shifted:PATHS (sets from files, on the integrands whose target they
 // follow; uniform sets on every integrand, shifted per instance and mapped

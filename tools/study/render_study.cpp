@@ -17,6 +17,7 @@
 #include "renderer/sampler_backend.h"
 #include "sampler/io/image_io.h"
 #include "sampler/io/input_file.h"
+#include "sampler/io/output_folder.h"
 #include "sampler/targets/target_spec.h"
 #include "scenes/scene_file.h"
 #include "tools/study/baselines.h"
@@ -99,6 +100,7 @@ struct Cell {
 struct CellOutcome {
   std::vector<std::string> row;  // empty when refused
   std::string refusal;
+  std::string note;  // what the backend decided that a user should hear (its note())
   Image image;
   ImageAttributes attributes;
 
@@ -109,13 +111,14 @@ struct CellOutcome {
     return c;
   }
   std::string bytes() const {
-    return ByteWriter().put(row).put(refusal).put(image).put(attributes).take();
+    return ByteWriter().put(row).put(refusal).put(note).put(image).put(attributes).take();
   }
   static CellOutcome from(std::string_view bytes) {
     ByteReader r(bytes);
     CellOutcome c;
     r.get(c.row);
     r.get(c.refusal);
+    r.get(c.note);
     r.get(c.image);
     r.get(c.attributes);
     return c;
@@ -128,7 +131,7 @@ CellOutcome renderCell(
     const Cell &c, const RenderStudySettings &s,
     const std::function<void(std::size_t r, std::size_t d, std::size_t n)> &progress) {
   CellOutcome out;
-  std::vector<double> mse, relmse, whole, made, raysPerSecond;
+  std::vector<double> mse, relmse, screen, whole, made, raysPerSecond;
   std::size_t nonFinite = 0;
   std::uint64_t rejected = 0;
   for (std::size_t r = 0; r < s.repeats; ++r) {
@@ -149,11 +152,13 @@ CellOutcome renderCell(
     const ImageError e = compareImages(img, c.reference);
     mse.push_back(e.mse);
     relmse.push_back(e.relmse);
+    screen.push_back(e.screen);
     nonFinite += e.nonFinitePixels;
     rejected += stats.rejectedSamples;
     if (r == 0) {
       out.attributes = renderAttributes(c.sceneSlug, c.scene, c.settings, b->name(), s.seed, stats);
       out.image = std::move(img);
+      out.note = b->note();
     }
   }
   // Banks a backend made in its first repeat (neural) are setup, not render
@@ -181,6 +186,13 @@ CellOutcome renderCell(
              fs::relative(c.files().image, s.out).string(),
              fs::relative(c.files().errorMap, s.out).string()};
   out.row.resize(renderStudyColumns().size());  // baselineColumns: fillBaselineColumns
+  const MeanAndError sm = meanAndError(screen);
+  const auto at = [](const std::string &name) {
+    const auto &c = renderStudyColumns();
+    return std::size_t(std::find(c.begin(), c.end(), name) - c.begin());
+  };
+  out.row[at(screenColumns()[0])] = formatNumber(sm.mean);
+  out.row[at(screenColumns()[1])] = formatNumber(sm.stderr_);
   return out;
 }
 
@@ -211,6 +223,7 @@ const std::vector<std::string> &renderStudyColumns() {
   static const std::vector<std::string> all = [] {
     std::vector<std::string> c = columns;
     c.insert(c.end(), baselineColumns().begin(), baselineColumns().end());
+    c.insert(c.end(), screenColumns().begin(), screenColumns().end());
     return c;
   }();
   return all;
@@ -220,6 +233,9 @@ const std::vector<std::string> &renderStudyDerivedColumns() {
   static const std::vector<std::string> derived = [] {
     std::vector<std::string> d = equalTimeColumns();
     d.insert(d.end(), baselineColumns().begin(), baselineColumns().end());
+    // Measured (the first two) or derived, all missing from files written
+    // before they existed.
+    d.insert(d.end(), screenColumns().begin(), screenColumns().end());
     return d;
   }();
   return derived;
@@ -374,8 +390,9 @@ ScenePlan planScene(const SceneStudy &scene, const CsvTable &table, const Render
   }
   for (PlannedCell &c : plan.cells)
     c.plan =
-        planBackend(c.backend, sampledLight(scene.loaded.scene, scene.settings.integrator),
-                    plan.tables.get(), plan.lobeTargets, scene.slug, c.spp, s.sets, s.seed, s.spp);
+        planBackend(c.backend, scene.settings.integrator,
+                    sampledLight(scene.loaded.scene, scene.settings.integrator), plan.tables.get(),
+                    plan.lobeTargets, scene.slug, c.spp, s.sets, s.seed, s.spp);
   return plan;
 }
 
@@ -436,6 +453,9 @@ void renderCells(const Ranks &ranks, const SceneStudy &scene, const ScenePlan &p
         const PlannedCell &c = plan.cells[i];
         work += double(c.spp) * double(s.repeats);
         const CellOutcome outcome = CellOutcome::from(bytes);
+        if (!outcome.note.empty() &&
+            std::find(result.notes.begin(), result.notes.end(), outcome.note) == result.notes.end())
+          result.notes.push_back(outcome.note);
         if (outcome.row.empty()) {
           result.skipped.push_back(scene.slug + " " + c.backend.word + " " + std::to_string(c.spp) +
                                    ": " + outcome.refusal);
@@ -454,7 +474,7 @@ void renderCells(const Ranks &ranks, const SceneStudy &scene, const ScenePlan &p
 RenderStudyResult runRenderStudy(const RenderStudySettings &s, const StudyProgress &progress) {
   s.validate();
   const Ranks &ranks = Ranks::world();
-  if (ranks.root()) fs::create_directories(s.out);
+  if (ranks.root()) claimOutputFolder(s.out, kStudyFolder);
   RenderStudyResult result;
   result.csv = s.out / "render.csv";
   CsvTable table(result.csv, renderStudyColumns(), renderStudyDerivedColumns());

@@ -250,7 +250,9 @@ def render_section(root, scene, rows, ref, plots_dir, scale):
             ratio, se = ratio_to_sobol(r, sobol.get(s))
             # A win is a ratio two standard errors below 1, not one below 1
             # by noise; a loss, two above.
-            cls = ("win" if ratio + 2 * se < 1 else "loss" if ratio - 2 * se > 1 else "")
+            # One repeat's error is 0, which decides nothing.
+            cls = ("" if not se > 0 else
+                   "win" if ratio + 2 * se < 1 else "loss" if ratio - 2 * se > 1 else "")
             tip = (f"relMSE {fmt(r['relmse'])}, {num(r['seconds']):.3f} s, "
                    f"{int(num(r['repeats']))} repeat(s)")
             eq = num(r.get("equal_time_ratio"))

@@ -12,6 +12,7 @@
 #include "sampler/io/content_hash.h"
 #include "sampler/io/pointset_io.h"
 #include "sampler/io/pointset_metadata.h"
+#include "sampler/io/round_trip.h"
 #include "tools/study/optimized_sets.h"
 
 namespace nuld::study {
@@ -137,6 +138,9 @@ void SetCacheLobeBankStore::save(std::uint64_t model, const Target &table, std::
     PointSet sets = bank.sets;
     setMeta(sets, meta::kTarget, table.spec());
     setMeta(sets, meta::kServes, bank.serves ? "yes" : "no");
+    char checksum[24];
+    std::snprintf(checksum, sizeof checksum, "%016llx", static_cast<unsigned long long>(model));
+    setMeta(sets, meta::kModel, checksum);
     fs::create_directories(file.parent_path());
     writePointSet(file.string(), sets);
   } catch (const std::exception &e) {
@@ -211,6 +215,11 @@ SetCache::Entry SetCache::describe(const fs::path &file) {
     const std::string *recordedSeed = findMeta(set, meta::kSeed);
     if (seed || recordedSeed) entry.seed = std::stoull(seed ? *seed : *recordedSeed);
     if (const auto epochs = settingOf(settings, "epochs")) entry.epochs = std::stoi(*epochs);
+    entry.neural = file.filename().string().starts_with("neural_");
+    if (entry.neural) entry.model = metaOr(set, meta::kModel, "?");
+    entry.prefixes = metaOr(set, meta::kPrefixes, "");
+    if (const auto weight = settingOf(settings, "union"))
+      entry.unionWeight = std::stod(weight->substr(0, weight->find('/')));
   } catch (const std::exception &) {
     entry.target = "(unreadable)";
     entry.n = entry.instances = 0;
@@ -252,8 +261,8 @@ std::vector<std::string> setListing(const std::vector<std::string> &leadHeaders,
   // text columns align left, numbers right.
   std::vector<std::string> headers = leadHeaders;
   const std::size_t lead = headers.size();
-  for (const char *h :
-       {"n", "instances", "seed", "epochs", "optimize_s", "size", "age", "key", "target"})
+  for (const char *h : {"n", "instances", "seed", "epochs", "optimize_s", "size", "age", "kind",
+                        "nested", "union", "key", "target"})
     headers.push_back(h);
   std::vector<std::vector<std::string>> cells;
   for (const SetListingRow &row : rows) {
@@ -270,6 +279,9 @@ std::vector<std::string> setListing(const std::vector<std::string> &leadHeaders,
     line.push_back(seconds);
     line.push_back(humanBytes(e.bytes));
     line.push_back(humanAge(age));
+    line.push_back(e.neural ? "neural:" + e.model : e.n ? "optimized" : "-");
+    line.push_back(e.prefixes.empty() ? "-" : e.prefixes);
+    line.push_back(e.neural || !e.n ? "-" : formatRoundTrip(e.unionWeight));
     line.push_back(e.key.empty() ? "-" : e.key);
     line.push_back(e.target);
     cells.push_back(std::move(line));
@@ -291,6 +303,17 @@ std::vector<std::string> setListing(const std::vector<std::string> &leadHeaders,
   };
   std::vector<std::string> out{format(headers)};
   for (const auto &line : cells) out.push_back(format(line));
+  return out;
+}
+
+std::vector<SetCache::Checkpoint> SetCache::checkpoints() const {
+  std::vector<Checkpoint> out;
+  std::error_code ec;
+  for (const auto &e : filesIn(setsDir()))
+    if (e.path().extension() == ".ckpt")
+      out.push_back({e.path(), e.file_size(ec), e.last_write_time(ec)});
+  std::sort(out.begin(), out.end(),
+            [](const Checkpoint &a, const Checkpoint &b) { return a.file < b.file; });
   return out;
 }
 

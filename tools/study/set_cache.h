@@ -61,6 +61,13 @@ class SetCache {
     std::size_t n = 0, instances = 0;
     std::optional<std::uint64_t> seed;  // from the recorded settings
     std::optional<int> epochs;
+    // A neural model's lobe bank (modelEntry) rather than optimized sets,
+    // and then the model's checksum in hex ("?" for a bank saved before it
+    // was recorded).
+    bool neural = false;
+    std::string model;
+    std::string prefixes;    // a nested bank's prefix sizes, "4,16" ("" when not nested)
+    double unionWeight = 0;  // the bank term's weight (0: off)
     double optimizeSeconds = 0;
     std::filesystem::file_time_type modified{};
   };
@@ -77,6 +84,15 @@ class SetCache {
   // Complete entries in name order (not temporary files or checkpoints); an
   // unreadable file is listed with n = 0.
   std::vector<Entry> list() const;
+  // Checkpoints of sets being made, or left by an interrupted run (the same
+  // command continues them; clear() removes them), in name order: the
+  // file, its size and modification time.
+  struct Checkpoint {
+    std::filesystem::path file;
+    std::uintmax_t bytes = 0;
+    std::filesystem::file_time_type modified{};
+  };
+  std::vector<Checkpoint> checkpoints() const;
   // Bytes of everything under the cache's sets directory (checkpoints and
   // temporaries included).
   std::uintmax_t bytes() const;
@@ -107,9 +123,10 @@ class SetCacheLobeBankStore final : public LobeBankStore {
 // The listing of entries that nuld cache list and nuld bank print: a header
 // and one line per row, columns padded to their widest cell; `lead` columns
 // (a command's own, such as bank's spp and pair) come first, then n,
-// instances, seed, epochs, optimization seconds, size, age (from `now`), key and the whole target
-// last, never cut. Rows of the same target that differ in any setting
-// differ in their key.
+// instances, seed, epochs, optimization seconds, size, age (from `now`),
+// kind (optimized, or neural and the model's checksum), nesting, the bank
+// term's weight, key and the whole target last, never cut. Rows of the same target that differ in
+// any setting differ in their key.
 struct SetListingRow {
   std::vector<std::string> lead;
   SetCache::Entry entry;

@@ -46,6 +46,19 @@ inline Ratio ratioOfMeans(double a, double aStderr, double b, double bStderr) {
   return {q, q * std::sqrt(ra * ra + rb * rb)};
 }
 
+// A ratio against 1: better or worse by more than two standard errors, else
+// a tie; undecided when its error is not positive (a single repeat's error
+// is 0, which says nothing of the noise).
+enum class Verdict { Better, Tie, Worse, Undecided };
+inline Verdict verdictOf(double q, double se) {
+  if (!(se > 0) || !std::isfinite(q)) return Verdict::Undecided;
+  return q + 2 * se < 1 ? Verdict::Better : q - 2 * se > 1 ? Verdict::Worse : Verdict::Tie;
+}
+inline const char *verdictName(Verdict v) {
+  constexpr const char *names[] = {"better", "tie", "worse", "n/a"};
+  return names[int(v)];
+}
+
 // A render cell's repeats split into render time and one-time setup: each
 // repeat's `whole` seconds include `made`, the seconds its backend spent
 // making sets as it prepared (RenderStats::setsMadeSeconds: a neural

@@ -32,8 +32,9 @@ StudyBackend parseStudyBackend(const std::string &word) {
   return {word, spec, spec.setsToMake()};
 }
 
-BackendPlan planBackend(const StudyBackend &backend, const EnvironmentLight *light,
-                        const LobeTables *tables, const std::vector<const Target *> &lobeTargets,
+BackendPlan planBackend(const StudyBackend &backend, IntegratorKind integrator,
+                        const EnvironmentLight *light, const LobeTables *tables,
+                        const std::vector<const Target *> &lobeTargets,
                         const std::string &sceneSlug, std::size_t spp, const SetSettings &s,
                         std::uint64_t seed, const std::vector<std::size_t> &sppFamily) {
   using Sets = BackendSets;
@@ -92,7 +93,21 @@ BackendPlan planBackend(const StudyBackend &backend, const EnvironmentLight *lig
     plan.spec = banks();
     return plan;
   }
-  if (backend.makesEnvSets()) {
+  // An integrator that draws no light (or no BSDF) sample leaves that half
+  // of optimized-both out, and refuses a word that has no other half.
+  const bool envSets = backend.makesEnvSets() && integrator != IntegratorKind::Bsdf;
+  const bool lobeSets = backend.makesLobeSets() && integrator != IntegratorKind::Light;
+  if (backend.makesEnvSets() && !envSets && !lobeSets)
+    return {std::nullopt,
+            {},
+            "the bsdf integrator samples BSDFs only: no light sample for "
+            "the map's sets to serve"};
+  if (backend.makesLobeSets() && !envSets && !lobeSets)
+    return {std::nullopt,
+            {},
+            "the light integrator samples the light only: no BSDF sample "
+            "for lobe banks to serve"};
+  if (envSets) {
     if (!light || !light->target())
       return {std::nullopt, {}, "the scene has no (non-black) environment map to optimize for"};
     OptimizedSetsRequest env = request;
@@ -100,7 +115,7 @@ BackendPlan planBackend(const StudyBackend &backend, const EnvironmentLight *lig
     env.unionWeight = s.unionWeight;
     addSets(*light->target(), env, task);
   }
-  if (backend.makesLobeSets()) {
+  if (lobeSets) {
     // A bank per lobe table the renderer will build for this scene (the same
     // settings give the same specs), optimized for the exact L2asd
     // objective: as good as the sphere preset's soft boxes for these targets
@@ -180,8 +195,8 @@ PreparedBackend prepareStudyBackend(const StudyBackend &backend, const Scene &sc
     out.note = std::move(bins.note);
   }
   const BackendPlan plan =
-      planBackend(backend, sampledLight(scene, settings.integrator), tables.get(), lobeTargets,
-                  sceneName, settings.spp, sets, seed, sppFamily);
+      planBackend(backend, settings.integrator, sampledLight(scene, settings.integrator),
+                  tables.get(), lobeTargets, sceneName, settings.spp, sets, seed, sppFamily);
   if (!plan.spec) throw std::invalid_argument("backend '" + backend.word + "': " + plan.why);
   out.spec = *plan.spec;
   const std::vector<SetsJob> made = makeMissingSets(

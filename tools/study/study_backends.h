@@ -31,13 +31,14 @@ struct BackendPlan {
   std::vector<Found> found;  // nested entries that serve this spp (nothing to make)
 };
 
-// The plan of `backend` for the scene at `spp`, its sets in the set cache
-// (made or found there): environment-map sets for `light` (the light the
-// integrator samples, sampledLight), lobe banks for `lobeTargets` only;
+// The plan of `backend` for the scene at `spp` under `integrator`, its sets
+// in the set cache (made or found there): environment-map sets for `light`
+// (the light the integrator samples, sampledLight), lobe banks for `lobeTargets` only;
 // optimized with `seed`, a nested bank for the largest of `sppFamily`
 // (prepareStudyBackend).
-BackendPlan planBackend(const StudyBackend &backend, const EnvironmentLight *light,
-                        const LobeTables *tables, const std::vector<const Target *> &lobeTargets,
+BackendPlan planBackend(const StudyBackend &backend, IntegratorKind integrator,
+                        const EnvironmentLight *light, const LobeTables *tables,
+                        const std::vector<const Target *> &lobeTargets,
                         const std::string &sceneSlug, std::size_t spp, const SetSettings &sets,
                         std::uint64_t seed, const std::vector<std::size_t> &sppFamily);
 
