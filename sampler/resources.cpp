@@ -26,10 +26,14 @@ std::string formatBytes(double bytes) {
 
 void requireMemory(double bytes, const std::string &what) {
   const std::uint64_t have = physicalMemoryBytes();
-  if (have > 0 && !(bytes <= double(have)))
+  // The system and other processes hold part of it: a run that needs
+  // nearly all of it fails with std::bad_alloc or swaps for hours.
+  const double spare = kSpareMemoryShare * double(have);
+  if (have > 0 && !(bytes <= spare))
     throw std::invalid_argument(what + " needs about " + formatBytes(bytes) +
-                                " of memory, more than this machine's " +
-                                formatBytes(double(have)));
+                                " of memory, more than this machine's " + formatBytes(spare) +
+                                " to spare (" + std::to_string(int(100 * kSpareMemoryShare)) +
+                                " % of its " + formatBytes(double(have)) + ")");
 }
 
 }  // namespace nuld
