@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
+#include <complex>
 #include <filesystem>
+#include <numbers>
 #include <stdexcept>
 
 #include "sampler/io/atomic_file.h"
@@ -114,6 +117,66 @@ ImageError compareImages(const Image &img, const Image &ref) {
       screen += v * v;
   err.screen = screen / (3.0 * img.width * img.height);
   return err;
+}
+
+namespace {
+
+// In-place radix-2 FFT of `a` (its size a power of two), every `stride`th
+// value from `first`.
+void fft(std::vector<std::complex<double>> &a, std::size_t first, std::size_t n,
+         std::size_t stride) {
+  const auto at = [&](std::size_t i) -> std::complex<double> & { return a[first + i * stride]; };
+  for (std::size_t i = 1, j = 0; i < n; ++i) {  // bit-reversed order
+    std::size_t bit = n >> 1;
+    for (; j & bit; bit >>= 1) j ^= bit;
+    j ^= bit;
+    if (i < j) std::swap(at(i), at(j));
+  }
+  for (std::size_t len = 2; len <= n; len <<= 1) {
+    const double angle = -2 * std::numbers::pi / double(len);
+    for (std::size_t i = 0; i < n; i += len)
+      for (std::size_t k = 0; k < len / 2; ++k) {
+        const std::complex<double> w = std::polar(1.0, angle * double(k));
+        const std::complex<double> u = at(i + k), v = at(i + k + len / 2) * w;
+        at(i + k) = u + v;
+        at(i + k + len / 2) = u - v;
+      }
+  }
+}
+
+}  // namespace
+
+std::vector<double> errorPowerSpectrum(const Image &img, const Image &ref) {
+  requireSameShape(img, ref);
+  const int side = std::min(img.width, img.height);
+  if (side < 2) return {};
+  const std::size_t n = std::bit_floor(std::size_t(side));
+  const int x0 = (img.width - int(n)) / 2, y0 = (img.height - int(n)) / 2;
+  std::vector<std::complex<double>> f(n * n);
+  for (std::size_t y = 0; y < n; ++y)
+    for (std::size_t x = 0; x < n; ++x) {
+      const int px = x0 + int(x), py = y0 + int(y);
+      const double e = rec709Luminance(channel(img, px, py, 0), channel(img, px, py, 1),
+                                       channel(img, px, py, 2)) -
+                       rec709Luminance(channel(ref, px, py, 0), channel(ref, px, py, 1),
+                                       channel(ref, px, py, 2));
+      f[y * n + x] = std::isfinite(e) ? e : 0.0;  // a non-finite pixel counts as no error
+    }
+  for (std::size_t y = 0; y < n; ++y) fft(f, y * n, n, 1);
+  for (std::size_t x = 0; x < n; ++x) fft(f, x, n, n);
+  std::vector<double> sum(n / 2 + 1, 0.0), count(n / 2 + 1, 0.0);
+  for (std::size_t y = 0; y < n; ++y)
+    for (std::size_t x = 0; x < n; ++x) {
+      // Signed frequencies, so that the radius is the distance from 0.
+      const double fx = x <= n / 2 ? double(x) : double(x) - double(n),
+                   fy = y <= n / 2 ? double(y) : double(y) - double(n);
+      const auto r = std::size_t(std::lround(std::hypot(fx, fy)));
+      if (r > n / 2) continue;  // the corners beyond the inscribed circle
+      sum[r] += std::norm(f[y * n + x]) / double(n * n);
+      count[r] += 1;
+    }
+  for (std::size_t r = 0; r < sum.size(); ++r) sum[r] /= count[r];
+  return sum;
 }
 
 Image errorMap(const Image &img, const Image &ref) {

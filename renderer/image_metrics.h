@@ -45,6 +45,16 @@ ImageError compareImages(const Image &image, const Image &reference);
 std::vector<double> gaussianBlur(const std::vector<double> &values, int width, int height,
                                  double sigma);
 
+// The radially averaged power spectrum of the error's luminance (I - R):
+// over the largest power-of-two square centred in the image (side n), the
+// 2D DFT's |F(k)|^2 / n^2 averaged over the frequencies k of each integer
+// radius r = 0 .. n / 2 (r / n cycles per pixel). By Parseval the mean over
+// all k is the error's mean square, so white-noise error is flat at its
+// variance and blue-noise error rises with r. Empty for an image with a
+// side under 2. The shapes and channel counts checked as compareImages
+// checks them.
+std::vector<double> errorPowerSpectrum(const Image &image, const Image &reference);
+
 // Per-pixel relative squared error, log-scaled over [1e-4, 1] and coloured
 // from dark blue (small) through green and yellow to white (large); the
 // sizes and channel counts checked as compareImages checks them.

@@ -4,9 +4,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
+#include <numbers>
 
 #include "renderer/render.h"
 #include "sampler/io/image_io.h"
+#include "sampler/sequences/rng.h"
 #include "tests/common/temp_dir.h"
 
 namespace nuld {
@@ -66,6 +69,61 @@ TEST(ImageMetrics, ScreenErrorSeesLowFrequenciesAndNotHighOnes) {
   EXPECT_NEAR(hf.mse, flat.mse, 1e-12);
   EXPECT_LT(hf.screen, 0.02 * hf.mse);
   EXPECT_GT(hf.screen, 0.0);
+}
+
+// The spectrum against a brute-force DFT of the centred power-of-two crop
+// (an 8 x 8 square out of 11 x 9), radially averaged the same way.
+TEST(ImageMetrics, ErrorSpectrumIsTheRadiallyAveragedDft) {
+  const Image ref = filled(11, 9, 0.5f);
+  Image img = ref;
+  Rng rng(5);
+  for (float &v : img.pixels) v += float(rng.uniform() - 0.5);
+  const std::vector<double> spectrum = errorPowerSpectrum(img, ref);
+  const int n = 8, x0 = 1, y0 = 0;
+  std::vector<double> sum(n / 2 + 1, 0.0), count(n / 2 + 1, 0.0);
+  for (int ky = 0; ky < n; ++ky)
+    for (int kx = 0; kx < n; ++kx) {
+      std::complex<double> f = 0;
+      for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x)
+          f += (img.luminance(x0 + x, y0 + y) - ref.luminance(x0 + x, y0 + y)) *
+               std::polar(1.0, -2 * std::numbers::pi * (kx * x + ky * y) / n);
+      const double fx = kx <= n / 2 ? kx : kx - n, fy = ky <= n / 2 ? ky : ky - n;
+      const auto r = std::size_t(std::lround(std::hypot(fx, fy)));
+      if (r > std::size_t(n / 2)) continue;
+      sum[r] += std::norm(f) / (n * n);
+      count[r] += 1;
+    }
+  ASSERT_EQ(spectrum.size(), sum.size());
+  for (std::size_t r = 0; r < sum.size(); ++r)
+    EXPECT_NEAR(spectrum[r], sum[r] / count[r], 1e-12 * (1 + sum[r])) << r;
+}
+
+// White error is flat at its variance; a stripe pattern of 8 cycles peaks
+// at radius 8; an image with a side under 2 has no spectrum.
+TEST(ImageMetrics, ErrorSpectrumOfWhiteNoiseAndOfAStripe) {
+  const Image ref = filled(64, 64, 1.0f);
+  Image noise = ref;
+  Rng rng(11);
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 64; ++x) {
+      const float e = float(rng.uniform() - 0.5);  // variance 1/12
+      for (int c = 0; c < 3; ++c) noise.at(x, y, c) += e;
+    }
+  const std::vector<double> white = errorPowerSpectrum(noise, ref);
+  double low = 0, high = 0;
+  for (int r = 1; r <= 10; ++r) low += white[r] / 10;
+  for (int r = 22; r <= 31; ++r) high += white[r] / 10;
+  EXPECT_NEAR(low, 1.0 / 12, 0.2 / 12);
+  EXPECT_NEAR(high, 1.0 / 12, 0.1 / 12);
+  Image stripe = ref;
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 64; ++x)
+      for (int c = 0; c < 3; ++c)
+        stripe.at(x, y, c) += float(0.1 * std::cos(2 * std::numbers::pi * 8 * x / 64));
+  const std::vector<double> peak = errorPowerSpectrum(stripe, ref);
+  EXPECT_EQ(std::max_element(peak.begin(), peak.end()) - peak.begin(), 8);
+  EXPECT_TRUE(errorPowerSpectrum(filled(1, 5, 0.0f), filled(1, 5, 0.0f)).empty());
 }
 
 TEST(ImageMetrics, NonFinitePixelsAreCountedNotAveraged) {

@@ -119,6 +119,12 @@ TEST_F(TinyStudy, CsvHasItsColumnsAndUnits) {
     EXPECT_EQ(std::stod(r["setup_seconds"]) > 0, optimized) << r["backend"];
     EXPECT_TRUE(fs::exists(*dir_ / r["image"])) << r["image"];
     EXPECT_TRUE(fs::exists(*dir_ / r["error_map"])) << r["error_map"];
+    const fs::path spectrum =
+        *dir_ / (fs::path(r["image"]).replace_extension().string() + "_spectrum.csv");
+    std::ifstream in(spectrum);
+    std::string line;
+    std::getline(in, line);
+    EXPECT_EQ(line, "radius,cycles_per_pixel,power") << spectrum;
     // The screen-space error, with its ratios: below the MSE, since a
     // render's error at a few spp is mostly pixel noise, which the
     // Gaussian averages away.

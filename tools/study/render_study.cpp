@@ -15,6 +15,7 @@
 #include "renderer/image_metrics.h"
 #include "renderer/lobe_tables.h"
 #include "renderer/sampler_backend.h"
+#include "sampler/io/atomic_file.h"
 #include "sampler/io/image_io.h"
 #include "sampler/io/input_file.h"
 #include "sampler/io/output_folder.h"
@@ -72,13 +73,25 @@ void fillDerivedColumns(CsvTable &table, const CsvTable &refs, double amortize) 
 
 // Where a cell's first render and its error map go.
 struct CellFiles {
-  fs::path image, errorMap;
+  fs::path image, errorMap, spectrum;
   CellFiles(const fs::path &dir, const std::string &backend, std::size_t spp) {
     const std::string stem = slug(backend) + "_spp" + std::to_string(spp);
     image = dir / (stem + ".exr");
     errorMap = dir / (stem + "_error.png");
+    spectrum = dir / (stem + "_spectrum.csv");
   }
 };
+
+// The repeats' mean radially averaged power spectrum of the error
+// (errorPowerSpectrum) as CSV: radius, frequency in cycles per pixel, power.
+void writeSpectrum(const fs::path &file, const std::vector<double> &power) {
+  std::string text = "radius,cycles_per_pixel,power\n";
+  const double side = 2.0 * double(power.size() - 1);
+  for (std::size_t r = 0; r < power.size(); ++r)
+    text += std::to_string(r) + "," + formatNumber(double(r) / side) + "," +
+            formatNumber(power[r]) + "\n";
+  writeFileAtomically(file, text);
+}
 
 // One cell of the table: `repeats` renders of one backend at one spp,
 // scored against the reference.
@@ -100,7 +113,8 @@ struct Cell {
 struct CellOutcome {
   std::vector<std::string> row;  // empty when refused
   std::string refusal;
-  std::string note;  // what the backend decided that a user should hear (its note())
+  std::string note;              // what the backend decided that a user should hear (its note())
+  std::vector<double> spectrum;  // the repeats' mean errorPowerSpectrum
   Image image;
   ImageAttributes attributes;
 
@@ -111,7 +125,14 @@ struct CellOutcome {
     return c;
   }
   std::string bytes() const {
-    return ByteWriter().put(row).put(refusal).put(note).put(image).put(attributes).take();
+    return ByteWriter()
+        .put(row)
+        .put(refusal)
+        .put(note)
+        .put(spectrum)
+        .put(image)
+        .put(attributes)
+        .take();
   }
   static CellOutcome from(std::string_view bytes) {
     ByteReader r(bytes);
@@ -119,6 +140,7 @@ struct CellOutcome {
     r.get(c.row);
     r.get(c.refusal);
     r.get(c.note);
+    r.get(c.spectrum);
     r.get(c.image);
     r.get(c.attributes);
     return c;
@@ -153,6 +175,10 @@ CellOutcome renderCell(
     mse.push_back(e.mse);
     relmse.push_back(e.relmse);
     screen.push_back(e.screen);
+    const std::vector<double> spectrum = errorPowerSpectrum(img, c.reference);
+    out.spectrum.resize(spectrum.size());
+    for (std::size_t k = 0; k < spectrum.size(); ++k)
+      out.spectrum[k] += spectrum[k] / double(s.repeats);
     nonFinite += e.nonFinitePixels;
     rejected += stats.rejectedSamples;
     if (r == 0) {
@@ -464,6 +490,7 @@ void renderCells(const Ranks &ranks, const SceneStudy &scene, const ScenePlan &p
         const CellFiles files(scene.dir, c.backend.word, c.spp);
         writeRender(files.image.string(), outcome.image, outcome.attributes);
         writeImage(files.errorMap.string(), errorMap(outcome.image, reference));
+        if (!outcome.spectrum.empty()) writeSpectrum(files.spectrum, outcome.spectrum);
         table.addRow(outcome.row);
         fillDerivedColumns(table, refs, s.amortize);
       });

@@ -210,6 +210,39 @@ def fmt(v, digits=3):
     return f"{v:.{digits}e}"
 
 
+def spectrum_plots(root, scene, rows, plots_dir):
+    """The radially averaged power spectrum of each backend's error (the
+    study's BACKEND_sppN_spectrum.csv, the repeats' mean), one panel per spp:
+    white-noise error is flat, blue-noise error rises with the frequency."""
+    spps = sorted({int(r["spp"]) for r in rows})
+    curves = {}
+    for r in rows:
+        path = os.path.join(root, os.path.splitext(r["image"])[0] + "_spectrum.csv")
+        if os.path.exists(path):
+            points = [(num(p["cycles_per_pixel"]), num(p["power"])) for p in read_csv(path)]
+            curves[(r["backend"], int(r["spp"]))] = [(f, p) for f, p in points if f > 0]
+    if not curves:
+        return None
+    fig, axes = plt.subplots(1, len(spps), figsize=(5 * len(spps), 4), squeeze=False)
+    for ax, s in zip(axes[0], spps):
+        for i, b in enumerate(dict.fromkeys(r["backend"] for r in rows)):
+            c = curves.get((b, s))
+            if c:
+                ax.plot([f for f, _ in c], [p for _, p in c], label=backend_label(b),
+                        color=f"C{i % 10}", lw=1)
+        ax.set_yscale("log")
+        ax.set_xlabel("frequency (cycles per pixel)")
+        ax.set_ylabel("error power (luminance)")
+        ax.set_title(f"{s} spp")
+        ax.legend(fontsize=7)
+    fig.suptitle(f"{scene}: radially averaged power spectrum of the error")
+    fig.tight_layout()
+    name = f"spectrum_{scene}.png"
+    fig.savefig(os.path.join(plots_dir, name), dpi=110)
+    plt.close(fig)
+    return "plots/" + name
+
+
 def render_section(root, scene, rows, ref, plots_dir, scale):
     out = [f'<h2 id="{html.escape(scene)}">Scene: {html.escape(scene)}</h2>']
     if ref:
@@ -233,6 +266,13 @@ def render_section(root, scene, rows, ref, plots_dir, scale):
                f"the renderer) over all {len(rows)} renders.</p>")
     plot = render_plots(scene, rows, plots_dir)
     out.append(f'<p><img class="plot" src="{plot}" alt="error plots of {html.escape(scene)}"></p>')
+    spectrum = spectrum_plots(root, scene, rows, plots_dir)
+    if spectrum:
+        out.append(f'<p><img class="plot" src="{spectrum}" alt="error spectra of '
+                   f'{html.escape(scene)}"><br><small>How the error is spread over the '
+                   "screen: flat is white noise, rising is blue noise (the screen_mse column "
+                   "low-passes the error by a 1-pixel Gaussian, which keeps the low "
+                   "frequencies).</small></p>")
 
     spps = sorted({int(r["spp"]) for r in rows})
     backends = list(dict.fromkeys(r["backend"] for r in rows))
