@@ -4,8 +4,9 @@
 #
 # Direct lighting isolates the first-bounce estimator the backends differ in.
 # The reference is a 4096-spp Halton render (the paper's reference sampler);
-# every backend renders at 4, 16 and 64 spp, four times with different seeds,
-# and its MSE against the reference is the mean of the four. `optimized`
+# every backend (the field's classic samplers, then two learned ones)
+# renders at 4, 16 and 64 spp, four times with different seeds, and its MSE
+# against the reference is the mean of the four. `optimized`
 # serves sets optimized by Algorithm 1 for the sky's own map as distributed
 # light samples, `optimized-uniform` sets optimized for the uniform target as
 # primary samples; their optimization is paid once (setup_s) and reused by
@@ -23,5 +24,5 @@ rm -rf "$out"  # a fresh study: a rerun of the main job must not reuse old rows
 
 "$build/nuld" study render default --integrator direct --res 96x64 --spp 4,16,64 \
   --repeats 4 --reference-spp 4096 \
-  --backends independent,sobol,halton,sobol-tabulated,optimized,optimized-uniform \
+  --backends independent,sobol,halton,sobol-tabulated,stratified,pmj02,zsobol,lattice,optimized,optimized-uniform \
   --opt-instances 16 -q -o "$out"

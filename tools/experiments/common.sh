@@ -28,11 +28,14 @@ prepare_output() {
 }
 
 # copy_reference FROM TO: one scene's study reference (the image, its two
-# halves and its state) from directory FROM into TO, so that a study writing
-# there renders none; nothing when TO holds one already.
+# halves and its state) from directory FROM into TO (a study folder's
+# SCENE), so that a study writing there renders none; nothing when TO holds
+# one already. The study folder is marked as a study's (.nuld-folder), which
+# a study writes into only when it is (sampler/io/output_folder.h).
 copy_reference() {
   [[ -f "$2/reference.exr" ]] && return 0
   mkdir -p "$2"
+  [[ -f "$(dirname "$2")/.nuld-folder" ]] || echo study >"$(dirname "$2")/.nuld-folder"
   cp "$1"/reference.{exr,state,half0.exr,half1.exr} "$2/"
 }
 
