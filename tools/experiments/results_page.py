@@ -10,7 +10,8 @@ scene in a later OUT replacing the same scene of an earlier one.
 PAGE defaults to docs/results.md. Everything in the page between
 the markers below is replaced; the text around them is kept, so the page's
 prose ("which backend should I use") is written by hand beside numbers the
-script regenerates.
+script regenerates. A configuration (lobe choice) that no OUT holds keeps
+the tables the page has for it.
 """
 import math
 import os
@@ -79,7 +80,8 @@ def tables(outs, choice, baseline="albedo"):
         lines.append(f"\n### `{integrator}`, {LABELS.get(choice, f'lobe choice `{choice}`')}\n")
         head = ["scene", "backend"]
         for s in spps:
-            head += [f"MSE / sobol ({baseline}), {s} spp", f"MSE / best classic, {s} spp"]
+            head += [f"MSE / sobol ({baseline}), {s} spp", f"MSE / best classic, {s} spp",
+                     f"screen / sobol, {s} spp"]
         head += ["time / sobol", "setup s", "pays for itself after (renders, 64 spp)"]
         lines.append("| " + " | ".join(head) + " |")
         lines.append("|" + "---|" * len(head))
@@ -97,7 +99,7 @@ def tables(outs, choice, baseline="albedo"):
                     r, base = by.get((scene, b, s)), baseline_rows.get((scene, s))
                     own = by.get((scene, "sobol", s))
                     if not r or not base or not own:
-                        out_row += ["–", "–"]
+                        out_row += ["–", "–", "–"]
                         continue
                     q, se = ratio(num(r["mse"]), num(r["mse_stderr"]), num(base["mse"]),
                                   num(base["mse_stderr"]))
@@ -108,6 +110,12 @@ def tables(outs, choice, baseline="albedo"):
                     out_row.append((cell(cq, cse) if not math.isnan(cq) else
                                     f"classic{' (best)' if r.get('best_classic') == b else ''}")
                                    + noisy)
+                    # The screen-space error over its own study's sobol's
+                    # (older studies have none).
+                    sq, sse = num(r.get("screen_ratio_sobol")), num(
+                        r.get("screen_ratio_sobol_stderr"))
+                    out_row.append("–" if math.isnan(sq) else "1" if b == "sobol" else
+                                   cell(sq, sse))
                     times.append(num(r["seconds"]) / num(own["seconds"]))
                     setup = max(setup, num(r["setup_seconds"]))
                 last = by.get((scene, b, spps[-1]), {})
@@ -130,12 +138,26 @@ def main():
     text = open(page).read() if os.path.exists(page) else f"# Results\n\n{BEGIN}\n{END}\n"
     if BEGIN not in text or END not in text:
         sys.exit(f"{page}: the markers of the generated part are missing")
+    head, rest = text.split(BEGIN, 1)
+    old, tail = rest.split(END, 1)
+    # The page's tables by heading, so that a configuration no OUT measured
+    # keeps the tables it has (made by an earlier run).
+    kept, current = {}, None
+    for line in old.splitlines():
+        if line.startswith("### "):
+            current = line
+            kept[current] = []
+        if current:
+            kept[current].append(line)
     generated = []
     for choice in ("albedo", "paper", "uniform"):
         if any(os.path.isdir(os.path.join(out, choice)) for out in outs):
             generated += tables(outs, choice)
-    head, rest = text.split(BEGIN, 1)
-    tail = rest.split(END, 1)[1]
+        else:
+            label = LABELS.get(choice, f"lobe choice `{choice}`")
+            for heading, lines in kept.items():
+                if heading.endswith(label):
+                    generated += [""] + lines
     new = head + BEGIN + "\n" + "\n".join(generated) + "\n\n" + END + tail
     tmp = page + ".tmp"
     with open(tmp, "w") as f:
