@@ -169,3 +169,22 @@ def test_the_classic_sets_and_pmj02_engine():
     assert np.allclose(np.sort(lattice[:, 0]), np.arange(16) / 16)
     with pytest.raises(ValueError, match="stratified"):
         nuld.sequence(16, kind="stratified", scramble="owen")
+
+
+def test_every_power_of_two_prefix_of_generated_pmj02_sets_is_a_02_net(tmp_path, nuld_bin):
+    # nuld generate --sequence pmj02, read back: for every instance and
+    # every prefix of 2^m points, one point in each elementary interval of
+    # every shape 2^-a x 2^-(m-a).
+    import subprocess
+    out = tmp_path / "pmj.txt"
+    subprocess.run([nuld_bin, "generate", "--sequence", "pmj02", "--n", "256", "--instances", "3",
+                    "--seed", "5", "-o", str(out)], check=True, capture_output=True)
+    sets = nuld.read_points(str(out))[0]  # (points, metadata)
+    assert sets.shape == (3, 256, 2)
+    for points in sets:
+        for m in range(9):
+            prefix = points[:2**m]
+            for a in range(m + 1):
+                cells = np.floor(prefix[:, 0] * 2**a) * 2**(m - a) + np.floor(
+                    prefix[:, 1] * 2**(m - a))
+                assert len(np.unique(cells)) == 2**m, (m, a)
