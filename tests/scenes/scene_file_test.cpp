@@ -337,9 +337,8 @@ TEST(DefaultScene, PapersConfigurationReproducesThePapersRenders) {
         largest = std::max(largest, std::abs(double(image.pixels[i]) - stored.pixels[i]) /
                                         std::max(0.01, std::abs(double(stored.pixels[i]))));
       // Embree picks its intersection kernels by the CPU's instruction set,
-      // so another machine may trace a few rays a rounding apart (measured:
-      // 91 of 4608 values, at most 2.7e-5 relative, on an AMD EPYC without
-      // AVX-512); another configuration differs by whole percents.
+      // so another machine may trace a few rays a rounding apart; another
+      // configuration differs by whole percents.
       if (isPaper)
         EXPECT_LT(largest, 1e-3) << backendName;
       else
