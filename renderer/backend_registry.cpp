@@ -38,7 +38,7 @@ const std::vector<BackendEntry> &backendRegistry() {
        .name = "sobol-tabulated",
        .help = "sobol, with first-bounce BSDF samples through the tabulated lobe's "
                "inverse CDF where the view bin's measured route is the table (the "
-               "strongest classic baseline; --lobe-mix, --lobe-routes)",
+               "classic baseline for BSDF sampling; --lobe-mix, --lobe-routes)",
        .lobes = true},
       {.kind = K::Halton, .name = "halton", .help = "Owen-scrambled Halton, mapped as independent"},
       {.kind = K::HaltonTabulated,

@@ -3,7 +3,7 @@
 // stratified, pmj02, a shifted rank-1 lattice, zsobol), and -tabulated
 // variants: the same points, mapped for every lobe context through the
 // tabulated lobe's inverse CDF instead of the material's lobe-selection
-// mapping (sobol-tabulated is the strongest classic baseline for BSDF
+// mapping (sobol-tabulated is the classic baseline for BSDF
 // sampling; the light pair is inverse-CDF mapped by every backend). The set
 // samplers are padded: every (pixel, pair) gets its own independently
 // randomized set, dealt out in its own random order (shufflePoints), so
