@@ -6,7 +6,8 @@
 // mapping (sobol-tabulated is the classic baseline for BSDF
 // sampling; the light pair is inverse-CDF mapped by every backend). The set
 // samplers are padded: every (pixel, pair) gets its own independently
-// randomized set, dealt out in its own random order (shufflePoints), so
+// randomized set, dealt out in its own random order (shufflePoints, or the
+// order stratified and lattice sets come in), so
 // pairs are matched at random, never by index. zsobol is the exception by
 // design: its pairs are decorrelated by its per-pair index permutations,
 // and its sets depend on where the pixel is on the screen.
@@ -75,9 +76,16 @@ using SetMaker = void (*)(std::uint64_t seed, std::span<Point2> out);
 // A freshly randomized set per (pixel, pair), dealt in a random order.
 class SetBackend final : public ClassicBackend {
  public:
-  // `maxSet`: the largest set `make` makes (0: any).
-  SetBackend(BackendKind kind, SetMaker make, std::uint64_t seed, std::size_t maxSet = 0)
-      : ClassicBackend(kind), make_(make), seedKey_(mix64(seed)), maxSet_(maxSet) {}
+  // `ordered`: `make` gives its points in a random order already
+  // (stratified, lattice), so they are not shuffled again. `maxSet`: the
+  // largest set `make` makes (0: any).
+  SetBackend(BackendKind kind, SetMaker make, std::uint64_t seed, bool ordered = false,
+             std::size_t maxSet = 0)
+      : ClassicBackend(kind),
+        make_(make),
+        seedKey_(mix64(seed)),
+        ordered_(ordered),
+        maxSet_(maxSet) {}
   void prepare(std::size_t spp, const SamplingTargets &targets) override {
     if (maxSet_ && spp > maxSet_)
       throw BackendRefusal(name() + ": makes sets of at most " + std::to_string(maxSet_) +
@@ -91,12 +99,13 @@ class SetBackend final : public ClassicBackend {
     const std::uint64_t pixelKey = mix64(seedKey_ + 0x9e3779b97f4a7c15ull * pixel);
     const std::uint64_t seed = mix64(pixelKey ^ (0xd1b54a32d192ed03ull * (pair + 1)));
     make_(seed, out);
-    shufflePoints(out, seed);
+    if (!ordered_) shufflePoints(out, seed);
   }
 
  private:
   SetMaker make_;
   std::uint64_t seedKey_;
+  bool ordered_;
   std::size_t maxSet_;
 };
 
@@ -147,9 +156,10 @@ std::unique_ptr<SamplerBackend> makeClassicBackend(BackendKind kind, std::uint64
     case K::Halton:
     case K::HaltonTabulated:
       return std::make_unique<SetBackend>(kind, owenSequenceSet<SequenceKind::Halton>, seed);
-    case K::Stratified: return std::make_unique<SetBackend>(kind, stratifiedSet, seed);
-    case K::Pmj02: return std::make_unique<SetBackend>(kind, owenPmj02Set, seed, kPmj02MaxSet);
-    case K::Lattice: return std::make_unique<SetBackend>(kind, latticeSet, seed);
+    case K::Stratified: return std::make_unique<SetBackend>(kind, stratifiedSet, seed, true);
+    case K::Pmj02:
+      return std::make_unique<SetBackend>(kind, owenPmj02Set, seed, false, kPmj02MaxSet);
+    case K::Lattice: return std::make_unique<SetBackend>(kind, latticeSet, seed, true);
     case K::ZSobol: return std::make_unique<ZSobolBackend>(kind, seed);
     default: throw std::invalid_argument("makeClassicBackend: not a classic backend");
   }
