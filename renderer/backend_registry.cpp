@@ -5,6 +5,7 @@
 
 #include "renderer/bank_backend.h"
 #include "renderer/neural_backend.h"
+#include "renderer/plugin_backend.h"
 #include "sampler/bluenoise/blue_noise_sets.h"
 #include "sampler/enum_names.h"
 
@@ -126,6 +127,13 @@ const std::vector<BackendEntry> &backendRegistry() {
        .setBounces = 1,
        .optionalArgument = true,
        .shiftable = true},
+      {.kind = K::Plugin,
+       .name = "plugin",
+       .argument = "PATH[:ARGS]",
+       .help = "your own sampler: a shared library built against plugins/nuld_sampler.h "
+               "alone, given ARGS (plugins/README.md); it serves every bounce's pairs, "
+               "or the first ones it says, the rest are sobol",
+       .uses = kRenders},
       blueNoise(K::Sot, BlueNoiseMethod::SlicedOt, false,
                 "sliced optimal transport sets for the integrand's target"),
       blueNoise(K::SotMapped, BlueNoiseMethod::SlicedOt, true,
@@ -235,6 +243,8 @@ std::unique_ptr<SamplerBackend> makeBackend(const BackendSpec &spec, std::uint64
       return std::make_unique<NeuralBackend>(
           spec.text(), spec.argument.empty() ? shippedLobeModel() : spec.argument, seed,
           spec.shift);
+    case BackendKind::Plugin:
+      return std::make_unique<PluginBackend>(spec.text(), spec.argument, seed);
     default: return makeClassicBackend(spec.kind, seed);
   }
 }

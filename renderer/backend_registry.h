@@ -33,7 +33,8 @@ enum class BackendKind {
   OptimizedBoth,     // made: optimized and optimized-bsdf together
   Shifted,           // shifted:PATHS
   Neural,
-  Sot,  // the blue-noise baselines (integration study only)
+  Plugin,  // plugin:PATH[:ARGS], a user's sampler (plugins/README.md)
+  Sot,     // the blue-noise baselines (integration study only)
   SotMapped,
   Gbn,
   GbnMapped,

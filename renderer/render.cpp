@@ -22,6 +22,13 @@ namespace {
 
 constexpr int kTile = 16;  // tiles of kTile x kTile pixels, one task each
 
+// The dimension pairs a path may ask for: a camera pair, then a light, a
+// BSDF and a roulette pair a bounce (one bounce but under path).
+std::uint32_t pathPairs(const RenderSettings &s) {
+  const int bounces = s.integrator == IntegratorKind::Path ? s.maxDepth : 1;
+  return SamplePairs::roulette(bounces - 1) + 1;
+}
+
 // Renders the tile whose top-left pixel is (x0, y0) into `image`.
 void renderTile(const Scene &scene, const RenderSettings &s, SamplerBackend &backend,
                 const PerspectiveCamera &camera, const PathIntegrator &integrator, int x0, int y0,
@@ -121,11 +128,10 @@ OverrideNames OverrideNames::python() {
 double renderMemoryBytes(const RenderSettings &s) {
   constexpr double kPixelBytes = 2 * 3 * sizeof(float);  // the image and its caller's copy
   // A tile's task renders max(1, 16 / spp) pixels at once (renderTile),
-  // each with spp points of every pair its paths reach (a camera pair, then
-  // a light, a BSDF and a roulette pair a bounce) and of one context a pair.
-  const int bounces = s.integrator == IntegratorKind::Path ? s.maxDepth : 1;
+  // each with spp points of every pair its paths reach and of one context a
+  // pair.
   const double samples = std::max<double>(double(s.spp), double(PathIntegrator::kMaxPaths));
-  const double threadBytes = samples * (1 + 3.0 * bounces) * 2 * sizeof(Point2);
+  const double threadBytes = samples * double(pathPairs(s)) * 2 * sizeof(Point2);
   const double threads =
       double(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
   return double(s.width) * double(s.height) * kPixelBytes + threads * threadBytes;
@@ -204,6 +210,7 @@ Image render(const Scene &scene, const RenderSettings &s, SamplerBackend &backen
   const auto setupStart = std::chrono::steady_clock::now();
   SamplingTargets targets;
   targets.width = std::uint32_t(s.width), targets.height = std::uint32_t(s.height);
+  targets.pairs = pathPairs(s);
   const EnvironmentLight *light = sampledLight(scene, s.integrator);
   targets.light = light ? light->target() : nullptr;
   std::shared_ptr<const LobeTables> lobes;
@@ -232,17 +239,36 @@ Image render(const Scene &scene, const RenderSettings &s, SamplerBackend &backen
   std::atomic<std::size_t> done{0};
   std::mutex progressMutex;
 
-  tbb::parallel_for(std::size_t(0), tileCount, [&](std::size_t t) {
-    PathCounters &c = counters.local();
-    if (rays) c.recorder = &recorded.local();
-    renderTile(scene, s, backend, camera, integrator, int(t % tilesX) * kTile,
-               int(t / tilesX) * kTile, image, c);
-    const std::size_t finished = ++done;
-    if (progress) {
-      std::lock_guard lock(progressMutex);
-      progress(finished, tileCount);
+  const auto renderTiles = [&](std::size_t first, std::size_t end) {
+    tbb::parallel_for(first, end, [&](std::size_t t) {
+      PathCounters &c = counters.local();
+      if (rays) c.recorder = &recorded.local();
+      renderTile(scene, s, backend, camera, integrator, int(t % tilesX) * kTile,
+                 int(t / tilesX) * kTile, image, c);
+      const std::size_t finished = ++done;
+      if (progress) {
+        std::lock_guard lock(progressMutex);
+        progress(finished, tileCount);
+      }
+    });
+  };
+  if (const std::size_t perStage = backend.tilesPerStage(); perStage == 0) {
+    renderTiles(0, tileCount);
+  } else {
+    std::vector<std::uint64_t> pixels;
+    for (std::size_t first = 0; first < tileCount; first += perStage) {
+      const std::size_t end = std::min(tileCount, first + perStage);
+      pixels.clear();
+      for (std::size_t t = first; t < end; ++t) {
+        const int x0 = int(t % tilesX) * kTile, y0 = int(t / tilesX) * kTile;
+        for (int y = y0; y < std::min(y0 + kTile, s.height); ++y)
+          for (int x = x0; x < std::min(x0 + kTile, s.width); ++x)
+            pixels.push_back(std::uint64_t(y) * s.width + x);
+      }
+      backend.stage(pixels);
+      renderTiles(first, end);
     }
-  });
+  }
 
   if (rays)
     for (auto &part : recorded) rays->insert(rays->end(), part.begin(), part.end());

@@ -50,6 +50,9 @@ struct SamplingTargets {
   const Target *light = nullptr;        // the environment map's, null without one
   std::vector<const Target *> lobes{};  // every lobe table (LobeTables::targets)
   std::uint32_t width = 0, height = 0;  // 0: not a render (a backend's own tests)
+  // The pairs a path of the render may ask: 0 .. pairs - 1 (one bounce's
+  // under direct, maxDepth's under path; 0: not a render).
+  std::uint32_t pairs = 0;
 };
 
 // What prepare() throws when the backend cannot serve a render (sets of
@@ -80,9 +83,19 @@ class SamplerBackend {
   // of the scene).
   virtual void prepare(std::size_t spp, const SamplingTargets &targets) {}
 
+  // A backend that deals one stateful stream (Python's sampler=ENGINE)
+  // cannot be asked in any order. It gives the tiles it stages at once, and
+  // the renderer then renders the image in batches of that many tiles, one
+  // batch after another, calling stage() on its own thread with the pixels
+  // of each batch (tile by tile, rows within a tile) before rendering it;
+  // primary() then serves those pixels. 0, every other backend: tiles render
+  // in any order.
+  virtual std::size_t tilesPerStage() const { return 0; }
+  virtual void stage(std::span<const std::uint64_t> pixels) {}
+
   // N = out.size() uniform points in [0,1)^2 for (pixel, pair). A pure
-  // function of its arguments, so renders are deterministic for any thread
-  // count.
+  // function of its arguments (and of the staged batch), so renders are
+  // deterministic for any thread count.
   virtual void primary(std::uint64_t pixel, std::uint32_t pair, std::span<Point2> out) const = 0;
 
   // Fills `out` with points distributed by `target` (in its unit-square

@@ -29,47 +29,81 @@ std::vector<std::string> candidates(const PluginSpec &spec) {
   return places;
 }
 
+// The plugin's interface object from the file at `place`, or nullptr with
+// `why` saying what is wrong with it; `rebuild` says what to do about a
+// version mismatch.
+const void *loadFrom(const std::string &place, const PluginSpec &spec, const char *rebuild,
+                     std::string &why) {
+  if (!std::filesystem::exists(place)) {
+    why = "no such file";
+    return nullptr;
+  }
+  // RTLD_LOCAL: the plugin's own copy of nuld's code stays its own.
+  void *plugin = dlopen(place.c_str(), RTLD_NOW | RTLD_LOCAL);
+  if (!plugin) {
+    const char *error = dlerror();
+    why = error ? error : "not loadable";
+    return nullptr;
+  }
+  const auto entry = reinterpret_cast<Entry>(dlsym(plugin, spec.entry));
+  if (!entry) {
+    why = std::string("not the plugin (no ") + spec.entry + ")";
+    return nullptr;
+  }
+  int version = 0;
+  const void *object = entry(&version);
+  if (version != spec.version) {
+    why = "built for interface version " + std::to_string(version) + ", expected " +
+          std::to_string(spec.version) + " (" + rebuild + ")";
+    return nullptr;
+  }
+  if (!object) why = std::string(spec.entry) + " returned no interface";
+  return object;
+}
+
 const void *load(const PluginSpec &spec) {
   std::string tried;
   for (const std::string &place : candidates(spec)) {
-    if (!std::filesystem::exists(place)) {
-      tried += "\n  " + place + ": no such file";
-      continue;
-    }
-    // RTLD_LOCAL: the plugin's own copy of nuld's code stays its own.
-    void *plugin = dlopen(place.c_str(), RTLD_NOW | RTLD_LOCAL);
-    if (!plugin) {
-      const char *why = dlerror();
-      tried += "\n  " + place + ": " + (why ? why : "not loadable");
-      continue;
-    }
-    const auto entry = reinterpret_cast<Entry>(dlsym(plugin, spec.entry));
-    if (!entry) {
-      tried += "\n  " + place + ": not the plugin (no " + spec.entry + ")";
-      continue;
-    }
-    int version = 0;
-    const void *object = entry(&version);
-    if (version != spec.version) {
-      tried += "\n  " + place + ": built for interface version " + std::to_string(version) +
-               ", expected " + std::to_string(spec.version) + " (rebuild nuld)";
-      continue;
-    }
-    return object;
+    std::string why;
+    if (const void *object = loadFrom(place, spec, "rebuild nuld", why)) return object;
+    tried += "\n  " + place + ": " + why;
   }
   throw std::runtime_error(
       std::string(spec.purpose) + " needs nuld's plugin " + spec.file + "; tried:" + tried +
       "\n(build it with tools/build.sh, or name it with " + spec.variable + ")");
 }
 
+std::mutex &loaderLock() {
+  static std::mutex lock;
+  return lock;
+}
+
 }  // namespace
 
 const void *loadPlugin(const PluginSpec &spec) {
-  static std::mutex lock;
   static std::map<std::pair<std::string, int>, const void *> loaded;  // by entry and version
-  const std::lock_guard guard(lock);
+  const std::lock_guard guard(loaderLock());
   const void *&object = loaded[{spec.entry, spec.version}];
   if (!object) object = load(spec);
+  return object;
+}
+
+const void *loadPluginFile(const std::string &path, const PluginSpec &spec,
+                           const std::string &rebuild) {
+  static std::map<std::string, const void *> loaded;  // by the file's canonical path
+  std::error_code error;
+  const std::filesystem::path canonical = std::filesystem::weakly_canonical(path, error);
+  const std::string key = error ? path : canonical.string();
+  const std::lock_guard guard(loaderLock());
+  const void *&object = loaded[key];
+  if (!object) {
+    std::string why;
+    // dlopen searches the library path for a name without a slash: a file
+    // in the working directory is meant.
+    const std::string place = path.find('/') == std::string::npos ? "./" + path : path;
+    object = loadFrom(place, spec, rebuild.c_str(), why);
+    if (!object) throw std::runtime_error(std::string(spec.purpose) + " " + path + ": " + why);
+  }
   return object;
 }
 

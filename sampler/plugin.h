@@ -32,4 +32,13 @@ struct PluginSpec {
 // std::runtime_error naming the purpose, each place tried and why it failed.
 const void *loadPlugin(const PluginSpec &spec);
 
+// The interface object of the plugin in the file `path` (a user's plugin,
+// not one of this build's; the spec's file and variable are not used): its
+// entry and version, no other place tried. Loaded once per file. Throws
+// std::runtime_error starting with the spec's purpose and the path, saying
+// what is wrong (no such file, not loadable, no entry, another version:
+// then `rebuild`, what to do about it).
+const void *loadPluginFile(const std::string &path, const PluginSpec &spec,
+                           const std::string &rebuild);
+
 }  // namespace nuld

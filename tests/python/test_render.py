@@ -1,5 +1,6 @@
 # Rendering from Python: the image the CLI writes, bit for bit; images
 # compared; bad input refused with the CLI's message.
+import os
 import re
 import subprocess
 
@@ -29,7 +30,9 @@ def test_every_backend_word_renders(tmp_path, nuld_bin):
     words = [w for word in words for w in ([word.split("[")[0], word.replace("[", "").replace(
         "]", "")] if "[" in word else [word])]
     for word in words:
-        backend = word.replace("PATHS", sets).replace("MODEL", model)
+        # plugin:PATH[:ARGS]: the example plugin, which takes no ARGS.
+        backend = word.replace("PATHS", sets).replace("MODEL", model).replace(
+            "PATH", os.environ["NULD_EXAMPLE_PLUGIN"]).replace("ARGS", "")
         img = nuld.render("default", backend=backend, spp=4, resolution=(8, 6))
         assert np.all(np.isfinite(img)), word
 

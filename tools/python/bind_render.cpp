@@ -18,7 +18,9 @@
 #include "scenes/scene_file.h"
 #include "tools/python/args.h"
 #include "tools/python/bindings.h"
+#include "tools/python/stream_sampler.h"
 #include "tools/study/render_study.h"
+#include "tools/study/statistics.h"
 
 namespace nuld::python {
 
@@ -139,7 +141,9 @@ void bindRender(py::module_ &m) {
         Param("opt_nested", false),
         Param("opt_objective", py::none()),
         Param("opt_union_weight", py::none()),
-        Param("progress", py::none())}},
+        Param("progress", py::none()),
+        Param("sampler", py::none()),
+        Param("sampler_pairs", py::none())}},
       [anyWhole, positive](py::object sceneArg, py::object backendArg, py::object sppArg,
                            py::object resArg, py::object integratorArg, py::object depthArg,
                            py::object seedArg, py::object assetsArg, py::object mixArg,
@@ -147,7 +151,8 @@ void bindRender(py::module_ &m) {
                            py::object lobeEpochsArg, py::object threadsArg, py::object choiceArg,
                            py::object importanceArg, py::object scaleArg, py::object routesArg,
                            py::object defensiveArg, py::object bouncesArg, py::object nestedArg,
-                           py::object objectiveArg, py::object unionArg, py::object progressArg) {
+                           py::object objectiveArg, py::object unionArg, py::object progressArg,
+                           py::object samplerArg, py::object samplerPairsArg) {
         const std::string f = "render";
         const std::string scene = text(sceneArg, {f, "scene"});
         const auto backend = optional(backendArg, {f, "backend"}, text);
@@ -178,6 +183,12 @@ void bindRender(py::module_ &m) {
         const auto defensive = optional(defensiveArg, {f, "lobe_defensive"}, number);
         const auto bounces = optional(bouncesArg, {f, "lobe_bounces"}, anyWhole);
         const Progress progress(progressArg, {f, "progress"});
+        const bool ownSampler = !samplerArg.is_none();
+        const auto samplerPairs = optional(samplerPairsArg, {f, "sampler_pairs"}, positive);
+        onlyWhen(ownSampler, {{"sampler_pairs", bool(samplerPairs)}}, "a sampler");
+        if (ownSampler && backend)
+          throw std::invalid_argument(
+              "render: backend: not with sampler (the pairs a sampler leaves are sobol's)");
         study::SetSettings sets;
         if (optInstances) sets.instances = std::size_t(*optInstances);
         sets.epochs = optEpochs.value_or(0);
@@ -223,7 +234,7 @@ void bindRender(py::module_ &m) {
         // `nuld render` does, with the study's default --opt-* settings.
         const study::StudyBackend word =
             study::parseStudyBackend(backend ? *backend : loaded.backend);
-        onlyWhen(word.makesSets(),
+        onlyWhen(!ownSampler && word.makesSets(),
                  {{"opt_instances", bool(optInstances)},
                   {"opt_epochs", bool(optEpochs)},
                   {"opt_lobe_epochs", bool(optLobeEpochs)},
@@ -232,7 +243,7 @@ void bindRender(py::module_ &m) {
                   {"opt_union_weight", bool(optUnion)}},
                  "the study's backends that make sets (optimized, optimized-bsdf, ...)");
         if (lobeMix || routes || defensive || bounces)
-          onlyWhen(s.integrator != IntegratorKind::Light && word.samplesLobes(),
+          onlyWhen(s.integrator != IntegratorKind::Light && !ownSampler && word.samplesLobes(),
                    {{"lobe_mix", bool(lobeMix)},
                     {"lobe_routes", bool(routes)},
                     {"lobe_defensive", bool(defensive)},
@@ -243,16 +254,21 @@ void bindRender(py::module_ &m) {
         RenderStats st;
         Image img;
         std::unique_ptr<SamplerBackend> b;
+        if (ownSampler)
+          b = std::make_unique<StreamSampler>(samplerArg, std::uint32_t(samplerPairs.value_or(0)),
+                                              seedValue);
         RenderProgress report(progress);
         {
           py::gil_scoped_release release;
-          prepared = study::prepareStudyBackend(
-              word, loaded.scene, s, study::slug(scene), sets, seedValue, {},
-              [&](const std::string &, double fraction, const std::string &status) {
-                report("sets", long(1000 * fraction), 1000, status);
-              });
+          if (!ownSampler) {
+            prepared = study::prepareStudyBackend(
+                word, loaded.scene, s, study::slug(scene), sets, seedValue, {},
+                [&](const std::string &, double fraction, const std::string &status) {
+                  report("sets", long(1000 * fraction), 1000, status);
+                });
+            b = makeBackend(prepared.spec, seedValue);
+          }
           report.nextStage();
-          b = makeBackend(prepared.spec, seedValue);
           img = render(loaded.scene, s, *b, &st, [&](std::size_t done, std::size_t all) {
             report("render", long(done), long(all),
                    std::to_string(done) + "/" + std::to_string(all) + " tiles");
@@ -269,7 +285,7 @@ void bindRender(py::module_ &m) {
         d["seconds"] = st.seconds, d["setup_seconds"] = st.setupSeconds + prepared.setupSeconds;
         d["rays"] = st.rays;
         d["rejected_samples"] = st.rejectedSamples, d["classic_fallbacks"] = st.classicFallbacks;
-        if (word.sets != BackendSets::None)
+        if (!ownSampler && word.sets != BackendSets::None)
           d["backend"] = word.word, d["sets_made"] = prepared.setsMade,
           d["sets_cached"] = prepared.setsCached;
         // What `nuld render` prints as notes: lobe bins left without banks,
@@ -302,7 +318,13 @@ sample lobe tables) as --res-scale, --max-depth and the --lobe-* options.
 progress: None (the default), True (a text bar on stderr) or a callable
 taking a dict (stage 'sets' or 'render', done, total, status); Ctrl-C raises
 KeyboardInterrupt. A render the machine cannot hold is refused before
-anything is made. With stats=True returns (image, dict), the dict with what
+anything is made. sampler: your own sampler in place of backend, a
+scipy.stats.qmc engine of d = 2 (its random(n)) or a callable n -> (n, 2)
+array of points in [0, 1)^2, drawn in blocks per batch of tiles (one stream
+dealt spp points a pixel, each pixel's points shuffled per pair; the engine
+advances, so pass a fresh one for a repeatable render); sampler_pairs: the
+first pairs it serves (1: the camera's; default every pair), the rest
+sobol's. With stats=True returns (image, dict), the dict with what
 a learned backend's sets served per pair and, under 'note', what nuld render
 prints as notes.)");
 
@@ -314,11 +336,43 @@ prints as notes.)");
         const ImageError e = compareImages(imageOf(image, {"compare", "image"}, false),
                                            imageOf(reference, {"compare", "reference"}, false));
         py::dict d;
-        d["mse"] = e.mse, d["relmse"] = e.relmse, d["nonfinite_pixels"] = e.nonFinitePixels;
+        d["mse"] = e.mse, d["relmse"] = e.relmse, d["screen"] = e.screen;
+        d["nonfinite_pixels"] = e.nonFinitePixels;
         return d;
       },
-      "mse and relmse (as `nuld compare`) of an image against a finite reference of the same "
-      "size and channels; nonfinite_pixels counts the image's pixels left out");
+      "mse, relmse and screen (the MSE of the error low-passed by a Gaussian of 1 pixel, the "
+      "error a viewer sees), as `nuld compare`, of an image against a finite reference of the "
+      "same size and channels; nonfinite_pixels counts the image's pixels left out");
+
+  // The studies' statistics (tools/study/statistics.h), for nuld.study and
+  // a user's own loops.
+  defFunction(
+      m, "mean_and_error", {"mean_and_error", {Param("values")}},
+      [](py::object values) {
+        const std::vector<double> v = numbers(values, {"mean_and_error", "values"});
+        const study::MeanAndError e = study::meanAndError(v);
+        py::dict d;
+        d["mean"] = e.mean, d["std"] = e.std, d["stderr"] = e.stderr_;
+        return d;
+      },
+      "the mean, the sample standard deviation (n - 1) and the standard error of the mean of "
+      "repeated measurements, as the studies report them (deviation and error 0 for one value)");
+  defFunction(
+      m, "ratio_of_means",
+      {"ratio_of_means", {Param("a"), Param("a_stderr"), Param("b"), Param("b_stderr")}},
+      [](py::object a, py::object ae, py::object b, py::object be) {
+        const std::string f = "ratio_of_means";
+        const study::Ratio r =
+            study::ratioOfMeans(number(a, {f, "a"}), number(ae, {f, "a_stderr"}),
+                                number(b, {f, "b"}), number(be, {f, "b_stderr"}));
+        py::dict d;
+        d["ratio"] = r.value, d["stderr"] = r.stderr_;
+        d["verdict"] = study::verdictName(study::verdictOf(r.value, r.stderr_));
+        return d;
+      },
+      "a / b of two independent means with the ratio's standard error to first order, and the "
+      "studies' verdict: 'better' or 'worse' when the ratio is more than two standard errors "
+      "from 1, else 'tie'; 'n/a' when the error is 0 (one repeat) or b is not positive");
 
   defFunction(
       m, "read_image", {"read_image", {Param("path")}},

@@ -18,7 +18,9 @@ from ._nuld import (  # noqa: F401 (re-exported)
     compare,
     discrepancy,
     generate_neural,
+    mean_and_error,
     optimize,
+    ratio_of_means,
     read_image,
     read_image_attributes,
     read_points,
@@ -28,11 +30,13 @@ from ._nuld import (  # noqa: F401 (re-exported)
     write_points,
 )
 from .progress import TextProgress
+from .studies import StudyTable, study
 
 __version__ = _nuld.__version__
 
 __all__ = [
-    "Target", "TextProgress", "__version__", "compare", "discrepancy", "generate_neural", "optimize",
-    "qmc", "read_image", "read_image_attributes", "read_points", "render", "sequence",
-    "write_image", "write_points",
+    "StudyTable", "Target", "TextProgress", "__version__", "compare", "discrepancy",
+    "generate_neural", "mean_and_error", "optimize", "qmc", "ratio_of_means", "read_image",
+    "read_image_attributes", "read_points", "render", "sequence", "study", "write_image",
+    "write_points",
 ]

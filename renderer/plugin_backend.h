@@ -1,0 +1,45 @@
+#pragma once
+// plugin:PATH[:ARGS]: a user's sampler, compiled against the one C header
+// plugins/nuld_sampler.h and loaded at run time (plugins/README.md). It
+// serves primary points of the pairs it says it serves, every bounce's;
+// the rest, and every lobe context, are sobol's, mapped classically.
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "renderer/sampler_backend.h"
+
+struct nuld_sampler;
+
+namespace nuld {
+
+class PluginBackend final : public SamplerBackend {
+ public:
+  // `argument`: PATH or PATH:ARGS. Loads the plugin (throwing
+  // std::runtime_error naming the file and what is wrong with it).
+  PluginBackend(std::string word, const std::string &argument, std::uint64_t seed);
+  ~PluginBackend() override;
+  PluginBackend(const PluginBackend &) = delete;
+  PluginBackend &operator=(const PluginBackend &) = delete;
+
+  std::string name() const override { return word_; }
+  // Creates the plugin's sampler for this render; a plugin that refuses it
+  // gives a BackendRefusal with its reason.
+  void prepare(std::size_t spp, const SamplingTargets &targets) override;
+  // The plugin's points, checked: a failed fill, a NaN or a point outside
+  // [0, 1)^2 throws std::runtime_error naming the pixel, pair and sample.
+  void primary(std::uint64_t pixel, std::uint32_t pair, std::span<Point2> out) const override;
+  std::string note() const override { return note_; }
+
+ private:
+  std::string word_, path_, arguments_;
+  std::uint64_t seed_;
+  const nuld_sampler *plugin_;
+  void *state_ = nullptr;  // the plugin's sampler for the prepared render
+  std::uint32_t width_ = 1, served_ = 0;
+  std::unique_ptr<SamplerBackend> rest_;  // sobol, for the pairs the plugin leaves
+  std::string note_;
+};
+
+}  // namespace nuld
