@@ -6,7 +6,7 @@
 //    polynomials on |r| <= pi/4 give both values within an ulp (with or
 //    without fused multiply-adds), far cheaper than the C library's sin and cos, which must
 //    handle an arbitrary argument; sampling calls them for every direction
-//    (figures: tools/experiments/README.md, "Implementation notes").
+//    (figures: tools/experiments/implementation_notes.md).
 //  - atan2Turns: the octant reduction, then atan(a) = atan(c) + atan(t) with c
 //    the nearest sixteenth, |t| <= 1/32 and a 15th-degree Taylor polynomial:
 //    about 1e-16 turns, at about half the C library's atan2 time.

@@ -6,10 +6,9 @@
 // from one bank) share its index order: scrambling each copy independently
 // still ties point i of one pair to point i of another by a fixed bijection,
 // so the N combined samples lie on a lower-dimensional pattern whose error
-// stops falling with N (tools/experiments/README.md, "Implementation
-// notes"). Each (pixel, pair)
-// therefore deals its points out in a random order of its own: pairs are
-// matched at random, and every pair keeps its stratification.
+// stops falling with N (tools/experiments/implementation_notes.md). Each
+// (pixel, pair) therefore deals its points out in a random order of its own:
+// pairs are matched at random, and every pair keeps its stratification.
 
 #include <span>
 

@@ -174,7 +174,7 @@ bool PathIntegrator::arrive(std::span<PathState> path,
     // after its BSDF sample instead (pbrt-v4's place) also cuts the MIS
     // half of the previous hit's direct light. Survival sqrt(max beta)
     // (Cycles' rule), not max beta: it lowered the pixel variance for about
-    // the same time (measured in tools/experiments/README.md, "Path noise").
+    // the same time (measured in tools/experiments/path_noise.md).
     if (depth >= rouletteDepth_ && p.beta.maxComponent() < 1) {
       const double q = std::max(0.0, 1 - std::sqrt(p.beta.maxComponent()));
       if (p.samples->primary(SamplePairs::roulette(depth), p.index).x < q) {

@@ -2,11 +2,11 @@
 // Heavy libraries as plugins loaded on first use. Linked, LibTorch and
 // OpenImageIO (with the hundreds of libraries OpenImageIO links) cost every
 // process start far more than the rest of nuld, in relocations and static
-// initializers (tools/experiments/README.md, "Start-up and the suite's
-// time"), and most processes never run a network or touch an image (every
-// refused command line, most tests). So the code that calls them is built as
-// a plugin of this build, and the first caller loads it
-// (docs/architecture.md, "Build and dependencies").
+// initializers (tools/experiments/startup_and_suite_time.md), and most
+// processes never run a network or touch an image (every refused command line,
+// most tests). So the code that calls them is built as a plugin of this build,
+// and the first caller loads it (docs/architecture.md, "Build and
+// dependencies").
 //
 // A plugin exports one C function, `const void *ENTRY(int *version)`: it
 // writes the interface version it was built with and returns its interface

@@ -40,7 +40,7 @@
 #include <string>
 #include <vector>
 
-#include "renderer/backend_registry.h"
+#include "backends/backend_registry.h"
 #include "renderer/render.h"
 #include "renderer/scene.h"
 
@@ -48,9 +48,9 @@ namespace nuld {
 
 // A scene's environment importance when its file names none (and the
 // built-in scenes'): the map's luminance less its mean, the stronger classic
-// light sampler under MIS (tools/experiments/README.md, "MIS-compensated map
-// sampling", has the figures). The light integrator samples such a map
-// without the compensation (sampledLight).
+// light sampler under MIS (tools/experiments/env_compensation.md has the
+// figures). The light integrator samples such a map without the compensation
+// (sampledLight).
 inline constexpr PixelWeight kDefaultImportance = PixelWeight::LuminanceCompensated;
 
 // What a command chooses for a whole scene beyond its file: how its Disney

@@ -14,7 +14,7 @@
 # backend with the lowest MSE x (render seconds + setup), ties within two
 # standard errors named as ties. The study directory (CSV, images, plots, index.html) is left
 # in BUILD/study-default; `nuld study render --help` lists the knobs of the
-# full studies (docs/usage.md: "Comparison studies").
+# full studies (docs/studies.md).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-"$root/build"}

@@ -20,13 +20,12 @@
 // authors' code does (it optimizes in the ball, then maps to the cube): the
 // disc's projections are the same along every direction and it has no
 // corners, and sets transported there match the authors' program where
-// sets transported in the square do not (tools/experiments/README.md,
-// "Blue-noise baselines"). Sorting that sample for every slice
-// would dominate the run, so its block means are tabulated once per target
-// and N at kSliceTableDirections directions over a half-turn and
-// interpolated linearly in angle between them. A point moves by `step`
-// times its displacement averaged over the slices, then is clamped into
-// [0, 1)^2.
+// sets transported in the square do not (tools/experiments/blue_noise.md).
+// Sorting that sample for every slice would dominate the run, so its block
+// means are tabulated once per target and N at kSliceTableDirections directions
+// over a half-turn and interpolated linearly in angle between them. A point
+// moves by `step` times its displacement averaged over the slices, then is
+// clamped into [0, 1)^2.
 //
 // On the sphere (a target whose domain is the sphere or hemisphere) the
 // points live in the equal-area parameterization and transport against the

@@ -1,10 +1,10 @@
 #pragma once
 // Folders a command fills with many files (a study's, a bank's). A command
 // never overwrites or deletes a file it did not write (docs/usage.md,
-// "Outputs"), and a folder's files are not recorded one by one, so the rule
-// is kept per folder: a command writes into a folder only if it made it,
-// found it empty, or finds its own mark there (a rerun, a resumed run). The
-// mark is a hidden file, .nuld-folder, whose one line names its owner
+// "Conventions worth knowing"), and a folder's files are not recorded one by
+// one, so the rule is kept per folder: a command writes into a folder only if
+// it made it, found it empty, or finds its own mark there (a rerun, a resumed
+// run). The mark is a hidden file, .nuld-folder, whose one line names its owner
 // ("study render", "bank"); readers of a folder skip hidden files.
 
 #include <filesystem>

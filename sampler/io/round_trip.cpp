@@ -1,6 +1,7 @@
 #include "sampler/io/round_trip.h"
 
 #include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <stdexcept>
 
@@ -20,6 +21,14 @@ std::string formatRoundTrip(double v) {
 std::string formatShort(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.3g", v);
+  return buf;
+}
+
+std::string formatNumber(double v) {
+  if (std::isnan(v)) return "nan";
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
   return buf;
 }
 

@@ -3,7 +3,8 @@
 // std::from_chars and istream >> read back as the same double ("0.1",
 // "1e-07", "6000"). Point-set files, target specs, settings fingerprints and
 // model metadata all write their numbers through it. formatShort is the
-// other: three significant digits, for messages and headers a person reads.
+// other: three significant digits, for messages and headers a person reads;
+// formatNumber, six, for the studies' CSV and progress lines.
 
 #include <string>
 
@@ -16,5 +17,8 @@ std::string formatRoundTrip(double v);
 char *formatRoundTrip(char *first, char *last, double v);
 
 std::string formatShort(double v);  // "0.0123", "1e+04"
+
+// %.6g, or "nan"/"inf" spelled as Python's csv/float() reads them.
+std::string formatNumber(double v);
 
 }  // namespace nuld

@@ -4,8 +4,7 @@
 // the build targets it (-march=native on this project's machines), four
 // with AVX, two otherwise, with the same arithmetic on every lane.
 // Auto-vectorizing the scalar loop had left a scalar reduction and a
-// Horner-bound exp per pair (tools/experiments/README.md, "Where an
-// optimizer epoch goes").
+// Horner-bound exp per pair (tools/experiments/optimizer_speed.md).
 
 #include <bit>
 #include <cstdint>

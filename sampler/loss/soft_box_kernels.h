@@ -104,8 +104,8 @@ class DirectKernel {
 // cutoff itself allows; their slopes are exactly 0, as DirectKernel's.
 //
 // No product is subnormal (x86 cores compute those through microcode
-// assists, a large slowdown at high alpha: tools/experiments/README.md,
-// "Subnormal products"): a box side at
+// assists, a large slowdown at high alpha:
+// tools/experiments/optimizer_speed.md, "Subnormal products"): a box side at
 // -inf or +inf (multiple-corner boxes have two) has the factor 0, and a
 // finite side's factors are floored at e^(alpha / 2 kTiles - 707), where a
 // product with any point's factor is still a normal number and, for alpha

@@ -319,7 +319,7 @@ double softBoxLoss(std::span<const Point2> points, std::span<const Box2> boxes,
   // them all with the cheaper FactoredKernel. A narrower one (late epochs)
   // is mostly whole cells outside it: DirectKernel sorts them out first.
   // The switch is where the two cost the same on a 2048-point set
-  // (tools/experiments/README.md, "Where an optimizer epoch goes").
+  // (tools/experiments/optimizer_speed.md).
   const bool factored = [&] {
     switch (options.kernel) {
       case SoftBoxKernel::Direct: return false;

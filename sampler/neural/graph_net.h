@@ -8,7 +8,7 @@
 // Why per point: the supplement's MLP emits all N x 2 residuals from (z,
 // gamma) alone, so it must relearn, for every point and every way z wraps the
 // base set around the torus, what the point's neighbourhood asks of it
-// (tools/experiments/README.md, "The neural generator"). Here the same
+// (tools/experiments/neural_generator.md). Here the same
 // weights see every point of every set, permuting the base set permutes the
 // output, and nothing in the weights depends on N.
 

@@ -42,8 +42,8 @@ void writeModelFile(const std::string &path, const ModelFile &model);  // atomic
 // size, modification time and closing checksum (8 bytes read), without
 // reading and checksumming the rest: the renderer makes a neural backend
 // per render and study repeat, and the byte-wise checksum of a whole model
-// would be most of each one's cost (tools/experiments/README.md, "Neural
-// banks across processes", has the figures).
+// would be most of each one's cost (tools/experiments/neural_lobe_model.md,
+// "Neural banks across processes", has the figures).
 ModelFile readModelFile(const std::string &path);
 
 // The file's closing checksum (FNV-1a, 64 bits) of `size` bytes: for tools

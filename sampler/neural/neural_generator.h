@@ -52,8 +52,8 @@ enum class BaseRandomization {
   // Patterson). Each point is uniform, but the rotation moves the whole set
   // rigidly, so its 1D projections stay a shifted lattice: on smooth
   // integrands its error variance is far above Owen scrambling's
-  // (tools/experiments/README.md, "The graph generator"), and a network
-  // would have to undo that.
+  // (tools/experiments/neural_generator.md, "The graph generator"), and a
+  // network would have to undo that.
   Rotated,
   // Ours, graph only: the first N Sobol points Owen-scrambled with a seed
   // hashed from z (and the model's seed). The sets start as good as the
@@ -97,7 +97,7 @@ struct NeuralSettings {
   bool discrepancyGradient = false;
   // Graph only (ours): each stage's residuals lose their mean over the set,
   // so no stage moves a set as a whole and each set keeps its base set's
-  // mean in u (tools/experiments/README.md, "The graph generator in
+  // mean in u (tools/experiments/neural_lobe_model.md, "The graph generator in
   // primary space"). A set's mean error is what a smooth integrand sees.
   bool centred = false;
   BaseRandomization base = BaseRandomization::Rotated;
@@ -109,16 +109,17 @@ struct NeuralSettings {
   // rigidly with z, so a point's best correction is a function of where z
   // has carried it, periodic in z; these rows let the last layers combine
   // that directly. The supplement's Gaussian rows (sigma 0.1: nearly linear
-  // in z) barely tell nearby offsets apart (tools/experiments/README.md,
-  // "Torus harmonics and offset ranges").
+  // in z) barely tell nearby offsets apart
+  // (tools/experiments/neural_generator.md, "Torus harmonics and offset
+  // ranges").
   int zHarmonics = 0;
   // Ours, a diagnostic (1 = the supplement's): the base set is Sobol rotated
   // by offsetRange * z, so offsets span [0, offsetRange)^2 while the net
   // still sees z in [0, 1)^2. It measures how the quality of one network's
   // sets depends on how much of the offset torus it must cover
-  // (tools/experiments/README.md, "Torus harmonics and offset ranges"). Below 1
-  // the sets are not randomized over the torus: each point stays in a small
-  // box, so estimates from them are biased. Not for rendering.
+  // (tools/experiments/neural_generator.md, "Torus harmonics and offset
+  // ranges"). Below 1 the sets are not randomized over the torus: each point
+  // stays in a small box, so estimates from them are biased. Not for rendering.
   double offsetRange = 1;
   std::string family;      // a TargetFamily spec
   std::uint64_t seed = 0;  // draws B and the initial weights
@@ -224,7 +225,7 @@ class NeuralGenerator {
   // clamped point). A toroidal wrap instead joins opposite edges of the
   // square, which for most targets are unlike (the quarter-disc's densest
   // edge meets its empty corner); in training it did not learn
-  // (tools/experiments/README.md, "Implementation notes").
+  // (tools/experiments/implementation_notes.md).
   Point2 place(Point2 raw, const Target &target, Jacobian2 *jacobian = nullptr) const;
 
   // K = z.size() sets at once: set k uses z[k] and gamma[k g, (k + 1) g);

@@ -35,8 +35,8 @@ namespace nuld {
 // positive per-coordinate rescaling, so still a descent direction; it leaves
 // unmapped training (J = +-identity) unchanged. Balanced is the default
 // because exact training let the stretched points ruin the sets on an
-// environment map (tools/experiments/README.md, "Mapped training: exact or
-// balanced gradient").
+// environment map (tools/experiments/neural_generator.md, "Mapped training:
+// exact or balanced gradient").
 enum class GradientPullback { Exact, Balanced };
 inline constexpr auto kGradientPullbackNames = enumTable<GradientPullback>(
     "gradient pull-back",
@@ -65,8 +65,8 @@ struct TrainerSettings {
   // a lobe table, Cranley-Patterson shifted in the target's primary space
   // by a random offset per set (mapped mode): the loss then rewards sets
   // that stay good under any shift, the only randomization that keeps the
-  // estimate unbiased for any table (tools/experiments/README.md, "The
-  // graph generator in primary space").
+  // estimate unbiased for any table (tools/experiments/neural_lobe_model.md,
+  // "The graph generator in primary space").
   bool shiftedSets = false;
 
   std::string describe() const;  // "key=value ..."; checkpoints must match it

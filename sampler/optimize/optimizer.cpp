@@ -116,8 +116,8 @@ OptimizerSettings presetSettings(const std::string &name, std::size_t n) {
     s.epochs = 5000;
     // The supplement's 16384 boxes are for its 2048 points. Sets of up to 64
     // points end as good with 2048 boxes, 4 to 8 times faster (measured at
-    // N = 4, 16 and 64 over 4 seeds: tools/experiments/README.md, "Boxes for
-    // small sets"); the Monte Carlo variant stays the paper's.
+    // N = 4, 16 and 64 over 4 seeds: tools/experiments/optimizer_speed.md,
+    // "Boxes for small sets"); the Monte Carlo variant stays the paper's.
     s.boxes = name == "sphere" && n <= 64 ? 2048 : 16384;
     s.lrStart = 1e-4;
     s.alphaEnd = 6000;
@@ -127,8 +127,8 @@ OptimizerSettings presetSettings(const std::string &name, std::size_t n) {
     // no sampled boxes, so it takes steps far larger than the soft preset's
     // and needs a tenth of its epochs; on the environment maps these sets
     // render at least as well in a small part of the time
-    // (tools/experiments/README.md, "Environment sets in seconds: the exact
-    // objective", has the schedule sweep and the figures).
+    // (tools/experiments/environment_sets_setup.md, "Environment sets in
+    // seconds: the exact objective", has the schedule sweep and the figures).
     s.epochs = 500;
     s.objective = Objective::ExactL2asd;
     s.unionWeight = 3;

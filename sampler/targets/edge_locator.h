@@ -3,8 +3,7 @@
 // table of uniform buckets over [edges.front(), edges.back()] gives a start
 // cell, then a short forward walk. Every box corner of every epoch needs a
 // cell lookup, so a binary search each would be a large share of an
-// environment-map optimization (tools/experiments/README.md,
-// "Implementation notes").
+// environment-map optimization (tools/experiments/implementation_notes.md).
 
 #include <algorithm>
 #include <cmath>

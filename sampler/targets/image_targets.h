@@ -9,7 +9,7 @@
 // environment maps): luminance all but ignores blue light (weight 0.07), so
 // a map lit by blue windows is undersampled where its blue channel is
 // bright, and a render's blue channel pays for it in variance
-// (tools/experiments/README.md, "Cross-check against Cycles").
+// (tools/experiments/cycles_crosscheck.md).
 
 #include <memory>
 #include <string>

@@ -28,11 +28,11 @@
 #include <filesystem>
 #include <memory>
 
+#include "backends/backend_registry.h"
+#include "backends/neural_backend.h"
 #include "materials/disney.h"
 #include "materials/disney_target.h"
-#include "renderer/backend_registry.h"
 #include "renderer/lobe_tables.h"
-#include "renderer/neural_backend.h"
 #include "renderer/render.h"
 #include "scenes/scene_file.h"
 #include "tests/bench/bench_points.h"

@@ -1,5 +1,5 @@
 /* A sampler plugin that misbehaves on request, for the plugin tests
- * (tests/renderer/plugin_backend_test.cpp, tests/tools/plugin_test.sh).
+ * (tests/backends/plugin_backend_test.cpp, tests/tools/plugin_test.sh).
  * ARGS: "" independent points; "nan", "one", "negative": that value at
  * sample 1 of pair 1 of every pixel; "fail": fill returns 7; "refuse":
  * create refuses; "camera": serves pair 0 only. Built also without its entry

@@ -3,6 +3,7 @@
 # CLI for comparisons is $NULD_BIN.
 import os
 import shutil
+import subprocess
 
 import pytest
 
@@ -12,4 +13,13 @@ def nuld_bin():
     path = os.environ.get("NULD_BIN") or shutil.which("nuld")
     if not path:
         pytest.skip("the nuld program is not known (set NULD_BIN)")
+    return path
+
+
+# A tiny trained model, for the entry points that take one.
+@pytest.fixture(scope="module")
+def model(tmp_path_factory, nuld_bin):
+    path = str(tmp_path_factory.mktemp("model") / "tiny.nuldnet")
+    subprocess.run([nuld_bin, "train", "--target", "uniform", "--n", "8", "--hidden", "16",
+                    "--steps", "2", "-q", "-o", path], check=True, capture_output=True)
     return path

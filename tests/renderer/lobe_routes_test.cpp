@@ -10,10 +10,10 @@
 #include <cmath>
 #include <numbers>
 
+#include "backends/backend_registry.h"
+#include "backends/bank_backend.h"
 #include "materials/disney.h"
 #include "materials/sphere_map.h"
-#include "renderer/backend_registry.h"
-#include "renderer/bank_backend.h"
 #include "renderer/lobe_tables.h"
 #include "renderer/path_integrator.h"
 #include "renderer/render.h"

@@ -8,11 +8,11 @@
 #include <cmath>
 #include <numbers>
 
+#include "backends/backend_registry.h"
+#include "backends/bank_backend.h"
 #include "materials/disney.h"
 #include "materials/lambertian.h"
 #include "materials/sphere_map.h"
-#include "renderer/backend_registry.h"
-#include "renderer/bank_backend.h"
 #include "renderer/lobe_tables.h"
 #include "renderer/render.h"
 #include "renderer/shapes.h"

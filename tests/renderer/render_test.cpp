@@ -10,8 +10,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "backends/backend_registry.h"
 #include "materials/disney.h"
-#include "renderer/backend_registry.h"
 #include "renderer/image_metrics.h"
 #include "renderer/path_integrator.h"
 #include "tests/renderer/test_scenes.h"

@@ -9,7 +9,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "renderer/backend_registry.h"
+#include "backends/backend_registry.h"
 #include "renderer/render.h"
 #include "sampler/diagnostics.h"
 #include "scenes/default_scene.h"

@@ -408,35 +408,6 @@ if ((lines < 1 || lines > 10)); then
   failures=$((failures + 1))
 fi
 
-# Ctrl-C while a render makes its sets says where their checkpoints are, and
-# the rerun says it resumed them (render continues sets by itself).
-interrupted=(render default --backend optimized --opt-objective soft --spp 4 --res 16 --opt-instances 2
-  --opt-epochs 4000 -q -o "$dir/interrupted.exr")
-# interrupted_while_making_sets WHAT CACHE COMMAND...: runs nuld with the set
-# cache CACHE, presses Ctrl-C once a set's checkpoint exists, and expects exit
-# 130 with the note naming where the checkpoints are.
-interrupted_while_making_sets() {
-  local what=$1 cache=$2; shift 2
-  NULD_CACHE="$cache" "$nuld" "$@" >"$dir/out" 2>"$dir/err" &
-  local pid=$!
-  for _ in $(seq 1 300); do
-    compgen -G "$cache/sets/*.ckpt" >/dev/null && break
-    sleep 0.1
-  done
-  kill -INT "$pid"
-  wait "$pid"
-  local rc=$?
-  if [[ $rc -ne 130 ]] || ! grep -q "nuld: interrupted; the sets being made keep their checkpoints in $cache/sets" "$dir/err"; then
-    echo "FAIL: an interrupted $what notes where its sets' checkpoints are: exit $rc"; tail -c 300 "$dir/err"
-    failures=$((failures + 1))
-  fi
-}
-interrupted_while_making_sets render "$dir/interrupt-cache" "${interrupted[@]}"
-NULD_CACHE="$dir/interrupt-cache" "$nuld" "${interrupted[@]}" >"$dir/out" 2>"$dir/err" ||
-  { echo "FAIL: the interrupted render's rerun"; failures=$((failures + 1)); }
-grep -q "nuld: note: sets resuming from $dir/interrupt-cache/sets/.*\.ckpt at epoch" "$dir/err" ||
-  { echo "FAIL: a rerun says it resumed the interrupted sets"; tail -c 300 "$dir/err"; failures=$((failures + 1)); }
-
 # Nothing lost: a study and a bank pointed at a folder holding files they did
 # not write leave every one of them byte for byte, naming one of them; a
 # render refuses a read-only output; a study's own folder takes its reruns.
@@ -480,10 +451,6 @@ sed -i '/^# target/d' "$dir/plain.txt"
 "$nuld" render default --backend optimized:"$dir/plain.txt" --spp 4 --res 8 -q -o "$dir/x.exr" >/dev/null 2>"$dir/err"
 grep -q "plain.txt: names no target (no '# target: SPEC' line), so its points serve as uniform primary samples" "$dir/err" ||
   { echo "FAIL: a point file without a target is used with a note"; cat "$dir/err"; failures=$((failures + 1)); }
-# Ctrl-C in nuld bank says where the checkpoints of its sets are.
-interrupted_while_making_sets bank "$dir/bank-interrupt" bank default --backend optimized --opt-objective soft \
-  --spp 4 --res 16 --opt-instances 2 --opt-epochs 4000 -q
-
 # One seed default everywhere: bank, then a study, then a render, with no
 # --seed, make the map's sets once (the one entry is never written again).
 export NULD_CACHE="$dir/flow-cache"

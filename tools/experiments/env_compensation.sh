@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Environment-map sampling, the classic question (tools/experiments/
-# README.md, "MIS-compensated map sampling"): every scene with its map
+# env_compensation.md): every scene with its map
 # sampled by plain luminance (--env-importance luminance) and by luminance
 # less its mean (luminance-compensated, the default: BSDF samples cover the
 # dim texels under MIS), under both MIS integrators, 16 and 64 spp, 8

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Error against run time (tools/experiments/README.md, "Error against run
-# time"): the learned backends at equal time, setup included.
+# Error against run time (tools/experiments/equal_time.md): the learned backends
+# at equal time, setup included.
 #
 #   1. The four shipped scenes at 1/4 resolution under both integrators, 16
 #      and 64 spp, 8 repeats, seed 9173, from an empty set cache

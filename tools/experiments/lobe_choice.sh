@@ -1,13 +1,12 @@
 #!/usr/bin/env bash
-# The classic baseline and what survives it (tools/experiments/README.md,
-# "The material's lobe choice" and "Routes against the new baseline"):
-# render studies of the four shipped scenes under both MIS integrators, once
-# per configuration, 16 and 64 spp, 8 repeats, seed 9173 (no test uses it),
-# 1/4 resolution. Every choice of a (scene, integrator) scores against the
-# same reference (REFERENCE_SPP, default 4096 spp, rendered once with the
-# default choice, in two halves that measure its own variance, and copied).
-# Each choice has its own set cache, empty at its start, so setup seconds
-# are what the sets cost from nothing.
+# The classic baseline and what survives it (tools/experiments/lobe_choice.md
+# and tools/experiments/routes_against_baseline.md): render studies of the four
+# shipped scenes under both MIS integrators, once per configuration, 16 and 64
+# spp, 8 repeats, seed 9173 (no test uses it), 1/4 resolution. Every choice of a
+# (scene, integrator) scores against the same reference (REFERENCE_SPP, default
+# 4096 spp, rendered once with the default choice, in two halves that measure
+# its own variance, and copied). Each choice has its own set cache, empty at its
+# start, so setup seconds are what the sets cost from nothing.
 #
 # Writes OUT/CHOICE/INTEGRATOR/render.csv (with references.csv and
 # verdicts.csv) and OUT/summary.csv: each row's MSE relative to sobol under

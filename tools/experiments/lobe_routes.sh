@@ -1,13 +1,13 @@
 #!/usr/bin/env bash
 # BSDF sampling routes against the material's own sampler (tools/experiments/
-# README.md, "Lobe routes"): render studies of the four shipped scenes under
-# both MIS integrators, 16 and 64 spp, 8 repeats, seed 9173 (no test uses
-# it), 1/4 resolution, REFERENCE_SPP-spp references (default 1024), once per
-# variant of the lobe options. Every variant of a (scene, integrator) scores
-# against the same reference (made once, copied). Writes OUT/VARIANT/INTEGRATOR/render.csv and
-# OUT/summary.csv (the rows with each backend's MSE ratio to sobol, its
-# standard error, the seconds ratio and the brightest pixel of the first
-# repeat relative to sobol's).
+# routes_against_baseline.md, "Lobe routes"): render studies of the four shipped
+# scenes under both MIS integrators, 16 and 64 spp, 8 repeats, seed 9173 (no
+# test uses it), 1/4 resolution, REFERENCE_SPP-spp references (default 1024),
+# once per variant of the lobe options. Every variant of a (scene, integrator)
+# scores against the same reference (made once, copied). Writes
+# OUT/VARIANT/INTEGRATOR/render.csv and OUT/summary.csv (the rows with each
+# backend's MSE ratio to sobol, its standard error, the seconds ratio and the
+# brightest pixel of the first repeat relative to sobol's).
 #
 # Usage: tools/experiments/lobe_routes.sh OUT [VARIANT=FLAGS ...]
 #   BACKENDS (default sobol,sobol-tabulated) are the backends compared;

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# MPI scaling on this machine (tools/study/ranks.h): the wall time of a
+# MPI scaling on this machine (backends/ranks.h): the wall time of a
 # reference render (the lte-orb scene at 1/4 resolution, 16 passes) and of
 # an optimization bank (16 sphere-preset sets of 64 points for grace, 1000
 # epochs), run as one process (every core, TBB threads) and as 1, 2 and 4

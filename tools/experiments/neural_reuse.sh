@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Neural lobe banks from an empty and from a warm set cache
-# (tools/experiments/README.md, "Neural banks across processes"): per scene
-# and integrator, two studies of sobol, sobol-tabulated and neural with one
-# NULD_CACHE, the second in a new process; prints each row's render seconds
+# (tools/experiments/neural_lobe_model.md, "Neural banks across processes"): per
+# scene and integrator, two studies of sobol, sobol-tabulated and neural with
+# one NULD_CACHE, the second in a new process; prints each row's render seconds
 # over sobol's. 1/4 resolution, 16 and 64 spp, 8 repeats, seed 9173. The
 # second study copies the first one's reference (its seconds do not depend
 # on it).

@@ -10,13 +10,13 @@
 #include <regex>
 #include <stdexcept>
 
+#include "backends/set_cache.h"
 #include "sampler/diagnostics.h"
 #include "sampler/io/pointset_metadata.h"
 #include "sampler/io/round_trip.h"
 #include "sampler/optimize/optimizer.h"
 #include "sampler/targets/basic_targets.h"
 #include "sampler/targets/target_spec.h"
-#include "tools/study/set_cache.h"
 
 namespace nuld::cli {
 
@@ -227,8 +227,8 @@ void addLobeOptions(CLI::App &app, RenderOverrides &change) {
       ->check(wholeNumberIn(0, kMaxDepthLimit));
 }
 
-std::string setsDirectory(const study::SetSettings &s) {
-  return (s.cacheDir.empty() ? study::SetCache::fromEnvironment() : study::SetCache(s.cacheDir))
+std::string setsDirectory(const SetSettings &s) {
+  return (s.cacheDir.empty() ? SetCache::fromEnvironment() : SetCache(s.cacheDir))
       .setsDir()
       .string();
 }
@@ -238,7 +238,7 @@ std::string setsInterruptNote(const std::string &setsDir) {
          " (the set cache): run the same command again to continue them";
 }
 
-void addSetOptions(CLI::App &app, study::SetSettings &s) {
+void addSetOptions(CLI::App &app, SetSettings &s) {
   app.add_option("--opt-instances", s.instances,
                  "instances of the optimized backends' sets (default 16, as the paper)")
       ->check(positiveNumber());
@@ -280,6 +280,6 @@ CLI::Validator backendWord() {
                                   "' makes its sets first; name a backend that needs none");
   });
 }
-CLI::Validator studyBackendWord() { return parsedBy(study::parseStudyBackend); }
+CLI::Validator studyBackendWord() { return parsedBy(parseBackendWord); }
 
 }  // namespace nuld::cli

@@ -7,12 +7,13 @@
 #include <string>
 #include <vector>
 
+#include "backends/ready_backend.h"
 #include "renderer/render.h"
 #include "sampler/enum_names.h"
 #include "sampler/optimize/resumable_run.h"
 #include "sampler/point.h"
 #include "sampler/targets/target.h"
-#include "tools/study/render_study.h"
+#include "scenes/scene_file.h"
 
 namespace nuld::cli {
 
@@ -150,12 +151,12 @@ void addLobeChoiceOption(CLI::App &app, LobeChoice &choice);
 std::string targetOptionHelp(const std::string &what);
 
 // The options of the sets the study's backends make (optimized,
-// optimized-bsdf, ...: tools/study/render_study.h), the same on nuld render
+// optimized-bsdf, ...: backends/ready_backend.h), the same on nuld render
 // and nuld study render.
-void addSetOptions(CLI::App &app, study::SetSettings &s);
+void addSetOptions(CLI::App &app, SetSettings &s);
 // The directory where those sets, and the checkpoints of sets being made,
 // live: the set cache's (s.cacheDir, else $NULD_CACHE, ...).
-std::string setsDirectory(const study::SetSettings &s);
+std::string setsDirectory(const SetSettings &s);
 // What an interrupted command that makes sets says (InterruptNote's note).
 std::string setsInterruptNote(const std::string &setsDir);
 inline constexpr std::initializer_list<const char *> kSetOptionNames = {

@@ -6,14 +6,14 @@
 #include <filesystem>
 #include <iostream>
 
+#include "backends/ready_backend.h"
+#include "backends/set_cache.h"
 #include "sampler/io/output_folder.h"
 #include "scenes/scene_file.h"
 #include "tools/nuld/cli_util.h"
 #include "tools/nuld/commands.h"
 #include "tools/nuld/interrupt_note.h"
 #include "tools/nuld/progress.h"
-#include "tools/study/render_study.h"
-#include "tools/study/set_cache.h"
 
 namespace nuld::cli {
 
@@ -23,7 +23,7 @@ Runner addBank(CLI::App &app) {
     std::vector<std::size_t> spp;
     double resScale = 1;
     std::int64_t seed = -1;
-    study::SetSettings sets;
+    SetSettings sets;
     SceneChoices choices;
     bool quiet = false;
   };
@@ -33,7 +33,7 @@ Runner addBank(CLI::App &app) {
                  "optimized, optimized-uniform, optimized-bsdf or optimized-both (default "
                  "optimized-both)")
       ->check(parsedBy([](const std::string &word) {
-        if (study::parseStudyBackend(word).sets == BackendSets::None)
+        if (parseBackendWord(word).sets == BackendSets::None)
           throw std::invalid_argument("'" + word +
                                       "': nuld bank makes the study's sets (optimized, "
                                       "optimized-uniform, optimized-bsdf, optimized-both)");
@@ -65,7 +65,7 @@ Runner addBank(CLI::App &app) {
       "N, instances, seed, epochs, optimization seconds, size, age, key (the file's name ends in\n"
       "_KEY.ptsb) and the whole target.");
   return [o, &app] {
-    const study::StudyBackend word = study::parseStudyBackend(o->backend);
+    const BackendWord word = parseBackendWord(o->backend);
     checkAssets(app, o->assets, !isBuiltInScene(o->scene), kSceneFilesOnly);
     LoadedScene loaded = loadScene(o->scene, resolveAssetRoot(o->assets), o->choices);
     RenderOverrides change;
@@ -75,7 +75,7 @@ Runner addBank(CLI::App &app) {
     if (o->spp.empty()) o->spp = {s.spp};
     const std::uint64_t seed = o->seed >= 0 ? std::uint64_t(o->seed) : loaded.seed;
     if (!o->output.empty()) claimOutputFolder(o->output, "bank");
-    std::vector<study::SetListingRow> rows;
+    std::vector<SetListingRow> rows;
     std::filesystem::path dir;
     // Sets are made with checkpoints in the set cache, and a rerun
     // continues them by itself.
@@ -84,11 +84,11 @@ Runner addBank(CLI::App &app) {
     for (const std::size_t spp : o->spp) {
       s.spp = spp;
       ProgressBar bar("sets spp " + std::to_string(spp), 1000, 0, o->quiet);
-      const study::PreparedBackend p = study::prepareStudyBackend(
-          word, loaded.scene, s, study::slug(o->scene), o->sets, seed, o->spp,
-          [&](const std::string &, double f, const std::string &status) {
-            bar.update(long(1000 * f), status);
-          });
+      const PreparedBackend p =
+          prepareBackend(word, loaded.scene, s, slug(o->scene), o->sets, seed, o->spp,
+                         [&](const std::string &, double f, const std::string &status) {
+                           bar.update(long(1000 * f), status);
+                         });
       bar.finish(std::to_string(p.setsMade) + " made, " + std::to_string(p.setsCached) + " cached");
       if (!p.note.empty()) std::cerr << "nuld: note: " << p.note << "\n";
       for (const auto &set : p.sets) {
@@ -98,7 +98,7 @@ Runner addBank(CLI::App &app) {
                          : set.target == "uniform" ? "any"
                                                    : "light",
                          set.made ? "made" : "cached"},
-                        study::SetCache::describe(set.file)});
+                        SetCache::describe(set.file)});
         dir = std::filesystem::path(set.file).parent_path();
         if (!o->output.empty())
           std::filesystem::copy_file(
@@ -107,7 +107,7 @@ Runner addBank(CLI::App &app) {
               std::filesystem::copy_options::overwrite_existing);
       }
     }
-    for (const std::string &line : study::setListing({"spp", "pair", "state"}, rows))
+    for (const std::string &line : setListing({"spp", "pair", "state"}, rows))
       std::cout << line << "\n";
     if (!rows.empty())
       std::cout << rows.size() << (rows.size() == 1 ? " set" : " sets") << " in " << dir.string()

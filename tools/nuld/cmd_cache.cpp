@@ -1,12 +1,12 @@
-// nuld cache: the shared set cache (tools/study/set_cache.h): where it is,
+// nuld cache: the shared set cache (backends/set_cache.h): where it is,
 // what it holds and how much, and clearing it.
 
 #include <chrono>
 #include <filesystem>
 #include <iostream>
 
+#include "backends/set_cache.h"
 #include "tools/nuld/commands.h"
-#include "tools/study/set_cache.h"
 
 namespace nuld::cli {
 
@@ -23,24 +23,24 @@ Runner addCache(CLI::App &app) {
   CLI::App *clear = app.add_subcommand("clear", "Remove every cached set and checkpoint");
   CLI::App *path = app.add_subcommand("path", "Print the cache's directory");
   return [list, clear, path] {
-    const study::SetCache cache = study::SetCache::fromEnvironment();
+    const SetCache cache = SetCache::fromEnvironment();
     if (path->parsed()) {
       std::cout << cache.root().string() << "\n";
       return 0;
     }
     if (clear->parsed()) {
       const std::uintmax_t freed = cache.clear();
-      std::cout << "cleared " << cache.setsDir().string() << ": " << study::humanBytes(freed)
+      std::cout << "cleared " << cache.setsDir().string() << ": " << humanBytes(freed)
                 << " freed\n";
       return 0;
     }
     (void)list;
     const auto entries = cache.list();
-    std::vector<study::SetListingRow> rows;
+    std::vector<SetListingRow> rows;
     for (const auto &e : entries) rows.push_back({{}, e});
-    for (const std::string &line : study::setListing({}, rows)) std::cout << line << "\n";
+    for (const std::string &line : setListing({}, rows)) std::cout << line << "\n";
     std::cout << entries.size() << (entries.size() == 1 ? " entry, " : " entries, ")
-              << study::humanBytes(cache.bytes()) << " in " << cache.setsDir().string()
+              << humanBytes(cache.bytes()) << " in " << cache.setsDir().string()
               << " (each file's name ends in _KEY.ptsb)\n";
     const auto checkpoints = cache.checkpoints();
     if (!checkpoints.empty()) {
@@ -50,9 +50,8 @@ Runner addCache(CLI::App &app) {
                    "continues one; nuld cache clear removes them):\n";
       const auto now = std::filesystem::file_time_type::clock::now();
       for (const auto &c : checkpoints)
-        std::cout << "  " << study::humanBytes(c.bytes) << "  "
-                  << study::humanAge(
-                         std::chrono::duration_cast<std::chrono::seconds>(now - c.modified))
+        std::cout << "  " << humanBytes(c.bytes) << "  "
+                  << humanAge(std::chrono::duration_cast<std::chrono::seconds>(now - c.modified))
                   << "  " << c.file.filename().string() << "\n";
     }
     return 0;

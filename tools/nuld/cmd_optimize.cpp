@@ -6,6 +6,7 @@
 #include <optional>
 #include <sstream>
 
+#include "backends/ranks.h"
 #include "sampler/io/atomic_file.h"
 #include "sampler/io/pointset_io.h"
 #include "sampler/io/pointset_metadata.h"
@@ -19,14 +20,10 @@
 #include "tools/nuld/commands.h"
 #include "tools/nuld/interrupt_note.h"
 #include "tools/nuld/progress.h"
-#include "tools/study/ranks.h"
 
 namespace nuld::cli {
 
 namespace {
-
-using study::ByteWriter;
-using study::fromBytes;
 
 struct OptimizeOptions {
   std::string target, preset, mass, mapping, objective, boxKind, output;
@@ -129,7 +126,7 @@ constexpr double kMaxMetricPairs = 2e10;
 // refused, and so is a run whose first epoch (the widest sigmoid, the
 // slowest) would take over an hour before the progress bar first moves; a
 // first epoch over half a minute is announced. The constants are the
-// measured costs (tools/experiments/README.md, "Optimizer run estimates":
+// measured costs (tools/experiments/optimizer_run_estimates.md:
 // state per point, seconds per box-point pair of an epoch at alpha 20, per
 // pair of points for the exact objectives, falling roughly as alpha^-1/2
 // and faster above), rounded up so that the check errs on refusing.
@@ -201,7 +198,7 @@ void writeOptimized(const OptimizeOptions &o, const DirectOptimizer &opt, const 
 }
 
 // This rank's part of the instances: all of them in a single process, a
-// contiguous share in a job of several ranks (tools/study/ranks.h), which
+// contiguous share in a job of several ranks (backends/ranks.h), which
 // each rank optimizes and checkpoints on its own.
 struct InstancePart {
   std::size_t first = 0, count = 0;
@@ -209,7 +206,7 @@ struct InstancePart {
 };
 
 InstancePart instancePart(const std::string &output, const OptimizerSettings &s,
-                          const study::Ranks &ranks) {
+                          const Ranks &ranks) {
   if (!ranks.distributed()) return {0, s.instances, output + ".ckpt"};
   if (s.unionWeight > 0)
     throw std::invalid_argument(
@@ -222,7 +219,7 @@ InstancePart instancePart(const std::string &output, const OptimizerSettings &s,
 }
 
 int runOptimize(const OptimizeOptions &o, const Target &target, const OptimizerSettings &s) {
-  const study::Ranks &ranks = study::Ranks::world();
+  const Ranks &ranks = Ranks::world();
   if (ranks.root()) checkDestination(o.output);
   checkResources(s, o.run.quiet || !ranks.root());
   const DirectOptimizer opt(target, s);

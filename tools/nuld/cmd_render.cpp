@@ -7,7 +7,8 @@
 #include <iostream>
 #include <optional>
 
-#include "renderer/backend_registry.h"
+#include "backends/backend_registry.h"
+#include "backends/ready_backend.h"
 #include "renderer/image_metrics.h"
 #include "renderer/render.h"
 #include "sampler/diagnostics.h"
@@ -16,14 +17,13 @@
 #include "tools/nuld/commands.h"
 #include "tools/nuld/interrupt_note.h"
 #include "tools/nuld/progress.h"
-#include "tools/study/render_study.h"
 
 namespace nuld::cli {
 
 namespace {
 
 // Where a study word's sets came from, in one sentence.
-std::string setsSentence(const std::string &word, const study::PreparedBackend &p) {
+std::string setsSentence(const std::string &word, const PreparedBackend &p) {
   const std::string all = std::to_string(p.setsMade + p.setsCached);
   if (p.setsMade == 0) return word + ": its " + all + " sets came from the set cache";
   char seconds[32];
@@ -83,7 +83,7 @@ Runner addRender(CLI::App &app) {
     RenderOverrides change;  // --lobe-*; the rest is set from the options below
     SceneChoices choices;
     std::int64_t seed = -1;
-    study::SetSettings sets;  // --opt-*: the study backends' sets
+    SetSettings sets;  // --opt-*: the study backends' sets
     double resScale = 1;
     bool quiet = false;
   };
@@ -149,11 +149,10 @@ Runner addRender(CLI::App &app) {
     const std::uint64_t seed = o->seed >= 0 ? std::uint64_t(o->seed) : loaded.seed;
     // A study word makes (or finds in the set cache) its sets as a study
     // with this seed would, then renders through the banks that serve them.
-    const study::StudyBackend word =
-        study::parseStudyBackend(o->backend.empty() ? loaded.backend : o->backend);
+    const BackendWord word = parseBackendWord(o->backend.empty() ? loaded.backend : o->backend);
     onlyWhen(app, word.sets != BackendSets::None, kSetOptionNames,
              "the study's backends that make sets (optimized, optimized-bsdf, ...)");
-    study::PreparedBackend prepared;
+    ReadyBackend ready;
     {
       // Sets are made with checkpoints in the set cache, and a rerun
       // continues them by itself.
@@ -162,17 +161,17 @@ Runner addRender(CLI::App &app) {
       if (word.sets != BackendSets::None)
         interruptNote.emplace(setsDir, setsInterruptNote(setsDir));
       ProgressBar setsBar("sets", 1000, 0, o->quiet || word.sets == BackendSets::None);
-      prepared = study::prepareStudyBackend(
-          word, loaded.scene, s, study::slug(o->scene), o->sets, seed, {},
-          [&](const std::string &, double f, const std::string &status) {
-            setsBar.update(long(1000 * f), status);
-          });
-      setsBar.finish(std::to_string(prepared.setsMade) + " made, " +
-                     std::to_string(prepared.setsCached) + " from the cache");
+      ready = makeReadyBackend(word, loaded.scene, s, slug(o->scene), o->sets, seed, {},
+                               [&](const std::string &, double f, const std::string &status) {
+                                 setsBar.update(long(1000 * f), status);
+                               });
+      setsBar.finish(std::to_string(ready.prepared.setsMade) + " made, " +
+                     std::to_string(ready.prepared.setsCached) + " from the cache");
     }
+    const PreparedBackend &prepared = ready.prepared;
     if (word.sets != BackendSets::None)
       std::cerr << "nuld: " << setsSentence(word.word, prepared) << "\n";
-    const auto backend = makeBackend(prepared.spec, seed);
+    const std::unique_ptr<SamplerBackend> &backend = ready.backend;
     onlyWhen(app, backend->samplesLobes() && s.integrator != IntegratorKind::Light,
              kLobeOptionNames,
              "a backend that samples lobe tables (sobol-tabulated, lobe banks) and an integrator "

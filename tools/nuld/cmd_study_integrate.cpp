@@ -9,14 +9,14 @@
 #include <iostream>
 #include <optional>
 
+#include "backends/ranks.h"
+#include "backends/stopwatch.h"
 #include "sampler/sequences/rng.h"
 #include "scenes/scene_file.h"
 #include "tools/nuld/cli_util.h"
 #include "tools/nuld/commands.h"
 #include "tools/nuld/progress.h"
 #include "tools/study/integration_study.h"
-#include "tools/study/ranks.h"
-#include "tools/study/stopwatch.h"
 
 namespace nuld::cli {
 
@@ -27,7 +27,7 @@ struct IntegrateCliOptions {
   std::vector<std::string> neural;
   std::size_t instances = 128, optimizedInstances = 16, optimizedMaxN = 1024;
   int optEpochs = 0;
-  double optUnionWeight = study::kBankUnionWeight;
+  double optUnionWeight = kBankUnionWeight;
   std::string optObjective;
   std::uint64_t seed = kDefaultSeed;
   LobeChoice lobeChoice = kDefaultLobeChoice;
@@ -63,7 +63,7 @@ int runStudyIntegrate(const IntegrateCliOptions &o) {
   const study::IntegrateOptions opts = integrateOptions(o);
   const bool tty = ::isatty(STDERR_FILENO);
   // In a job of several ranks (mpirun, srun) rank 0 alone reports.
-  const study::Ranks &ranks = study::Ranks::world();
+  const Ranks &ranks = Ranks::world();
   const bool quiet = o.quiet || !ranks.root();
   std::optional<ProgressBar> bar;
   bool barDrawn = false;
@@ -77,9 +77,9 @@ int runStudyIntegrate(const IntegrateCliOptions &o) {
     bar->update(done, status);
     barDrawn = true;
   };
-  const auto start = study::Clock::now();
+  const auto start = Clock::now();
   const study::IntegrateSummary summary = study::runIntegrateStudy(opts, hooks);
-  const double seconds = study::secondsSince(start);
+  const double seconds = secondsSince(start);
   if (!ranks.root()) return 0;
   if (bar)
     bar->finish(std::to_string(summary.rowsAdded) + " rows added, " +

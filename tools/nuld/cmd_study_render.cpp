@@ -8,6 +8,7 @@
 #include <map>
 #include <tuple>
 
+#include "backends/ranks.h"
 #include "renderer/path_integrator.h"
 #include "renderer/render.h"
 #include "sampler/io/output_folder.h"
@@ -19,7 +20,6 @@
 #include "tools/study/baselines.h"
 #include "tools/study/csv_table.h"
 #include "tools/study/equal_time.h"
-#include "tools/study/ranks.h"
 #include "tools/study/render_study.h"
 #include "tools/study/report_script.h"
 
@@ -170,7 +170,7 @@ void printTable(const study::CsvTable &table, const study::CsvTable &references,
         csv[tooNoisy] == "1" ? "  reference too noisy for this row" : "");
   }
   std::printf("\nLowest error for the time (MSE x total seconds, setup over %s render%s):\n",
-              study::formatNumber(amortize).c_str(), amortize == 1 ? "" : "s");
+              formatNumber(amortize).c_str(), amortize == 1 ? "" : "s");
   for (const study::TimeVerdict &v : study::timeVerdicts(rows, amortize))
     std::printf("  %s\n", study::describe(v).c_str());
 }
@@ -265,36 +265,35 @@ Runner addStudyRender(CLI::App &app) {
     s.out = o->out;
     if (s.scenes.empty()) s.scenes = {"default"};
     // Which options apply, asked of the parsed words (render_study.h).
-    std::vector<study::StudyBackend> words;
-    for (const std::string &b : s.backends) words.push_back(study::parseStudyBackend(b));
-    const auto anyBackend = [&](bool (study::StudyBackend::*has)() const) {
+    std::vector<BackendWord> words;
+    for (const std::string &b : s.backends) words.push_back(parseBackendWord(b));
+    const auto anyBackend = [&](bool (BackendWord::*has)() const) {
       return std::any_of(words.begin(), words.end(),
-                         [&](const study::StudyBackend &w) { return (w.*has)(); });
+                         [&](const BackendWord &w) { return (w.*has)(); });
     };
     checkAssets(app, s.assets, !std::all_of(s.scenes.begin(), s.scenes.end(), isBuiltInScene),
                 kSceneFilesOnly);
 
-    onlyWhen(app, anyBackend(&study::StudyBackend::makesSets),
+    onlyWhen(app, anyBackend(&BackendWord::makesSets),
              {"--opt-instances", "--opt-epochs", "--opt-nested"},
              "the sets the study optimizes (backends optimized, optimized-uniform, "
              "optimized-bsdf, optimized-both)");
-    onlyWhen(app, anyBackend(&study::StudyBackend::makesLobeSets), {"--opt-lobe-epochs"},
+    onlyWhen(app, anyBackend(&BackendWord::makesLobeSets), {"--opt-lobe-epochs"},
              "the lobe banks (backends optimized-bsdf, optimized-both)");
-    onlyWhen(app, anyBackend(&study::StudyBackend::makesEnvSets), {"--opt-objective"},
+    onlyWhen(app, anyBackend(&BackendWord::makesEnvSets), {"--opt-objective"},
              "the environment-map sets (backends optimized, optimized-both)");
-    onlyWhen(app,
-             anyBackend(&study::StudyBackend::makesLobeSets) ||
-                 (anyBackend(&study::StudyBackend::makesEnvSets) &&
-                  s.sets.envObjective == Objective::ExactL2asd),
-             {"--opt-union-weight"},
-             "banks optimized for the exact L2asd (backends optimized-bsdf, optimized-both, "
-             "and optimized with --opt-objective l2asd)");
+    onlyWhen(
+        app,
+        anyBackend(&BackendWord::makesLobeSets) || (anyBackend(&BackendWord::makesEnvSets) &&
+                                                    s.sets.envObjective == Objective::ExactL2asd),
+        {"--opt-union-weight"},
+        "banks optimized for the exact L2asd (backends optimized-bsdf, optimized-both, "
+        "and optimized with --opt-objective l2asd)");
     // Asked only when a --lobe-* option is given: it reads the files a bank
     // word names, on every rank, before the study reads them cell by cell.
     const bool lobeOptionGiven = std::any_of(kLobeOptionNames.begin(), kLobeOptionNames.end(),
                                              [&](const char *name) { return app.count(name) > 0; });
-    onlyWhen(app, !lobeOptionGiven || anyBackend(&study::StudyBackend::samplesLobes),
-             kLobeOptionNames,
+    onlyWhen(app, !lobeOptionGiven || anyBackend(&BackendWord::samplesLobes), kLobeOptionNames,
              "backends that sample lobe tables (sobol-tabulated, the study's sets but "
              "optimized-uniform, neural, and banks of lobe sets)");
     onlyWhen(app, !app.count("--integrator") || o->integrator == "path", {"--max-depth"},
@@ -303,7 +302,7 @@ Runner addStudyRender(CLI::App &app) {
     if (!o->integrator.empty()) s.render.integrator = parseIntegrator(o->integrator);
 
     // In a job of several ranks (mpirun, srun) rank 0 alone reports.
-    const study::Ranks &ranks = study::Ranks::world();
+    const Ranks &ranks = Ranks::world();
     study::RenderStudyResult result;
     {
       // References and sets keep checkpoints (passes under OUT, sets in the

@@ -13,8 +13,10 @@
 #include <string>
 #include <vector>
 
+#include "backends/backend_registry.h"
+#include "backends/ranks.h"
+#include "backends/set_cache.h"
 #include "materials/disney_target.h"
-#include "renderer/backend_registry.h"
 #include "renderer/sampler_backend.h"
 #include "sampler/diagnostics.h"
 #include "sampler/enum_names.h"
@@ -22,9 +24,6 @@
 #include "sampler/targets/target_spec.h"
 #include "tools/nuld/cli_util.h"
 #include "tools/nuld/commands.h"
-#include "tools/study/ranks.h"
-#include "tools/study/render_study.h"
-#include "tools/study/set_cache.h"
 
 namespace {
 
@@ -117,15 +116,15 @@ bool printTopic(const std::string &topic) {
 }  // namespace
 
 int main(int argc, char **argv) {
-  // Under mpirun or srun: one rank of a job (tools/study/ranks.h).
-  const nuld::study::MpiSession mpi(argc, argv);
-  const nuld::study::Ranks &ranks = nuld::study::Ranks::world();
+  // Under mpirun or srun: one rank of a job (backends/ranks.h).
+  const nuld::MpiSession mpi(argc, argv);
+  const nuld::Ranks &ranks = nuld::Ranks::world();
   // Every rank loads the same scenes and maps; rank 0 alone says what it
   // warns about.
   if (!ranks.root()) nuld::setWarningHandler([](const std::string &) {});
   nuld::registerMaterialTargets();  // disney:... target specs
   // Neural lobe banks outlive the process in the set cache (set_cache.h).
-  nuld::setLobeBankStore(std::make_shared<nuld::study::SetCacheLobeBankStore>());
+  nuld::setLobeBankStore(std::make_shared<nuld::SetCacheLobeBankStore>());
   CLI::App app{"nuld: optimize, evaluate and render with non-uniform low-discrepancy point sets"};
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Print help for every subcommand");

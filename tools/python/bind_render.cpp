@@ -12,15 +12,14 @@
 #include <stdexcept>
 #include <thread>
 
-#include "renderer/backend_registry.h"
+#include "backends/backend_registry.h"
+#include "backends/ready_backend.h"
 #include "renderer/image_metrics.h"
 #include "renderer/render.h"
 #include "scenes/scene_file.h"
 #include "tools/python/args.h"
 #include "tools/python/bindings.h"
 #include "tools/python/stream_sampler.h"
-#include "tools/study/render_study.h"
-#include "tools/study/statistics.h"
 
 namespace nuld::python {
 
@@ -189,7 +188,7 @@ void bindRender(py::module_ &m) {
         if (ownSampler && backend)
           throw std::invalid_argument(
               "render: backend: not with sampler (the pairs a sampler leaves are sobol's)");
-        study::SetSettings sets;
+        SetSettings sets;
         if (optInstances) sets.instances = std::size_t(*optInstances);
         sets.epochs = optEpochs.value_or(0);
         sets.lobeEpochs = optLobeEpochs.value_or(0);
@@ -232,8 +231,7 @@ void bindRender(py::module_ &m) {
         const std::uint64_t seedValue = seed ? *seed : loaded.seed;
         // The study's words make (or find in the set cache) their sets as
         // `nuld render` does, with the study's default --opt-* settings.
-        const study::StudyBackend word =
-            study::parseStudyBackend(backend ? *backend : loaded.backend);
+        const BackendWord word = parseBackendWord(backend ? *backend : loaded.backend);
         onlyWhen(!ownSampler && word.makesSets(),
                  {{"opt_instances", bool(optInstances)},
                   {"opt_epochs", bool(optEpochs)},
@@ -250,7 +248,7 @@ void bindRender(py::module_ &m) {
                     {"lobe_bounces", bool(bounces)}},
                    "a backend that samples lobe tables (sobol-tabulated, lobe banks) and an "
                    "integrator other than light");
-        study::PreparedBackend prepared;
+        PreparedBackend prepared;
         RenderStats st;
         Image img;
         std::unique_ptr<SamplerBackend> b;
@@ -261,12 +259,13 @@ void bindRender(py::module_ &m) {
         {
           py::gil_scoped_release release;
           if (!ownSampler) {
-            prepared = study::prepareStudyBackend(
-                word, loaded.scene, s, study::slug(scene), sets, seedValue, {},
+            ReadyBackend ready = makeReadyBackend(
+                word, loaded.scene, s, slug(scene), sets, seedValue, {},
                 [&](const std::string &, double fraction, const std::string &status) {
                   report("sets", long(1000 * fraction), 1000, status);
                 });
-            b = makeBackend(prepared.spec, seedValue);
+            prepared = std::move(ready.prepared);
+            b = std::move(ready.backend);
           }
           report.nextStage();
           img = render(loaded.scene, s, *b, &st, [&](std::size_t done, std::size_t all) {
@@ -343,36 +342,6 @@ prints as notes.)");
       "mse, relmse and screen (the MSE of the error low-passed by a Gaussian of 1 pixel, the "
       "error a viewer sees), as `nuld compare`, of an image against a finite reference of the "
       "same size and channels; nonfinite_pixels counts the image's pixels left out");
-
-  // The studies' statistics (tools/study/statistics.h), for nuld.study and
-  // a user's own loops.
-  defFunction(
-      m, "mean_and_error", {"mean_and_error", {Param("values")}},
-      [](py::object values) {
-        const std::vector<double> v = numbers(values, {"mean_and_error", "values"});
-        const study::MeanAndError e = study::meanAndError(v);
-        py::dict d;
-        d["mean"] = e.mean, d["std"] = e.std, d["stderr"] = e.stderr_;
-        return d;
-      },
-      "the mean, the sample standard deviation (n - 1) and the standard error of the mean of "
-      "repeated measurements, as the studies report them (deviation and error 0 for one value)");
-  defFunction(
-      m, "ratio_of_means",
-      {"ratio_of_means", {Param("a"), Param("a_stderr"), Param("b"), Param("b_stderr")}},
-      [](py::object a, py::object ae, py::object b, py::object be) {
-        const std::string f = "ratio_of_means";
-        const study::Ratio r =
-            study::ratioOfMeans(number(a, {f, "a"}), number(ae, {f, "a_stderr"}),
-                                number(b, {f, "b"}), number(be, {f, "b_stderr"}));
-        py::dict d;
-        d["ratio"] = r.value, d["stderr"] = r.stderr_;
-        d["verdict"] = study::verdictName(study::verdictOf(r.value, r.stderr_));
-        return d;
-      },
-      "a / b of two independent means with the ratio's standard error to first order, and the "
-      "studies' verdict: 'better' or 'worse' when the ratio is more than two standard errors "
-      "from 1, else 'tie'; 'n/a' when the error is 0 (one repeat) or b is not positive");
 
   defFunction(
       m, "read_image", {"read_image", {Param("path")}},

@@ -23,5 +23,6 @@ DoubleArray arrayOf(const std::vector<Point2> &points, std::size_t n, std::size_
 
 void bindPoints(py::module_ &m);
 void bindRender(py::module_ &m);
+void bindStudy(py::module_ &m);  // the studies' statistics
 
 }  // namespace nuld::python

@@ -4,9 +4,9 @@
 // reaches Python named by the function (ValueError, RuntimeError,
 // MemoryError), never in the library's words.
 
+#include "backends/set_cache.h"
 #include "materials/disney_target.h"
 #include "tools/python/args.h"
-#include "tools/study/set_cache.h"
 
 PYBIND11_MODULE(_nuld, m) {
   m.doc() = "nuld: non-uniform low-discrepancy point sets and a path tracer to test them";
@@ -16,9 +16,10 @@ PYBIND11_MODULE(_nuld, m) {
   options.disable_function_signatures();
   nuld::registerMaterialTargets();  // `disney:...` target specs, as the CLI has them
   // Neural lobe banks in the set cache, as the CLI keeps them.
-  nuld::setLobeBankStore(std::make_shared<nuld::study::SetCacheLobeBankStore>());
+  nuld::setLobeBankStore(std::make_shared<nuld::SetCacheLobeBankStore>());
   nuld::python::bindArgs(m);
   nuld::python::bindPoints(m);
   nuld::python::bindRender(m);
+  nuld::python::bindStudy(m);
   m.attr("__version__") = NULD_VERSION;  // the project's (CMakeLists.txt), as `nuld --version`
 }

@@ -9,7 +9,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "renderer/backend_registry.h"
+#include "backends/backend_registry.h"
 #include "renderer/padding.h"
 #include "sampler/io/round_trip.h"
 #include "sampler/sequences/rng.h"

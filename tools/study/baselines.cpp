@@ -12,7 +12,7 @@ namespace nuld::study {
 
 bool isClassicBackend(const std::string &word) {
   try {
-    const StudyBackend b = parseStudyBackend(word);
+    const BackendWord b = parseBackendWord(word);
     // A kind that takes no argument reads no sets and no model.
     return b.sets == BackendSets::None && b.spec.entry().argument.empty();
   } catch (const std::invalid_argument &) {

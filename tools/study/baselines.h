@@ -36,7 +36,7 @@ inline constexpr double kTooNoisyFactor = 10;
 // Whether a study backend word makes no learned sets: a renderer backend
 // whose registry entry takes no argument (no point-set files, no model:
 // independent, sobol, halton, sobol-tabulated and any such kind added to
-// renderer/backend_registry.h). The study's own sets (optimized*), banks
+// backends/backend_registry.h). The study's own sets (optimized*), banks
 // (optimized:, shifted:) and models (neural) are learned. A word that no
 // longer parses counts as learned.
 bool isClassicBackend(const std::string &word);

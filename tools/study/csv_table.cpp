@@ -186,14 +186,6 @@ void CsvTable::write() const {
   writeFileAtomically(path_, text);
 }
 
-std::string formatNumber(double v) {
-  if (std::isnan(v)) return "nan";
-  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
-
 double parseNumber(const std::string &s) {
   try {
     return std::stod(s);

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "sampler/io/round_trip.h"  // formatNumber
+
 namespace nuld::study {
 
 // The owner's word in a study folder's mark (sampler/io/output_folder.h):
@@ -63,8 +65,6 @@ class CsvTable {
   std::vector<std::vector<std::string>> rows_;
 };
 
-// %.6g, or "nan"/"inf" spelled as Python's csv/float() reads them.
-std::string formatNumber(double v);
 // A table's value as a number: NaN for an empty or unreadable one.
 double parseNumber(const std::string &s);
 

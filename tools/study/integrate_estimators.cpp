@@ -9,11 +9,11 @@
 #include <string_view>
 #include <vector>
 
+#include "backends/stopwatch.h"
 #include "sampler/bluenoise/blue_noise_sets.h"
 #include "sampler/sequences/rng.h"
 #include "sampler/sequences/sequence.h"
 #include "tools/study/statistics.h"
-#include "tools/study/stopwatch.h"
 
 namespace nuld::study {
 

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "renderer/bank_backend.h"
+#include "backends/bank_backend.h"
 #include "sampler/neural/neural_generator.h"
 #include "tools/study/integration_study.h"
 

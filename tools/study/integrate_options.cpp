@@ -8,8 +8,8 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "renderer/backend_registry.h"
-#include "renderer/neural_backend.h"
+#include "backends/backend_registry.h"
+#include "backends/neural_backend.h"
 #include "sampler/enum_names.h"
 #include "sampler/targets/target_spec.h"
 #include "scenes/default_scene.h"

@@ -13,8 +13,12 @@
 #include <optional>
 #include <stdexcept>
 
-#include "renderer/bank_backend.h"
-#include "renderer/neural_backend.h"
+#include "backends/bank_backend.h"
+#include "backends/neural_backend.h"
+#include "backends/optimized_sets.h"
+#include "backends/ranks.h"
+#include "backends/set_cache.h"
+#include "backends/stopwatch.h"
 #include "sampler/bluenoise/blue_noise_sets.h"
 #include "sampler/io/output_folder.h"
 #include "sampler/io/pointset_io.h"
@@ -27,10 +31,6 @@
 #include "sampler/targets/target_spec.h"
 #include "tools/study/integrate_estimators.h"
 #include "tools/study/integrate_internal.h"
-#include "tools/study/optimized_sets.h"
-#include "tools/study/ranks.h"
-#include "tools/study/set_cache.h"
-#include "tools/study/stopwatch.h"
 
 namespace nuld::study {
 namespace fs = std::filesystem;
@@ -211,7 +211,7 @@ class StudyRunner {
   // made those missing).
   PointSet bankFor(const Target &target, std::size_t n, double &secondsPerSet) {
     const OptimizedSetsRequest request = bankRequest(n);
-    const OptimizedSets made = study::optimizedSets(target, request, bankPath(target, request));
+    const OptimizedSets made = optimizedSets(target, request, bankPath(target, request));
     secondsPerSet = made.seconds / double(request.instances);
     PointSet set = readPointSet(made.file.string());
     if (set.n != n || set.instances() < request.instances)

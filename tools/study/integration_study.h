@@ -12,12 +12,12 @@
 //   independent-tabulated, sobol-tabulated, halton-tabulated: on integrands
 //       with a BRDF, the same points through the tabulated lobe's inverse CDF;
 //   optimized: Algorithm 1 at each N with the target's default preset, cached
-//       in the shared set cache (tools/study/set_cache.h), keyed by the
+//       in the shared set cache (backends/set_cache.h), keyed by the
 //       target's content and the settings;
 //   neural:NAME: a trained model (NAME = its file's stem) at its own N, on the
 //       integrands whose target it was trained for, fresh z per instance;
 //   optimized:PATHS, shifted:PATHS: the sets of point-set files, as nuld
-//       render deals them out (renderer/backend_registry.h), at their own N.
+//       render deals them out (backends/backend_registry.h), at their own N.
 // Conventional samplers average `instances` instances, optimized and neural
 // ones `optimizedInstances` (the supplement's 128 and 16).
 
@@ -29,12 +29,12 @@
 #include <string>
 #include <vector>
 
+#include "backends/optimized_sets.h"
 #include "sampler/optimize/optimizer.h"
 #include "sampler/point.h"
 #include "sampler/sequences/sequence.h"
 #include "tools/study/csv_table.h"
 #include "tools/study/integrands.h"
-#include "tools/study/optimized_sets.h"
 
 namespace nuld::study {
 
@@ -97,7 +97,7 @@ struct SamplerChoice {
 };
 
 // Tokens: the backend registry's words that serve the integration study
-// (renderer/backend_registry.h, parsed there; a word means what it means in
+// (backends/backend_registry.h, parsed there; a word means what it means in
 // renders): independent|random, sobol, halton and each -tabulated (on lobe
 // integrands through the tabulated lobe's inverse CDF), stratified, pmj02,
 // lattice, optimized (sets

@@ -6,12 +6,12 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "renderer/backend_registry.h"
+#include "backends/backend_registry.h"
+#include "backends/ranks.h"
 #include "renderer/image_metrics.h"
 #include "renderer/sampler_backend.h"
 #include "sampler/io/atomic_file.h"
 #include "sampler/io/image_io.h"
-#include "tools/study/ranks.h"
 
 namespace nuld::study {
 
