@@ -267,11 +267,12 @@ bool BankBackend::mapsPrimaryThrough(const Target &target) const {
   return true;
 }
 
-std::vector<SamplerBackend::PairUse> BankBackend::pairUse() const {
-  std::vector<PairUse> out;
+SamplerBackend::Report BankBackend::report() const {
+  Report out;
   const char *names[] = {"light", "bsdf", "primary"};
   for (std::size_t k = 0; k < use_.size(); ++k)
-    out.push_back({names[k], use_[k].served.load(), use_[k].fellBack.load()});
+    out.pairUse.push_back({names[k], use_[k].served.load(), use_[k].fellBack.load()});
+  out.note = note_;
   return out;
 }
 

@@ -111,9 +111,8 @@ class BankBackend : public SamplerBackend {
   bool distributed(const Target &target, std::uint64_t pixel, std::uint32_t pair,
                    std::span<Point2> out) const override;
   bool mapsPrimaryThrough(const Target &target) const override;
-  std::vector<PairUse> pairUse() const override;
+  Report report() const override;
   // Says when a bank without a `target` serves as uniform primary samples.
-  std::string note() const override { return note_; }
 
   const std::vector<SetBank> &banks() const { return banks_; }
   // How many of the scene's targets the last prepare() matched to a bank.

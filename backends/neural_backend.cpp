@@ -234,15 +234,19 @@ void NeuralBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
   BankBackend::prepare(spp, targets);
 }
 
-std::string NeuralBackend::note() const {
-  if (declined_ == 0) return "";
+SamplerBackend::Report NeuralBackend::report() const {
+  Report out = BankBackend::report();
+  out.setsMadeSeconds = madeSeconds_;
+  if (declined_ == 0) return out;
   const std::size_t found = bankSpecs_.size() - banksMade_;
-  return name() + ": " + std::to_string(declined_) + " of " + std::to_string(bankSpecs_.size()) +
-         " lobe tables sampled Owen-Sobol through the table: the model's sets, as dealt, "
-         "estimate smooth light under them worse than Owen-Sobol through the same table "
-         "(measured when each bank was made; " +
-         std::to_string(banksMade_) + " made now, " + std::to_string(found) +
-         " found made in this process)";
+  out.note = name() + ": " + std::to_string(declined_) + " of " +
+             std::to_string(bankSpecs_.size()) +
+             " lobe tables sampled Owen-Sobol through the table: the model's sets, as dealt, "
+             "estimate smooth light under them worse than Owen-Sobol through the same table "
+             "(measured when each bank was made; " +
+             std::to_string(banksMade_) + " made now, " + std::to_string(found) +
+             " found made in this process)";
+  return out;
 }
 
 }  // namespace nuld

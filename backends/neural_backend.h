@@ -96,8 +96,9 @@ class NeuralBackend final : public BankBackend {
   void prepare(std::size_t spp, const SamplingTargets &targets) override;
 
   std::size_t bankSets() const;
-  std::string note() const override;
-  double setsMadeSeconds() const override { return madeSeconds_; }
+  // The bank's counts, what the model's sets were declined for, and the
+  // seconds its banks took to make.
+  Report report() const override;
   // Every lobe table its model makes is served, measured or not: for the
   // tests and experiments that examine the sets as dealt (takes effect at
   // the next prepare()).

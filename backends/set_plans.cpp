@@ -1,5 +1,7 @@
 #include "backends/set_plans.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -15,6 +17,32 @@
 #include "sampler/targets/target_spec.h"
 
 namespace nuld {
+
+LobeVisits lobeTableVisits(const Scene &scene, const LobeTables &tables, int width, int height,
+                           int raysPerSide) {
+  const PerspectiveCamera camera(scene.camera, width, height);
+  const int side = std::max(raysPerSide, 1);
+  // Row by row in parallel; each row's counts merged in row order.
+  std::vector<std::map<const Target *, std::size_t>> rows(std::size_t(std::max(height, 0)));
+  tbb::parallel_for(0, std::max(height, 0), [&](int y) {
+    auto &counts = rows[std::size_t(y)];
+    for (int x = 0; x < width; ++x)
+      for (int j = 0; j < side; ++j)
+        for (int i = 0; i < side; ++i) {
+          const Ray ray = camera.generateRay({x + (i + 0.5) / side, y + (j + 0.5) / side});
+          const auto hit = scene.geometry.intersect(ray);
+          if (!hit) continue;
+          const Bsdf *bsdf = scene.materials[hit->mesh].get();
+          const Vec3 wo = shadingLocal(*hit, -ray.direction);
+          if (const auto f = tables.frame(bsdf, wo)) ++counts[f->table];
+        }
+  });
+  LobeVisits visits;
+  visits.total = std::size_t(std::max(width, 0)) * std::size_t(std::max(height, 0)) * side * side;
+  for (const auto &counts : rows)
+    for (const auto &[table, n] : counts) visits.rays[table] += n;
+  return visits;
+}
 
 namespace fs = std::filesystem;
 

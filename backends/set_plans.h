@@ -4,6 +4,7 @@
 // word makes for a scene at one spp, and the lobe bins worth a bank.
 
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -40,6 +41,17 @@ BackendPlan planBackend(const BackendWord &backend, IntegratorKind integrator,
                         const std::vector<const Target *> &lobeTargets,
                         const std::string &sceneSlug, std::size_t spp, const SetSettings &sets,
                         std::uint64_t seed, const std::vector<std::size_t> &sppFamily);
+
+// How many camera rays' first hits each serving lobe table takes (its bin of
+// its material), over a raysPerSide x raysPerSide grid in every pixel of a
+// width x height render: the tables a render's first bounce actually asks
+// for, found by tracing primary rays only. Tables no ray reaches are absent.
+struct LobeVisits {
+  std::map<const Target *, std::size_t> rays;  // per table
+  std::size_t total = 0;                       // camera rays traced
+};
+LobeVisits lobeTableVisits(const Scene &scene, const LobeTables &tables, int width, int height,
+                           int raysPerSide = 2);
 
 // The tabulated bins whose lobes get banks: those that at least a minimum share
 // of the camera rays' first hits take (a 2 x 2 grid per pixel at the render's

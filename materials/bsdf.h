@@ -20,10 +20,18 @@ struct BsdfValue {
   double pdf{};
 };
 
+// A sampled direction and what an estimate needs of it, whatever drew it:
+// the material's own sample(), a lobe table (renderer/lobe_tables.h:
+// sampleRoute), a learned set or a user's sampler through either.
 struct BsdfSample {
   Vec3 wi;       // unit, local frame
   Rgb f;         // the BRDF value f(wo, wi), without the cosine
-  double pdf{};  // per unit solid angle, > 0
+  double pdf{};  // the density that drew wi, per unit solid angle, > 0: the divisor
+  // The material's own sampling density at wi, which MIS weighs the BSDF
+  // strategy by: pdf itself when sample() drew wi; for a table's sample the
+  // material's, so that the light sample's weight, which takes the same
+  // density, and this one still sum to 1 at every direction.
+  double misPdf{};
 };
 
 class Bsdf {

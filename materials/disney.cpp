@@ -209,12 +209,10 @@ Rgb DisneyBrdf::lobeValue(DisneyLobe lobe, Vec3 wo, Vec3 wi, const Geometry &g, 
   return {};
 }
 
-// One code path for f whether or not the pdf is wanted: compiled twice, the
-// same sums could round differently (FMA contraction), and sample() must
-// return exactly eval's f.
-// f alone: the sum evalWithPdf makes, without the lobe probabilities and
-// pdfs (a tabulated route's samples and their light samples' weights need
-// no material pdf).
+// f alone: the lobe terms evalWithPdf sums, in the same order, without the
+// lobe probabilities and pdfs (the light integrator's weights need no
+// material pdf). Both loops call lobeValue per lobe, so the two f agree
+// (disney_energy_test.cpp); sample() returns evalWithPdf's.
 Rgb DisneyBrdf::eval(Vec3 wo, Vec3 wi) const {
   const auto g = geometry(wo, wi);
   if (!g) return {};
@@ -295,7 +293,7 @@ std::optional<BsdfSample> DisneyBrdf::sample(Vec3 wo, Point2 u) const {
   if (!wi || !(wi->z > 0)) return std::nullopt;
   const auto [f, p] = evalWithPdf(wo, *wi, lobeP);
   if (!(p > 0) || !std::isfinite(p) || !f.isFinite()) return std::nullopt;
-  return BsdfSample{*wi, f, p};
+  return BsdfSample{*wi, f, p, p};
 }
 
 }  // namespace nuld

@@ -18,7 +18,8 @@ std::optional<BsdfSample> Lambertian::sample(Vec3 wo, Point2 u) const {
   if (!(wo.z > 0)) return std::nullopt;
   const Vec3 wi = cosineHemisphere(u);
   if (!(wi.z > 0)) return std::nullopt;  // only for u.x = 1, outside [0,1)
-  return BsdfSample{wi, albedo_ * kInvPi, cosineHemispherePdf(wi.z)};
+  const double pdf = cosineHemispherePdf(wi.z);
+  return BsdfSample{wi, albedo_ * kInvPi, pdf, pdf};
 }
 
 }  // namespace nuld

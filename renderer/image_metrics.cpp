@@ -14,8 +14,6 @@
 namespace nuld {
 namespace {
 
-constexpr double kRelEpsilon = 0.01;
-
 void requireSameShape(const Image &a, const Image &b) {
   if (a.width != b.width || a.height != b.height)
     throw std::invalid_argument("images differ in size: " + std::to_string(a.width) + "x" +
@@ -29,7 +27,7 @@ void requireSameShape(const Image &a, const Image &b) {
 }
 
 // The squared error d^2 of one channel relative to its reference value r.
-double relativeSquared(double d, double r) { return d * d / (r * r + kRelEpsilon); }
+double relativeSquared(double d, double r) { return d * d / (r * r + kRelMseEpsilon); }
 
 double channel(const Image &img, int x, int y, int c) {
   return img.at(x, y, img.channels >= 3 ? c : 0);

@@ -20,6 +20,9 @@
 
 namespace nuld {
 
+// relmse's 0.01, which a reference's own relative variance shares.
+inline constexpr double kRelMseEpsilon = 0.01;
+
 // The Gaussian's standard deviation in pixels; truncated at 3 sigma and
 // renormalized at the image's borders.
 inline constexpr double kScreenErrorSigma = 1.0;

@@ -45,7 +45,7 @@ Vec3 proxyLightDirection(Point2 u) {
 // the same Owen-Sobol points as the sobol-tabulated backend feeds them;
 // `underMis`: each estimate combined with as many proxy light samples by
 // the power heuristic, with the material's pdf on the BSDF side as the
-// path integrator weighs them (RouteSample).
+// path integrator weighs them (BsdfSample::misPdf).
 struct RouteVariances {
   double classic = 0, table = 0;
 };
@@ -72,10 +72,10 @@ RouteVariances measureAt(const DisneyBrdf &m, Vec3 wo, const LobeFrame &lobe, bo
         light[i] = {wi, v.f.luminance() * wi.z / kProxyLightPdf / double(kMeasurePoints), v.pdf};
       }
     }
-    const auto add = [&](const std::optional<RouteSample> &s, auto &sums) {
+    const auto add = [&](const std::optional<BsdfSample> &s, auto &sums) {
       if (!s) return;
-      const BsdfSample &b = s->sample;
-      const double w = (underMis ? powerHeuristic(s->materialPdf, kProxyLightPdf) : 1.0) *
+      const BsdfSample &b = *s;
+      const double w = (underMis ? powerHeuristic(b.misPdf, kProxyLightPdf) : 1.0) *
                        b.f.luminance() * b.wi.z / b.pdf / double(kMeasurePoints);
       for (int k = 0; k < kLights; ++k) sums[k][r] += w * smoothLight(k, b.wi);
     };
@@ -85,7 +85,7 @@ RouteVariances measureAt(const DisneyBrdf &m, Vec3 wo, const LobeFrame &lobe, bo
     }
     // The proxy light's samples, weighted as the path integrator weighs
     // them: against the material's pdf whichever route draws the BSDF
-    // sample (RouteSample), so they add the same to both routes' estimates.
+    // sample (BsdfSample::misPdf), so they add the same to both routes' estimates.
     if (underMis)
       for (const LightSample &l : light) {
         const double w = powerHeuristic(kProxyLightPdf, l.materialPdf) * l.value;
@@ -102,26 +102,22 @@ RouteVariances measureAt(const DisneyBrdf &m, Vec3 wo, const LobeFrame &lobe, bo
 // The table's sample at the drawn point x (with its cell's density per unit
 // area of the square): f and the material's pdf there, and the route's
 // mixture density.
-std::optional<RouteSample> tableSample(const Bsdf &bsdf, Vec3 wo, const LobeFrame &lobe,
-                                       const GridTarget::Draw &x) {
-  RouteSample s;
-  s.sample.wi = lobe.direction(x.x);
-  if (!(s.sample.wi.z > 0)) return std::nullopt;
-  const BsdfValue v = bsdf.evalWithPdf(wo, s.sample.wi);
-  s.sample.f = v.f;
-  s.materialPdf = v.pdf;
-  s.sample.pdf = lobe.mixture(x.density * kInvFourPi, v.pdf);
+std::optional<BsdfSample> tableSample(const Bsdf &bsdf, Vec3 wo, const LobeFrame &lobe,
+                                      const GridTarget::Draw &x) {
+  BsdfSample s;
+  s.wi = lobe.direction(x.x);
+  if (!(s.wi.z > 0)) return std::nullopt;
+  const BsdfValue v = bsdf.evalWithPdf(wo, s.wi);
+  s.f = v.f;
+  s.misPdf = v.pdf;
+  s.pdf = lobe.mixture(x.density * kInvFourPi, v.pdf);
   return s;
 }
 
 // The route's sample before its one validity check (sampleRoute).
-std::optional<RouteSample> drawRoute(const Bsdf &bsdf, Vec3 wo, const LobeFrame &lobe,
-                                     RoutePoint p) {
-  if (!lobe.table) {
-    const auto drawn = bsdf.sample(wo, p.value);
-    if (!drawn) return std::nullopt;
-    return RouteSample{*drawn, drawn->pdf};
-  }
+std::optional<BsdfSample> drawRoute(const Bsdf &bsdf, Vec3 wo, const LobeFrame &lobe,
+                                    RoutePoint p) {
+  if (!lobe.table) return bsdf.sample(wo, p.value);
   const double d = lobe.defensive;
   // A point that follows the table, in a cell the table can draw from, is
   // the table's sample as it is: pulling it back to primary space and
@@ -139,22 +135,19 @@ std::optional<RouteSample> drawRoute(const Bsdf &bsdf, Vec3 wo, const LobeFrame 
   // stratification on both sides, which a random choice per sample would
   // not.
   if (u.x < d) {
-    const auto drawn = bsdf.sample(wo, {u.x / d, u.y});
-    if (!drawn) return std::nullopt;
-    RouteSample s{*drawn, drawn->pdf};
-    s.sample.pdf = lobe.pdf(drawn->wi, drawn->pdf);
-    return s;
+    auto drawn = bsdf.sample(wo, {u.x / d, u.y});
+    if (drawn) drawn->pdf = lobe.pdf(drawn->wi, drawn->misPdf);
+    return drawn;
   }
   return tableSample(bsdf, wo, lobe, lobe.table->draw({(u.x - d) / (1 - d), u.y}));
 }
 
 }  // namespace
 
-std::optional<RouteSample> sampleRoute(const Bsdf &bsdf, Vec3 wo, const LobeFrame &lobe,
-                                       RoutePoint p) {
+std::optional<BsdfSample> sampleRoute(const Bsdf &bsdf, Vec3 wo, const LobeFrame &lobe,
+                                      RoutePoint p) {
   auto s = drawRoute(bsdf, wo, lobe, p);
-  if (!s || !(s->sample.pdf > 0) || !std::isfinite(s->sample.pdf) || !s->sample.f.isFinite())
-    return std::nullopt;
+  if (!s || !(s->pdf > 0) || !std::isfinite(s->pdf) || !s->f.isFinite()) return std::nullopt;
   return s;
 }
 

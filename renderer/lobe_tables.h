@@ -148,19 +148,15 @@ struct LobeFrame {
   }
 };
 
-// One BSDF sample by a route. `sample.pdf` is the route's density at
-// sample.wi (LobeFrame::pdf), which the estimate divides by; `materialPdf`
-// is the material's own sampling pdf there, which the MIS weights of both
+// A route's sample is a BsdfSample whose `pdf` is the route's density at wi
+// (LobeFrame::pdf), which the estimate divides by, and whose `misPdf` is the
+// material's own sampling pdf there, which the MIS weights of both
 // strategies take (the light sample's too, so the weights still sum to 1 at
 // every direction and the estimate stays unbiased). Under MIS a table holds
 // the material's sampling pdf at its bin's centre, so the two densities
 // differ only by the view's offset within the bin; weights from the
 // material's pdf spare every light sample a table lookup
 // (renderer/README.md, "Lobe routes", has the measurements).
-struct RouteSample {
-  BsdfSample sample;
-  double materialPdf = 0;
-};
 
 // The point a route samples with: a primary point (uniform in the square),
 // or a point that already follows the route's table (a set dealt for it).
@@ -178,8 +174,8 @@ struct RoutePoint {
 // is pulled back to the table's primary space (GridTarget::primaryOf) to be
 // split there. f is the material's; with uniform primary points, wi
 // follows the route's density. nullopt when no direction results.
-std::optional<RouteSample> sampleRoute(const Bsdf &bsdf, Vec3 wo, const LobeFrame &lobe,
-                                       RoutePoint p);
+std::optional<BsdfSample> sampleRoute(const Bsdf &bsdf, Vec3 wo, const LobeFrame &lobe,
+                                      RoutePoint p);
 
 // What the route measurement found for one bin (renderer/README.md, "Lobe
 // routes"): the relative variance of a 16-point Owen-Sobol estimate of the
@@ -213,7 +209,6 @@ class LobeTables {
   const std::vector<LobeBinRoute> &routes() const { return routes_; }
   std::size_t materials() const { return entries_.size(); }
   const LobeTableSettings &settings() const { return config_.settings; }
-  const LobeTablesConfig &config() const { return config_; }
 
  private:
   struct Entry {

@@ -1,7 +1,5 @@
 #include "renderer/path_integrator.h"
 
-#include <tbb/parallel_for.h>
-
 #include <array>
 #include <cmath>
 #include <stdexcept>
@@ -23,10 +21,17 @@ PathIntegrator::PathIntegrator(const Scene &scene, IntegratorKind kind, int maxD
       lobes_(lobes),
       maxDepth_(kind == IntegratorKind::Path ? maxDepth : 1),
       rouletteDepth_(rouletteDepth),
-      lightOnly_(kind == IntegratorKind::Light),
-      bsdfOnly_(kind == IntegratorKind::Bsdf) {
+      strategies_(Strategies::of(kind)) {
   if (maxDepth < 1) throw std::invalid_argument("max depth must be at least 1");
   if (rouletteDepth < 1) throw std::invalid_argument("roulette depth must be at least 1");
+}
+
+PathIntegrator::Strategies PathIntegrator::Strategies::of(IntegratorKind kind) {
+  return {kind != IntegratorKind::Bsdf, kind != IntegratorKind::Light};
+}
+
+double PathIntegrator::misWeight(double pdf, double otherPdf) const {
+  return strategies_.light && strategies_.bsdf ? powerHeuristic(pdf, otherPdf) : 1.0;
 }
 
 namespace {
@@ -67,38 +72,15 @@ void record(PathCounters &c, const Ray &r) {
 
 }  // namespace
 
-LobeVisits lobeTableVisits(const Scene &scene, const LobeTables &tables, int width, int height,
-                           int raysPerSide) {
-  const PerspectiveCamera camera(scene.camera, width, height);
-  const int side = std::max(raysPerSide, 1);
-  // Row by row in parallel; each row's counts merged in row order.
-  std::vector<std::map<const Target *, std::size_t>> rows(std::size_t(std::max(height, 0)));
-  tbb::parallel_for(0, std::max(height, 0), [&](int y) {
-    auto &counts = rows[std::size_t(y)];
-    for (int x = 0; x < width; ++x)
-      for (int j = 0; j < side; ++j)
-        for (int i = 0; i < side; ++i) {
-          const Ray ray = camera.generateRay({x + (i + 0.5) / side, y + (j + 0.5) / side});
-          const auto hit = scene.geometry.intersect(ray);
-          if (!hit) continue;
-          const Bsdf *bsdf = scene.materials[hit->mesh].get();
-          const Vec3 wo = shadingAt(*hit, -ray.direction).frame.toLocal(-ray.direction);
-          if (const auto f = tables.frame(bsdf, wo)) ++counts[f->table];
-        }
-  });
-  LobeVisits visits;
-  visits.total = std::size_t(std::max(width, 0)) * std::size_t(std::max(height, 0)) * side * side;
-  for (const auto &counts : rows)
-    for (const auto &[table, n] : counts) visits.rays[table] += n;
-  return visits;
-}
+Vec3 shadingLocal(const SurfaceHit &hit, Vec3 wo) { return shadingAt(hit, wo).frame.toLocal(wo); }
 
 // One path's state between bounces.
 struct PathIntegrator::PathState {
   Rgb L, beta{1, 1, 1};
   Ray ray;
   // The material's sampling pdf at the last BSDF sample's direction, which
-  // weighs what the ray finds by MIS (RouteSample); none for the camera ray.
+  // weighs what the ray finds by MIS (BsdfSample::misPdf); none for the
+  // camera ray.
   double lastBsdfPdf = 0;
   bool cameraRay = true;
   bool alive = true;
@@ -159,7 +141,7 @@ bool PathIntegrator::arrive(std::span<PathState> path,
         double lightPdf;
         const Rgb Le =
             light_->radiance(depth > 0 ? p.escape : light_->find(p.ray.direction), lightPdf);
-        const double w = p.cameraRay || bsdfOnly_ ? 1.0 : powerHeuristic(p.lastBsdfPdf, lightPdf);
+        const double w = p.cameraRay ? 1.0 : misWeight(p.lastBsdfPdf, lightPdf);
         p.L += w * p.beta * Le;
       }
       p.alive = false;
@@ -195,8 +177,10 @@ bool PathIntegrator::arrive(std::span<PathState> path,
 void PathIntegrator::chooseBsdfStrategies(std::span<PathState> path, int depth,
                                           PathCounters &counters) const {
   const std::size_t n = path.size();
-  // The BSDF strategy of each sample, decided before next-event estimation
-  // because the light sample's MIS weight needs its pdf.
+  // The BSDF strategy of each sample: the table's route when the backend
+  // serves the shading point's table, else the material's own sample().
+  // (The light sample's MIS weight takes the material's pdf whichever
+  // strategy this picks.)
   for (std::size_t k = 0; k < n; ++k) {
     PathState &p = path[k];
     p.lobe = {};
@@ -217,7 +201,7 @@ void PathIntegrator::addLightSamples(std::span<PathState> path, int depth,
                                      PathCounters &counters) const {
   const std::size_t n = path.size();
   // Next-event estimation of the environment.
-  if (light_ && light_->target() && !bsdfOnly_) {
+  if (light_ && light_->target() && strategies_.light) {
     std::array<std::optional<LightSample>, kMaxPaths> ls;
     lightSamples(*light_, path, depth, ls);
     for (std::size_t k = 0; k < n; ++k) {
@@ -229,12 +213,14 @@ void PathIntegrator::addLightSamples(std::span<PathState> path, int depth,
       const Ray shadow{p.sh.origin, ls[k]->wi};
       record(counters, shadow);
       if (scene_.geometry.occluded(shadow)) continue;
+      // Alone, the light's weight is 1 and the material's pdf unused:
+      // eval alone (the same f as evalWithPdf's, bit for bit).
       const auto [f, materialPdf] =
-          lightOnly_ ? BsdfValue{p.bsdf->eval(p.wo, wi), 0.0} : p.bsdf->evalWithPdf(p.wo, wi);
+          strategies_.bsdf ? p.bsdf->evalWithPdf(p.wo, wi) : BsdfValue{p.bsdf->eval(p.wo, wi), 0.0};
       if (f.isBlack()) continue;
       // Whatever route draws the BSDF sample, the weights of both
-      // strategies take the material's own sampling pdf (RouteSample).
-      const double w = lightOnly_ ? 1.0 : powerHeuristic(ls[k]->pdf, materialPdf);
+      // strategies take the material's own sampling pdf (BsdfSample::misPdf).
+      const double w = misWeight(ls[k]->pdf, materialPdf);
       p.L += (w * wi.z / ls[k]->pdf) * p.beta * f * ls[k]->radiance;
     }
   }
@@ -252,17 +238,16 @@ bool PathIntegrator::continuePaths(std::span<PathState> path, int depth,
     PathState &p = path[k];
     if (!p.alive) continue;
     p.alive = false;
-    const auto drawn = sampleRoute(
+    const auto bs = sampleRoute(
         *p.bsdf, p.wo, p.lobe,
         p.lobe.table ? p.lobePoint
                      : RoutePoint{p.samples->primary(SamplePairs::bsdf(depth), p.index)});
-    if (!drawn) continue;
-    const BsdfSample &bs = drawn->sample;
-    if (!(bs.wi.z > 0)) continue;  // below the shading hemisphere: f = 0
-    const Vec3 wiWorld = p.sh.frame.toWorld(bs.wi);
-    p.beta *= (bs.wi.z / bs.pdf) * bs.f;
+    if (!bs) continue;
+    if (!(bs->wi.z > 0)) continue;  // below the shading hemisphere: f = 0
+    const Vec3 wiWorld = p.sh.frame.toWorld(bs->wi);
+    p.beta *= (bs->wi.z / bs->pdf) * bs->f;
     // The MIS weight's BSDF pdf (see addLightSamples).
-    p.lastBsdfPdf = drawn->materialPdf;
+    p.lastBsdfPdf = bs->misPdf;
     p.cameraRay = false;
     p.ray = {p.sh.origin, wiWorld};
     if (p.beta.isBlack()) continue;
@@ -304,9 +289,9 @@ void PathIntegrator::radiance(std::span<const Ray> rays,
   const std::span<std::optional<SurfaceHit>> packetHits(hit.data(), n);
   for (int depth = 0;; ++depth) {
     if (!arrive(packet, packetHits, depth)) break;
-    if (!lightOnly_) chooseBsdfStrategies(packet, depth, counters);
+    if (strategies_.bsdf) chooseBsdfStrategies(packet, depth, counters);
     addLightSamples(packet, depth, counters);
-    if (lightOnly_) break;  // the light sample was the whole estimate
+    if (!strategies_.bsdf) break;  // the light sample was the whole estimate
     if (!continuePaths(packet, depth, packetHits, counters)) break;
   }
 

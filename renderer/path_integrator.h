@@ -16,10 +16,10 @@
 // sampler), and the material's own lobe-selection mapping otherwise (and in
 // the bins whose route is the material's); every estimate divides by the
 // density of the strategy that drew it, and the MIS weights of both
-// strategies take the material's own pdf (RouteSample in lobe_tables.h).
+// strategies take the material's own pdf (BsdfSample::misPdf); misWeight is
+// the one place a weight is computed.
 
 #include <cstdint>
-#include <map>
 #include <optional>
 #include <span>
 #include <string>
@@ -62,16 +62,9 @@ struct PathCounters {
   std::vector<RecordedRay> *recorder = nullptr;  // when set, every ray is appended
 };
 
-// How many camera rays' first hits each serving lobe table takes (its bin of
-// its material), over a raysPerSide x raysPerSide grid in every pixel of a
-// width x height render: the tables a render's first bounce actually asks
-// for, found by tracing primary rays only. Tables no ray reaches are absent.
-struct LobeVisits {
-  std::map<const Target *, std::size_t> rays;  // per table
-  std::size_t total = 0;                       // camera rays traced
-};
-LobeVisits lobeTableVisits(const Scene &scene, const LobeTables &tables, int width, int height,
-                           int raysPerSide = 2);
+// wo in the shading frame the integrator uses at `hit` (its shading normal
+// turned to wo's side), as the lobe tables are asked with it.
+Vec3 shadingLocal(const SurfaceHit &hit, Vec3 wo);
 
 class PathIntegrator {
  public:
@@ -109,19 +102,32 @@ class PathIntegrator {
   // Each path's BSDF strategy: the backend's point through the lobe table when
   // it serves the context, else the material's own sample().
   void chooseBsdfStrategies(std::span<PathState> paths, int depth, PathCounters &counters) const;
-  // Next-event estimation of the environment, MIS-weighted against the BSDF
-  // strategy chosen above.
+  // Next-event estimation of the environment, MIS-weighted against BSDF
+  // sampling by the material's own pdf (whichever strategy draws the BSDF
+  // sample).
   void addLightSamples(std::span<PathState> paths, int depth, PathCounters &counters) const;
   // Samples each path's continuation and traces it into `hits`; returns
   // whether any path goes on.
   bool continuePaths(std::span<PathState> paths, int depth,
                      std::span<std::optional<SurfaceHit>> hits, PathCounters &counters) const;
 
+  // The estimators an integrator kind runs, chosen once: path and direct
+  // both, combined by MIS; light (next-event estimation alone, the first
+  // bounce) and bsdf (BSDF sampling alone, the first bounce) one each.
+  struct Strategies {
+    bool light = true, bsdf = true;
+    static Strategies of(IntegratorKind kind);
+  };
+  // The MIS weight of a sample drawn with density `pdf` by one strategy
+  // against `otherPdf`, the other strategy's at the same direction: the
+  // power heuristic when both run, 1 when one runs alone.
+  double misWeight(double pdf, double otherPdf) const;
+
   const Scene &scene_;
   const EnvironmentLight *light_;  // sampledLight()
   const LobeTables *lobes_;
   int maxDepth_, rouletteDepth_;
-  bool lightOnly_, bsdfOnly_;
+  Strategies strategies_;
 };
 
 }  // namespace nuld

@@ -225,7 +225,7 @@ Image render(const Scene &scene, const RenderSettings &s, SamplerBackend &backen
     }
   }
   backend.prepare(s.spp, targets);
-  if (stats) stats->setsMadeSeconds = backend.setsMadeSeconds();
+  if (stats) stats->setsMadeSeconds = backend.report().setsMadeSeconds;
 
   const auto start = std::chrono::steady_clock::now();
   const PerspectiveCamera camera(scene.camera, s.width, s.height);

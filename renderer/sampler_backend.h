@@ -114,22 +114,28 @@ class SamplerBackend {
   // already holds, instead of asking for a whole set per context.
   virtual bool mapsPrimaryThrough(const Target &target) const { return false; }
 
-  // What a backend of learned sets served since prepare(): per kind of pair
-  // ("light", "bsdf", "primary"), the first-bounce contexts (pixel, pair)
-  // its sets served and those that fell back to its classic sampler. Empty
-  // for backends without sets.
+  // What a backend has to say of its sampling since prepare(), for the user
+  // and the studies (sampling never reads it): one statistics object, so
+  // that the interface's sampling calls stay apart from its diagnostics.
   struct PairUse {
     std::string pair;
     std::uint64_t served = 0, fellBack = 0;
   };
-  virtual std::vector<PairUse> pairUse() const { return {}; }
-  // What the last prepare() decided that a user should hear ("" for
-  // nothing): e.g. the lobe tables a learned backend left to its fallback.
-  virtual std::string note() const { return ""; }
-  // The seconds the last prepare() spent making sets it found nowhere (a
-  // neural model's banks): one-time setup, which a study reports apart from
-  // render time. 0 for backends whose sets are made before any render.
-  virtual double setsMadeSeconds() const { return 0; }
+  struct Report {
+    // Per kind of pair ("light", "bsdf", "primary"), the first-bounce
+    // contexts (pixel, pair) a learned backend's sets served and those that
+    // fell back to its classic sampler; empty for backends without sets.
+    std::vector<PairUse> pairUse;
+    // What the last prepare() decided that a user should hear ("" for
+    // nothing): e.g. the lobe tables a learned backend left to its
+    // fallback, or the pairs a plugin leaves to sobol.
+    std::string note;
+    // The seconds the last prepare() spent making sets it found nowhere (a
+    // neural model's banks): one-time setup, which a study reports apart
+    // from render time. 0 for backends whose sets are made before a render.
+    double setsMadeSeconds = 0;
+  };
+  virtual Report report() const { return {}; }
 };
 
 }  // namespace nuld

@@ -16,8 +16,6 @@ struct MeshBounds {
   Vec3 hi = -lo;
 
   bool empty() const { return lo.x > hi.x; }
-  Vec3 extent() const { return empty() ? Vec3{} : hi - lo; }
-  Vec3 center() const { return 0.5 * (lo + hi); }
   void extend(Vec3 p) {
     lo = min(lo, p);
     hi = max(hi, p);

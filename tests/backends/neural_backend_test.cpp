@@ -103,11 +103,11 @@ TEST(NeuralBackend, DisneyFamilyModelServesTheLobeTablesOfItsMaterial) {
   EXPECT_EQ(backend.bankSets(), targets.size() * NeuralBackend::kSetsPerGamma);
   // It made the banks (setup a study reports apart from render time);
   // another backend of the same model finds them made, and makes nothing.
-  EXPECT_GT(backend.setsMadeSeconds(), 0);
+  EXPECT_GT(backend.report().setsMadeSeconds, 0);
   NeuralBackend again("neural:" + model, model, 3);
   again.prepare(4, {nullptr, targets});
   EXPECT_EQ(again.servedTargets(), targets.size());
-  EXPECT_EQ(again.setsMadeSeconds(), 0);
+  EXPECT_EQ(again.report().setsMadeSeconds, 0);
   std::vector<Point2> out(4);
   for (const Target *t : targets) {
     ASSERT_TRUE(backend.distributed(*t, 9, SamplePairs::bsdf(0), out));

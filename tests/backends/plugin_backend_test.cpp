@@ -99,7 +99,8 @@ TEST(PluginBackend, ThePairsThePluginLeavesAreSobols) {
   auto sobol = makeBackend("sobol", 5);
   b->prepare(8, image(8, 8, 7));
   sobol->prepare(8, image(8, 8, 7));
-  EXPECT_NE(b->note().find("the first 1 of the 7 pairs"), std::string::npos) << b->note();
+  EXPECT_NE(b->report().note.find("the first 1 of the 7 pairs"), std::string::npos)
+      << b->report().note;
   std::vector<Point2> got(8), want(8);
   for (std::uint32_t pair = 1; pair < 7; ++pair) {
     b->primary(9, pair, got);

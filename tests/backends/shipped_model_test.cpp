@@ -193,7 +193,7 @@ TEST(ShippedModel, RendersEqualForAnyThreadCount) {
     RenderStats stats;
     const Image img = render(scene, s, backend, &stats);
     EXPECT_GT(stats.lobeBinsTabulated, 0u);
-    EXPECT_EQ(backend.pairUse()[1].fellBack, 0u);  // the model serves every table
+    EXPECT_EQ(backend.report().pairUse[1].fellBack, 0u);  // the model serves every table
     return img.pixels;
   };
   EXPECT_EQ(renderWith(1), renderWith(4));
@@ -212,9 +212,9 @@ TEST(ShippedModel, TablesItDealsWorseKeepOwenSobolThroughTheTable) {
   NeuralBackend neural("neural", shippedLobeModel(), 5);
   const Image a = render(scene, s, neural);
   EXPECT_EQ(neural.bankSets(), 0u);
-  EXPECT_NE(neural.note().find("lobe tables sampled Owen-Sobol through the table"),
+  EXPECT_NE(neural.report().note.find("lobe tables sampled Owen-Sobol through the table"),
             std::string::npos)
-      << neural.note();
+      << neural.report().note;
   const auto tabulated = makeBackend("sobol-tabulated", 5);
   EXPECT_EQ(a.pixels, render(scene, s, *tabulated).pixels);
 }

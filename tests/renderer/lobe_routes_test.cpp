@@ -20,6 +20,7 @@
 #include "sampler/sequences/rng.h"
 #include "sampler/sequences/sequence.h"
 #include "tests/materials/chi_square.h"
+#include "tests/renderer/lobe_cases.h"
 #include "tests/renderer/test_scenes.h"
 
 namespace nuld {
@@ -32,21 +33,8 @@ Vec3 direction(double thetaDegrees, double phiDegrees) {
   return {std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)};
 }
 
-std::shared_ptr<const DisneyBrdf> material(double roughness, double anisotropic, double metallic,
-                                           LobeChoice choice = kDefaultLobeChoice) {
-  DisneyParams p;
-  p.roughness = roughness;
-  p.anisotropic = anisotropic;
-  p.metallic = metallic;
-  p.baseColor = {0.9, 0.8, 0.6};
-  return std::make_shared<DisneyBrdf>(p, choice);
-}
-
-// Every bin served by its table, with a defensive share: the worst case for
-// weights (no bin handed back to the material's sampler).
-LobeTableSettings everyBin(double defensive, int cells = 64) {
-  return {9, 3, cells, 1.0, LobeRouting::Table, defensive};
-}
+using test::everyBin;
+using test::material;
 
 // The route's directions, drawn as the path integrator draws them (the
 // defensive split of a uniform primary point, then the table's inverse CDF
@@ -74,7 +62,7 @@ TEST(LobeRoutes, RouteSamplesFollowTheMixturePdf) {
     const auto t = test::testDirections(
         [&](Point2 u) -> std::optional<Vec3> {
           const auto s = sampleRoute(*m, wo, lobe, {u});
-          return s ? std::optional<Vec3>(s->sample.wi) : std::nullopt;
+          return s ? std::optional<Vec3>(s->wi) : std::nullopt;
         },
         [&](Vec3 wi) { return lobe.pdf(wi, m->pdf(wo, wi)); }, kSamples, seed++,
         test::peakAt(reflect(wo, Vec3{0, 0, 1})), 64, 32);
@@ -112,10 +100,10 @@ TEST(LobeRoutes, WeightsStayWithinTheDefensiveBound) {
                 ownMax = std::max(ownMax, own->f.luminance() * own->wi.z / own->pdf);
               const auto route = sampleRoute(*m, wo, lobe, {u});
               if (!route) continue;
-              const BsdfSample &s = route->sample;
-              EXPECT_NEAR(route->materialPdf, m->pdf(wo, s.wi), 1e-12 * route->materialPdf);
+              const BsdfSample &s = *route;
+              EXPECT_NEAR(route->misPdf, m->pdf(wo, s.wi), 1e-12 * route->misPdf);
               const double w = s.f.luminance() * s.wi.z / s.pdf;
-              const double own = s.f.luminance() * s.wi.z / route->materialPdf;
+              const double own = s.f.luminance() * s.wi.z / route->misPdf;
               ASSERT_TRUE(std::isfinite(w));
               ASSERT_LE(w, own / kDefensive * (1 + 1e-9))
                   << "roughness " << roughness << " anisotropic " << anisotropic << " metallic "
@@ -146,18 +134,17 @@ TEST(LobeRoutes, DefensiveShareOfZeroAndOneAreTheTwoRoutes) {
         const auto own = m->sample(wo, u);
         ASSERT_EQ(bool(route), bool(own));
         if (!route) continue;
-        EXPECT_EQ(route->sample.wi.x, own->wi.x);
-        EXPECT_NEAR(route->sample.pdf, own->pdf, 1e-12 * own->pdf);
+        EXPECT_EQ(route->wi.x, own->wi.x);
+        EXPECT_NEAR(route->pdf, own->pdf, 1e-12 * own->pdf);
       } else {
         ASSERT_TRUE(route);
-        const BsdfSample &s = route->sample;
+        const BsdfSample &s = *route;
         const Point2 x = lobe.table->invert(u).x;
         EXPECT_EQ(s.wi.x, lobe.direction(x).x);
         EXPECT_NEAR(s.pdf, lobe.tablePdf(s.wi), 1e-9 * s.pdf);
       }
       // Either way the MIS weights take the material's pdf at the direction.
-      if (route)
-        EXPECT_NEAR(route->materialPdf, m->pdf(wo, route->sample.wi), 1e-12 * route->materialPdf);
+      if (route) EXPECT_NEAR(route->misPdf, m->pdf(wo, route->wi), 1e-12 * route->misPdf);
     }
   }
 }
@@ -182,11 +169,11 @@ TEST(LobeRoutes, APointThatFollowsTheTableGivesItsPrimaryPointsSample) {
       ASSERT_EQ(bool(fromPoint), bool(fromPrimary)) << d;
       if (!fromPoint) continue;
       ++drawn;
-      const BsdfSample &a = fromPoint->sample, &b = fromPrimary->sample;
+      const BsdfSample &a = *fromPoint, &b = *fromPrimary;
       EXPECT_NEAR(a.wi.x, b.wi.x, 1e-9) << d;
       EXPECT_NEAR(a.wi.y, b.wi.y, 1e-9) << d;
       EXPECT_NEAR(a.pdf, b.pdf, 1e-9 * b.pdf) << d;
-      EXPECT_NEAR(fromPoint->materialPdf, fromPrimary->materialPdf, 1e-9 * b.pdf) << d;
+      EXPECT_NEAR(fromPoint->misPdf, fromPrimary->misPdf, 1e-9 * b.pdf) << d;
     }
     EXPECT_GT(drawn, 450) << d;
     // Below the surface the table has no density: pulled back to its CDF.
@@ -195,8 +182,8 @@ TEST(LobeRoutes, APointThatFollowsTheTableGivesItsPrimaryPointsSample) {
     const auto fromPoint = sampleRoute(*m, wo, lobe, {below, true});
     const auto fromPrimary = sampleRoute(*m, wo, lobe, {lobe.table->primaryOf(below)});
     ASSERT_TRUE(fromPoint && fromPrimary) << d;
-    EXPECT_GT(fromPoint->sample.wi.z, 0) << d;
-    EXPECT_EQ(fromPoint->sample.wi.x, fromPrimary->sample.wi.x) << d;
+    EXPECT_GT(fromPoint->wi.z, 0) << d;
+    EXPECT_EQ(fromPoint->wi.x, fromPrimary->wi.x) << d;
   }
 }
 
@@ -360,7 +347,7 @@ TEST(LobeRoutes, GlossyAnisotropicMetalConvergesWithEveryBackend) {
 }
 
 // Multiple importance sampling where a table draws the BSDF sample: both
-// strategies weigh by the material's sampling pdf (RouteSample), so the
+// strategies weigh by the material's sampling pdf (BsdfSample::misPdf), so the
 // weights sum to 1 at every direction and the estimate is unbiased, while
 // the BSDF sample divides by the table's density that drew it. A rough lobe
 // under a constant map (light and BSDF pdfs of the same size, so both
@@ -401,38 +388,6 @@ TEST(LobeRoutes, RendersAreEqualForAnyThreadCount) {
                      render(scene, s, bank).pixels};
   };
   EXPECT_EQ(renderWith(1), renderWith(4));
-}
-
-// The bins first hits take, by tracing camera rays: a sphere seen from far
-// away (nearly orthographic) shows view angle theta at radius sin(theta) of
-// its disc, so the share of its hits in the bin [a, b] is sin^2 b - sin^2 a.
-// Every table the rays take is a serving table; nothing else is counted.
-TEST(LobeRoutes, CameraRaysVisitTheBinsTheirViewAnglesFallIn) {
-  CameraSettings camera;
-  camera.eye = {0, 0, 40};
-  camera.target = {0, 0, 0};
-  camera.fovDegrees = 2 * std::asin(1.0 / 40) * 180 / kPi;
-  const Scene scene =
-      test::sceneWith({test::unitSphere(96, 192)}, {material(0.5, 0, 0)}, std::nullopt, camera);
-  const LobeTables tables(scene.materials, everyBin(0.05));
-  const LobeVisits visits = lobeTableVisits(scene, tables, 160, 160, 2);
-  EXPECT_EQ(visits.total, 160u * 160 * 4);
-  const auto targets = tables.targets();
-  ASSERT_EQ(targets.size(), 9u);
-  std::size_t hits = 0;
-  for (const auto &[table, n] : visits.rays) {
-    EXPECT_NE(std::find(targets.begin(), targets.end(), table), targets.end());
-    hits += n;
-  }
-  // The disc fills the square frame's inscribed circle: pi / 4 of the rays.
-  EXPECT_NEAR(double(hits) / double(visits.total), kPi / 4, 0.01);
-  for (int b = 0; b < 9; ++b) {
-    const double a = b * 10 * kPi / 180, c = (b + 1) * 10 * kPi / 180;
-    const double expected = std::pow(std::sin(c), 2) - std::pow(std::sin(a), 2);
-    const auto it = visits.rays.find(targets[std::size_t(b)]);
-    const double share = it == visits.rays.end() ? 0 : double(it->second) / double(hits);
-    EXPECT_NEAR(share, expected, 0.01) << "bin " << b;
-  }
 }
 
 }  // namespace

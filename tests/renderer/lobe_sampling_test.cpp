@@ -249,7 +249,7 @@ TEST(LobeSampling, ABankForOneMaterialLeavesTheOtherAsSobolTabulated) {
   // through the table: no sample falls back to the material's own sampler,
   // and the backend counts them as fallbacks.
   EXPECT_EQ(bankStats.classicFallbacks, 0u);
-  EXPECT_GT(bank.pairUse()[1].fellBack, 0u);
+  EXPECT_GT(bank.report().pairUse[1].fellBack, 0u);
   for (float v : withBank.pixels) EXPECT_TRUE(std::isfinite(v));
 }
 

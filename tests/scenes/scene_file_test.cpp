@@ -303,7 +303,7 @@ namespace {
 // measured routes had used; it equals the render from before their removal
 // with `--lobe-routes measured-sphere` bit for bit; and again when the MIS
 // weights of tabulated samples took the material's pdf instead of the
-// table's (renderer/lobe_tables.h, RouteSample). Both were made with the
+// table's (renderer/lobe_tables.h, BsdfSample::misPdf). Both were made with the
 // defensive share of 0.05 that the lobe tables had by default then (the
 // paper has no tables, so the share is not one of its flags).
 TEST(DefaultScene, PapersConfigurationReproducesThePapersRenders) {

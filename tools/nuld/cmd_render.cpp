@@ -190,10 +190,11 @@ Runner addRender(CLI::App &app) {
     // A backend of learned sets that served nothing rendered the classic
     // sampler's image under its name: refused, not written, unless it said
     // why it chose to (its note: sets measured worse than the fallback).
-    const auto use = backend->pairUse();
+    const SamplerBackend::Report report = backend->report();
+    const auto &use = report.pairUse;
     std::uint64_t served = 0;
     for (const auto &u : use) served += u.served;
-    const std::string decided = backend->note();
+    const std::string &decided = report.note;
     if (!use.empty() && served == 0 && decided.empty())
       throw std::runtime_error(
           "backend '" + (o->backend.empty() ? loaded.backend : o->backend) +

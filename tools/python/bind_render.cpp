@@ -290,9 +290,11 @@ void bindRender(py::module_ &m) {
         // What `nuld render` prints as notes: lobe bins left without banks,
         // tables a model's banks did not pass.
         std::string notes = prepared.note;
-        if (const std::string n = b->note(); !n.empty()) notes += (notes.empty() ? "" : "; ") + n;
+        const SamplerBackend::Report sampling = b->report();
+        if (const std::string &n = sampling.note; !n.empty())
+          notes += (notes.empty() ? "" : "; ") + n;
         if (!notes.empty()) d["note"] = notes;
-        for (const auto &u : b->pairUse()) {
+        for (const auto &u : sampling.pairUse) {
           if (u.served == 0) continue;  // a pair the backend has no sets for
           d[py::str("served_" + u.pair)] = u.served;
           d[py::str("fell_back_" + u.pair)] = u.fellBack;

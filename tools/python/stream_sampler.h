@@ -37,7 +37,7 @@ class StreamSampler final : public SamplerBackend {
   // numbers in [0, 1) is refused naming the call and the row.
   void stage(std::span<const std::uint64_t> pixels) override;
   void primary(std::uint64_t pixel, std::uint32_t pair, std::span<Point2> out) const override;
-  std::string note() const override { return note_; }
+  Report report() const override { return {.note = note_}; }
 
   // The seconds the draws took (with the GIL), part of the render's time.
   double drawSeconds() const { return drawSeconds_; }

@@ -30,14 +30,13 @@ ReferenceNoise referenceNoise(const Image &half0, const Image &half1) {
   if (half0.width != half1.width || half0.height != half1.height ||
       half0.channels != half1.channels || half0.pixels.size() != half1.pixels.size())
     throw std::invalid_argument("referenceNoise: the halves differ in size");
-  // relMSE's weight, as compareImages has it (renderer/image_metrics.h).
-  constexpr double kRelEpsilon = 0.01;
+  // relMSE's weight, as compareImages has it.
   double sum = 0, relSum = 0;
   for (std::size_t i = 0; i < half0.pixels.size(); ++i) {
     const double a = half0.pixels[i], b = half1.pixels[i], r = 0.5 * (a + b);
     const double v = 0.25 * (a - b) * (a - b);
     sum += v;
-    relSum += v / (r * r + kRelEpsilon);
+    relSum += v / (r * r + kRelMseEpsilon);
   }
   const double n = double(std::max<std::size_t>(1, half0.pixels.size()));
   return {sum / n, relSum / n};

@@ -184,7 +184,7 @@ CellOutcome renderCell(
     if (r == 0) {
       out.attributes = renderAttributes(c.sceneSlug, c.scene, c.settings, b->name(), s.seed, stats);
       out.image = std::move(img);
-      out.note = b->note();
+      out.note = b->report().note;
     }
   }
   // Banks a backend made in its first repeat (neural) are setup, not render
@@ -223,7 +223,6 @@ CellOutcome renderCell(
 }
 
 }  // namespace
-
 
 namespace {
 
