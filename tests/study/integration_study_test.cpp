@@ -23,6 +23,7 @@
 #include "sampler/sequences/sequence.h"
 #include "sampler/targets/target_spec.h"
 #include "tests/common/temp_dir.h"
+#include "tests/study/integration_cases.h"
 #include "tests/study/synthetic_map.h"
 #include "tools/study/csv_table.h"
 #include "tools/study/integrands.h"
@@ -32,7 +33,12 @@ namespace {
 
 namespace fs = std::filesystem;
 using nuld::test::TempDir;
+using test::field;
+using test::findRow;
+using test::quickOptions;
+using test::readCsv;
 using test::syntheticMap;
+using test::value;
 constexpr double kPi = std::numbers::pi;
 
 // An asset root holding envmaps/test_latlong.exr.
@@ -41,41 +47,6 @@ fs::path writeAssets(const TempDir &dir) {
   fs::create_directories(root / "envmaps");
   writeImage((root / "envmaps" / "test_latlong.exr").string(), syntheticMap());
   return root;
-}
-
-IntegrateOptions quickOptions(const fs::path &out) {
-  IntegrateOptions o;
-  o.outDir = out;
-  o.cacheDir = out / "cache";  // not the user's cache: each test makes its own sets
-  o.envmaps = {};
-  o.instances = 16;
-  o.optimizedInstances = 2;
-  o.ns = {16, 64};
-  return o;
-}
-
-CsvTable readCsv(const fs::path &dir) {
-  CsvTable t(integrateCsvPath(dir), integrateColumns());
-  t.loadExisting();
-  return t;
-}
-
-// Row values by column name.
-std::map<std::string, std::string> field(const CsvTable &t, const std::vector<std::string> &row) {
-  std::map<std::string, std::string> m;
-  for (std::size_t i = 0; i < t.columns().size(); ++i) m[t.columns()[i]] = row[i];
-  return m;
-}
-
-const std::vector<std::string> *findRow(const CsvTable &t, const std::string &integrand,
-                                        const std::string &sampler, std::size_t n) {
-  for (const auto &r : t.rows())
-    if (r[0] == integrand && r[2] == sampler && r[3] == std::to_string(n)) return &r;
-  return nullptr;
-}
-
-double value(const CsvTable &t, const std::vector<std::string> &row, const std::string &col) {
-  return std::stod(field(t, row).at(col));
 }
 
 // Independent points over many instances: every integrand's bias (also the

@@ -2,8 +2,6 @@
 // (integration_study_test.cpp): neural sets dealt as renders deal them, a
 // model's integrand, what every word means, banks from files, bad input.
 
-#include "tools/study/integration_study.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -20,52 +18,24 @@
 #include "sampler/sequences/sequence.h"
 #include "sampler/targets/target_spec.h"
 #include "tests/common/temp_dir.h"
+#include "tests/study/integration_cases.h"
 #include "tests/study/synthetic_map.h"
 #include "tools/study/csv_table.h"
 #include "tools/study/integrands.h"
+#include "tools/study/integration_study.h"
 
 namespace nuld::study {
 namespace {
 
 namespace fs = std::filesystem;
 using nuld::test::TempDir;
+using test::field;
+using test::findRow;
+using test::quickOptions;
+using test::readCsv;
 using test::syntheticMap;
+using test::value;
 constexpr double kPi = std::numbers::pi;
-
-IntegrateOptions quickOptions(const fs::path &out) {
-  IntegrateOptions o;
-  o.outDir = out;
-  o.cacheDir = out / "cache";  // not the user's cache: each test makes its own sets
-  o.envmaps = {};
-  o.instances = 16;
-  o.optimizedInstances = 2;
-  o.ns = {16, 64};
-  return o;
-}
-
-CsvTable readCsv(const fs::path &dir) {
-  CsvTable t(integrateCsvPath(dir), integrateColumns());
-  t.loadExisting();
-  return t;
-}
-
-// Row values by column name.
-std::map<std::string, std::string> field(const CsvTable &t, const std::vector<std::string> &row) {
-  std::map<std::string, std::string> m;
-  for (std::size_t i = 0; i < t.columns().size(); ++i) m[t.columns()[i]] = row[i];
-  return m;
-}
-
-const std::vector<std::string> *findRow(const CsvTable &t, const std::string &integrand,
-                                        const std::string &sampler, std::size_t n) {
-  for (const auto &r : t.rows())
-    if (r[0] == integrand && r[2] == sampler && r[3] == std::to_string(n)) return &r;
-  return nullptr;
-}
-
-double value(const CsvTable &t, const std::vector<std::string> &row, const std::string &col) {
-  return std::stod(field(t, row).at(col));
-}
 
 // Independent points over many instances: every integrand's bias (also the
 // sphere ones, also through the BRDF's lobe sampling) is within 4 standard

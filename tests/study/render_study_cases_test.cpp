@@ -2,8 +2,6 @@
 // (render_study_test.cpp): nested banks reused by another study, the map
 // sets' preset, bad input, a scene without a map, the stress scene, slugs.
 
-#include "tools/study/render_study.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -23,47 +21,22 @@
 #include "sampler/targets/target_spec.h"
 #include "scenes/scene_file.h"
 #include "tests/common/temp_dir.h"
+#include "tests/study/tiny_study.h"
 #include "tools/study/baselines.h"
 #include "tools/study/csv_table.h"
 #include "tools/study/equal_time.h"
 #include "tools/study/reference_render.h"
+#include "tools/study/render_study.h"
 #include "tools/study/report_script.h"
 
 namespace nuld::study {
 namespace {
 
 namespace fs = std::filesystem;
-using test::TempDir;
-
-RenderStudySettings tinyStudy(const fs::path &out) {
-  RenderStudySettings s;
-  s.scenes = {"default"};
-  s.backends = {"independent", "sobol", "halton", "optimized", "optimized-uniform"};
-  s.spp = {4, 64};
-  s.render.width = 48, s.render.height = 32;
-  s.repeats = 8;
-  s.render.integrator = IntegratorKind::Direct;
-  s.reference.spp = 1024;
-  s.reference.passSpp = 512;
-  s.sets.instances = 4;
-  s.sets.epochs = 50;
-  s.out = out;
-  s.sets.cacheDir = out / "cache";  // not the user's cache: each study makes its own sets
-  return s;
-}
-
-std::map<std::string, std::string> asMap(const std::vector<std::string> &columns,
-                                         const std::vector<std::string> &row) {
-  std::map<std::string, std::string> m;
-  for (std::size_t i = 0; i < columns.size(); ++i) m[columns[i]] = row[i];
-  return m;
-}
-
-CsvTable readTable(const fs::path &dir) {
-  CsvTable t(dir / "render.csv", renderStudyColumns(), renderStudyDerivedColumns());
-  t.loadExisting();
-  return t;
-}
+using nuld::test::TempDir;
+using test::asMap;
+using test::readTable;
+using test::tinyStudy;
 
 // --opt-nested: one bank per target at the largest spp serves every spp;
 // a second study in another directory, at an spp up to the bank's size and
