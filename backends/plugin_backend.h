@@ -30,7 +30,11 @@ class PluginBackend final : public SamplerBackend {
   // The plugin's points, checked: a failed fill, a NaN or a point outside
   // [0, 1)^2 throws std::runtime_error naming the pixel, pair and sample.
   void primary(std::uint64_t pixel, std::uint32_t pair, std::span<Point2> out) const override;
-  Report report() const override { return {.note = note_}; }
+  Report report() const override {
+    Report r;
+    r.note = note_;
+    return r;
+  }
 
  private:
   std::string word_, path_, arguments_;

@@ -1,17 +1,16 @@
 #include "tools/python/stream_sampler.h"
 
 #include <pybind11/numpy.h>
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <bit>
-#include <chrono>
 #include <cmath>
 #include <stdexcept>
 
 #include "backends/backend_registry.h"
 #include "renderer/padding.h"
 #include "sampler/io/round_trip.h"
+#include "sampler/resources.h"
 #include "sampler/sequences/rng.h"
 
 namespace nuld::python {
@@ -19,8 +18,7 @@ namespace {
 
 using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
-// The points a batch stages at most, about 64 MiB (but at least two tiles a
-// thread, for the batch's parallelism).
+// The points a batch stages: about 64 MiB, and at least one tile's.
 constexpr std::size_t kStagePoints = std::size_t(1) << 22;
 constexpr std::size_t kTilePixels = 16 * 16;
 
@@ -67,21 +65,21 @@ void StreamSampler::prepare(std::size_t spp, const SamplingTargets &targets) {
   rest_->prepare(spp, targets);
   slot_.assign(std::size_t(targets.width) * targets.height, 0);
   staged_.assign(served_, {});
-  const std::size_t threads = std::size_t(tbb::this_task_arena::max_concurrency());
-  tilesPerStage_ =
-      std::max(2 * threads, kStagePoints / std::max<std::size_t>(1, kTilePixels * spp * served_));
+  const std::size_t tilePoints = kTilePixels * spp * std::max<std::uint32_t>(1, served_);
+  tilesPerStage_ = std::max<std::size_t>(1, kStagePoints / tilePoints);
+  requireMemory(double(tilesPerStage_ * tilePoints) * sizeof(Point2),
+                "render: sampler: a batch of " + std::to_string(tilesPerStage_) +
+                    " tiles' points at " + std::to_string(spp) + " spp");
   note_ = served_ < targets.pairs
               ? "the sampler serves the first " + std::to_string(served_) + " of the " +
                     std::to_string(targets.pairs) + " pairs; the rest are sobol's"
               : "";
-  drawSeconds_ = 0;
 }
 
 void StreamSampler::stage(std::span<const std::uint64_t> pixels) {
   for (std::size_t k = 0; k < pixels.size(); ++k) slot_[pixels[k]] = std::uint32_t(k);
   const std::size_t n = pixels.size() * spp_;
   py::gil_scoped_acquire acquire;
-  const auto start = std::chrono::steady_clock::now();
   // scipy's Sobol warns of every draw that is not a power of two. A pixel's
   // block is one when spp is, and starts at a multiple of it: each pixel's
   // set is a net all the same, so the warning is left out then.
@@ -126,7 +124,6 @@ void StreamSampler::stage(std::span<const std::uint64_t> pixels) {
       points[i] = p;
     }
   }
-  drawSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 void StreamSampler::primary(std::uint64_t pixel, std::uint32_t pair, std::span<Point2> out) const {

@@ -37,10 +37,11 @@ class StreamSampler final : public SamplerBackend {
   // numbers in [0, 1) is refused naming the call and the row.
   void stage(std::span<const std::uint64_t> pixels) override;
   void primary(std::uint64_t pixel, std::uint32_t pair, std::span<Point2> out) const override;
-  Report report() const override { return {.note = note_}; }
-
-  // The seconds the draws took (with the GIL), part of the render's time.
-  double drawSeconds() const { return drawSeconds_; }
+  Report report() const override {
+    Report r;
+    r.note = note_;
+    return r;
+  }
 
  private:
   py::object draw_;  // ENGINE.random or the callable
@@ -53,7 +54,6 @@ class StreamSampler final : public SamplerBackend {
   std::vector<std::uint32_t> slot_;          // each pixel's place in the staged batch
   std::vector<std::vector<Point2>> staged_;  // per served pair, the batch's points
   std::string note_;
-  double drawSeconds_ = 0;
 };
 
 }  // namespace nuld::python
