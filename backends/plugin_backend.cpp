@@ -4,7 +4,6 @@
 #include <cstring>
 #include <stdexcept>
 
-#include "backends/backend_registry.h"
 #include "plugins/nuld_sampler.h"
 #include "sampler/io/round_trip.h"
 #include "sampler/plugin.h"
@@ -35,7 +34,7 @@ std::string pairName(std::uint32_t pair) {
 }  // namespace
 
 PluginBackend::PluginBackend(std::string word, const std::string &argument, std::uint64_t seed)
-    : word_(std::move(word)), seed_(seed) {
+    : word_(std::move(word)), seed_(seed), rest_(seed) {
   const auto colon = argument.find(':');
   path_ = argument.substr(0, colon);
   arguments_ = colon == std::string::npos ? "" : argument.substr(colon + 1);
@@ -45,7 +44,6 @@ PluginBackend::PluginBackend(std::string word, const std::string &argument, std:
   if (!plugin_->create || !plugin_->fill || !plugin_->destroy)
     throw std::runtime_error("the sampler plugin " + path_ +
                              ": its nuld_sampler lacks create, fill or destroy");
-  rest_ = makeClassicBackend(BackendKind::Sobol, seed);
 }
 
 PluginBackend::~PluginBackend() {
@@ -69,18 +67,12 @@ void PluginBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
                          std::to_string(targets.height) +
                          "): " + (why.empty() ? "it gave no reason" : why));
   }
-  served_ = std::min(setup.pairs_served, targets.pairs);
   width_ = std::max<std::uint32_t>(1, targets.width);
-  rest_->prepare(spp, targets);
-  note_ = served_ < targets.pairs
-              ? "the plugin serves the first " + std::to_string(served_) + " of the " +
-                    std::to_string(targets.pairs) + " pairs; the rest are sobol's"
-              : "";
-  if (served_ == 0) note_ = "the plugin serves no pair; every point is sobol's";
+  rest_.prepare("the plugin", setup.pairs_served, spp, targets);
 }
 
 void PluginBackend::primary(std::uint64_t pixel, std::uint32_t pair, std::span<Point2> out) const {
-  if (pair >= served_ || !state_) return rest_->primary(pixel, pair, out);
+  if (pair >= rest_.served() || !state_) return rest_.primary(pixel, pair, out);
   const auto x = std::uint32_t(pixel % width_), y = std::uint32_t(pixel / width_);
   const auto where = [&] {
     return " for pixel (" + std::to_string(x) + ", " + std::to_string(y) + "), " + pairName(pair);

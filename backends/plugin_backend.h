@@ -8,6 +8,7 @@
 #include <memory>
 #include <string>
 
+#include "backends/sobol_rest.h"
 #include "renderer/sampler_backend.h"
 
 struct nuld_sampler;
@@ -30,20 +31,15 @@ class PluginBackend final : public SamplerBackend {
   // The plugin's points, checked: a failed fill, a NaN or a point outside
   // [0, 1)^2 throws std::runtime_error naming the pixel, pair and sample.
   void primary(std::uint64_t pixel, std::uint32_t pair, std::span<Point2> out) const override;
-  Report report() const override {
-    Report r;
-    r.note = note_;
-    return r;
-  }
+  Report report() const override { return rest_.report(); }
 
  private:
   std::string word_, path_, arguments_;
   std::uint64_t seed_;
   const nuld_sampler *plugin_;
   void *state_ = nullptr;  // the plugin's sampler for the prepared render
-  std::uint32_t width_ = 1, served_ = 0;
-  std::unique_ptr<SamplerBackend> rest_;  // sobol, for the pairs the plugin leaves
-  std::string note_;
+  std::uint32_t width_ = 1;
+  SobolRest rest_;  // the pairs the plugin leaves
 };
 
 }  // namespace nuld

@@ -7,7 +7,6 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "backends/backend_registry.h"
 #include "renderer/padding.h"
 #include "sampler/io/round_trip.h"
 #include "sampler/resources.h"
@@ -27,7 +26,7 @@ std::string typeName(py::handle h) { return py::str(py::type::of(h).attr("__name
 }  // namespace
 
 StreamSampler::StreamSampler(py::handle sampler, std::uint32_t pairs, std::uint64_t seed)
-    : pairs_(pairs), seedKey_(mix64(seed ^ 0x73747265616d00ull)) {
+    : pairs_(pairs), seedKey_(mix64(seed ^ 0x73747265616d00ull)), rest_(seed) {
   const std::string expected =
       "render: sampler: expected a scipy.stats.qmc engine of d = 2 or a callable n -> (n, 2) "
       "array of points in [0, 1)^2";
@@ -49,7 +48,6 @@ StreamSampler::StreamSampler(py::handle sampler, std::uint32_t pairs, std::uint6
   } else {
     throw py::type_error(expected + " (got " + typeName(sampler) + ")");
   }
-  rest_ = makeClassicBackend(BackendKind::Sobol, seed);
 }
 
 StreamSampler::~StreamSampler() {
@@ -61,19 +59,15 @@ void StreamSampler::prepare(std::size_t spp, const SamplingTargets &targets) {
   if (targets.width == 0 || targets.pairs == 0)
     throw BackendRefusal(name_ + ": deals its stream over an image; it serves renders only");
   spp_ = spp;
-  served_ = pairs_ ? std::min(pairs_, targets.pairs) : targets.pairs;
-  rest_->prepare(spp, targets);
+  rest_.prepare("the sampler", pairs_ ? pairs_ : targets.pairs, spp, targets);
+  const std::uint32_t served = rest_.served();
   slot_.assign(std::size_t(targets.width) * targets.height, 0);
-  staged_.assign(served_, {});
-  const std::size_t tilePoints = kTilePixels * spp * std::max<std::uint32_t>(1, served_);
+  staged_.assign(served, {});
+  const std::size_t tilePoints = kTilePixels * spp * std::max<std::uint32_t>(1, served);
   tilesPerStage_ = std::max<std::size_t>(1, kStagePoints / tilePoints);
   requireMemory(double(tilesPerStage_ * tilePoints) * sizeof(Point2),
                 "render: sampler: a batch of " + std::to_string(tilesPerStage_) +
                     " tiles' points at " + std::to_string(spp) + " spp");
-  note_ = served_ < targets.pairs
-              ? "the sampler serves the first " + std::to_string(served_) + " of the " +
-                    std::to_string(targets.pairs) + " pairs; the rest are sobol's"
-              : "";
 }
 
 void StreamSampler::stage(std::span<const std::uint64_t> pixels) {
@@ -97,7 +91,7 @@ void StreamSampler::stage(std::span<const std::uint64_t> pixels) {
       }
     }
   } exit{quiet};
-  for (std::uint32_t pair = 0; pair < served_; ++pair) {
+  for (std::uint32_t pair = 0; pair < rest_.served(); ++pair) {
     const std::string call = "render: sampler: " + call_ + "(" + std::to_string(n) + ")";
     const py::object got = draw_(n);
     if (!py::isinstance<py::array>(got) && !PySequence_Check(got.ptr()))
@@ -127,7 +121,7 @@ void StreamSampler::stage(std::span<const std::uint64_t> pixels) {
 }
 
 void StreamSampler::primary(std::uint64_t pixel, std::uint32_t pair, std::span<Point2> out) const {
-  if (pair >= served_) return rest_->primary(pixel, pair, out);
+  if (pair >= rest_.served()) return rest_.primary(pixel, pair, out);
   if (out.size() != spp_) throw std::logic_error("StreamSampler: asked for another spp");
   const Point2 *set = staged_[pair].data() + std::size_t(slot_[pixel]) * spp_;
   std::copy(set, set + spp_, out.begin());

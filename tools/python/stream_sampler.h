@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "backends/sobol_rest.h"
 #include "renderer/sampler_backend.h"
 
 namespace nuld::python {
@@ -37,23 +38,17 @@ class StreamSampler final : public SamplerBackend {
   // numbers in [0, 1) is refused naming the call and the row.
   void stage(std::span<const std::uint64_t> pixels) override;
   void primary(std::uint64_t pixel, std::uint32_t pair, std::span<Point2> out) const override;
-  Report report() const override {
-    Report r;
-    r.note = note_;
-    return r;
-  }
+  Report report() const override { return rest_.report(); }
 
  private:
   py::object draw_;  // ENGINE.random or the callable
   std::string name_, call_;
   std::uint32_t pairs_;
   std::uint64_t seedKey_;
-  std::unique_ptr<SamplerBackend> rest_;
+  SobolRest rest_;  // the pairs the sampler leaves
   std::size_t spp_ = 0, tilesPerStage_ = 1;
-  std::uint32_t served_ = 0;
   std::vector<std::uint32_t> slot_;          // each pixel's place in the staged batch
   std::vector<std::vector<Point2>> staged_;  // per served pair, the batch's points
-  std::string note_;
 };
 
 }  // namespace nuld::python
