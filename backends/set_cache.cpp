@@ -286,12 +286,17 @@ std::vector<std::string> setListing(const std::vector<std::string> &leadHeaders,
     line.push_back(e.target);
     cells.push_back(std::move(line));
   }
+  return padColumns(headers, cells, [&](std::size_t c) { return c >= lead && c < lead + 6; });
+}
+
+std::vector<std::string> padColumns(const std::vector<std::string> &headers,
+                                    const std::vector<std::vector<std::string>> &cells,
+                                    const std::function<bool(std::size_t)> &numeric) {
   std::vector<std::size_t> width(headers.size(), 0);
   for (std::size_t c = 0; c < headers.size(); ++c) {
     width[c] = headers[c].size();
     for (const auto &line : cells) width[c] = std::max(width[c], line[c].size());
   }
-  const auto numeric = [&](std::size_t c) { return c >= lead && c < lead + 6; };
   const auto format = [&](const std::vector<std::string> &line) {
     std::string out;
     for (std::size_t c = 0; c < line.size(); ++c) {

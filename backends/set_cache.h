@@ -19,6 +19,7 @@
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -134,6 +135,13 @@ struct SetListingRow {
 std::vector<std::string> setListing(
     const std::vector<std::string> &leadHeaders, const std::vector<SetListingRow> &rows,
     std::filesystem::file_time_type now = std::filesystem::file_time_type::clock::now());
+
+// A header and one line per row of `cells` (as many cells as headers),
+// every column but the last padded to its widest cell: numbers (column c
+// with numeric(c)) aligned right, text left. The cache listings' layout.
+std::vector<std::string> padColumns(const std::vector<std::string> &headers,
+                                    const std::vector<std::vector<std::string>> &cells,
+                                    const std::function<bool(std::size_t)> &numeric);
 
 // 1.5 KiB, 3 MiB, ...
 std::string humanBytes(std::uintmax_t bytes);

@@ -10,6 +10,7 @@
 
 #include "materials/rgb.h"
 #include "materials/vec3.h"
+#include "sampler/io/content_hash.h"
 #include "sampler/point.h"
 
 namespace nuld {
@@ -39,6 +40,10 @@ class Bsdf {
   virtual ~Bsdf() = default;
 
   virtual std::string name() const = 0;
+  // Adds everything f, pdf and sample depend on (the kind and its
+  // parameters) to `h`: a scene's content key (renderer/scene.h) is made of
+  // these, so two materials that shade alike add the same bytes.
+  virtual void hashContent(ContentHash &h) const = 0;
   // f(wo, wi), without the cosine factor.
   virtual Rgb eval(Vec3 wo, Vec3 wi) const = 0;
   // The density per unit solid angle with which sample() produces wi.

@@ -296,4 +296,13 @@ std::optional<BsdfSample> DisneyBrdf::sample(Vec3 wo, Point2 u) const {
   return BsdfSample{*wi, f, p, p};
 }
 
+void DisneyBrdf::hashContent(ContentHash &h) const {
+  const DisneyParams &p = params_;
+  h.add(name()).add(p.baseColor.r).add(p.baseColor.g).add(p.baseColor.b);
+  for (const double v : {p.metallic, p.subsurface, p.specular, p.roughness, p.specularTint,
+                         p.anisotropic, p.sheen, p.sheenTint, p.clearcoat, p.clearcoatGloss})
+    h.add(v);
+  h.add(toString(choice_));
+}
+
 }  // namespace nuld

@@ -77,6 +77,7 @@ class DisneyBrdf final : public Bsdf {
   LobeChoice lobeChoice() const { return choice_; }
 
   std::string name() const override { return "disney"; }
+  void hashContent(ContentHash &h) const override;
   Rgb eval(Vec3 wo, Vec3 wi) const override;
   // The mixture of lobePdf over the lobes with lobeProbabilities(wo).
   double pdf(Vec3 wo, Vec3 wi) const override;

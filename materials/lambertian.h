@@ -12,6 +12,9 @@ class Lambertian final : public Bsdf {
   Rgb albedo() const { return albedo_; }
 
   std::string name() const override { return "lambertian"; }
+  void hashContent(ContentHash &h) const override {
+    h.add(name()).add(albedo_.r).add(albedo_.g).add(albedo_.b);
+  }
   Rgb eval(Vec3 wo, Vec3 wi) const override;
   double pdf(Vec3 wo, Vec3 wi) const override;
   std::optional<BsdfSample> sample(Vec3 wo, Point2 u) const override;

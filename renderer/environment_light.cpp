@@ -100,6 +100,14 @@ EnvironmentLight::EnvironmentLight(Image latlong, double scale, double rotationD
     }
 }
 
+void EnvironmentLight::hashContent(ContentHash &h) const {
+  h.add(std::uint64_t(width_)).add(std::uint64_t(height_));
+  h.add(std::string_view(reinterpret_cast<const char *>(texels_.data()),
+                         texels_.size() * sizeof(Texel)));
+  h.add(toString(weight_)).add(compensation_).add(cosRot_).add(sinRot_);
+  for (const Vec3 &axis : tilt_) h.add(axis.x).add(axis.y).add(axis.z);
+}
+
 // Map frame -> world at up = +Y: z up, phi = 0 towards -Z, phi = pi/2
 // towards +X; turned about +Y by the rotation; then, only when `up` is not
 // +Y, tilted (the common case skips the matrix: these run for every light

@@ -29,6 +29,7 @@
 
 #include "materials/rgb.h"
 #include "materials/vec3.h"
+#include "sampler/io/content_hash.h"
 #include "sampler/io/image_io.h"
 #include "sampler/targets/grid_target.h"
 #include "sampler/targets/image_targets.h"
@@ -81,6 +82,11 @@ class EnvironmentLight {
   const EnvironmentLight &uncompensated() const { return uncompensated_ ? *uncompensated_ : *this; }
   int width() const { return width_; }
   int height() const { return height_; }
+
+  // Adds what the light's radiance and sampling depend on (its texels with
+  // the scale applied, the weight, the turn and tilt) to `h`; the source's
+  // name is left out, so the same map under two paths adds the same bytes.
+  void hashContent(ContentHash &h) const;
 
   // Map-local direction (z = the map's up) <-> world direction.
   Vec3 toWorld(Vec3 local) const;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <complex>
 #include <filesystem>
+#include <functional>
 #include <numbers>
 #include <stdexcept>
 
@@ -91,6 +92,8 @@ ImageError compareImages(const Image &img, const Image &ref) {
   // Each channel's difference image, for the low-passed error.
   std::array<std::vector<double>, 3> diff;
   for (auto &d : diff) d.assign(std::size_t(img.width) * img.height, 0.0);
+  std::vector<double> pixelError;  // per finite pixel, summed over the channels
+  pixelError.reserve(std::size_t(img.width) * img.height);
   for (int y = 0; y < img.height; ++y)
     for (int x = 0; x < img.width; ++x) {
       bool finite = true;
@@ -99,16 +102,35 @@ ImageError compareImages(const Image &img, const Image &ref) {
         ++err.nonFinitePixels;
         continue;
       }
+      double pixel = 0;
       for (int c = 0; c < 3; ++c) {
         const double r = channel(ref, x, y, c), d = channel(img, x, y, c) - r;
-        se += d * d;
+        pixel += d * d;
         rel += relativeSquared(d, r);
         diff[c][std::size_t(y) * img.width + x] = d;
       }
+      se += pixel;
+      pixelError.push_back(pixel);
       count += 3;
     }
   err.mse = count ? se / count : 0;
   err.relmse = count ? rel / count : 0;
+  const std::size_t k =
+      std::max<std::size_t>(1, std::size_t(kWinsorizedShare * double(pixelError.size())));
+  err.winsorized = err.mse;
+  if (pixelError.size() > k) {
+    // The k largest first, then the (k + 1)-th largest at index k: the clip.
+    std::nth_element(pixelError.begin(), pixelError.begin() + std::ptrdiff_t(k), pixelError.end(),
+                     std::greater<>());
+    // The rest summed on its own, not as se - top: a firefly of 1e6 would
+    // leave rounding of its size in the difference.
+    const double clip = pixelError[k];
+    double top = 0, rest = 0;
+    for (std::size_t i = 0; i < k; ++i) top += pixelError[i];
+    for (std::size_t i = k; i < pixelError.size(); ++i) rest += pixelError[i];
+    err.winsorized = (rest + double(k) * clip) / double(count);
+    err.topShare = se > 0 ? top / se : 0;
+  }
   double screen = 0;
   for (const auto &d : diff)
     for (const double v : gaussianBlur(d, img.width, img.height, kScreenErrorSigma))

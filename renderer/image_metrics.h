@@ -27,8 +27,22 @@ inline constexpr double kRelMseEpsilon = 0.01;
 // renormalized at the image's borders.
 inline constexpr double kScreenErrorSigma = 1.0;
 
+// The share of an image's pixels whose error `winsorized` clips: the
+// brightest errors (fireflies) that can rule an MSE.
+inline constexpr double kWinsorizedShare = 0.001;
+
 struct ImageError {
   double mse = 0, relmse = 0, screen = 0;
+  // MSE with the largest pixel errors winsorized: the k largest pixels'
+  // squared errors (each summed over its channels), k = max(1,
+  // floor(kWinsorizedShare x pixels)), count as the (k + 1)-th largest. A
+  // robust statistic beside MSE: where the two rank samplers differently, a
+  // few pixels rule the MSE. An image of k pixels or fewer keeps its MSE.
+  double winsorized = 0;
+  // The share of the squared error in those k largest pixels (0 when there
+  // is no error, or k + 1 pixels or fewer): near 1, the MSE is a handful of
+  // fireflies.
+  double topShare = 0;
   std::size_t nonFinitePixels = 0;  // in the image under test (counted, then skipped)
 };
 

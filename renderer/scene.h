@@ -28,4 +28,13 @@ struct Scene {
   std::shared_ptr<LobeTableCache> lobeTables = std::make_shared<LobeTableCache>();
 };
 
+// 16 hex digits of everything a render of the scene depends on beyond its
+// render settings: the meshes' positions, normals and triangles, each mesh's
+// material, the environment's texels and sampling, the camera and the lobe
+// choice. Names and file paths are left out: the same content loaded from
+// another file or asset root has the same key, and one moved vertex or
+// edited material another. Reference caches key by it (backends/
+// reference_cache.h). Hashes every byte, about 0.1 s for the dragon.
+std::string sceneContentKey(const Scene &scene);
+
 }  // namespace nuld

@@ -191,3 +191,27 @@ def test_threads_limit_the_cores_and_change_no_pixel():
     assert np.array_equal(one, every)
     with pytest.raises(ValueError, match=r"render: threads: expected a whole number >= 1 \(got 0\)"):
         nuld.render("default", threads=0)
+
+
+def test_a_reference_comes_from_the_cache_the_cli_fills(tmp_path, monkeypatch, nuld_bin):
+    # nuld render --reference makes it; nuld.render(reference=True) with the
+    # same scene and settings finds it, pixel for pixel, with its own noise.
+    monkeypatch.setenv("NULD_CACHE", str(tmp_path / "cache"))
+    monkeypatch.delenv("NULD_REFERENCE_CACHE", raising=False)
+    out = tmp_path / "ref.exr"
+    subprocess.run([nuld_bin, "render", "default", "--reference", "--spp", "16", "--res", "12x8",
+                    "--integrator", "direct", "-q", "-o", str(out)], check=True,
+                   capture_output=True)
+    img, made = nuld.render("default", reference=True, spp=16, resolution=(12, 8),
+                            integrator="direct", stats=True)
+    assert made["cache"] == "found" and made["seconds"] == 0 and made["made_seconds"] > 0
+    assert made["variance"] > 0 and made["spp"] == 16
+    assert np.array_equal(img, nuld.read_image(str(out)))
+    # Another seed is another reference, rendered now.
+    _, other = nuld.render("default", reference=True, spp=16, resolution=(12, 8),
+                           integrator="direct", seed=5, stats=True)
+    assert other["cache"] == "rendered" and other["entry"] != made["entry"]
+    with pytest.raises(ValueError, match="classic backend"):
+        nuld.render("default", reference=True, backend="optimized", resolution=(8, 6))
+    with pytest.raises(ValueError, match="opt_epochs"):
+        nuld.render("default", reference=True, opt_epochs=3, resolution=(8, 6))

@@ -28,6 +28,48 @@ TEST(ImageMetrics, MseAndRelMseByHand) {
   EXPECT_EQ(compareImages(ref, ref).mse, 0);
 }
 
+// The winsorized MSE and the top pixels' share against sorting every
+// pixel's error: the k = floor(0.001 x pixels) largest count as the
+// (k + 1)-th; one firefly among small errors rules the MSE, not it.
+TEST(ImageMetrics, WinsorizedMseAgainstASortByHand) {
+  const int w = 100, h = 41;  // 4100 pixels: k = 4
+  Image ref = filled(w, h, 0.5f), img = ref;
+  Rng rng(7);
+  for (float &v : img.pixels) v += float(0.1 * (rng.uniform() - 0.5));
+  img.at(3, 4, 1) = 1000.0f;  // a firefly
+  img.at(50, 20, 0) = -40.0f;
+  const ImageError e = compareImages(img, ref);
+  std::vector<double> pixel;
+  double all = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      double p = 0;
+      for (int c = 0; c < 3; ++c) {
+        const double d = double(img.at(x, y, c)) - ref.at(x, y, c);
+        p += d * d;
+      }
+      pixel.push_back(p);
+      all += p;
+    }
+  std::sort(pixel.rbegin(), pixel.rend());
+  const std::size_t k = 4;
+  double top = 0, clipped = 0;
+  for (std::size_t i = 0; i < pixel.size(); ++i) {
+    if (i < k) top += pixel[i];
+    clipped += i < k ? pixel[k] : pixel[i];
+  }
+  EXPECT_NEAR(e.mse, all / (3.0 * w * h), 1e-12 * e.mse);
+  EXPECT_NEAR(e.winsorized, clipped / (3.0 * w * h), 1e-12 * e.winsorized);
+  EXPECT_NEAR(e.topShare, top / all, 1e-12);
+  EXPECT_GT(e.topShare, 0.99) << "the firefly is nearly all of the MSE";
+  EXPECT_LT(e.winsorized, 1e-3 * e.mse);
+  // No error: no share; fewer pixels than k + 1 keep their MSE.
+  EXPECT_EQ(compareImages(ref, ref).topShare, 0);
+  const Image one = filled(1, 1, 2.0f);
+  EXPECT_EQ(compareImages(one, filled(1, 1, 1.0f)).winsorized,
+            compareImages(one, filled(1, 1, 1.0f)).mse);
+}
+
 // The low-pass against a brute-force 2D convolution with the product
 // kernel, renormalized over the neighbours inside the image (which the
 // separable passes equal, the in-image neighbourhood being a rectangle).

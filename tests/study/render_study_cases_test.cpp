@@ -15,6 +15,7 @@
 #include <sstream>
 
 #include "backends/optimized_sets.h"
+#include "backends/reference_render.h"
 #include "materials/disney_target.h"
 #include "sampler/io/image_io.h"
 #include "sampler/io/pointset_io.h"
@@ -25,7 +26,6 @@
 #include "tools/study/baselines.h"
 #include "tools/study/csv_table.h"
 #include "tools/study/equal_time.h"
-#include "tools/study/reference_render.h"
 #include "tools/study/render_study.h"
 #include "tools/study/report_script.h"
 

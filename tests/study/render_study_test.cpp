@@ -18,6 +18,7 @@
 #include <sstream>
 
 #include "backends/optimized_sets.h"
+#include "backends/reference_render.h"
 #include "materials/disney_target.h"
 #include "sampler/io/image_io.h"
 #include "sampler/io/pointset_io.h"
@@ -28,7 +29,6 @@
 #include "tools/study/baselines.h"
 #include "tools/study/csv_table.h"
 #include "tools/study/equal_time.h"
-#include "tools/study/reference_render.h"
 #include "tools/study/report_script.h"
 
 namespace nuld::study {
@@ -72,7 +72,9 @@ TEST_F(TinyStudy, CsvHasItsColumnsAndUnits) {
             "mse_ratio_best_classic,mse_ratio_best_classic_stderr,break_even_renders,"
             "break_even_renders_stderr,screen_mse,screen_mse_stderr,screen_ratio_sobol,"
             "screen_ratio_sobol_stderr,best_classic_screen,screen_ratio_best_classic,"
-            "screen_ratio_best_classic_stderr");
+            "screen_ratio_best_classic_stderr,mse_winsorized,mse_winsorized_stderr,top_share,"
+            "winsorized_ratio_best_classic,winsorized_ratio_best_classic_stderr,"
+            "ruled_by_outliers,stopped_on,worst_relative_stderr");
   const CsvTable t = readTable(*dir_);
   ASSERT_EQ(t.rows().size(), 10u) << "5 backends x 2 spp";
   EXPECT_TRUE(result_->skipped.empty());

@@ -27,7 +27,8 @@ inline RenderStudySettings tinyStudy(const fs::path &out) {
   s.sets.instances = 4;
   s.sets.epochs = 50;
   s.out = out;
-  s.sets.cacheDir = out / "cache";  // not the user's cache: each study makes its own sets
+  s.sets.cacheDir = out / "cache";           // not the user's cache: each study makes its own sets
+  s.referenceCacheDir = out / "references";  // and its own reference
   return s;
 }
 

@@ -8,6 +8,7 @@ data=$(cd "$(dirname "$0")/../data/bad_inputs" && pwd)
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 export NULD_CACHE="$out/set-cache"  # not the user's cache
+unset NULD_REFERENCE_CACHE  # references beside the sets of this cache
 # Cases marked "ASSETS " need the shipped maps; without them (no asset root,
 # or $NULD_ASSETS naming a folder without envmaps/) they are skipped, as the
 # other asset tests skip.

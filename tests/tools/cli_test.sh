@@ -6,6 +6,7 @@ nuld=$1
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
 export NULD_CACHE="$dir/set-cache"  # the studies here make their own sets, not the user's
+unset NULD_REFERENCE_CACHE  # references beside the sets of this cache
 failures=0
 
 ok() { # ok DESCRIPTION COMMAND...
@@ -369,7 +370,7 @@ fails_with "study rerun with other repeats" "repeats 1 there, 3 now" "$nuld" stu
 # gets its ratio to the best classic row; rows within 10x of the noise say so
 # (a 16-spp reference against 4-spp rows); a reference without halves (an
 # older nuld's) is refused, not reused.
-grep -q '^scene,backend,spp,resolution,integrator,variance,relvariance,seconds,image$' "$dir/study/references.csv" ||
+grep -q '^scene,backend,spp,resolution,integrator,variance,relvariance,seconds,image,made_seconds,cache,key,entry$' "$dir/study/references.csv" ||
   { echo "FAIL: references.csv has the reference's variance"; cat "$dir/study/references.csv"; failures=$((failures + 1)); }
 grep -q "reference too noisy for this row" "$dir/study/index.html" ||
   { echo "FAIL: the page flags rows the reference is too noisy for"; failures=$((failures + 1)); }
@@ -377,7 +378,7 @@ ok "study render classic baselines" "$nuld" study render default --res 16x12 --s
 grep -q 'mse/classic.*best_classic' "$dir/out" && grep -q '^optimized-uniform .*[0-9]+-[0-9].*[0-9]+-[0-9].*[0-9]+-[0-9]' "$dir/out" &&
   grep -q "reference too noisy for this row" "$dir/out" ||
   { echo "FAIL: the table gives learned rows their ratio to the best classic and flags noisy references"; cat "$dir/out"; failures=$((failures + 1)); }
-sed -i 's/ halves=2//' "$dir/classic/default/reference.state"
+sed -i 's/ halves=2//' "$(awk -F, 'NR == 2 {print $NF}' "$dir/classic/references.csv")/reference.state"
 fails_with "study render refuses a reference without halves" "without two independent halves" "$nuld" study render default --res 16x12 --spp 4 --reference-spp 16 --integrator direct --backends sobol,sobol-tabulated,optimized-uniform --opt-epochs 5 --opt-instances 2 --repeats 2 -q --no-report -o "$dir/classic"
 fails_with "study report of a folder that does not exist" "empty_study: no such folder" "$nuld" study report "$dir/empty_study"
 mkdir "$dir/empty_study" && echo study >"$dir/empty_study/.nuld-folder"

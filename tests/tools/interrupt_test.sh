@@ -7,6 +7,7 @@ nuld=$1
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
 export NULD_CACHE="$dir/set-cache"
+unset NULD_REFERENCE_CACHE  # references beside the sets of this cache
 failures=0
 
 # Ctrl-C while a render makes its sets says where their checkpoints are, and

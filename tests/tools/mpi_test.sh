@@ -16,6 +16,7 @@ trap 'rm -rf "$dir"' EXIT
 # Every study keeps its sets in its own cache (OUT/cache), so that each job
 # makes them and they are compared file by file.
 export NULD_CACHE="$dir/set-cache"
+unset NULD_REFERENCE_CACHE  # references beside the sets of this cache
 failures=0
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
 
@@ -74,10 +75,12 @@ same_outputs "$dir/one" "$dir/many" "study render"
 
 # An interrupted multi-rank reference resumes, also with another rank count.
 run stop1 env NULD_CACHE="$dir/resumed/cache" "${mpi[@]}" "$nuld" "${study[@]}" -o "$dir/resumed" --reference-stop-after 1
-grep -q "passes_done=1" "$dir/resumed/default/reference.state" || fail "the first run did not stop after 1 pass"
+# The reference's passes are kept in the reference cache (backends/reference_cache.h).
+state() { cat "$1"/cache/references/*/reference.state 2>/dev/null; }
+grep -q "passes_done=1" <(state "$dir/resumed") || fail "the first run did not stop after 1 pass"
 [[ -e "$dir/resumed/render.csv" ]] && fail "a study with an incomplete reference rendered cells"
 run stop2 env NULD_CACHE="$dir/resumed/cache" "${launch[@]}" -np 2 "$nuld" "${study[@]}" -o "$dir/resumed" --reference-stop-after 3
-grep -q "passes_done=4" "$dir/resumed/default/reference.state" || fail "the second run did not stop after 4 passes"
+grep -q "passes_done=4" <(state "$dir/resumed") || fail "the second run did not stop after 4 passes"
 run finish env NULD_CACHE="$dir/resumed/cache" "${mpi[@]}" "$nuld" "${study[@]}" -o "$dir/resumed"
 for f in reference.exr reference.half0.exr reference.half1.exr; do
   idiff -q -fail 0 -warn 0 "$dir/one/default/$f" "$dir/resumed/default/$f" \
@@ -94,14 +97,14 @@ run killed1 env NULD_CACHE="$dir/killed1/cache" "$nuld" "${killed[@]}" -o "$dir/
 env NULD_CACHE="$dir/killed/cache" "${mpi[@]}" "$nuld" "${killed[@]}" -o "$dir/killed" >/dev/null 2>&1 &
 job=$!
 for _ in $(seq 600); do
-  grep -qs "passes_done=[1-9]" "$dir/killed/default/reference.state" && break
+  grep -qs "passes_done=[1-9]" <(state "$dir/killed") && break
   sleep 0.05
 done
 kill -TERM $job 2>/dev/null
 wait $job 2>/dev/null
-if grep -qs "passes_done=48" "$dir/killed/default/reference.state"; then
+if grep -qs "passes_done=48" <(state "$dir/killed"); then
   echo "note: the reference finished before it could be interrupted"
-elif ! grep -qs "passes_done=[1-9]" "$dir/killed/default/reference.state"; then
+elif ! grep -qs "passes_done=[1-9]" <(state "$dir/killed"); then
   fail "no reference round was saved before the kill"
 fi
 run killedResume env NULD_CACHE="$dir/killed/cache" "${mpi[@]}" "$nuld" "${killed[@]}" -o "$dir/killed"

@@ -18,6 +18,7 @@ data=$2
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 export NULD_CACHE="$out/set-cache"
+unset NULD_REFERENCE_CACHE  # references beside the sets of this cache
 bad="$out/no/such/@@"
 failures=0 cases=0
 

@@ -9,6 +9,7 @@ nuld=$1 source=$2 plugins=$3 cc=$4
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
 export NULD_CACHE="$dir/set-cache"
+unset NULD_REFERENCE_CACHE  # references beside the sets of this cache
 failures=0
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
 ok() { # ok DESCRIPTION COMMAND...

@@ -4,6 +4,10 @@ root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 nuld=${NULD:-"$root/build/nuld"}
 [[ -x "$nuld" ]] || { echo "build first: tools/build.sh (or set NULD=path/to/nuld)" >&2; exit 1; }
 python=/usr/bin/python3  # Debian's, which has matplotlib
+# The user's reference cache (backends/reference_cache.h), named before a
+# script points NULD_CACHE at a fresh set cache per run: every study of the
+# scripts then finds the references any earlier one rendered.
+export NULD_REFERENCE_CACHE=${NULD_REFERENCE_CACHE:-${NULD_CACHE:-${XDG_CACHE_HOME:-$HOME/.cache}/nuld}/references}
 
 # metrics FILE TARGET NAME... -> the named metrics of `nuld eval` (means over
 # the file's instances), comma-separated
@@ -25,18 +29,6 @@ l2_dstar() { metrics "$1" "$2" l2asd dstar; }
 prepare_output() {
   mkdir -p "$1"
   "$python" "$root/tools/experiments/make_test_image.py" "$1/test_image.pfm"
-}
-
-# copy_reference FROM TO: one scene's study reference (the image, its two
-# halves and its state) from directory FROM into TO (a study folder's
-# SCENE), so that a study writing there renders none; nothing when TO holds
-# one already. The study folder is marked as a study's (.nuld-folder), which
-# a study writes into only when it is (sampler/io/output_folder.h).
-copy_reference() {
-  [[ -f "$2/reference.exr" ]] && return 0
-  mkdir -p "$2"
-  [[ -f "$(dirname "$2")/.nuld-folder" ]] || echo study >"$(dirname "$2")/.nuld-folder"
-  cp "$1"/reference.{exr,state,half0.exr,half1.exr} "$2/"
 }
 
 # seconds_since START_NS (from date +%s%N) -> elapsed seconds, one decimal

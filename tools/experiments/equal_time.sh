@@ -79,7 +79,6 @@ if [[ " ${PARTS:-1 2} " == *" 2 "* ]]; then
     for integrator in direct path; do
       cell="$out/full/$scene-$integrator"
       for run in cold warm; do
-        [[ $run == cold ]] || copy_reference "$cell/cold/$scene" "$cell/warm/$scene"
         NULD_CACHE="$cell/cache" "$nuld" study render "scenes/$scene.json" --integrator "$integrator" \
           --spp 64 --repeats "${REPEATS:-8}" --seed 9173 --reference-spp 1024 \
           --backends sobol,sobol-tabulated,optimized,optimized-both --no-report -q \

@@ -2,11 +2,12 @@
 # The classic baseline and what survives it (tools/experiments/lobe_choice.md
 # and tools/experiments/routes_against_baseline.md): render studies of the four
 # shipped scenes under both MIS integrators, once per configuration, 16 and 64
-# spp, 8 repeats, seed 9173 (no test uses it), 1/4 resolution. Every choice of a
-# (scene, integrator) scores against the same reference (REFERENCE_SPP, default
-# 4096 spp, rendered once with the default choice, in two halves that measure
-# its own variance, and copied). Each choice has its own set cache, empty at its
-# start, so setup seconds are what the sets cost from nothing.
+# spp, 8 repeats, seed 9173 (no test uses it), 1/4 resolution. Each choice of a
+# (scene, integrator) scores against a reference rendered with that choice
+# (REFERENCE_SPP, default 4096 spp, in two halves that measure its own
+# variance), which the reference cache keeps for every later run. Each choice
+# has its own set cache, empty at its start, so setup seconds are what the
+# sets cost from nothing.
 #
 # Writes OUT/CHOICE/INTEGRATOR/render.csv (with references.csv and
 # verdicts.csv) and OUT/summary.csv: each row's MSE relative to sobol under
@@ -43,19 +44,9 @@ flags_of() {
 }
 
 for integrator in $integrators; do
-  refs="$out/references/$integrator"
   for scene in $scenes; do
-    slug=$(basename "$scene" .json)
-    if [[ ! -f "$refs/$slug/reference.exr" ]]; then
-      # The reference alone: a study with one tiny cell.
-      "$nuld" study render "$scene" --integrator "$integrator" --res-scale 0.25 --spp 1 \
-        --repeats 1 --reference-spp "$reference_spp" --seed 9173 --backends sobol \
-        --no-report -q -o "$refs/study" >/dev/null
-      copy_reference "$refs/study/$slug" "$refs/$slug"
-    fi
     for choice in $choices; do
       dir="$out/$choice/$integrator"
-      copy_reference "$refs/$slug" "$dir/$slug"
       NULD_CACHE="$out/$choice/set-cache" "$nuld" study render "$scene" \
         --integrator "$integrator" --res-scale 0.25 --spp "$spp" --repeats "${REPEATS:-8}" \
         --reference-spp "$reference_spp" --seed "${SEED:-9173}" --backends "$backends" \

@@ -29,7 +29,6 @@ mkdir -p "$out"
 cd "$root"
 
 for integrator in $integrators; do
-  refs="$out/references/$integrator"
   for v in "${variants[@]}"; do
     name=${v%%=*} flags=${v#*=}
     dir="$out/$name/$integrator"
@@ -39,13 +38,10 @@ for integrator in $integrators; do
     # each variant's setup_seconds is what it costs from nothing.
     export NULD_CACHE="$out/$name/set-cache"
     for scene in $scenes; do
-      slug=$(basename "$scene" .json)
-      if [[ -f "$refs/$slug/reference.exr" ]]; then copy_reference "$refs/$slug" "$dir/$slug"; fi
       # shellcheck disable=SC2086  # flags are words
       "$nuld" study render "$scene" --integrator "$integrator" --res-scale 0.25 --spp "$spp" \
         --repeats 8 --reference-spp "${REFERENCE_SPP:-1024}" --seed 9173 --backends "$backends" $flags \
         --no-report -q -o "$dir" >/dev/null
-      copy_reference "$dir/$slug" "$refs/$slug"
     done
   done
 done

@@ -22,7 +22,6 @@ for scene in $scenes; do
   for integrator in $integrators; do
     cell="$out/$slug-$integrator"
     for run in cold warm; do
-      [[ $run == cold ]] || copy_reference "$cell/cold/$slug" "$cell/warm/$slug"
       NULD_CACHE="$cell/cache" "$nuld" study render "$scene" --integrator "$integrator" \
         --res-scale 0.25 --spp 16,64 --repeats 8 --reference-spp "${REFERENCE_SPP:-4096}" \
         --seed 9173 --backends sobol,sobol-tabulated,neural --no-report -q -o "$cell/$run" >/dev/null

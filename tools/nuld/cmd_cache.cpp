@@ -1,10 +1,12 @@
-// nuld cache: the shared set cache (backends/set_cache.h): where it is,
-// what it holds and how much, and clearing it.
+// nuld cache: the shared caches of sets (backends/set_cache.h) and of
+// references (backends/reference_cache.h): where they are, what they hold
+// and how much, and clearing them.
 
 #include <chrono>
 #include <filesystem>
 #include <iostream>
 
+#include "backends/reference_cache.h"
 #include "backends/set_cache.h"
 #include "tools/nuld/commands.h"
 
@@ -13,17 +15,24 @@ namespace nuld::cli {
 Runner addCache(CLI::App &app) {
   app.require_subcommand(1);
   app.footer(
-      "The cache is $NULD_CACHE, else $XDG_CACHE_HOME/nuld, else ~/.cache/nuld. Its entries are\n"
-      "keyed by content (the target's density, the optimizer's settings), so studies in any\n"
-      "directory, nuld render and the Python module share them across asset roots.");
+      "The cache is $NULD_CACHE, else $XDG_CACHE_HOME/nuld, else ~/.cache/nuld (references:\n"
+      "$NULD_REFERENCE_CACHE, else its references/ folder). Its sets are\n"
+      "keyed by content (the target's density, the optimizer's settings), its references by\n"
+      "the scene's content (meshes, materials, map pixels, camera) and every render setting,\n"
+      "so studies in any directory, nuld render and the Python module share them across\n"
+      "asset roots.");
   CLI::App *list = app.add_subcommand(
       "list",
       "List the cached sets (N, instances, seed, epochs, size, age, kind, nesting, bank term "
-      "weight, key, target), then any checkpoints with their size and age");
-  CLI::App *clear = app.add_subcommand("clear", "Remove every cached set and checkpoint");
+      "weight, key, target), then any checkpoints with their size and age, then the references "
+      "(scene, resolution, integrator, spp, backend, complete or the passes done, render "
+      "seconds, size, age, key)");
+  CLI::App *clear =
+      app.add_subcommand("clear", "Remove every cached set, checkpoint and reference");
   CLI::App *path = app.add_subcommand("path", "Print the cache's directory");
   return [list, clear, path] {
     const SetCache cache = SetCache::fromEnvironment();
+    const ReferenceCache references = ReferenceCache::fromEnvironment();
     if (path->parsed()) {
       std::cout << cache.root().string() << "\n";
       return 0;
@@ -32,6 +41,9 @@ Runner addCache(CLI::App &app) {
       const std::uintmax_t freed = cache.clear();
       std::cout << "cleared " << cache.setsDir().string() << ": " << humanBytes(freed)
                 << " freed\n";
+      const std::uintmax_t referencesFreed = references.clear();
+      std::cout << "cleared " << references.referencesDir().string() << ": "
+                << humanBytes(referencesFreed) << " freed\n";
       return 0;
     }
     (void)list;
@@ -54,6 +66,14 @@ Runner addCache(CLI::App &app) {
                   << humanAge(std::chrono::duration_cast<std::chrono::seconds>(now - c.modified))
                   << "  " << c.file.filename().string() << "\n";
     }
+    const auto refs = references.list();
+    std::cout << "\n";
+    if (!refs.empty())
+      for (const std::string &line : referenceListing(refs)) std::cout << line << "\n";
+    std::cout << refs.size() << (refs.size() == 1 ? " reference, " : " references, ")
+              << humanBytes(references.bytes()) << " in " << references.referencesDir().string()
+              << " (one directory each, its name ending in _KEY; one in progress continues "
+                 "when a study or nuld render --reference asks for it again)\n";
     return 0;
   };
 }

@@ -9,9 +9,11 @@
 
 #include "backends/backend_registry.h"
 #include "backends/ready_backend.h"
+#include "backends/reference_cache.h"
 #include "renderer/image_metrics.h"
 #include "renderer/render.h"
 #include "sampler/diagnostics.h"
+#include "sampler/io/atomic_file.h"
 #include "scenes/scene_file.h"
 #include "tools/nuld/cli_util.h"
 #include "tools/nuld/commands.h"
@@ -73,6 +75,52 @@ std::string fallbackNote(const std::string &backend,
          "); the rest sampled the classic Owen-Sobol route: " + (why.empty() ? kNoSetReason : why);
 }
 
+// --reference: the scene's reference as a study makes it (passes, two
+// halves, the reference cache), copied to `output` with its halves beside it.
+int renderCachedReference(const LoadedScene &loaded, const ReferenceSettings &settings,
+                          std::size_t stopAfter, const std::string &output, bool quiet) {
+  const ReferenceCache cache = ReferenceCache::fromEnvironment();
+  ProgressBar bar("reference", 1000, 0, quiet);
+  const CachedReference ref = cachedReference(
+      loaded.scene, slug(loaded.name), settings, cache,
+      [&](const ReferenceProgress &p) {
+        bar.update(long(1000 * p.fraction),
+                   "pass " + std::to_string(p.passesDone) + "/" + std::to_string(p.passes));
+      },
+      stopAfter);
+  bar.finish(ref.found ? "found in the cache" : formatDuration(ref.result.seconds));
+  if (!ref.result.complete) {
+    std::cerr << "nuld: note: the reference stopped after --reference-stop-after " << stopAfter
+              << " passes, saved in " << ref.dir.string()
+              << "; run the same command again to continue it\n";
+    return 0;
+  }
+  const std::filesystem::path out(output);
+  const std::filesystem::path stem = std::filesystem::path(out).replace_extension();
+  for (const auto &[from, to] :
+       {std::pair{ref.dir / "reference.half0.exr", stem.string() + ".half0.exr"},
+        std::pair{ref.dir / "reference.half1.exr", stem.string() + ".half1.exr"},
+        std::pair{ref.dir / "reference.png", stem.string() + ".png"},
+        std::pair{ref.dir / "reference.exr", out.string()}}) {
+    AtomicFile file(to);
+    std::filesystem::copy_file(from, file.tempPath(),
+                               std::filesystem::copy_options::overwrite_existing);
+    file.commit();
+  }
+  std::cerr << "nuld: "
+            << (ref.found ? "the reference was found in the cache: "
+                          : "the reference is now in the cache: ")
+            << ref.dir.string() << "\n";
+  std::printf("scene %s\nbackend %s\nspp %zu\nresolution %dx%d\nintegrator %s\n",
+              loaded.name.c_str(), settings.backend.c_str(), settings.totalSpp(),
+              settings.render.width, settings.render.height,
+              toString(settings.render.integrator).c_str());
+  std::printf("cache %s\nseconds %.3f\nmade_seconds %.3f\nvariance %.6g\nrelvariance %.6g\n",
+              ref.found ? "found" : "rendered", ref.found ? 0.0 : ref.result.seconds,
+              ref.result.totalSeconds, ref.result.noise.variance, ref.result.noise.relVariance);
+  return 0;
+}
+
 }  // namespace
 
 Runner addRender(CLI::App &app) {
@@ -86,6 +134,8 @@ Runner addRender(CLI::App &app) {
     SetSettings sets;  // --opt-*: the study backends' sets
     double resScale = 1;
     bool quiet = false;
+    bool reference = false;
+    std::size_t referencePassSpp = ReferenceSettings{}.passSpp, referenceStopAfter = 0;
   };
   auto o = std::make_shared<Options>();
   app.add_option("scene", o->scene, "scene file (JSON) or 'default' (built in, needs no files)")
@@ -126,6 +176,22 @@ Runner addRender(CLI::App &app) {
       ->required()
       ->check(parsedBy(checkRenderName));
   app.add_flag("-q,--quiet", o->quiet, "no progress bar");
+  app.add_flag("--reference", o->reference,
+               "render the scene's reference as a study does: --spp in all (default " +
+                   std::to_string(ReferenceSettings{}.spp) +
+                   ") in resumable passes of two independent halves (written beside OUTPUT as "
+                   ".half0.exr and .half1.exr), with --backend (default halton) and --seed "
+                   "(default " +
+                   std::to_string(ReferenceSettings{}.seed) +
+                   ", the studies'); kept in the reference cache (nuld cache list), where a "
+                   "study with the same scene content and settings finds it, and found there");
+  app.add_option("--reference-pass-spp", o->referencePassSpp,
+                 "with --reference: spp per resumable pass (default 256)")
+      ->check(wholeNumberIn(1, 1 << 24));
+  app.add_option("--reference-stop-after", o->referenceStopAfter,
+                 "with --reference: render at most this many passes in this run, then stop "
+                 "with the passes saved in the cache (a rerun continues them)")
+      ->check(wholeNumberIn(1, 1 << 24));
   return [o, &app] {
     checkRenderOutputs(o->output);
     checkAssets(app, o->assets, !isBuiltInScene(o->scene), kSceneFilesOnly);
@@ -145,6 +211,25 @@ Runner addRender(CLI::App &app) {
       change.checkApplicable(s, OverrideNames::options());
     } catch (const std::invalid_argument &e) {
       throw UsageError(std::string("render: ") + e.what());
+    }
+    onlyWhen(app, o->reference, {"--reference-pass-spp", "--reference-stop-after"}, "--reference");
+    if (o->reference) {
+      ReferenceSettings r;
+      r.render = s;
+      if (o->spp) r.spp = o->spp;
+      r.passSpp = o->referencePassSpp;
+      if (!o->backend.empty()) r.backend = o->backend;
+      if (o->seed >= 0) r.seed = std::uint64_t(o->seed);
+      if (parseBackendWord(r.backend).sets != BackendSets::None)
+        throw UsageError(
+            "render: --reference renders with a classic backend (halton, sobol, "
+            "independent, ...), not '" +
+            r.backend + "', whose sets would bias it");
+      onlyWhen(app, false, kSetOptionNames,
+               "renders of the backends that make sets (not --reference)");
+      onlyWhen(app, makeBackend(r.backend, r.seed)->samplesLobes(), kLobeOptionNames,
+               "a reference backend that samples lobe tables (sobol-tabulated)");
+      return renderCachedReference(loaded, r, o->referenceStopAfter, o->output, o->quiet);
     }
     const std::uint64_t seed = o->seed >= 0 ? std::uint64_t(o->seed) : loaded.seed;
     // A study word makes (or finds in the set cache) its sets as a study

@@ -9,6 +9,8 @@
 #include <tuple>
 
 #include "backends/ranks.h"
+#include "backends/reference_cache.h"
+#include "renderer/image_metrics.h"
 #include "renderer/path_integrator.h"
 #include "renderer/render.h"
 #include "sampler/io/output_folder.h"
@@ -62,6 +64,12 @@ const char *verdictOf(double q, double se) { return study::verdictName(study::ve
 // tools/study/equal_time.h); then, per scene and spp, the backend with the
 // lowest error for the time. Each scene's heading gives its reference's own
 // noise; a row within 10x of it says so.
+std::string formatRatio(double q, double se) {
+  char text[48];
+  std::snprintf(text, sizeof text, "%.3f+-%.3f", q, se);
+  return text;
+}
+
 void printTable(const study::CsvTable &table, const study::CsvTable &references, double amortize) {
   const std::vector<study::TimedRow> rows = study::timedRows(table);
   const std::vector<study::EqualTime> times = study::equalTime(rows, amortize);
@@ -102,17 +110,17 @@ void printTable(const study::CsvTable &table, const study::CsvTable &references,
         const auto value = [&](const char *column) {
           return (*ref->second)[references.column(column)];
         };
-        std::printf(" (reference: %s, %s spp, own variance %.4e, relMSE %.4e)",
-                    value("backend").c_str(), value("spp").c_str(),
-                    study::parseNumber(value("variance")),
-                    study::parseNumber(value("relvariance")));
+        std::printf(
+            " (reference: %s, %s spp%s, own variance %.4e, relMSE %.4e)", value("backend").c_str(),
+            value("spp").c_str(), value("cache") == "found" ? ", found in the cache" : "",
+            study::parseNumber(value("variance")), study::parseNumber(value("relvariance")));
       }
       std::printf(
-          "\n%-22s %5s %11s %11s %13s %6s %13s %6s %-15s %8s %8s %8s %13s %6s %6s %11s %13s %6s "
-          "%13s\n",
-          "backend", "spp", "mse", "relmse", "mse/sobol", "vs", "mse/classic", "vs", "best_classic",
-          "seconds", "setup_s", "total_s", "time/sobol", "vs", "pays@", "screen", "scr/sobol", "vs",
-          "scr/classic");
+          "\n%-22s %5s %5s %-9s %11s %11s %13s %6s %13s %6s %-15s %8s %8s %8s %13s %6s %6s %11s "
+          "%13s %6s %13s\n",
+          "backend", "spp", "reps", "stop", "mse", "relmse", "mse/sobol", "vs", "mse/classic", "vs",
+          "best_classic", "seconds", "setup_s", "total_s", "time/sobol", "vs", "pays@", "screen",
+          "scr/sobol", "vs", "scr/classic");
       lastScene = r.scene;
     }
     const auto it = sobol.find({r.scene, r.spp});
@@ -159,15 +167,23 @@ void printTable(const study::CsvTable &table, const study::CsvTable &references,
     const auto shortened = [](std::string name, std::size_t width) {
       return name.size() > width ? "..." + name.substr(name.size() - (width - 3)) : name;
     };
+    // What the row's flags say, after its columns.
+    std::string flags = csv[tooNoisy] == "1" ? "  reference too noisy for this row" : "";
+    if (csv[table.column("ruled_by_outliers")] == "1")
+      flags += "  ruled by outliers: winsorized/classic " +
+               formatRatio(
+                   study::parseNumber(csv[table.column("winsorized_ratio_best_classic")]),
+                   study::parseNumber(csv[table.column("winsorized_ratio_best_classic_stderr")]));
+    const std::string stop =
+        csv[table.column("stopped_on")].empty() ? "-" : csv[table.column("stopped_on")];
     std::printf(
-        "%-22s %5zu %11.4e %11.4e %13s %6s %13s %6s %-15s %8.3f %8.2f %8.3f %13s %6s %6s %11s "
-        "%13s %6s %13s%s\n",
-        shortened(r.backend, 22).c_str(), r.spp, r.mse, study::parseNumber(csv[relmse]), ratio,
-        verdict, classicText, classicVerdict,
+        "%-22s %5zu %5s %-9s %11.4e %11.4e %13s %6s %13s %6s %-15s %8.3f %8.2f %8.3f %13s %6s %6s "
+        "%11s %13s %6s %13s%s\n",
+        shortened(r.backend, 22).c_str(), r.spp, csv[table.column("repeats")].c_str(), stop.c_str(),
+        r.mse, study::parseNumber(csv[relmse]), ratio, verdict, classicText, classicVerdict,
         csv[classic].empty() ? "-" : shortened(csv[classic], 15).c_str(), r.seconds, r.setupSeconds,
         times[i].totalSeconds, timeRatio, timeVerdict, paysAt, screenText, screenSobolText,
-        screenVerdict, screenClassicText,
-        csv[tooNoisy] == "1" ? "  reference too noisy for this row" : "");
+        screenVerdict, screenClassicText, flags.c_str());
   }
   std::printf("\nLowest error for the time (MSE x total seconds, setup over %s render%s):\n",
               formatNumber(amortize).c_str(), amortize == 1 ? "" : "s");
@@ -233,8 +249,23 @@ Runner addStudyRender(CLI::App &app) {
   app.add_option("--max-depth", o->s.render.maxDepth, "maximum path length")
       ->check(wholeNumberIn(1, kMaxDepthLimit));
   app.add_option("--repeats", o->s.repeats,
-                 "renders per (backend, spp) with seeds seed, seed+1, ...; MSE is their mean")
+                 "renders per (backend, spp) with seeds seed, seed+1, ...; MSE is their mean "
+                 "(with --target-stderr: the first round's)")
       ->check(positiveNumber());
+  app.add_option("--target-stderr", o->s.budget.targetStderr,
+                 "add repeats, in rounds, to the rows whose MSE ratio to the best classic row "
+                 "or to sobol has a standard error above this share of the ratio (e.g. 0.05: "
+                 "+-5 %), until none has or the budget is spent; repeat r keeps seed + r, so a "
+                 "rerun is bit-identical "
+                 "(default 0: fixed repeats)")
+      ->check(numberIn(0, 1e6));
+  app.add_option("--max-repeats", o->s.budget.maxRepeats,
+                 "with --target-stderr: the most repeats of any row (default 64)")
+      ->check(positiveNumber());
+  app.add_option("--budget-seconds", o->s.budget.seconds,
+                 "with --target-stderr: the most seconds of added repeats per scene; a round "
+                 "that would overrun them is not started (default 0: no limit)")
+      ->check(numberIn(0, 1e9));
   app.add_option("--seed", o->s.seed,
                  "seed of the backends (default " + std::to_string(kDefaultSeed) +
                      ", as nuld render's and nuld bank's)")
@@ -274,6 +305,8 @@ Runner addStudyRender(CLI::App &app) {
     checkAssets(app, s.assets, !std::all_of(s.scenes.begin(), s.scenes.end(), isBuiltInScene),
                 kSceneFilesOnly);
 
+    onlyWhen(app, s.budget.targetStderr > 0, {"--max-repeats", "--budget-seconds"},
+             "--target-stderr above 0");
     onlyWhen(app, anyBackend(&BackendWord::makesSets),
              {"--opt-instances", "--opt-epochs", "--opt-nested"},
              "the sets the study optimizes (backends optimized, optimized-uniform, "
@@ -308,8 +341,9 @@ Runner addStudyRender(CLI::App &app) {
       // References and sets keep checkpoints (passes under OUT, sets in the
       // set cache), and a rerun continues them by itself.
       const InterruptNote interruptNote(
-          s.out.string(), "the study keeps its reference passes under " + s.out.string() +
-                              " and the checkpoints of sets being made in " +
+          s.out.string(), "the study keeps its reference passes in the reference cache (" +
+                              ReferenceCache::fromEnvironment().referencesDir().string() +
+                              ") and the checkpoints of sets being made in " +
                               setsDirectory(s.sets) + ": run the same command again to continue");
       TaskBars bars(o->quiet || !ranks.root());
       result = study::runRenderStudy(
@@ -320,6 +354,9 @@ Runner addStudyRender(CLI::App &app) {
     if (!ranks.root()) return 0;
     for (const auto &skip : result.skipped) std::cerr << "skipped " << skip << "\n";
     for (const auto &note : result.notes) std::cerr << "note: " << note << "\n";
+    for (const auto &found : result.referencesFound)
+      std::cerr << "note: the reference of " << found
+                << " was found in the reference cache: no pass rendered, 0 s counted\n";
     for (const auto &scene : result.referencesIncomplete)
       std::cerr << "note: " << scene << ": the reference stopped after --reference-stop-after "
                 << s.referenceStopAfter << " passes; run the same command again to continue it\n";
@@ -328,7 +365,7 @@ Runner addStudyRender(CLI::App &app) {
     table.loadExisting();
     if (table.rows().empty()) return 0;
     study::CsvTable references(result.csv.parent_path() / "references.csv",
-                               study::referenceColumns());
+                               study::referenceColumns(), study::referenceOptionalColumns());
     references.loadExisting();
     printTable(table, references, s.amortize);
     std::printf(
@@ -346,8 +383,13 @@ Runner addStudyRender(CLI::App &app) {
         " the best classic row's error sooner (never: it is not ahead per render). screen:\n"
         " the MSE of the error image low-passed by a Gaussian of 1 pixel, the error a viewer\n"
         " sees (blue-noise error fades); scr/sobol, vs: its ratio to sobol's; scr/classic: to\n"
-        " the classic row with the lowest screen error. CSV: %s)\n",
-        study::kTooNoisyFactor, result.csv.string().c_str());
+        " the classic row with the lowest screen error. reps: the row's repeats; stop: fixed\n"
+        " (--repeats), precision (the relative error of every MSE ratio within\n"
+        " --target-stderr) or budget (not, when --max-repeats or --budget-seconds ran\n"
+        " out). Ruled by outliers: the MSE ratio to the\n"
+        " best classic row and that of the MSE with each image's largest %g %% of pixel errors\n"
+        " winsorized reach different verdicts: a few pixels decide it. CSV: %s)\n",
+        study::kTooNoisyFactor, 100 * kWinsorizedShare, result.csv.string().c_str());
     std::fflush(stdout);  // the table before the report script's own lines
     return o->noReport ? 0 : runReport(o->out);
   };

@@ -14,6 +14,7 @@
 
 #include "backends/backend_registry.h"
 #include "backends/ready_backend.h"
+#include "backends/reference_cache.h"
 #include "renderer/image_metrics.h"
 #include "renderer/render.h"
 #include "scenes/scene_file.h"
@@ -104,6 +105,47 @@ void onlyWhen(bool applies, std::initializer_list<std::pair<const char *, bool>>
       throw std::invalid_argument("render: " + std::string(name) + " applies to " + when + " only");
 }
 
+// render(reference=True): the scene's reference from the reference cache,
+// or rendered into it, as nuld render --reference makes it; with `stats`,
+// (image, dict) with its own noise and where it came from.
+py::object cachedReferenceOf(const LoadedScene &loaded, const RenderSettings &s,
+                             std::optional<std::size_t> spp,
+                             const std::optional<std::string> &backend,
+                             std::optional<std::uint64_t> seed, bool stats,
+                             const Progress &progress) {
+  ReferenceSettings r;
+  r.render = s;
+  if (spp) r.spp = *spp;
+  if (backend) r.backend = *backend;
+  if (seed) r.seed = *seed;
+  if (parseBackendWord(r.backend).sets != BackendSets::None)
+    throw std::invalid_argument(
+        "render: backend: a reference renders with a classic backend "
+        "(halton, sobol, independent, ...), not '" +
+        r.backend + "', whose sets would bias it");
+  RenderProgress report(progress);
+  CachedReference ref;
+  {
+    py::gil_scoped_release release;
+    ref = cachedReference(
+        loaded.scene, slug(loaded.name), r, ReferenceCache::fromEnvironment(),
+        [&](const ReferenceProgress &p) {
+          report("reference", long(1000 * p.fraction), 1000,
+                 "pass " + std::to_string(p.passesDone) + "/" + std::to_string(p.passes));
+        });
+  }
+  FloatArray out = arrayOf(ref.result.image);
+  if (!stats) return py::object(out);
+  py::dict d;
+  d["backend"] = r.backend, d["spp"] = r.totalSpp(), d["integrator"] = toString(s.integrator);
+  d["variance"] = ref.result.noise.variance, d["relvariance"] = ref.result.noise.relVariance;
+  d["cache"] = ref.found ? "found" : "rendered";
+  d["seconds"] = ref.found ? 0.0 : ref.result.seconds;
+  d["made_seconds"] = ref.result.totalSeconds;
+  d["entry"] = ref.dir.string();
+  return py::object(py::make_tuple(out, d));
+}
+
 }  // namespace
 
 void bindRender(py::module_ &m) {
@@ -142,16 +184,17 @@ void bindRender(py::module_ &m) {
         Param("opt_union_weight", py::none()),
         Param("progress", py::none()),
         Param("sampler", py::none()),
-        Param("sampler_pairs", py::none())}},
-      [anyWhole, positive](py::object sceneArg, py::object backendArg, py::object sppArg,
-                           py::object resArg, py::object integratorArg, py::object depthArg,
-                           py::object seedArg, py::object assetsArg, py::object mixArg,
-                           py::object statsArg, py::object instancesArg, py::object epochsArg,
-                           py::object lobeEpochsArg, py::object threadsArg, py::object choiceArg,
-                           py::object importanceArg, py::object scaleArg, py::object routesArg,
-                           py::object defensiveArg, py::object bouncesArg, py::object nestedArg,
-                           py::object objectiveArg, py::object unionArg, py::object progressArg,
-                           py::object samplerArg, py::object samplerPairsArg) {
+        Param("sampler_pairs", py::none()),
+        Param("reference", false)}},
+      [anyWhole, positive](
+          py::object sceneArg, py::object backendArg, py::object sppArg, py::object resArg,
+          py::object integratorArg, py::object depthArg, py::object seedArg, py::object assetsArg,
+          py::object mixArg, py::object statsArg, py::object instancesArg, py::object epochsArg,
+          py::object lobeEpochsArg, py::object threadsArg, py::object choiceArg,
+          py::object importanceArg, py::object scaleArg, py::object routesArg,
+          py::object defensiveArg, py::object bouncesArg, py::object nestedArg,
+          py::object objectiveArg, py::object unionArg, py::object progressArg,
+          py::object samplerArg, py::object samplerPairsArg, py::object referenceArg) {
         const std::string f = "render";
         const std::string scene = text(sceneArg, {f, "scene"});
         const auto backend = optional(backendArg, {f, "backend"}, text);
@@ -228,11 +271,11 @@ void bindRender(py::module_ &m) {
         // as nuld render checks them.
         const RenderSettings s = change.appliedTo(loaded.settings, OverrideNames::python());
         change.checkApplicable(s, OverrideNames::python());
-        const std::uint64_t seedValue = seed ? *seed : loaded.seed;
+        const bool reference = flag(referenceArg, {f, "reference"});
         // The study's words make (or find in the set cache) their sets as
         // `nuld render` does, with the study's default --opt-* settings.
         const BackendWord word = parseBackendWord(backend ? *backend : loaded.backend);
-        onlyWhen(!ownSampler && word.makesSets(),
+        onlyWhen(!reference && !ownSampler && word.makesSets(),
                  {{"opt_instances", bool(optInstances)},
                   {"opt_epochs", bool(optEpochs)},
                   {"opt_lobe_epochs", bool(optLobeEpochs)},
@@ -240,14 +283,26 @@ void bindRender(py::module_ &m) {
                   {"opt_objective", bool(optObjective)},
                   {"opt_union_weight", bool(optUnion)}},
                  "the study's backends that make sets (optimized, optimized-bsdf, ...)");
+        // A reference samples lobes only through a backend that does
+        // (sobol-tabulated); a reference's backend is refused below if it
+        // makes sets.
+        const bool samplesLobes =
+            reference ? !word.makesSets() && makeBackend(word.spec, 0)->samplesLobes()
+                      : !ownSampler && word.samplesLobes();
         if (lobeMix || routes || defensive || bounces)
-          onlyWhen(s.integrator != IntegratorKind::Light && !ownSampler && word.samplesLobes(),
+          onlyWhen(s.integrator != IntegratorKind::Light && samplesLobes,
                    {{"lobe_mix", bool(lobeMix)},
                     {"lobe_routes", bool(routes)},
                     {"lobe_defensive", bool(defensive)},
                     {"lobe_bounces", bool(bounces)}},
                    "a backend that samples lobe tables (sobol-tabulated, lobe banks) and an "
                    "integrator other than light");
+        if (reference) {
+          if (ownSampler) throw std::invalid_argument("render: reference: not with sampler");
+          return cachedReferenceOf(loaded, s, spp ? std::optional(std::size_t(*spp)) : std::nullopt,
+                                   backend, seed, stats, progress);
+        }
+        const std::uint64_t seedValue = seed ? *seed : loaded.seed;
         PreparedBackend prepared;
         RenderStats st;
         Image img;
@@ -327,7 +382,12 @@ advances, so pass a fresh one for a repeatable render); sampler_pairs: the
 first pairs it serves (1: the camera's; default every pair), the rest
 sobol's. With stats=True returns (image, dict), the dict with what
 a learned backend's sets served per pair and, under 'note', what nuld render
-prints as notes.)");
+prints as notes. reference=True: the scene's reference as nuld render
+--reference and the studies make it (spp in all, default 4096, in passes of
+two independent halves; backend default 'halton', seed default the
+studies'), from the reference cache or rendered into it; its stats dict
+holds its own 'variance' and 'relvariance', 'cache' ('found' or
+'rendered'), 'seconds' (0 when found), 'made_seconds' and 'entry'.)");
 
   defFunction(
       m, "compare", {"compare", {Param("image"), Param("reference")}},

@@ -92,7 +92,50 @@ const std::vector<std::string> &screenColumns() {
   return names;
 }
 
+const std::vector<std::string> &robustColumns() {
+  static const std::vector<std::string> names{"mse_winsorized",
+                                              "mse_winsorized_stderr",
+                                              "top_share",
+                                              "winsorized_ratio_best_classic",
+                                              "winsorized_ratio_best_classic_stderr",
+                                              "ruled_by_outliers",
+                                              "stopped_on",
+                                              "worst_relative_stderr"};
+  return names;
+}
+
 namespace {
+
+// The winsorized ratios and the outlier flag, against the best classic row
+// by MSE (rows without a winsorized MSE, from an older file, get none).
+void fillRobustRatios(CsvTable &table, const std::vector<TimedRow> &rows,
+                      const std::vector<ClassicBaseline> &classic) {
+  const std::size_t mean = table.column("mse_winsorized"),
+                    stderr_ = table.column("mse_winsorized_stderr");
+  std::map<std::pair<std::string, std::size_t>, std::size_t> best;
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    if (!classic[i].backend.empty() && rows[i].backend == classic[i].backend)
+      best[{rows[i].scene, rows[i].spp}] = i;
+  std::vector<std::vector<std::string>> values(3);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    Ratio w, m;
+    const auto it = best.find({rows[i].scene, rows[i].spp});
+    if (it != best.end() && it->second != i) {
+      const auto &r = table.rows()[i], &b = table.rows()[it->second];
+      w = ratioOfMeans(parseNumber(r[mean]), parseNumber(r[stderr_]), parseNumber(b[mean]),
+                       parseNumber(b[stderr_]));
+      const TimedRow &br = rows[it->second];
+      m = ratioOfMeans(rows[i].mse, rows[i].mseStderr, br.mse, br.mseStderr);
+    }
+    const Verdict vw = verdictOf(w.value, w.stderr_), vm = verdictOf(m.value, m.stderr_);
+    const bool known = vw != Verdict::Undecided && vm != Verdict::Undecided;
+    values[0].push_back(formatNumber(w.value));
+    values[1].push_back(formatNumber(w.stderr_));
+    values[2].push_back(!known ? "" : vw != vm ? "1" : "0");
+  }
+  for (std::size_t k = 0; k < values.size(); ++k)
+    table.setColumn(robustColumns()[3 + k], values[k]);
+}
 
 // The screen columns' ratios, from each row's screen_mse (rows without one,
 // from an older file, get none).
@@ -159,6 +202,7 @@ void fillBaselineColumns(CsvTable &table, const std::map<std::string, ReferenceN
     values[7].push_back(formatNumber(classic[i].breakEven.stderr_));
   }
   for (std::size_t k = 0; k < values.size(); ++k) table.setColumn(baselineColumns()[k], values[k]);
+  fillRobustRatios(table, rows, classic);
 }
 
 }  // namespace nuld::study

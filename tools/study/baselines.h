@@ -21,8 +21,8 @@
 #include <string>
 #include <vector>
 
+#include "backends/reference_render.h"
 #include "tools/study/equal_time.h"
-#include "tools/study/reference_render.h"
 #include "tools/study/statistics.h"
 
 namespace nuld::study {
@@ -75,6 +75,19 @@ NoiseCorrected lessReferenceNoise(double mse, double relmse, const ReferenceNois
 // classic row's ratio says how far it is from the best). A file written
 // before these existed lacks them all.
 const std::vector<std::string> &screenColumns();
+
+// The robust statistic and the repeats' stop: each row's MSE with its
+// images' largest pixel errors winsorized (renderer/image_metrics.h,
+// ImageError::winsorized: mean and standard error over the repeats,
+// measured), the mean share of the squared error in those pixels
+// (top_share), its ratio to the best classic row's (the row with the lowest
+// MSE, as mse_ratio_best_classic; filled for every other row), and
+// ruled_by_outliers: 1 where that ratio and the MSE's disagree (one better
+// or worse by two standard errors, the other not, or the other way), so a
+// few pixels decide the MSE's verdict. stopped_on (fixed, precision,
+// budget) and worst_relative_stderr say why the row's repeats ended
+// (adaptive_repeats.h). A file written before these existed lacks them all.
+const std::vector<std::string> &robustColumns();
 
 // The names of render.csv's columns that fillBaselineColumns fills, beside
 // the screen columns' ratios (all of screenColumns but the first two).

@@ -14,6 +14,7 @@
 
 #include "backends/optimized_sets.h"
 #include "backends/ranks.h"
+#include "backends/reference_cache.h"
 #include "backends/set_plans.h"
 #include "backends/stopwatch.h"
 #include "renderer/image_metrics.h"
@@ -25,9 +26,11 @@
 #include "sampler/io/output_folder.h"
 #include "sampler/targets/target_spec.h"
 #include "scenes/scene_file.h"
+#include "tools/study/adaptive_repeats.h"
 #include "tools/study/baselines.h"
 #include "tools/study/csv_table.h"
 #include "tools/study/equal_time.h"
+#include "tools/study/render_cells.h"
 #include "tools/study/statistics.h"
 
 namespace nuld::study {
@@ -43,15 +46,53 @@ ReferenceSettings referenceFor(const RenderStudySettings &s, const RenderSetting
 }
 
 // The scene's row, replacing one of an earlier reference (one rendered
-// again after the old one was refused).
+// again after the old one was refused). `seconds` is what this study spent
+// on it: 0 for a reference found in the cache, or kept from the run that
+// rendered it; made_seconds is its render time over every run.
 void putReferenceRow(CsvTable &refs, const std::string &scene, const ReferenceSettings &r,
-                     const ReferenceResult &result, const fs::path &image) {
-  refs.putRow(
-      {scene, r.backend, std::to_string(r.totalSpp()),
-       std::to_string(r.render.width) + "x" + std::to_string(r.render.height),
-       toString(r.render.integrator), formatNumber(result.noise.variance),
-       formatNumber(result.noise.relVariance), formatNumber(result.totalSeconds), image.string()},
-      1);
+                     const CachedReference &ref, const fs::path &image) {
+  const std::string key = referenceKey(ref.description);
+  const std::size_t sceneColumn = refs.column("scene"), keyColumn = refs.column("key");
+  for (const auto &row : refs.rows())
+    if (row[sceneColumn] == scene && row[keyColumn] == key) return;
+  refs.putRow({scene, r.backend, std::to_string(r.totalSpp()),
+               std::to_string(r.render.width) + "x" + std::to_string(r.render.height),
+               toString(r.render.integrator), formatNumber(ref.result.noise.variance),
+               formatNumber(ref.result.noise.relVariance),
+               formatNumber(ref.found ? 0.0 : ref.result.seconds), image.string(),
+               formatNumber(ref.result.totalSeconds), ref.found ? "found" : "rendered", key,
+               ref.dir.string()},
+              1);
+}
+
+// The reference's files in the study's folder, as links to the cache's (a
+// copy where the cache is on another file system), so that the study's
+// folder keeps its reference when the cache is cleared. A reference already
+// there of another description is refused: the rows beside it were scored
+// against it.
+void placeReference(const CachedReference &ref, const fs::path &dir) {
+  fs::create_directories(dir);
+  const fs::path main = dir / "reference.exr";
+  if (fs::exists(main)) {
+    std::string recorded;
+    for (const auto &[name, value] : readImageAttributes(main.string()))
+      if (name == "nuld:reference") recorded = value;
+    if (recorded != ref.description)
+      throw std::runtime_error(
+          main.string() + ": made with '" + recorded + "', but this study asks for '" +
+          ref.description +
+          "' (use another output directory: the rows beside it were scored against it)");
+  }
+  for (const char *name :
+       {"reference.half0.exr", "reference.half1.exr", "reference.png", "reference.exr"}) {
+    const fs::path from = ref.dir / name, to = dir / name;
+    std::error_code ec;
+    if (!fs::exists(from) || fs::equivalent(from, to, ec)) continue;
+    AtomicFile file(to);
+    fs::create_hard_link(from, file.tempPath(), ec);
+    if (ec) fs::copy_file(from, file.tempPath(), fs::copy_options::overwrite_existing);
+    file.commit();
+  }
 }
 
 // Each scene's reference noise, as references.csv records it (also for
@@ -69,157 +110,6 @@ std::map<std::string, ReferenceNoise> referenceNoiseByScene(const CsvTable &refs
 void fillDerivedColumns(CsvTable &table, const CsvTable &refs, double amortize) {
   fillEqualTime(table, amortize);
   fillBaselineColumns(table, referenceNoiseByScene(refs));
-}
-
-// Where a cell's first render and its error map go.
-struct CellFiles {
-  fs::path image, errorMap, spectrum;
-  CellFiles(const fs::path &dir, const std::string &backend, std::size_t spp) {
-    const std::string stem = slug(backend) + "_spp" + std::to_string(spp);
-    image = dir / (stem + ".exr");
-    errorMap = dir / (stem + "_error.png");
-    spectrum = dir / (stem + "_spectrum.csv");
-  }
-};
-
-// The repeats' mean radially averaged power spectrum of the error
-// (errorPowerSpectrum) as CSV: radius, frequency in cycles per pixel, power.
-void writeSpectrum(const fs::path &file, const std::vector<double> &power) {
-  std::string text = "radius,cycles_per_pixel,power\n";
-  const double side = 2.0 * double(power.size() - 1);
-  for (std::size_t r = 0; r < power.size(); ++r)
-    text += std::to_string(r) + "," + formatNumber(double(r) / side) + "," +
-            formatNumber(power[r]) + "\n";
-  writeFileAtomically(file, text);
-}
-
-// One cell of the table: `repeats` renders of one backend at one spp,
-// scored against the reference.
-struct Cell {
-  const Scene &scene;
-  RenderSettings settings;  // spp set
-  std::string sceneSlug, backend;
-  BackendSpec spec;
-  double setupSeconds = 0;
-  const Image &reference;
-  fs::path dir;
-
-  CellFiles files() const { return {dir, backend, settings.spp}; }
-};
-
-// What a cell sends to rank 0: its row, or why it has none (the backend's
-// refusal, or the scene's lack of what the backend needs), and its first
-// render (written beside the reference with its error map).
-struct CellOutcome {
-  std::vector<std::string> row;  // empty when refused
-  std::string refusal;
-  std::string note;              // what the backend decided that a user should hear (its note())
-  std::vector<double> spectrum;  // the repeats' mean errorPowerSpectrum
-  Image image;
-  ImageAttributes attributes;
-
-  // A cell the scene cannot serve (no map, no Disney material): no row.
-  static CellOutcome skipped(const std::string &why) {
-    CellOutcome c;
-    c.refusal = why;
-    return c;
-  }
-  std::string bytes() const {
-    return ByteWriter()
-        .put(row)
-        .put(refusal)
-        .put(note)
-        .put(spectrum)
-        .put(image)
-        .put(attributes)
-        .take();
-  }
-  static CellOutcome from(std::string_view bytes) {
-    ByteReader r(bytes);
-    CellOutcome c;
-    r.get(c.row);
-    r.get(c.refusal);
-    r.get(c.note);
-    r.get(c.spectrum);
-    r.get(c.image);
-    r.get(c.attributes);
-    return c;
-  }
-};
-
-// The cell's outcome; a refusal (BackendRefusal) is an outcome, any other
-// error propagates. `progress(r, d, n)` follows repeat r's render.
-CellOutcome renderCell(
-    const Cell &c, const RenderStudySettings &s,
-    const std::function<void(std::size_t r, std::size_t d, std::size_t n)> &progress) {
-  CellOutcome out;
-  std::vector<double> mse, relmse, screen, whole, made, raysPerSecond;
-  std::size_t nonFinite = 0;
-  std::uint64_t rejected = 0;
-  for (std::size_t r = 0; r < s.repeats; ++r) {
-    const auto start = Clock::now();
-    const auto b = makeBackend(c.spec, s.seed + r);
-    RenderStats stats;
-    Image img;
-    try {
-      img = render(c.scene, c.settings, *b, &stats,
-                   [&](std::size_t d, std::size_t n) { progress(r, d, n); });
-    } catch (const BackendRefusal &e) {
-      out.refusal = e.what();
-      return out;
-    }
-    whole.push_back(secondsSince(start));
-    made.push_back(stats.setsMadeSeconds);
-    raysPerSecond.push_back(stats.raysPerSecond());
-    const ImageError e = compareImages(img, c.reference);
-    mse.push_back(e.mse);
-    relmse.push_back(e.relmse);
-    screen.push_back(e.screen);
-    const std::vector<double> spectrum = errorPowerSpectrum(img, c.reference);
-    out.spectrum.resize(spectrum.size());
-    for (std::size_t k = 0; k < spectrum.size(); ++k)
-      out.spectrum[k] += spectrum[k] / double(s.repeats);
-    nonFinite += e.nonFinitePixels;
-    rejected += stats.rejectedSamples;
-    if (r == 0) {
-      out.attributes = renderAttributes(c.sceneSlug, c.scene, c.settings, b->name(), s.seed, stats);
-      out.image = std::move(img);
-      out.note = b->report().note;
-    }
-  }
-  // Banks a backend made in its first repeat (neural) are setup, not render
-  // time (splitRepeatSeconds).
-  const RepeatSeconds split = splitRepeatSeconds(whole, made);
-  const MeanAndError m = meanAndError(mse), rm = meanAndError(relmse),
-                     t = meanAndError(split.render), rps = meanAndError(raysPerSecond);
-  out.row = {c.sceneSlug,
-             c.backend,
-             std::to_string(c.settings.spp),
-             std::to_string(s.repeats),
-             formatNumber(m.mean),
-             formatNumber(m.stderr_),
-             formatNumber(rm.mean),
-             formatNumber(rm.stderr_),
-             formatNumber(t.mean),
-             formatNumber(c.setupSeconds + split.setup),
-             "",  // total_seconds .. amortize: fillEqualTime, over the whole table
-             "",
-             "",
-             "",
-             formatNumber(rps.mean),
-             std::to_string(nonFinite),
-             std::to_string(rejected),
-             fs::relative(c.files().image, s.out).string(),
-             fs::relative(c.files().errorMap, s.out).string()};
-  out.row.resize(renderStudyColumns().size());  // baselineColumns: fillBaselineColumns
-  const MeanAndError sm = meanAndError(screen);
-  const auto at = [](const std::string &name) {
-    const auto &c = renderStudyColumns();
-    return std::size_t(std::find(c.begin(), c.end(), name) - c.begin());
-  };
-  out.row[at(screenColumns()[0])] = formatNumber(sm.mean);
-  out.row[at(screenColumns()[1])] = formatNumber(sm.stderr_);
-  return out;
 }
 
 }  // namespace
@@ -244,7 +134,8 @@ struct PlannedCell {
   BackendWord backend;
   std::size_t spp;
   BackendPlan plan;
-  bool samplesLobes;  // its setup includes the lobe tables'
+  bool samplesLobes;        // its setup includes the lobe tables'
+  std::size_t first, last;  // its repeats to render in this round
 };
 
 struct ScenePlan {
@@ -257,16 +148,21 @@ struct ScenePlan {
   std::vector<PlannedCell> cells;  // spp by spp (a round's cells cost about the same)
 };
 
-ScenePlan planScene(const SceneStudy &scene, const CsvTable &table, const RenderStudySettings &s) {
+// A cell to plan: a backend word at a spp, and the repeats to render.
+struct CellRequest {
+  std::string word;
+  std::size_t spp = 0, first = 0, last = 0;
+};
+
+ScenePlan planScene(const SceneStudy &scene, const std::vector<CellRequest> &requests,
+                    const RenderStudySettings &s) {
   ScenePlan plan;
   const bool lobeIntegrator = scene.settings.integrator != IntegratorKind::Light;
-  for (std::size_t spp : s.spp)
-    for (const std::string &word : s.backends)
-      if (!table.hasRow({scene.slug, word, std::to_string(spp)})) {
-        BackendWord backend = parseBackendWord(word);
-        const bool lobes = lobeIntegrator && backend.samplesLobes();
-        plan.cells.push_back({std::move(backend), spp, {}, lobes});
-      }
+  for (const CellRequest &r : requests) {
+    BackendWord backend = parseBackendWord(r.word);
+    const bool lobes = lobeIntegrator && backend.samplesLobes();
+    plan.cells.push_back({std::move(backend), r.spp, {}, lobes, r.first, r.last});
+  }
   // The lobe tables, built once before any cell (the renders then reuse
   // them through the scene's cache).
   if (std::any_of(plan.cells.begin(), plan.cells.end(),
@@ -310,14 +206,16 @@ std::set<fs::path> makeSceneSets(const Ranks &ranks, const SceneStudy &scene, co
   return made;
 }
 
-// The cells, rendered side by side; rank 0 writes their images and adds
-// their rows in cell order, or notes why a cell was skipped.
-void renderCells(const Ranks &ranks, const SceneStudy &scene, const ScenePlan &plan,
-                 const std::set<fs::path> &madeNow, const Image &reference,
-                 const RenderStudySettings &s, CsvTable &table, const CsvTable &refs,
-                 RenderStudyResult &result, const StudyProgress &progress) {
-  double totalWork = 0, work = 0;
-  for (const PlannedCell &c : plan.cells) totalWork += double(c.spp) * double(s.repeats);
+// The cells' repeats, rendered side by side; rank 0 keeps their records in
+// `repeats`, writes the images of the round holding repeat 0, and puts each
+// cell's row (made from all its records) into the table, or notes why a
+// cell was skipped. Returns the seconds the round's repeats took.
+double renderCells(const Ranks &ranks, const SceneStudy &scene, const ScenePlan &plan,
+                   const std::set<fs::path> &madeNow, const Image &reference,
+                   const RenderStudySettings &s, CsvTable &table, CsvTable &repeats,
+                   const CsvTable &refs, RenderStudyResult &result, const StudyProgress &progress) {
+  double totalWork = 0, work = 0, seconds = 0;
+  for (const PlannedCell &c : plan.cells) totalWork += double(c.spp) * double(c.last - c.first);
   runInRounds(
       ranks, plan.cells.size(),
       [&](std::size_t i) {
@@ -331,37 +229,142 @@ void renderCells(const Ranks &ranks, const SceneStudy &scene, const ScenePlan &p
         settings.spp = c.spp;
         const Cell cell{scene.loaded.scene, settings,     scene.slug, c.backend.word,
                         *c.plan.spec,       setupSeconds, reference,  scene.dir};
-        const double cellWork = double(c.spp) * double(s.repeats);
-        return renderCell(cell, s,
-                          [&](std::size_t r, std::size_t d, std::size_t n) {
-                            if (progress && ranks.root())
-                              progress(scene.slug + ": renders",
-                                       (work + double(ranks.size()) * cellWork / double(s.repeats) *
-                                                   (double(r) + double(d) / double(n))) /
-                                           totalWork,
-                                       c.backend.word + " spp " + std::to_string(c.spp));
-                          })
-            .bytes();
+        CellOutcome outcome =
+            renderCell(cell, s, c.first, c.last, [&](std::size_t r, std::size_t d, std::size_t n) {
+              if (progress && ranks.root())
+                progress(scene.slug + ": renders",
+                         (work + double(ranks.size()) * double(c.spp) *
+                                     (double(r) + double(d) / double(n))) /
+                             totalWork,
+                         c.backend.word + " spp " + std::to_string(c.spp) + ", repeat " +
+                             std::to_string(c.first + r + 1));
+            });
+        if (!outcome.records.empty() && c.first == 0)
+          outcome.records.front().setupSeconds = setupSeconds;
+        return outcome.bytes();
       },
       [&](std::size_t i, const std::string &bytes) {
         const PlannedCell &c = plan.cells[i];
-        work += double(c.spp) * double(s.repeats);
+        work += double(c.spp) * double(c.last - c.first);
         const CellOutcome outcome = CellOutcome::from(bytes);
         if (!outcome.note.empty() &&
             std::find(result.notes.begin(), result.notes.end(), outcome.note) == result.notes.end())
           result.notes.push_back(outcome.note);
-        if (outcome.row.empty()) {
+        if (outcome.records.empty()) {
           result.skipped.push_back(scene.slug + " " + c.backend.word + " " + std::to_string(c.spp) +
                                    ": " + outcome.refusal);
           return;
         }
         const CellFiles files(scene.dir, c.backend.word, c.spp);
-        writeRender(files.image.string(), outcome.image, outcome.attributes);
-        writeImage(files.errorMap.string(), errorMap(outcome.image, reference));
-        if (!outcome.spectrum.empty()) writeSpectrum(files.spectrum, outcome.spectrum);
-        table.addRow(outcome.row);
+        if (c.first == 0) {
+          writeRender(files.image.string(), outcome.image, outcome.attributes);
+          writeImage(files.errorMap.string(), errorMap(outcome.image, reference));
+          if (!outcome.spectrum.empty()) writeSpectrum(files.spectrum, outcome.spectrum);
+        }
+        for (std::size_t k = 0; k < outcome.records.size(); ++k) {
+          const RepeatRecord &r = outcome.records[k];
+          const std::size_t repeat = c.first + k;
+          seconds += r.seconds;
+          repeats.putRow(
+              {c.backend.word, std::to_string(c.spp), std::to_string(repeat),
+               std::to_string(s.seed + repeat), formatNumber(r.mse), formatNumber(r.relmse),
+               formatNumber(r.screen), formatNumber(r.winsorized), formatNumber(r.topShare),
+               formatNumber(r.seconds), formatNumber(r.madeSeconds), formatNumber(r.setupSeconds),
+               formatNumber(r.raysPerSecond), std::to_string(r.nonFinite),
+               std::to_string(r.rejected)},
+              3);
+        }
+        const std::vector<RepeatRecord> all = cellRecords(repeats, c.backend.word, c.spp);
+        table.putRow(composeRow(scene.slug, c.backend.word, c.spp, all, files, s.out), 3);
         fillDerivedColumns(table, refs, s.amortize);
       });
+  return seconds;
+}
+
+// The stop of every row of the scene (and its table's columns): fixed
+// without a target, else precision or budget as `plan` says.
+void markStops(CsvTable &table, const std::string &sceneSlug, const RepeatPlan *plan,
+               const std::vector<std::size_t> &sceneRows) {
+  const std::size_t stopped = table.column("stopped_on"),
+                    worst = table.column("worst_relative_stderr");
+  std::vector<std::string> stops, errors;
+  for (const auto &row : table.rows()) {
+    stops.push_back(row[stopped]);
+    errors.push_back(row[worst]);
+  }
+  for (std::size_t k = 0; k < sceneRows.size(); ++k) {
+    const std::size_t i = sceneRows[k];
+    if (table.rows()[i][table.column("scene")] != sceneSlug) continue;
+    stops[i] = stopName(!plan              ? RepeatStop::Fixed
+                        : plan->decided[k] ? RepeatStop::Precision
+                                           : RepeatStop::Budget);
+    errors[i] = plan ? formatNumber(plan->worstStderr[k]) : "";
+  }
+  table.setColumn("stopped_on", stops);
+  table.setColumn("worst_relative_stderr", errors);
+}
+
+// The scene's rows in the table, and their repeats.
+std::vector<std::size_t> sceneRows(const CsvTable &table, const std::string &sceneSlug) {
+  std::vector<std::size_t> out;
+  for (std::size_t i = 0; i < table.rows().size(); ++i)
+    if (table.rows()[i][table.column("scene")] == sceneSlug) out.push_back(i);
+  return out;
+}
+
+// Rounds of repeats until every ratio of the scene's rows is within the
+// target or the budget is spent (adaptive_repeats.h); rank 0 decides each
+// round and every rank renders it. Marks each row's stop.
+void addRepeats(const Ranks &ranks, const SceneStudy &scene, const RenderStudySettings &s,
+                CsvTable &table, CsvTable &repeats, const Image &reference, const CsvTable &refs,
+                RenderStudyResult &result, const StudyProgress &progress) {
+  const bool adaptive = s.budget.targetStderr > 0;
+  double spent = 0;
+  for (;;) {
+    std::vector<CellRequest> more;
+    std::vector<std::size_t> rows;
+    RepeatPlan decision;
+    if (ranks.root()) {
+      rows = sceneRows(table, scene.slug);
+      const std::vector<TimedRow> all = timedRows(table);
+      std::vector<TimedRow> timed;
+      std::vector<std::size_t> counts;
+      for (const std::size_t i : rows) {
+        timed.push_back(all[i]);
+        counts.push_back(std::size_t(parseNumber(table.rows()[i][table.column("repeats")])));
+      }
+      decision = planRepeats(timed, counts, s.budget);
+      double predicted = 0;
+      for (std::size_t k = 0; k < rows.size(); ++k) {
+        if (decision.want[k] <= counts[k]) continue;
+        // A row of an earlier version has no records to add to.
+        if (cellRecords(repeats, timed[k].backend, timed[k].spp).size() != counts[k]) continue;
+        more.push_back({timed[k].backend, timed[k].spp, counts[k], decision.want[k]});
+        predicted += double(decision.want[k] - counts[k]) * timed[k].seconds;
+      }
+      // A round that would overrun the seconds is not started.
+      if (s.budget.seconds > 0 && spent + predicted > s.budget.seconds) more.clear();
+      markStops(table, scene.slug, adaptive ? &decision : nullptr, rows);
+    }
+    if (!adaptive) return;
+    ByteWriter w;
+    w.put(std::uint64_t(more.size()));
+    for (const CellRequest &r : more) w.put(r.word).put(r.spp).put(r.first).put(r.last);
+    const std::string bytes = ranks.broadcast(ranks.root() ? w.take() : std::string());
+    ByteReader r(bytes);
+    more.resize(r.get<std::uint64_t>());
+    for (CellRequest &c : more) {
+      r.get(c.word);
+      r.get(c.spp);
+      r.get(c.first);
+      r.get(c.last);
+    }
+    if (more.empty()) return;
+    const ScenePlan plan = planScene(scene, more, s);
+    const std::set<fs::path> madeNow = makeSceneSets(ranks, scene, plan, progress);
+    spent += renderCells(ranks, scene, plan, madeNow, reference, s, table, repeats, refs, result,
+                         progress);
+  }
 }
 
 }  // namespace
@@ -377,7 +380,7 @@ RenderStudyResult runRenderStudy(const RenderStudySettings &s, const StudyProgre
   table.requireOptions(s.rowOptions(), ranks.root());
   // The noise columns load empty from an older file, whose references are
   // then refused with the reason (reference_render.h), not its header.
-  CsvTable refs(s.out / "references.csv", referenceColumns(), {"variance", "relvariance"});
+  CsvTable refs(s.out / "references.csv", referenceColumns(), referenceOptionalColumns());
   refs.loadExisting();
 
   // Every rank has read the CSV before rank 0 first adds to it.
@@ -390,26 +393,40 @@ RenderStudyResult runRenderStudy(const RenderStudySettings &s, const StudyProgre
     scene.dir = s.out / scene.slug;
 
     const ReferenceSettings refSettings = referenceFor(s, scene.settings);
-    const ReferenceResult ref = renderReference(
-        scene.loaded.scene, sceneIdentity(scenePath), refSettings, scene.dir,
+    const CachedReference ref = cachedReference(
+        scene.loaded.scene, scene.slug, refSettings,
+        s.referenceCacheDir.empty() ? ReferenceCache::fromEnvironment()
+                                    : ReferenceCache(s.referenceCacheDir),
         [&](const ReferenceProgress &p) {
           if (progress)
             progress(scene.slug + ": reference", p.fraction,
                      "pass " + std::to_string(p.passesDone) + "/" + std::to_string(p.passes));
         },
         s.referenceStopAfter);
-    if (!ref.complete) {
+    if (!ref.result.complete) {
       result.referencesIncomplete.push_back(scene.slug);
       continue;
     }
-    if (ranks.root())
+    if (ref.found) result.referencesFound.push_back(scene.slug + ": " + ref.dir.string());
+    if (ranks.root()) {
+      placeReference(ref, scene.dir);
       putReferenceRow(refs, scene.slug, refSettings, ref,
                       fs::relative(scene.dir / "reference.exr", s.out));
+    }
 
-    const ScenePlan plan = planScene(scene, table, s);
+    std::vector<CellRequest> missing;
+    for (std::size_t spp : s.spp)
+      for (const std::string &word : s.backends)
+        if (!table.hasRow({scene.slug, word, std::to_string(spp)}))
+          missing.push_back({word, spp, 0, s.repeats});
+    const ScenePlan plan = planScene(scene, missing, s);
     if (!plan.lobeNote.empty()) result.notes.push_back(plan.lobeNote);
     const std::set<fs::path> madeNow = makeSceneSets(ranks, scene, plan, progress);
-    renderCells(ranks, scene, plan, madeNow, ref.image, s, table, refs, result, progress);
+    CsvTable repeats(scene.dir / "repeats.csv", repeatColumns());
+    if (ranks.root()) repeats.loadExisting();
+    renderCells(ranks, scene, plan, madeNow, ref.result.image, s, table, repeats, refs, result,
+                progress);
+    addRepeats(ranks, scene, s, table, repeats, ref.result.image, refs, result, progress);
     ranks.barrier();
   }
   // Rows kept from an earlier run take this run's K and references too.

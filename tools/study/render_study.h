@@ -41,9 +41,10 @@
 #include "backends/backend_registry.h"
 #include "backends/optimized_sets.h"
 #include "backends/ready_backend.h"
+#include "backends/reference_render.h"
 #include "renderer/sampler_backend.h"
 #include "scenes/scene_file.h"
-#include "tools/study/reference_render.h"
+#include "tools/study/adaptive_repeats.h"
 
 namespace nuld::study {
 
@@ -55,12 +56,19 @@ struct RenderStudySettings {
   // What the study changes of every scene's render settings (resolution,
   // integrator, depth, the --lobe-* options); its spp is unused (`spp`).
   RenderOverrides render;
-  std::size_t repeats = 1;
-  std::uint64_t seed = kDefaultSeed;  // of the renders and of the sets
+  std::size_t repeats = 1;  // of every row; with a target, the first round's
+  // With a target standard error, more repeats for the rows whose MSE
+  // ratios (to the best classic row and to sobol) are above it, within the
+  // budget (tools/study/adaptive_repeats.h).
+  RepeatBudget budget;
+  std::uint64_t seed = kDefaultSeed;  // of the renders and of the sets; repeat r: seed + r
   // Renders over which a row's setup is spread in total_seconds and
   // equal_time_ratio (tools/study/equal_time.h); changes no render.
   double amortize = 1;
   ReferenceSettings reference;  // its render settings are filled per scene
+  // Where the references are kept (backends/reference_cache.h); empty: the
+  // reference cache the environment names (ReferenceCache::fromEnvironment).
+  std::filesystem::path referenceCacheDir;
   // Stop each reference after this many passes in this run (0: no limit); a
   // scene whose reference is not complete renders no cells.
   std::size_t referenceStopAfter = 0;
@@ -91,14 +99,21 @@ using StudyProgress = SetProgress;
 const std::vector<std::string> &renderStudyColumns();
 const std::vector<std::string> &renderStudyDerivedColumns();
 // references.csv's columns: scene, backend, spp, resolution, integrator,
-// variance, relvariance (ReferenceNoise), seconds, image.
+// variance, relvariance (ReferenceNoise), seconds (this study's: 0 for a
+// reference found in the cache), image, made_seconds (its render time),
+// cache ("found" or "rendered"), key and entry (the reference cache's).
 const std::vector<std::string> &referenceColumns();
+// Those an earlier version's references.csv may lack (loaded empty).
+const std::vector<std::string> &referenceOptionalColumns();
 
 struct RenderStudyResult {
   std::filesystem::path csv;                      // out/render.csv
   std::vector<std::string> skipped;               // "scene backend spp: reason"
   std::vector<std::string> notes;                 // e.g. the lobe bins left without banks
   std::vector<std::string> referencesIncomplete;  // scenes stopped by referenceStopAfter
+  // "scene: cache entry" of each reference found complete in the cache
+  // (backends/reference_cache.h): no pass of it was rendered.
+  std::vector<std::string> referencesFound;
 };
 
 // Runs (or resumes: rows already in out/render.csv are kept and not
@@ -108,10 +123,5 @@ struct RenderStudyResult {
 // the outputs are those of a single process but for the measured times.
 RenderStudyResult runRenderStudy(const RenderStudySettings &settings,
                                  const StudyProgress &progress = {});
-
-// What a reference remembers of its scene: the slug, and for a scene file a
-// hash of its text, so that a reference rendered before the file changed (a
-// map turned upright, a material edited) is refused rather than reused.
-std::string sceneIdentity(const std::string &scenePath);
 
 }  // namespace nuld::study

@@ -43,6 +43,7 @@ const std::vector<std::string> &renderStudyColumns() {
     std::vector<std::string> c = columns;
     c.insert(c.end(), baselineColumns().begin(), baselineColumns().end());
     c.insert(c.end(), screenColumns().begin(), screenColumns().end());
+    c.insert(c.end(), robustColumns().begin(), robustColumns().end());
     return c;
   }();
   return all;
@@ -55,15 +56,22 @@ const std::vector<std::string> &renderStudyDerivedColumns() {
     // Measured (the first two) or derived, all missing from files written
     // before they existed.
     d.insert(d.end(), screenColumns().begin(), screenColumns().end());
+    d.insert(d.end(), robustColumns().begin(), robustColumns().end());
     return d;
   }();
   return derived;
 }
 
 const std::vector<std::string> &referenceColumns() {
-  static const std::vector<std::string> columns{"scene",       "backend",    "spp",
-                                                "resolution",  "integrator", "variance",
-                                                "relvariance", "seconds",    "image"};
+  static const std::vector<std::string> columns{
+      "scene",   "backend", "spp",          "resolution", "integrator", "variance", "relvariance",
+      "seconds", "image",   "made_seconds", "cache",      "key",        "entry"};
+  return columns;
+}
+
+const std::vector<std::string> &referenceOptionalColumns() {
+  static const std::vector<std::string> columns{"variance", "relvariance", "made_seconds",
+                                                "cache",    "key",         "entry"};
   return columns;
 }
 
@@ -74,6 +82,14 @@ void RenderStudySettings::validate() const {
   for (std::size_t n : spp)
     if (n == 0) throw std::invalid_argument("--spp: counts must be positive");
   if (repeats == 0) throw std::invalid_argument("--repeats: must be at least 1");
+  if (!(budget.targetStderr >= 0) || !std::isfinite(budget.targetStderr))
+    throw std::invalid_argument("--target-stderr: expected a number >= 0 (0: fixed repeats)");
+  if (budget.targetStderr > 0 && budget.maxRepeats < std::max<std::size_t>(repeats, 2))
+    throw std::invalid_argument("--max-repeats: expected at least --repeats (" +
+                                std::to_string(repeats) + ") and 2, got " +
+                                std::to_string(budget.maxRepeats));
+  if (!(budget.seconds >= 0) || !std::isfinite(budget.seconds))
+    throw std::invalid_argument("--budget-seconds: expected a number of seconds >= 0 (0: none)");
   if (!(amortize >= 1) || !std::isfinite(amortize))
     throw std::invalid_argument("--amortize: expected a number of renders >= 1");
   sets.validate();
@@ -108,19 +124,6 @@ std::string RenderStudySettings::rowOptions() const {
     << (sets.nested ? " opt-nested=on" : "") << " reference-spp=" << reference.spp
     << " reference-pass-spp=" << reference.passSpp << " reference-backend=" << reference.backend;
   return o.str();
-}
-
-std::string sceneIdentity(const std::string &scenePath) {
-  const std::string name = slug(scenePath);
-  if (isBuiltInScene(scenePath)) return name;
-  std::ifstream in(scenePath, std::ios::binary);
-  if (!in) throw std::runtime_error(scenePath + ": cannot read the scene file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  char hash[17];
-  std::snprintf(hash, sizeof hash, "%016llx",
-                static_cast<unsigned long long>(hashString(text.str())));
-  return name + " scene_hash=" + hash;
 }
 
 }  // namespace nuld::study

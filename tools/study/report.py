@@ -309,6 +309,13 @@ def render_section(root, scene, rows, ref, plots_dir, scale):
                           if r.get("break_even_renders", "nan") != "nan" else "")
                        + ("<br><small class='bad'>reference too noisy for this row</small>"
                           if r.get("reference_too_noisy") == "1" else "")
+                       + (f"<br><small>{int(num(r['repeats']))} repeats, stopped on "
+                          f"{html.escape(r['stopped_on'])}</small>"
+                          if r.get("stopped_on") in ("precision", "budget") else "")
+                       + ("<br><small class='bad'>ruled by outliers: winsorized ×"
+                          f"{num(r.get('winsorized_ratio_best_classic')):.2f}±"
+                          f"{num(r.get('winsorized_ratio_best_classic_stderr')):.2f}</small>"
+                          if r.get("ruled_by_outliers") == "1" else "")
                        + "</td>")
         setup = max(num(cell[(b, s)]["setup_seconds"]) for s in spps if (b, s) in cell)
         out.append(f"<tr><th>{html.escape(backend_label(b))}</th>{''.join(tds)}"
@@ -322,7 +329,11 @@ def render_section(root, scene, rows, ref, plots_dir, scale):
                "sobol-tabulated, whichever ran); 'at equal time': MSE × (seconds + setup / "
                f"{amortize:g}) over Owen-Sobol's. 'Reference too noisy for this row': its "
                f"MSE is less than {TOO_NOISY_FACTOR}× the reference's own variance, which then decides the "
-               "comparison. 'Pays for its setup after K renders': the fewest renders sharing "
+               "comparison. 'Stopped on precision' or 'on budget': with a target standard "
+               "error, whether every MSE ratio of the row reached it or its repeats ran out. "
+               "'Ruled by outliers': the ratio to the best classic row of the MSE with each "
+               "image's largest 0.1 % of pixel errors winsorized reaches another verdict than "
+               "the MSE's: a few pixels decide it. 'Pays for its setup after K renders': the fewest renders sharing "
                "its setup after which the learned row reaches the best classic row's error "
                "sooner (break_even_renders).</p>")
     verdicts = [v for v in read_csv(os.path.join(root, "verdicts.csv")) if v["scene"] == scene]

@@ -77,9 +77,11 @@ def study(scene="default", rows=None, spp=(4, 16), repeats=8, seed=1, baseline=N
     repeat's seed and returning a sampler for nuld.render(sampler=...), e.g.
     `lambda s: scipy.stats.qmc.Sobol(d=2, seed=s)` (a fresh engine a repeat).
     baseline: the label the ratios are against (default 'sobol' if a row,
-    else the first). reference: an image, else rendered with
-    reference_backend at reference_spp in two halves of other seeds, whose
-    difference gives the reference's own variance. Other keywords go to
+    else the first). reference: an image, else the scene's reference of
+    reference_spp with reference_backend, as nuld.render(reference=True)
+    and the CLI's studies make it (two independent halves, whose difference
+    gives its own variance), found in the reference cache or rendered into
+    it. Other keywords go to
     nuld.render (resolution_scale, integrator, max_depth, ...). Returns a
     StudyTable: the mean MSE and screen error with their standard errors,
     the mean render seconds, and the ratios to the baseline at equal spp
@@ -101,12 +103,14 @@ def study(scene="default", rows=None, spp=(4, 16), repeats=8, seed=1, baseline=N
         raise ValueError(f"study: repeats: expected a whole number >= 1, got {repeats!r}")
     reference_variance = float("nan")
     if reference is None:
-        half = max(1, reference_spp // 2)
-        # Seeds far from the rows', so that the reference is independent of them.
-        halves = [_nuld.render(scene, backend=reference_backend, spp=half, seed=seed + 1000003 + k,
-                               **render_args) for k in range(2)]
-        reference = (halves[0] + halves[1]) / 2
-        reference_variance = float(((halves[0] - halves[1]) ** 2).mean() / 4)
+        # The rows' lobe-table and set options do not apply to a classic
+        # reference (its seed, the studies', is far from the rows').
+        shared = {k: v for k, v in render_args.items()
+                  if k not in ("lobe_mix", "lobe_routes", "lobe_defensive", "lobe_bounces",
+                               "progress") and not k.startswith("opt_")}
+        reference, made = _nuld.render(scene, reference=True, backend=reference_backend,
+                                       spp=reference_spp, stats=True, **shared)
+        reference_variance = made["variance"]
     cells = {}
     for label, row in rows.items():
         for n in spps:

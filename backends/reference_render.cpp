@@ -1,4 +1,4 @@
-#include "tools/study/reference_render.h"
+#include "backends/reference_render.h"
 
 #include <chrono>
 #include <fstream>
@@ -12,17 +12,26 @@
 #include "renderer/sampler_backend.h"
 #include "sampler/io/atomic_file.h"
 #include "sampler/io/image_io.h"
+#include "sampler/io/round_trip.h"
 
-namespace nuld::study {
+namespace nuld {
 
 namespace fs = std::filesystem;
 
-std::string ReferenceSettings::describe(const std::string &sceneName) const {
+std::string ReferenceSettings::describe(const Scene &scene) const {
   std::ostringstream s;
-  s << "scene=" << sceneName << " backend=" << backend << " spp=" << totalSpp()
+  s << "content=" << sceneContentKey(scene) << " backend=" << backend << " spp=" << totalSpp()
     << " pass_spp=" << samplesPerPass() << " seed=" << seed << " res=" << render.width << "x"
     << render.height << " integrator=" << toString(render.integrator)
-    << " max_depth=" << render.maxDepth << " renderer=" << kRendererRevision << " halves=2";
+    << " max_depth=" << render.maxDepth << " roulette_depth=" << render.rouletteDepth;
+  // Lobe tables change a render only through a backend that samples lobes.
+  if (makeBackend(backend, seed)->samplesLobes()) {
+    const LobeTableSettings &t = render.lobeTables;
+    s << " lobe_tables=" << t.thetaBins << "x" << t.phiBins << "/" << t.phiCells << ","
+      << (t.samplingMix ? formatNumber(*t.samplingMix) : "auto") << "," << toString(t.routing)
+      << "," << formatNumber(t.defensive) << "," << t.bounces;
+  }
+  s << " renderer=" << kRendererRevision << " halves=2";
   return s.str();
 }
 
@@ -164,7 +173,7 @@ ReferenceResult renderReference(const Scene &scene, const std::string &sceneName
   // their mean when complete.
   const fs::path halfPath[2] = {dir / "reference.half0.exr", dir / "reference.half1.exr"};
   const fs::path partialPath = dir / "reference.partial.exr";
-  const std::string description = settings.describe(sceneName);
+  const std::string description = settings.describe(scene);
   const std::size_t passes = settings.passes();
   RenderSettings rs = settings.render;
   rs.spp = settings.samplesPerPass();
@@ -304,4 +313,4 @@ ReferenceResult renderReference(const Scene &scene, const std::string &sceneName
   return result;
 }
 
-}  // namespace nuld::study
+}  // namespace nuld

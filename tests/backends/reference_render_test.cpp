@@ -1,9 +1,9 @@
-// The render study's references (tools/study/reference_render.h): a
+// The render study's references (backends/reference_render.h): a
 // reference resumed from its passes equals one rendered whole, bit for bit;
 // one made under other settings, or before references had two halves, is
-// refused, naming its state file; and it remembers its scene's text and the
-// renderer's revision.
-#include "tools/study/reference_render.h"
+// refused, naming its state file; and it remembers its scene's content and
+// the renderer's revision.
+#include "backends/reference_render.h"
 
 #include <gtest/gtest.h>
 
@@ -16,9 +16,8 @@
 #include "sampler/io/image_io.h"
 #include "scenes/scene_file.h"
 #include "tests/common/temp_dir.h"
-#include "tools/study/render_study.h"
 
-namespace nuld::study {
+namespace nuld {
 namespace {
 
 namespace fs = std::filesystem;
@@ -86,7 +85,7 @@ TEST(ReferenceRender, OldReferenceWithoutHalvesIsRefusedNotReused) {
     const fs::path dir = tmp / (complete ? "complete" : "partial");
     renderReference(scene.scene, "default", s, dir, {}, complete ? 0 : 1);
     // What an older nuld left: one sum or image, a state without halves.
-    std::string description = s.describe("default");
+    std::string description = s.describe(scene.scene);
     description.erase(description.find(" halves="));
     std::ofstream(dir / "reference.state")
         << "description=" << description << "\npasses_done=" << (complete ? 2 : 1)
@@ -123,23 +122,32 @@ TEST(ReferenceRender, OtherSettingsAreRefusedNamingTheStateFile) {
   }
 }
 
-// What a reference remembers of its scene: a built-in scene's name; a scene
-// file's slug and the hash of its text, so an edited file gets a new
-// identity (and its old references are refused); and the renderer's revision.
-TEST(ReferenceRender, RemembersTheSceneTextAndTheRendererRevision) {
-  EXPECT_EQ(sceneIdentity("default"), "default");
-  TempDir tmp;
-  const fs::path file = tmp / "box.json";
-  std::ofstream(file) << "{\"a\": 1}";
-  const std::string before = sceneIdentity(file.string());
-  EXPECT_EQ(before.rfind("box scene_hash=", 0), 0u) << before;
-  std::ofstream(file) << "{\"a\": 2}";
-  EXPECT_NE(sceneIdentity(file.string()), before);
-  EXPECT_THROW(sceneIdentity((tmp / "missing.json").string()), std::runtime_error);
-  EXPECT_NE(
-      ReferenceSettings{}.describe("x").find(" renderer=" + std::to_string(kRendererRevision)),
-      std::string::npos);
+// What a reference remembers of its scene: its content key, not its name or
+// path, and the renderer's revision; and that every other setting that
+// changes a pixel changes the description.
+TEST(ReferenceRender, DescribesTheSceneContentAndEverySetting) {
+  const LoadedScene scene = loadScene("default", resolveAssetRoot(""));
+  const ReferenceSettings base;
+  const std::string d = base.describe(scene.scene);
+  EXPECT_NE(d.find("content=" + sceneContentKey(scene.scene)), std::string::npos) << d;
+  EXPECT_NE(d.find(" renderer=" + std::to_string(kRendererRevision)), std::string::npos) << d;
+  std::vector<ReferenceSettings> others(7, base);
+  others[0].backend = "sobol";
+  others[1].spp = 8192;
+  others[2].seed = 7;
+  others[3].render.width = 300;
+  others[4].render.integrator = IntegratorKind::Direct;
+  others[5].render.maxDepth = 3;
+  others[6].passSpp = 128;
+  for (const ReferenceSettings &o : others) EXPECT_NE(o.describe(scene.scene), d);
+  // Lobe tables count only for a backend that samples lobes.
+  ReferenceSettings tables = base;
+  tables.render.lobeTables.phiCells = 32;
+  EXPECT_EQ(tables.describe(scene.scene), d);
+  ReferenceSettings tabulated = base, tabulatedOther = tables;
+  tabulated.backend = tabulatedOther.backend = "sobol-tabulated";
+  EXPECT_NE(tabulated.describe(scene.scene), tabulatedOther.describe(scene.scene));
 }
 
 }  // namespace
-}  // namespace nuld::study
+}  // namespace nuld

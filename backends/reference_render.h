@@ -24,7 +24,7 @@
 #include "renderer/render.h"
 #include "renderer/scene.h"
 
-namespace nuld::study {
+namespace nuld {
 
 struct ReferenceSettings {
   std::string backend = "halton";
@@ -44,9 +44,11 @@ struct ReferenceSettings {
     return 2 * std::max<std::size_t>(1, (spp + pair - 1) / pair);
   }
   std::size_t totalSpp() const { return passes() * samplesPerPass(); }
-  // "key=value ..." of everything the image depends on; a state file made
-  // with another description is refused rather than silently mixed in.
-  std::string describe(const std::string &sceneName) const;
+  // "key=value ..." of everything the image depends on: the scene's content
+  // (sceneContentKey) and every setting above that changes a pixel. A state
+  // file made with another description is refused rather than silently
+  // mixed in, and the reference cache keys by it (reference_cache.h).
+  std::string describe(const Scene &scene) const;
 };
 
 struct ReferenceProgress {
@@ -93,4 +95,4 @@ ReferenceResult renderReference(const Scene &scene, const std::string &sceneName
                                 const std::function<void(const ReferenceProgress &)> &progress = {},
                                 std::size_t stopAfterPasses = 0);
 
-}  // namespace nuld::study
+}  // namespace nuld

@@ -1,0 +1,203 @@
+#include "backends/reference_cache.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "backends/ranks.h"
+#include "backends/set_cache.h"
+#include "sampler/io/content_hash.h"
+
+namespace nuld {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// The files renderReference writes into an entry, and nothing else: clear()
+// removes only these, never a file it did not write.
+bool isReferenceFile(const fs::path &file) {
+  const std::string name = file.filename().string();
+  return name.starts_with("reference.") ||
+         (name.starts_with(".reference.") && name.find(".tmp") != std::string::npos);
+}
+
+std::vector<fs::directory_entry> entryDirs(const fs::path &dir) {
+  std::vector<fs::directory_entry> out;
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
+    if (it->is_directory(ec)) out.push_back(*it);
+  std::sort(out.begin(), out.end(),
+            [](const auto &a, const auto &b) { return a.path() < b.path(); });
+  return out;
+}
+
+// "k=v k=v ..." -> map (a description's fields).
+std::map<std::string, std::string> fields(const std::string &description) {
+  std::map<std::string, std::string> out;
+  std::istringstream in(description);
+  std::string word;
+  while (in >> word)
+    if (const auto eq = word.find('='); eq != std::string::npos)
+      out[word.substr(0, eq)] = word.substr(eq + 1);
+  return out;
+}
+
+std::map<std::string, std::string> stateFile(const fs::path &file) {
+  std::map<std::string, std::string> kv;
+  std::ifstream in(file);
+  std::string line;
+  while (std::getline(in, line))
+    if (const auto eq = line.find('='); eq != std::string::npos)
+      kv[line.substr(0, eq)] = line.substr(eq + 1);
+  return kv;
+}
+
+std::size_t count(const std::map<std::string, std::string> &kv, const std::string &key) {
+  const auto it = kv.find(key);
+  if (it == kv.end()) return 0;
+  try {
+    return std::stoul(it->second);
+  } catch (...) {
+    return 0;
+  }
+}
+
+}  // namespace
+
+ReferenceCache ReferenceCache::fromEnvironment() {
+  if (const char *dir = std::getenv("NULD_REFERENCE_CACHE"); dir && *dir)
+    return ReferenceCache(dir);
+  return ReferenceCache(SetCache::fromEnvironment().root() / "references");
+}
+
+std::string referenceKey(const std::string &description) {
+  return ContentHash().add("nuld-reference ").add(description).hex();
+}
+
+fs::path ReferenceCache::entry(const std::string &sceneName, const ReferenceSettings &settings,
+                               const std::string &description) const {
+  const std::string key = referenceKey(description);
+  for (const auto &e : entryDirs(referencesDir()))
+    if (e.path().filename().string().ends_with("_" + key)) return e.path();
+  std::string name = sceneName;
+  for (char &c : name)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '-') c = '_';
+  if (name.size() > 40) name.resize(40);
+  const RenderSettings &r = settings.render;
+  return referencesDir() /
+         (name + "_" + std::to_string(r.width) + "x" + std::to_string(r.height) + "_" +
+          toString(r.integrator) + "_" + std::to_string(settings.totalSpp()) + "spp_" + key);
+}
+
+std::vector<ReferenceCache::Entry> ReferenceCache::list() const {
+  std::vector<Entry> out;
+  std::error_code ec;
+  for (const auto &dir : entryDirs(referencesDir())) {
+    Entry e;
+    e.dir = dir.path();
+    const std::string name = dir.path().filename().string();
+    const auto cut = name.rfind('_');
+    // The readable part ends before _WxH_ ...: the scene's name.
+    e.scene = name.substr(0, name.find('_') == std::string::npos ? cut : name.find('_'));
+    for (fs::directory_iterator it(dir.path(), ec), end; !ec && it != end; it.increment(ec)) {
+      e.bytes += it->is_regular_file(ec) ? it->file_size(ec) : 0;
+      e.modified = std::max(e.modified, it->last_write_time(ec));
+    }
+    const auto state = stateFile(dir.path() / "reference.state");
+    e.description = state.count("description") ? state.at("description") : "";
+    const auto f = fields(e.description);
+    const auto get = [&](const char *k) { return f.count(k) ? f.at(k) : std::string("?"); };
+    e.resolution = get("res");
+    e.integrator = get("integrator");
+    e.backend = get("backend");
+    e.spp = count(f, "spp");
+    const std::size_t passSpp = count(f, "pass_spp");
+    e.passes = passSpp ? e.spp / passSpp : 0;
+    e.passesDone = count(state, "passes_done");
+    try {
+      e.seconds = state.count("seconds") ? std::stod(state.at("seconds")) : 0.0;
+    } catch (...) {
+      e.seconds = 0;
+    }
+    e.complete =
+        e.passes > 0 && e.passesDone >= e.passes && fs::exists(dir.path() / "reference.exr", ec);
+    out.push_back(std::move(e));
+  }
+  return out;
+}
+
+std::uintmax_t ReferenceCache::bytes() const {
+  std::uintmax_t total = 0;
+  std::error_code ec;
+  for (const auto &dir : entryDirs(referencesDir()))
+    for (fs::directory_iterator it(dir.path(), ec), end; !ec && it != end; it.increment(ec))
+      total += it->is_regular_file(ec) ? it->file_size(ec) : 0;
+  return total;
+}
+
+std::uintmax_t ReferenceCache::clear() const {
+  std::uintmax_t freed = 0;
+  std::error_code ec;
+  for (const auto &dir : entryDirs(referencesDir())) {
+    std::vector<fs::path> files;
+    for (fs::directory_iterator it(dir.path(), ec), end; !ec && it != end; it.increment(ec))
+      if (it->is_regular_file(ec) && isReferenceFile(it->path())) files.push_back(it->path());
+    for (const fs::path &file : files) {
+      const std::uintmax_t size = fs::file_size(file, ec);
+      if (fs::remove(file, ec)) freed += size;
+    }
+    fs::remove(dir.path(), ec);  // only when nothing else is left in it
+  }
+  return freed;
+}
+
+CachedReference cachedReference(const Scene &scene, const std::string &sceneName,
+                                const ReferenceSettings &settings, const ReferenceCache &cache,
+                                const std::function<void(const ReferenceProgress &)> &progress,
+                                std::size_t stopAfterPasses) {
+  CachedReference out;
+  out.description = settings.describe(scene);
+  // Rank 0 names the entry (a new one only it creates) and every rank
+  // renders into the same name.
+  const Ranks &ranks = Ranks::world();
+  const std::string dir = ranks.broadcast(
+      ranks.root() ? cache.entry(sceneName, settings, out.description).string() : std::string());
+  out.dir = dir;
+  try {
+    out.result = renderReference(scene, sceneName, settings, out.dir, progress, stopAfterPasses);
+  } catch (const fs::filesystem_error &e) {
+    throw std::runtime_error(out.dir.string() +
+                             ": cannot write the reference cache here (set NULD_CACHE to a "
+                             "writable directory): " +
+                             e.code().message());
+  }
+  out.found = out.result.complete && out.result.passesRun == 0;
+  return out;
+}
+
+std::vector<std::string> referenceListing(const std::vector<ReferenceCache::Entry> &entries,
+                                          fs::file_time_type now) {
+  std::vector<std::vector<std::string>> cells;
+  for (const ReferenceCache::Entry &e : entries) {
+    char seconds[32];
+    std::snprintf(seconds, sizeof seconds, "%.1f", e.seconds);
+    const std::string name = e.dir.filename().string();
+    cells.push_back(
+        {e.scene, e.resolution, e.integrator, e.spp ? std::to_string(e.spp) : "?", e.backend,
+         e.complete ? "complete"
+                    : "passes " + std::to_string(e.passesDone) + "/" + std::to_string(e.passes),
+         seconds, humanBytes(e.bytes),
+         humanAge(std::chrono::duration_cast<std::chrono::seconds>(now - e.modified)),
+         name.substr(name.rfind('_') + 1)});
+  }
+  return padColumns(
+      {"scene", "res", "integrator", "spp", "backend", "state", "render_s", "size", "age", "key"},
+      cells, [](std::size_t c) { return c == 3 || c == 6 || c == 7; });
+}
+
+}  // namespace nuld

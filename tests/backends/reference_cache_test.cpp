@@ -1,0 +1,123 @@
+// The reference cache (backends/reference_cache.h): a reference is rendered
+// once per content and settings, found under another scene name, resumed
+// from an interrupted run's passes, listed, and cleared without touching a
+// file it did not write.
+#include "backends/reference_cache.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "scenes/scene_file.h"
+#include "tests/common/temp_dir.h"
+
+namespace nuld {
+namespace {
+
+namespace fs = std::filesystem;
+using test::TempDir;
+
+ReferenceSettings smallReference() {
+  ReferenceSettings s;
+  s.spp = 8, s.passSpp = 2, s.backend = "halton";
+  s.render.width = 10, s.render.height = 6;
+  s.render.integrator = IntegratorKind::Path;
+  return s;
+}
+
+TEST(ReferenceCache, RendersOnceAndIsFoundUnderAnotherName) {
+  TempDir tmp;
+  const ReferenceCache cache(tmp / "cache");
+  const LoadedScene scene = loadScene("default", resolveAssetRoot(""));
+  const ReferenceSettings s = smallReference();
+  const CachedReference made = cachedReference(scene.scene, "default", s, cache);
+  ASSERT_TRUE(made.result.complete);
+  EXPECT_FALSE(made.found);
+  EXPECT_EQ(made.result.passesRun, 4u);
+  EXPECT_EQ(made.dir.parent_path(), cache.referencesDir());
+  EXPECT_TRUE(made.dir.filename().string().ends_with("_" + referenceKey(made.description)))
+      << made.dir;
+
+  // The same content and settings under another name: found, nothing rendered.
+  const CachedReference again = cachedReference(scene.scene, "renamed", s, cache);
+  EXPECT_TRUE(again.found);
+  EXPECT_EQ(again.result.passesRun, 0u);
+  EXPECT_EQ(again.dir, made.dir);
+  EXPECT_EQ(again.result.image.pixels, made.result.image.pixels);
+  EXPECT_EQ(again.result.noise.variance, made.result.noise.variance);
+  EXPECT_GT(again.result.totalSeconds, 0);
+
+  // Another seed is another entry.
+  ReferenceSettings other = s;
+  other.seed += 1;
+  const CachedReference second = cachedReference(scene.scene, "default", other, cache);
+  EXPECT_FALSE(second.found);
+  EXPECT_NE(second.dir, made.dir);
+  EXPECT_EQ(cache.list().size(), 2u);
+}
+
+TEST(ReferenceCache, AnInterruptedReferenceResumesFromItsPassesBitForBit) {
+  TempDir tmp;
+  const ReferenceCache cache(tmp / "cache"), whole(tmp / "whole");
+  const LoadedScene scene = loadScene("default", resolveAssetRoot(""));
+  const ReferenceSettings s = smallReference();
+  const CachedReference first = cachedReference(scene.scene, "default", s, cache, {}, 1);
+  EXPECT_FALSE(first.result.complete);
+  ASSERT_EQ(cache.list().size(), 1u);
+  const ReferenceCache::Entry partial = cache.list().front();
+  EXPECT_FALSE(partial.complete);
+  EXPECT_EQ(partial.passesDone, 1u);
+  EXPECT_EQ(partial.passes, 4u);
+  EXPECT_EQ(partial.scene, "default");
+  EXPECT_EQ(partial.resolution, "10x6");
+  EXPECT_EQ(partial.spp, 8u);
+
+  const CachedReference rest = cachedReference(scene.scene, "default", s, cache);
+  ASSERT_TRUE(rest.result.complete);
+  EXPECT_FALSE(rest.found) << "three passes were rendered";
+  EXPECT_EQ(rest.result.passesRun, 3u);
+  const CachedReference uninterrupted = cachedReference(scene.scene, "default", s, whole);
+  EXPECT_EQ(rest.result.image.pixels, uninterrupted.result.image.pixels);
+  EXPECT_TRUE(cache.list().front().complete);
+
+  const auto lines = referenceListing(cache.list());
+  ASSERT_EQ(lines.size(), 2u);
+  EXPECT_NE(lines[1].find("complete"), std::string::npos) << lines[1];
+  EXPECT_NE(lines[1].find(referenceKey(rest.description)), std::string::npos) << lines[1];
+}
+
+TEST(ReferenceCache, ClearRemovesOnlyTheReferencesFiles) {
+  TempDir tmp;
+  const ReferenceCache cache(tmp / "cache");
+  const LoadedScene scene = loadScene("default", resolveAssetRoot(""));
+  const CachedReference made = cachedReference(scene.scene, "default", smallReference(), cache);
+  const CachedReference other = [&] {
+    ReferenceSettings s = smallReference();
+    s.render.width = 8;
+    return cachedReference(scene.scene, "default", s, cache);
+  }();
+  std::ofstream(other.dir / "notes.txt") << "mine";
+  EXPECT_GT(cache.bytes(), 0u);
+  EXPECT_GT(cache.clear(), 0u);
+  EXPECT_FALSE(fs::exists(made.dir));
+  EXPECT_TRUE(fs::exists(other.dir / "notes.txt"));
+  EXPECT_FALSE(fs::exists(other.dir / "reference.exr"));
+}
+
+TEST(ReferenceCache, AnUnwritableCacheIsNamed) {
+  TempDir tmp;
+  std::ofstream(tmp / "file") << "x";
+  const ReferenceCache cache(tmp / "file");  // a file where the cache's directory should be
+  const LoadedScene scene = loadScene("default", resolveAssetRoot(""));
+  try {
+    cachedReference(scene.scene, "default", smallReference(), cache);
+    FAIL() << "expected a refusal";
+  } catch (const std::runtime_error &e) {
+    EXPECT_NE(std::string(e.what()).find("NULD_CACHE"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find((tmp / "file").string()), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace nuld

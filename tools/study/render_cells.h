@@ -1,0 +1,119 @@
+#pragma once
+// The render study's cells (render_study.cpp): one backend at one spp,
+// rendered repeat by repeat against the reference; each repeat's
+// measurements as SCENE/repeats.csv keeps them, and a row of render.csv made
+// from all of them, so that later rounds and reruns add repeats to a row.
+
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "backends/ranks.h"
+#include "renderer/render.h"
+#include "renderer/sampler_backend.h"
+#include "tools/study/csv_table.h"
+#include "tools/study/render_study.h"
+
+namespace nuld::study {
+
+namespace fs = std::filesystem;
+
+// Where a cell's first render and its error map go.
+struct CellFiles {
+  fs::path image, errorMap, spectrum;
+  CellFiles(const fs::path &dir, const std::string &backend, std::size_t spp) {
+    const std::string stem = slug(backend) + "_spp" + std::to_string(spp);
+    image = dir / (stem + ".exr");
+    errorMap = dir / (stem + "_error.png");
+    spectrum = dir / (stem + "_spectrum.csv");
+  }
+};
+
+// The repeats' mean radially averaged power spectrum of the error
+// (errorPowerSpectrum) as CSV: radius, frequency in cycles per pixel, power.
+void writeSpectrum(const fs::path &file, const std::vector<double> &power);
+
+// One cell of the table: the renders of one backend at one spp,
+// scored against the reference.
+struct Cell {
+  const Scene &scene;
+  RenderSettings settings;  // spp set
+  std::string sceneSlug, backend;
+  BackendSpec spec;
+  double setupSeconds = 0;
+  const Image &reference;
+  fs::path dir;
+
+  CellFiles files() const { return {dir, backend, settings.spp}; }
+};
+
+// One repeat's measurements, as SCENE/repeats.csv keeps them: a row is
+// made from all of its repeats, and a later round or run adds to them.
+struct RepeatRecord {
+  double mse = 0, relmse = 0, screen = 0, winsorized = 0, topShare = 0;
+  // Its wall time, the part of it spent making sets (setup, not render
+  // time) and, on the cell's repeat 0, the cell's setup before any repeat
+  // (its sets optimized, its lobe tables).
+  double seconds = 0, madeSeconds = 0, setupSeconds = 0, raysPerSecond = 0;
+  std::uint64_t nonFinite = 0, rejected = 0;
+};
+
+// repeats.csv's columns: backend, spp, repeat, seed, then a record's fields.
+const std::vector<std::string> &repeatColumns();
+
+// The records of one cell (backend, spp) in repeat order.
+std::vector<RepeatRecord> cellRecords(const CsvTable &repeats, const std::string &backend,
+                                      std::size_t spp);
+
+// What a cell sends to rank 0: its repeats' records, or why it has none
+// (the backend's refusal, or the scene's lack of what the backend needs),
+// and, from the round holding repeat 0, its first render (written beside
+// the reference with its error map) and the error's spectrum.
+struct CellOutcome {
+  std::vector<RepeatRecord> records;  // empty when refused
+  std::string refusal;
+  std::string note;              // what the backend decided that a user should hear (its note())
+  std::vector<double> spectrum;  // the round's mean errorPowerSpectrum (round of repeat 0)
+  Image image;                   // repeat 0's, when in this round
+  ImageAttributes attributes;
+
+  // A cell the scene cannot serve (no map, no Disney material): no row.
+  static CellOutcome skipped(const std::string &why) {
+    CellOutcome c;
+    c.refusal = why;
+    return c;
+  }
+  std::string bytes() const {
+    ByteWriter w;
+    w.put(std::uint64_t(records.size()));
+    for (const RepeatRecord &r : records) w.put(r);
+    return w.put(refusal).put(note).put(spectrum).put(image).put(attributes).take();
+  }
+  static CellOutcome from(std::string_view bytes) {
+    ByteReader r(bytes);
+    CellOutcome c;
+    c.records.resize(r.get<std::uint64_t>());
+    for (RepeatRecord &record : c.records) r.get(record);
+    r.get(c.refusal);
+    r.get(c.note);
+    r.get(c.spectrum);
+    r.get(c.image);
+    r.get(c.attributes);
+    return c;
+  }
+};
+
+// Repeats [first, last) of the cell; a refusal (BackendRefusal) is an
+// outcome, any other error propagates. `progress(r, d, n)` follows the
+// round's repeat r's render.
+CellOutcome renderCell(
+    const Cell &c, const RenderStudySettings &s, std::size_t first, std::size_t last,
+    const std::function<void(std::size_t r, std::size_t d, std::size_t n)> &progress);
+
+// A cell's row from all of its repeats' records.
+std::vector<std::string> composeRow(const std::string &sceneSlug, const std::string &backend,
+                                    std::size_t spp, const std::vector<RepeatRecord> &records,
+                                    const CellFiles &files, const fs::path &out);
+
+}  // namespace nuld::study
