@@ -100,10 +100,12 @@ std::vector<ReferenceCache::Entry> ReferenceCache::list() const {
   for (const auto &dir : entryDirs(referencesDir())) {
     Entry e;
     e.dir = dir.path();
-    const std::string name = dir.path().filename().string();
-    const auto cut = name.rfind('_');
-    // The readable part ends before _WxH_ ...: the scene's name.
-    e.scene = name.substr(0, name.find('_') == std::string::npos ? cut : name.find('_'));
+    // The readable part is SCENE_WxH_INTEGRATOR_SPPspp_KEY: the scene's name
+    // is what precedes the last four fields (it may hold '_' itself).
+    std::string name = dir.path().filename().string();
+    for (int field = 0; field < 4 && name.rfind('_') != std::string::npos; ++field)
+      name.resize(name.rfind('_'));
+    e.scene = name;
     for (fs::directory_iterator it(dir.path(), ec), end; !ec && it != end; it.increment(ec)) {
       e.bytes += it->is_regular_file(ec) ? it->file_size(ec) : 0;
       e.modified = std::max(e.modified, it->last_write_time(ec));

@@ -51,10 +51,13 @@ TEST(ReferenceCache, RendersOnceAndIsFoundUnderAnotherName) {
   // Another seed is another entry.
   ReferenceSettings other = s;
   other.seed += 1;
-  const CachedReference second = cachedReference(scene.scene, "default", other, cache);
+  const CachedReference second = cachedReference(scene.scene, "my_scene", other, cache);
   EXPECT_FALSE(second.found);
   EXPECT_NE(second.dir, made.dir);
-  EXPECT_EQ(cache.list().size(), 2u);
+  const auto entries = cache.list();
+  ASSERT_EQ(entries.size(), 2u);
+  EXPECT_EQ(entries[0].scene, "default");
+  EXPECT_EQ(entries[1].scene, "my_scene") << "a name holding '_' is listed whole";
 }
 
 TEST(ReferenceCache, AnInterruptedReferenceResumesFromItsPassesBitForBit) {
