@@ -162,6 +162,17 @@ TEST(StudyRepeats, ATighterTargetOnARerunAddsRepeats) {
     grew = grew || std::stoul(r["repeats"]) > before[r["backend"]];
   }
   EXPECT_TRUE(grew);
+
+  // A rerun without a target keeps the rows and how they stopped.
+  s.budget.targetStderr = 0;
+  runRenderStudy(s);
+  const CsvTable again = readTable(tmp / "out");
+  ASSERT_EQ(again.rows().size(), t.rows().size());
+  for (std::size_t i = 0; i < t.rows().size(); ++i) {
+    EXPECT_EQ(again.rows()[i][t.column("repeats")], t.rows()[i][t.column("repeats")]);
+    EXPECT_EQ(again.rows()[i][t.column("stopped_on")], t.rows()[i][t.column("stopped_on")]);
+    EXPECT_NE(again.rows()[i][t.column("stopped_on")], "fixed");
+  }
 }
 
 }  // namespace

@@ -281,8 +281,9 @@ double renderCells(const Ranks &ranks, const SceneStudy &scene, const ScenePlan 
   return seconds;
 }
 
-// The stop of every row of the scene (and its table's columns): fixed
-// without a target, else precision or budget as `plan` says.
+// The stop of every row of the scene (and its table's columns): precision
+// or budget as `plan` says; without a target, fixed for the rows that have
+// no stop yet (a rerun without one keeps what an earlier target decided).
 void markStops(CsvTable &table, const std::string &sceneSlug, const RepeatPlan *plan,
                const std::vector<std::size_t> &sceneRows) {
   const std::size_t stopped = table.column("stopped_on"),
@@ -295,6 +296,7 @@ void markStops(CsvTable &table, const std::string &sceneSlug, const RepeatPlan *
   for (std::size_t k = 0; k < sceneRows.size(); ++k) {
     const std::size_t i = sceneRows[k];
     if (table.rows()[i][table.column("scene")] != sceneSlug) continue;
+    if (!plan && !stops[i].empty()) continue;
     stops[i] = stopName(!plan              ? RepeatStop::Fixed
                         : plan->decided[k] ? RepeatStop::Precision
                                            : RepeatStop::Budget);
