@@ -95,6 +95,7 @@ def test_compare_and_image_files(tmp_path):
     assert nuld.compare(ref, ref)["mse"] == 0
     e = nuld.compare(img, ref)
     assert e["mse"] > 0 and e["relmse"] > 0
+    assert 0 < e["mse_winsorized"] <= e["mse"] and 0 < e["top_share"] < 1
     path = str(tmp_path / "x.exr")
     nuld.write_image(path, img)
     assert np.array_equal(nuld.read_image(path), img)

@@ -149,7 +149,8 @@ ok "render sobol-tabulated bsdf" "$nuld" render default --backend sobol-tabulate
 grep -q '^classic_fallbacks 0$' "$dir/out" && grep -q '^setup_seconds ' "$dir/out" ||
   { echo "FAIL: render reports fallbacks and setup"; cat "$dir/out"; failures=$((failures + 1)); }
 ok "compare" "$nuld" compare "$dir/b.exr" "$dir/a.exr" --error-map "$dir/err.png"
-grep -q '^mse [0-9.e+-]*$' "$dir/out" && grep -q '^relmse [0-9.e+-]*$' "$dir/out" ||
+grep -q '^mse [0-9.e+-]*$' "$dir/out" && grep -q '^relmse [0-9.e+-]*$' "$dir/out" &&
+  grep -q '^mse_winsorized [0-9.e+-]*$' "$dir/out" && grep -q '^top_share [0-9.e+-]*$' "$dir/out" ||
   { echo "FAIL: compare output"; cat "$dir/out"; failures=$((failures + 1)); }
 [[ -s "$dir/err.png" ]] || { echo "FAIL: compare wrote no error map"; failures=$((failures + 1)); }
 ok "generate disney target" "$nuld" generate --n 16 --target disney:roughness=0.3 -o "$dir/d.txt"

@@ -327,10 +327,13 @@ Runner addCompare(CLI::App &app) {
   app.add_option("--error-map", o->errorMapPath,
                  "false-colour relative-error PNG (default: IMAGE_error.png)");
   app.footer(
-      "Prints 'mse VALUE', 'relmse VALUE' and 'screen_mse VALUE' over pixels and RGB\n"
-      "channels; relmse divides each squared error by (reference^2 + 0.01); screen_mse\n"
-      "low-passes the error image by a Gaussian of 1 pixel (truncated at 3) before\n"
-      "squaring: the error a viewer sees, where blue-noise error fades.");
+      "Prints 'mse VALUE', 'relmse VALUE', 'screen_mse VALUE', 'mse_winsorized VALUE' and\n"
+      "'top_share VALUE' over pixels and RGB channels; relmse divides each squared error by\n"
+      "(reference^2 + 0.01); screen_mse low-passes the error image by a Gaussian of 1 pixel\n"
+      "(truncated at 3) before squaring: the error a viewer sees, where blue-noise error\n"
+      "fades; mse_winsorized clips the largest 0.1 % of pixel errors (at least one) to the\n"
+      "next largest, and top_share is their share of the squared error: near 1, a few\n"
+      "fireflies are the MSE.");
   return [o] {
     // A PNG or JPEG holds tone-mapped display values (nuld render writes one
     // beside each EXR), an EXR, PFM or HDR linear radiance: their difference
@@ -353,7 +356,8 @@ Runner addCompare(CLI::App &app) {
           "render error");
     const Image img = readImage(o->image, false), ref = readImage(o->reference);
     const ImageError e = compareImages(img, ref);
-    std::printf("mse %.9g\nrelmse %.9g\nscreen_mse %.9g\n", e.mse, e.relmse, e.screen);
+    std::printf("mse %.9g\nrelmse %.9g\nscreen_mse %.9g\nmse_winsorized %.9g\ntop_share %.9g\n",
+                e.mse, e.relmse, e.screen, e.winsorized, e.topShare);
     if (e.nonFinitePixels) std::printf("nonfinite_pixels %zu\n", e.nonFinitePixels);
     std::string path = o->errorMapPath;
     if (path.empty())  // IMAGE.exr -> IMAGE_error.png, beside it

@@ -398,12 +398,15 @@ holds its own 'variance' and 'relvariance', 'cache' ('found' or
                                            imageOf(reference, {"compare", "reference"}, false));
         py::dict d;
         d["mse"] = e.mse, d["relmse"] = e.relmse, d["screen"] = e.screen;
+        d["mse_winsorized"] = e.winsorized, d["top_share"] = e.topShare;
         d["nonfinite_pixels"] = e.nonFinitePixels;
         return d;
       },
-      "mse, relmse and screen (the MSE of the error low-passed by a Gaussian of 1 pixel, the "
-      "error a viewer sees), as `nuld compare`, of an image against a finite reference of the "
-      "same size and channels; nonfinite_pixels counts the image's pixels left out");
+      "mse, relmse, screen (the MSE of the error low-passed by a Gaussian of 1 pixel, the "
+      "error a viewer sees), mse_winsorized (the largest 0.1 % of pixel errors clipped to the "
+      "next largest) and top_share (their share of the squared error), as `nuld compare`, of "
+      "an image against a finite reference of the same size and channels; nonfinite_pixels "
+      "counts the image's pixels left out");
 
   defFunction(
       m, "read_image", {"read_image", {Param("path")}},
