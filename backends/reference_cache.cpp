@@ -4,7 +4,6 @@
 #include <cctype>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
 #include <map>
 #include <sstream>
 
@@ -45,16 +44,6 @@ std::map<std::string, std::string> fields(const std::string &description) {
     if (const auto eq = word.find('='); eq != std::string::npos)
       out[word.substr(0, eq)] = word.substr(eq + 1);
   return out;
-}
-
-std::map<std::string, std::string> stateFile(const fs::path &file) {
-  std::map<std::string, std::string> kv;
-  std::ifstream in(file);
-  std::string line;
-  while (std::getline(in, line))
-    if (const auto eq = line.find('='); eq != std::string::npos)
-      kv[line.substr(0, eq)] = line.substr(eq + 1);
-  return kv;
 }
 
 std::size_t count(const std::map<std::string, std::string> &kv, const std::string &key) {
@@ -110,8 +99,14 @@ std::vector<ReferenceCache::Entry> ReferenceCache::list() const {
       e.bytes += it->is_regular_file(ec) ? it->file_size(ec) : 0;
       e.modified = std::max(e.modified, it->last_write_time(ec));
     }
-    const auto state = stateFile(dir.path() / "reference.state");
-    e.description = state.count("description") ? state.at("description") : "";
+    // An entry whose state cannot be read is listed with what is known.
+    try {
+      const ReferenceState state = readReferenceState(dir.path() / "reference.state");
+      e.description = state.description;
+      e.passesDone = state.passesDone;
+      e.seconds = state.seconds;
+    } catch (const std::runtime_error &) {
+    }
     const auto f = fields(e.description);
     const auto get = [&](const char *k) { return f.count(k) ? f.at(k) : std::string("?"); };
     e.resolution = get("res");
@@ -120,12 +115,6 @@ std::vector<ReferenceCache::Entry> ReferenceCache::list() const {
     e.spp = count(f, "spp");
     const std::size_t passSpp = count(f, "pass_spp");
     e.passes = passSpp ? e.spp / passSpp : 0;
-    e.passesDone = count(state, "passes_done");
-    try {
-      e.seconds = state.count("seconds") ? std::stod(state.at("seconds")) : 0.0;
-    } catch (...) {
-      e.seconds = 0;
-    }
     e.complete =
         e.passes > 0 && e.passesDone >= e.passes && fs::exists(dir.path() / "reference.exr", ec);
     out.push_back(std::move(e));
@@ -171,7 +160,8 @@ CachedReference cachedReference(const Scene &scene, const std::string &sceneName
       ranks.root() ? cache.entry(sceneName, settings, out.description).string() : std::string());
   out.dir = dir;
   try {
-    out.result = renderReference(scene, sceneName, settings, out.dir, progress, stopAfterPasses);
+    out.result = renderReference(scene, sceneName, settings, out.dir, progress, stopAfterPasses,
+                                 out.description);
   } catch (const fs::filesystem_error &e) {
     throw std::runtime_error(out.dir.string() +
                              ": cannot write the reference cache here (set NULD_CACHE to a "

@@ -8,6 +8,7 @@
 
 #include "backends/backend_registry.h"
 #include "backends/ranks.h"
+#include "backends/ready_backend.h"
 #include "renderer/image_metrics.h"
 #include "renderer/sampler_backend.h"
 #include "sampler/io/atomic_file.h"
@@ -25,7 +26,7 @@ std::string ReferenceSettings::describe(const Scene &scene) const {
     << render.height << " integrator=" << toString(render.integrator)
     << " max_depth=" << render.maxDepth << " roulette_depth=" << render.rouletteDepth;
   // Lobe tables change a render only through a backend that samples lobes.
-  if (makeBackend(backend, seed)->samplesLobes()) {
+  if (parseBackendWord(backend).samplesLobes()) {
     const LobeTableSettings &t = render.lobeTables;
     s << " lobe_tables=" << t.thetaBins << "x" << t.phiBins << "/" << t.phiCells << ","
       << (t.samplingMix ? formatNumber(*t.samplingMix) : "auto") << "," << toString(t.routing)
@@ -53,12 +54,6 @@ ReferenceNoise referenceNoise(const Image &half0, const Image &half1) {
 
 namespace {
 
-struct State {
-  std::string description;
-  std::size_t passesDone = 0;
-  double seconds = 0;  // render time of all passes, over every run
-};
-
 std::map<std::string, std::string> readKeyValues(const fs::path &path) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error(path.string() + ": cannot read the reference state");
@@ -71,9 +66,11 @@ std::map<std::string, std::string> readKeyValues(const fs::path &path) {
   return kv;
 }
 
-State readState(const fs::path &path) {
+}  // namespace
+
+ReferenceState readReferenceState(const fs::path &path) {
   auto kv = readKeyValues(path);
-  State s;
+  ReferenceState s;
   s.description = kv["description"];
   try {
     s.passesDone = std::stoul(kv.at("passes_done"));
@@ -89,13 +86,16 @@ State readState(const fs::path &path) {
   return s;
 }
 
-void writeState(const fs::path &path, const State &s) {
+namespace {
+
+void writeState(const fs::path &path, const ReferenceState &s) {
   writeFileAtomically(path, "description=" + s.description +
                                 "\npasses_done=" + std::to_string(s.passesDone) +
                                 "\nseconds=" + std::to_string(s.seconds) + "\n");
 }
 
-void checkDescription(const fs::path &stateFile, const State &s, const std::string &expected) {
+void checkDescription(const fs::path &stateFile, const ReferenceState &s,
+                      const std::string &expected) {
   // Without halves its noise cannot be measured, and rows scored against it
   // would stand beside rows flagged by that noise: refused, not reused.
   if (s.description.find(" halves=") == std::string::npos)
@@ -164,7 +164,7 @@ PartialSums readPartial(const fs::path &path, int width, int height) {
 ReferenceResult renderReference(const Scene &scene, const std::string &sceneName,
                                 const ReferenceSettings &settings, const fs::path &dir,
                                 const std::function<void(const ReferenceProgress &)> &progress,
-                                std::size_t stopAfterPasses) {
+                                std::size_t stopAfterPasses, const std::string &described) {
   if (settings.passSpp == 0 || settings.spp == 0)
     throw std::invalid_argument("reference: spp and pass spp must be positive");
   const Ranks &ranks = Ranks::world();
@@ -173,14 +173,14 @@ ReferenceResult renderReference(const Scene &scene, const std::string &sceneName
   // their mean when complete.
   const fs::path halfPath[2] = {dir / "reference.half0.exr", dir / "reference.half1.exr"};
   const fs::path partialPath = dir / "reference.partial.exr";
-  const std::string description = settings.describe(scene);
+  const std::string description = described.empty() ? settings.describe(scene) : described;
   const std::size_t passes = settings.passes();
   RenderSettings rs = settings.render;
   rs.spp = settings.samplesPerPass();
 
   // Rank 0 alone reads and writes the files; the others learn how far the
   // reference is and, at the end, receive the image.
-  State state{description, 0};
+  ReferenceState state{description, 0};
   ReferenceResult result;
   PartialSums partial;
   Image(&sum)[2] = partial.sum;
@@ -188,7 +188,7 @@ ReferenceResult renderReference(const Scene &scene, const std::string &sceneName
   if (ranks.root()) {
     fs::create_directories(dir);
     if (fs::exists(statePath)) {
-      state = readState(statePath);
+      state = readReferenceState(statePath);
       checkDescription(statePath, state, description);
     }
     alreadyComplete = state.passesDone >= passes && fs::exists(finalPath);

@@ -56,6 +56,17 @@ struct ReferenceProgress {
   double fraction = 0;  // of the whole reference, counting the pass in flight
 };
 
+// What DIR/reference.state says of a reference in progress or complete: its
+// description, the passes done and their render seconds over every run.
+struct ReferenceState {
+  std::string description;
+  std::size_t passesDone = 0;
+  double seconds = 0;
+};
+// Throws std::runtime_error naming the file when it cannot be read or a
+// field is not a number.
+ReferenceState readReferenceState(const std::filesystem::path &file);
+
 // A reference's own noise, from its two halves h0 and h1 (each the mean of
 // half the passes, so of twice the reference's variance v per pixel):
 // E[(h0 - h1)^2] = 4 v, so v is estimated by a quarter of their mean squared
@@ -90,9 +101,12 @@ struct ReferenceResult {
 // Under MPI (ranks.h) the ranks render one pass each per round and rank 0
 // adds them in pass order and alone writes the files: the image is
 // bit-identical for any rank count, and every rank returns it.
+// `description` is settings.describe(scene) when the caller has made it
+// already (empty: made here; it hashes the whole scene).
 ReferenceResult renderReference(const Scene &scene, const std::string &sceneName,
                                 const ReferenceSettings &settings, const std::filesystem::path &dir,
                                 const std::function<void(const ReferenceProgress &)> &progress = {},
-                                std::size_t stopAfterPasses = 0);
+                                std::size_t stopAfterPasses = 0,
+                                const std::string &description = {});
 
 }  // namespace nuld

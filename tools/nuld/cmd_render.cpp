@@ -227,7 +227,7 @@ Runner addRender(CLI::App &app) {
             r.backend + "', whose sets would bias it");
       onlyWhen(app, false, kSetOptionNames,
                "renders of the backends that make sets (not --reference)");
-      onlyWhen(app, makeBackend(r.backend, r.seed)->samplesLobes(), kLobeOptionNames,
+      onlyWhen(app, parseBackendWord(r.backend).samplesLobes(), kLobeOptionNames,
                "a reference backend that samples lobe tables (sobol-tabulated)");
       return renderCachedReference(loaded, r, o->referenceStopAfter, o->output, o->quiet);
     }

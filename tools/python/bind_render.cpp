@@ -286,9 +286,8 @@ void bindRender(py::module_ &m) {
         // A reference samples lobes only through a backend that does
         // (sobol-tabulated); a reference's backend is refused below if it
         // makes sets.
-        const bool samplesLobes =
-            reference ? !word.makesSets() && makeBackend(word.spec, 0)->samplesLobes()
-                      : !ownSampler && word.samplesLobes();
+        const bool samplesLobes = reference ? !word.makesSets() && word.samplesLobes()
+                                            : !ownSampler && word.samplesLobes();
         if (lobeMix || routes || defensive || bounces)
           onlyWhen(s.integrator != IntegratorKind::Light && samplesLobes,
                    {{"lobe_mix", bool(lobeMix)},

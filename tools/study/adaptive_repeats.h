@@ -4,15 +4,17 @@
 // their scene and spp, and to sobol's) to reach a target standard error,
 // and how many, within a budget of repeats.
 //
-// The target is relative to the ratio (0.05: each ratio known to about
-// 5 %): near 1, where verdicts are close, it is the ratio's standard error
-// itself, and a row 3x worse is not rendered a thousand times to pin down
-// how much worse. A ratio's relative error falls as 1 / sqrt(repeats) of
-// both its rows (ratioOfMeans), so one of error e wants both rows' repeats
-// times (e / target)^2; a round grows a row at least to double and at most to four
-// times its repeats (the estimate from few repeats is itself noisy), never
-// past the most. Repeat r is always rendered with seed + r, so the rows, and
-// a rerun, come out the same whatever rounds added them.
+// The target is relative to the ratio: near 1, where verdicts are close,
+// it is the ratio's standard error itself, and a row far from 1 is not
+// rendered many times over only to pin down how far
+// (tools/experiments/studies_that_tell.md, "Repeats until the verdict",
+// measures both kinds of row). A ratio's relative error falls as
+// 1 / sqrt(repeats) of both its rows (ratioOfMeans), so one of error e wants
+// both rows' repeats times (e / target)^2; a round grows a row at least to
+// double and at most to four times its repeats (the estimate from few
+// repeats is itself noisy), never past the most. Repeat r is always
+// rendered with seed + r, so the rows, and a rerun, come out the same
+// whatever rounds added them.
 
 #include <cstddef>
 #include <string>

@@ -84,6 +84,7 @@ CellOutcome renderCell(
       return out;
     }
     RepeatRecord record;
+    if (r == 0) record.setupSeconds = c.setupSeconds;  // the cell's, once
     record.seconds = secondsSince(start);
     record.madeSeconds = stats.setsMadeSeconds;
     record.raysPerSecond = stats.raysPerSecond();

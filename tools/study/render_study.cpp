@@ -239,8 +239,6 @@ double renderCells(const Ranks &ranks, const SceneStudy &scene, const ScenePlan 
                          c.backend.word + " spp " + std::to_string(c.spp) + ", repeat " +
                              std::to_string(c.first + r + 1));
             });
-        if (!outcome.records.empty() && c.first == 0)
-          outcome.records.front().setupSeconds = setupSeconds;
         return outcome.bytes();
       },
       [&](std::size_t i, const std::string &bytes) {
@@ -284,8 +282,7 @@ double renderCells(const Ranks &ranks, const SceneStudy &scene, const ScenePlan 
 // The stop of every row of the scene (and its table's columns): precision
 // or budget as `plan` says; without a target, fixed for the rows that have
 // no stop yet (a rerun without one keeps what an earlier target decided).
-void markStops(CsvTable &table, const std::string &sceneSlug, const RepeatPlan *plan,
-               const std::vector<std::size_t> &sceneRows) {
+void markStops(CsvTable &table, const RepeatPlan *plan, const std::vector<std::size_t> &sceneRows) {
   const std::size_t stopped = table.column("stopped_on"),
                     worst = table.column("worst_relative_stderr");
   std::vector<std::string> stops, errors;
@@ -295,7 +292,6 @@ void markStops(CsvTable &table, const std::string &sceneSlug, const RepeatPlan *
   }
   for (std::size_t k = 0; k < sceneRows.size(); ++k) {
     const std::size_t i = sceneRows[k];
-    if (table.rows()[i][table.column("scene")] != sceneSlug) continue;
     if (!plan && !stops[i].empty()) continue;
     stops[i] = stopName(!plan              ? RepeatStop::Fixed
                         : plan->decided[k] ? RepeatStop::Precision
@@ -346,7 +342,7 @@ void addRepeats(const Ranks &ranks, const SceneStudy &scene, const RenderStudySe
       }
       // A round that would overrun the seconds is not started.
       if (s.budget.seconds > 0 && spent + predicted > s.budget.seconds) more.clear();
-      markStops(table, scene.slug, adaptive ? &decision : nullptr, rows);
+      markStops(table, adaptive ? &decision : nullptr, rows);
     }
     if (!adaptive) return;
     ByteWriter w;
