@@ -66,8 +66,14 @@ const std::vector<BackendEntry> &backendRegistry() {
        .uses = kRenders},
       {.kind = K::Lattice,
        .name = "lattice",
-       .help = "a rank-1 lattice (the best-separated generator up to 65536 points, the "
-               "Fibonacci rule beyond) Cranley-Patterson shifted per pixel and pair"},
+       .help = "a rank-1 lattice (the best-separated generator coprime with N up to 65536 "
+               "points, the Fibonacci rule beyond) Cranley-Patterson shifted per pixel and "
+               "pair"},
+      {.kind = K::LatticeBaker,
+       .name = "lattice-baker",
+       .help = "lattice, each coordinate then folded by the baker's transform "
+               "x -> 1 - |2x - 1| (Hickernell 2002), so that smooth integrands that are not "
+               "periodic converge as periodic ones do under a lattice rule"},
       {.kind = K::Optimized,
        .name = "optimized",
        .aliases = {"points"},

@@ -27,6 +27,7 @@ enum class BackendKind {
   Pmj02,
   ZSobol,
   Lattice,
+  LatticeBaker,
   Optimized,         // optimized[:PATHS]: sets from files, or made for the scene's map
   OptimizedUniform,  // made: uniform sets for the periodic L2 discrepancy
   OptimizedBsdf,     // made: lobe banks for the scene's Disney materials

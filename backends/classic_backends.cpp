@@ -160,6 +160,7 @@ std::unique_ptr<SamplerBackend> makeClassicBackend(BackendKind kind, std::uint64
     case K::Pmj02:
       return std::make_unique<SetBackend>(kind, owenPmj02Set, seed, false, kPmj02MaxSet);
     case K::Lattice: return std::make_unique<SetBackend>(kind, latticeSet, seed, true);
+    case K::LatticeBaker: return std::make_unique<SetBackend>(kind, latticeBakerSet, seed, true);
     case K::ZSobol: return std::make_unique<ZSobolBackend>(kind, seed);
     default: throw std::invalid_argument("makeClassicBackend: not a classic backend");
   }

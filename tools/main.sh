@@ -24,5 +24,5 @@ rm -rf "$out"  # a fresh study: a rerun of the main job must not reuse old rows
 
 "$build/nuld" study render default --integrator direct --res 96x64 --spp 4,16,64 \
   --repeats 4 --reference-spp 4096 \
-  --backends independent,sobol,halton,sobol-tabulated,stratified,pmj02,zsobol,lattice,optimized,optimized-uniform \
+  --backends independent,sobol,halton,sobol-tabulated,stratified,pmj02,zsobol,lattice,lattice-baker,optimized,optimized-uniform \
   --opt-instances 16 -q -o "$out"

@@ -1,7 +1,9 @@
 #include "sampler/sequences/lattice.h"
 
+#include <algorithm>
 #include <array>
 #include <atomic>
+#include <cmath>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -35,11 +37,13 @@ std::uint32_t checkedSize(std::size_t n) {
 std::uint32_t searchGenerator(std::uint32_t n) {
   std::uint32_t best = 1;
   std::uint64_t bestLength = 0;
-  for (std::uint32_t g = 1; g < n; ++g)
+  for (std::uint32_t g = 1; g < n; ++g) {
+    if (std::gcd(g, n) != 1) continue;  // not projection-regular (latticeGenerator)
     if (const std::uint64_t l = latticeShortestVector2(n, g); l > bestLength) {
       best = g;
       bestLength = l;
     }
+  }
   return best;
 }
 
@@ -96,6 +100,13 @@ void latticeSet(std::uint64_t seed, std::span<Point2> out) {
   const Point2 shift{rng.uniform(), rng.uniform()};
   for (Point2 &p : out) p = {wrapUnit(p.x + shift.x), wrapUnit(p.y + shift.y)};
   shuffle(out, rng);
+}
+
+double bakerFold(double x) { return std::min(1 - std::fabs(2 * x - 1), std::nextafter(1.0, 0.0)); }
+
+void latticeBakerSet(std::uint64_t seed, std::span<Point2> out) {
+  latticeSet(seed, out);
+  for (Point2 &p : out) p = {bakerFold(p.x), bakerFold(p.y)};
 }
 
 }  // namespace nuld

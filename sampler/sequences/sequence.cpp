@@ -62,7 +62,9 @@ void checkScramble(const SequenceOptions &o) {
   if (o.kind == SequenceKind::Pmj02 && s == Scramble::CranleyPatterson)
     refuse(": a toroidal shift would break its (0,2) nets (expected owen, shift or none)");
   if (o.kind == SequenceKind::Lattice && s == Scramble::Owen)
-    refuse(" (expected cp or shift, its random toroidal shift, or none)");
+    refuse(" (expected cp or shift, its random toroidal shift, baker, or none)");
+  if (o.kind != SequenceKind::Lattice && s == Scramble::Baker)
+    refuse(": the baker's transform folds a shifted lattice (expected lattice)");
 }
 
 bool randomizesInstances(const SequenceOptions &o) {
@@ -148,7 +150,9 @@ void fill(const SequenceOptions &o, std::uint32_t instance, std::span<Point2> ou
   switch (o.kind) {
     case SequenceKind::Stratified: return stratifiedSet(setSeed, out);
     case SequenceKind::Lattice:
-      return o.scramble == Scramble::None ? rank1Lattice(out) : latticeSet(setSeed, out);
+      if (o.scramble == Scramble::None) return rank1Lattice(out);
+      return o.scramble == Scramble::Baker ? latticeBakerSet(setSeed, out)
+                                           : latticeSet(setSeed, out);
     case SequenceKind::Pmj02:
       checkPmj02Count(out.size());
       // A pair's set: its two coordinates share one base sequence.

@@ -23,7 +23,7 @@
 namespace nuld {
 
 enum class SequenceKind { Sobol, Halton, Random, Stratified, Pmj02, Lattice };
-enum class Scramble { None, Owen, Shift, CranleyPatterson };
+enum class Scramble { None, Owen, Shift, CranleyPatterson, Baker };
 
 inline constexpr auto kSequenceKindNames =
     enumTable<SequenceKind>("sequence", {{"sobol", SequenceKind::Sobol},
@@ -37,6 +37,7 @@ inline constexpr auto kScrambleNames =
     enumTable<Scramble>("scrambling", {{"owen", Scramble::Owen},
                                        {"shift", Scramble::Shift},
                                        {"cp", Scramble::CranleyPatterson},
+                                       {"baker", Scramble::Baker},
                                        {"none", Scramble::None}});
 constexpr const auto &enumNames(SequenceKind) { return kSequenceKindNames; }
 constexpr const auto &enumNames(Scramble) { return kScrambleNames; }
@@ -64,7 +65,9 @@ Scramble defaultScramble(SequenceKind kind);
 //    shift (a digital shift of it) or none (one fixed base sequence); not
 //    cp, a toroidal shift, which would break its (0,2) nets;
 //  - lattice: cp or shift, both its random toroidal shift (a digital shift
-//    would break the lattice), or none (unshifted, in index order).
+//    would break the lattice), baker (that shift, then the baker's
+//    transform of each coordinate: lattice.h), or none (unshifted, in index
+//    order); baker applies to the lattice only.
 void checkScramble(const SequenceOptions &o);
 
 // Whether two instances of `o` differ: random and stratified sets always,

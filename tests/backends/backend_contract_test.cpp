@@ -143,7 +143,7 @@ TEST_P(BackendContract, RendersIdenticallyForAnyThreadCount) {
 
 INSTANTIATE_TEST_SUITE_P(EverySpec, BackendContract,
                          ::testing::Values("independent", "sobol", "halton", "stratified", "pmj02",
-                                           "zsobol", "lattice", "sobol-tabulated",
+                                           "zsobol", "lattice", "lattice-baker", "sobol-tabulated",
                                            "optimized:DIR/uniform.txt", "shifted:DIR/uniform.txt",
                                            "neural:DIR/uniform.nuldnet"),
                          [](const auto &info) {

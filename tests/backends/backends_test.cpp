@@ -330,12 +330,12 @@ TEST(BackendRegistry, EveryWordParsesToItsKindAndBack) {
     EXPECT_FALSE(e.help.empty()) << e.name;
     EXPECT_EQ(&backendEntry(e.kind), &e);
   }
-  EXPECT_EQ(kinds.size(), 21u);
+  EXPECT_EQ(kinds.size(), 22u);
   // The classic words make their backends without files, named by their
   // word; the declared properties agree with what the backends report.
-  for (const char *word :
-       {"independent", "random", "sobol", "halton", "sobol-tabulated", "independent-tabulated",
-        "halton-tabulated", "stratified", "jittered", "pmj02", "zsobol", "lattice"}) {
+  for (const char *word : {"independent", "random", "sobol", "halton", "sobol-tabulated",
+                           "independent-tabulated", "halton-tabulated", "stratified", "jittered",
+                           "pmj02", "zsobol", "lattice", "lattice-baker"}) {
     const BackendSpec spec = parseBackend(word);
     const auto backend = makeBackend(spec, 1);
     EXPECT_EQ(backend->samplesLobes(), spec.entry().lobes) << word;

@@ -167,8 +167,17 @@ def test_the_classic_sets_and_pmj02_engine():
     assert len(np.unique(np.floor(grid * 4) @ [4, 1])) == 16
     lattice = nuld.sequence(16, kind="lattice", scramble="none")
     assert np.allclose(np.sort(lattice[:, 0]), np.arange(16) / 16)
+    # Projection-regular: y takes all 16 values too (a generator sharing a
+    # factor with 16 would give fewer).
+    assert np.allclose(np.sort(lattice[:, 1]), np.arange(16) / 16)
     with pytest.raises(ValueError, match="stratified"):
         nuld.sequence(16, kind="stratified", scramble="owen")
+    # baker: the cp set of the same seed, each coordinate folded.
+    shifted = nuld.sequence(64, kind="lattice", scramble="cp", seed=9)
+    folded = nuld.sequence(64, kind="lattice", scramble="baker", seed=9)
+    assert np.array_equal(folded, 1 - np.abs(2 * shifted - 1))
+    with pytest.raises(ValueError, match="baker.*expected lattice"):
+        nuld.sequence(16, kind="sobol", scramble="baker")
 
 
 def test_every_power_of_two_prefix_of_generated_pmj02_sets_is_a_02_net(tmp_path, nuld_bin):

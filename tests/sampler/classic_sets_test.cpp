@@ -34,6 +34,7 @@ std::vector<Maker> makers() {
       {"pmj02-shift",
        [](std::uint64_t s, std::span<Point2> o) { pmj02Set(s, o, DigitRandomization::Shift); }},
       {"lattice", [](std::uint64_t s, std::span<Point2> o) { latticeSet(s, o); }},
+      {"lattice-baker", [](std::uint64_t s, std::span<Point2> o) { latticeBakerSet(s, o); }},
       {"zsobol", [](std::uint64_t s, std::span<Point2> o) { zsobolSet(s, 3, 5, 2, 8, o); }},
   };
 }
@@ -89,11 +90,14 @@ TEST(ClassicSets, ScramblingsThatDoNotApplyAreRefusedInWords) {
             "point per cell, is its randomization (expected none)");
   EXPECT_EQ(refusal({SequenceKind::Lattice, Scramble::Owen, 0}),
             "scrambling 'owen' does not apply to sequence 'lattice' (expected cp or shift, its "
-            "random toroidal shift, or none)");
+            "random toroidal shift, baker, or none)");
+  EXPECT_EQ(refusal({SequenceKind::Sobol, Scramble::Baker, 0}),
+            "scrambling 'baker' does not apply to sequence 'sobol': the baker's transform folds "
+            "a shifted lattice (expected lattice)");
   EXPECT_EQ(refusal({SequenceKind::Pmj02, Scramble::CranleyPatterson, 0}),
             "scrambling 'cp' does not apply to sequence 'pmj02': a toroidal shift would break "
             "its (0,2) nets (expected owen, shift or none)");
-  for (Scramble s : {Scramble::Shift, Scramble::CranleyPatterson, Scramble::None})
+  for (Scramble s : {Scramble::Shift, Scramble::CranleyPatterson, Scramble::Baker, Scramble::None})
     EXPECT_EQ(refusal({SequenceKind::Lattice, s, 0}), "");
   for (Scramble s : {Scramble::Owen, Scramble::Shift, Scramble::None})
     EXPECT_EQ(refusal({SequenceKind::Pmj02, s, 0}), "");

@@ -77,7 +77,7 @@ TEST(EnumNames, UnknownNamesGetOneMessage) {
   EXPECT_EQ(parseError(kBoxKindNames, "cube"),
             "unknown box kind 'cube' (expected multicorner, anchored or twopoint)");
   EXPECT_EQ(parseError(kScrambleNames, "xor"),
-            "unknown scrambling 'xor' (expected owen, shift, cp or none)");
+            "unknown scrambling 'xor' (expected owen, shift, cp, baker or none)");
   EXPECT_EQ(parseError(kDomainNames, "torus"),
             "unknown domain 'torus' (expected square, sphere or hemisphere)");
   EXPECT_EQ(parseError(kUniformSotDomainNames, "ball"),
@@ -87,8 +87,9 @@ TEST(EnumNames, UnknownNamesGetOneMessage) {
   EXPECT_EQ(parseError(kBlueNoiseNames, "sot-warped"),
             "unknown blue-noise method 'sot-warped' (did you mean 'sot-mapped'?) (expected sot, "
             "sot-mapped, gbn or gbn-mapped)");
-  EXPECT_EQ(parseError(kScrambleNames, "owem"),
-            "unknown scrambling 'owem' (did you mean 'owen'?) (expected owen, shift, cp or none)");
+  EXPECT_EQ(
+      parseError(kScrambleNames, "owem"),
+      "unknown scrambling 'owem' (did you mean 'owen'?) (expected owen, shift, cp, baker or none)");
   EXPECT_THROW(parseObjective("l3"), std::invalid_argument);
   EXPECT_THROW(parseMapping(""), std::invalid_argument);
 }

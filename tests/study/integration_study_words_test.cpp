@@ -141,11 +141,18 @@ TEST(IntegrationStudySamplers, WordsMeanWhatTheyMeanInRenders) {
   EXPECT_EQ(choices[1].sequence, SequenceKind::Halton);
   EXPECT_EQ(choices[2].name, "independent");
   EXPECT_EQ(choices[3].kind, SamplerChoice::Kind::BlueNoise);
+  // A classic word carries its randomization: lattice its shift, and
+  // lattice-baker the shift folded by the baker's transform.
+  const auto lattices = parseSamplers({"lattice", "lattice-baker"}, {});
+  EXPECT_EQ(lattices[0].scramble, Scramble::CranleyPatterson);
+  EXPECT_EQ(lattices[1].scramble, Scramble::Baker);
+  EXPECT_EQ(lattices[1].sequence, SequenceKind::Lattice);
   std::vector<std::string> defaults;
   for (const SamplerChoice &c : parseSamplers({}, {})) defaults.push_back(c.name);
-  EXPECT_EQ(defaults, (std::vector<std::string>{"independent", "independent-tabulated", "sobol",
-                                                "sobol-tabulated", "halton", "halton-tabulated",
-                                                "stratified", "pmj02", "lattice", "optimized"}));
+  EXPECT_EQ(defaults,
+            (std::vector<std::string>{"independent", "independent-tabulated", "sobol",
+                                      "sobol-tabulated", "halton", "halton-tabulated", "stratified",
+                                      "pmj02", "lattice", "lattice-baker", "optimized"}));
   for (const char *word : {"optimized-bsdf", "optimized-both+shift", "optimized+shift"})
     EXPECT_THROW(parseSamplers({word}, {}), std::invalid_argument) << word;
   try {

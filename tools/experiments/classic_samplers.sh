@@ -3,7 +3,7 @@
 # render studies of the shipped scenes with every classic word, MSE and the
 # screen-space error (the error image low-passed by a 1-pixel Gaussian), at
 # 4 and 16 spp by default; then the integration study's 2D integrands with
-# sobol, pmj02, stratified and lattice at N = 16 to 1024.
+# sobol, pmj02, stratified, lattice and lattice-baker at N = 16 to 1024.
 #
 # Writes OUT/SCENE-INTEGRATOR/render.csv (one study each) and
 # OUT/integrate/integrate.csv.
@@ -17,7 +17,7 @@ source "$(dirname "$0")/common.sh"
 out=${1:?usage: classic_samplers.sh OUT}
 scenes=${SCENES:-"default scenes/dragon.json scenes/cup.json scenes/lte-orb.json"}
 integrators=${INTEGRATORS:-"direct path"}
-backends=${BACKENDS:-sobol,sobol-tabulated,halton,stratified,pmj02,zsobol,lattice,independent}
+backends=${BACKENDS:-sobol,sobol-tabulated,halton,stratified,pmj02,zsobol,lattice,lattice-baker,independent}
 parts=${PARTS:-"render integrate"}
 mkdir -p "$out"
 cd "$root"
@@ -39,7 +39,7 @@ fi
 
 if [[ " $parts " == *" integrate "* ]]; then
   "$nuld" study integrate --integrands 'gaussian*step,quarterdisc*bilinear' \
-    --samplers sobol,pmj02,stratified,lattice,halton,independent --n 16,64,256,1024 \
+    --samplers sobol,pmj02,stratified,lattice,lattice-baker,halton,independent --n 16,64,256,1024 \
     --instances 64 --seed "${SEED:-7717}" --no-plots -q -o "$out/integrate" \
     >"$out/integrate.txt"
 fi

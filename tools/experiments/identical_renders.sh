@@ -17,7 +17,7 @@ mkdir -p "$out/before" "$out/after"
 export NULD_CACHE="$out/cache"
 "$after" generate --sequence sobol --n 4 --instances 3 -o "$out/uniform4.txt" >/dev/null
 words=${WORDS:-"independent independent-tabulated sobol sobol-tabulated halton halton-tabulated
-  stratified pmj02 zsobol lattice optimized optimized-uniform optimized-bsdf optimized-both
+  stratified pmj02 zsobol lattice lattice-baker optimized optimized-uniform optimized-bsdf optimized-both
   optimized+shift optimized:$out/uniform4.txt shifted:$out/uniform4.txt neural
   plugin:$(dirname "$after")/libnuld_example_sampler.so"}
 sets=(--opt-instances 2 --opt-epochs 5 --opt-lobe-epochs 5)

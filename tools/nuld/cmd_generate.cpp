@@ -137,10 +137,11 @@ Runner addGenerate(CLI::App &app) {
                  "for sot, max(4 N, 4096) for gbn; the uniform target needs none)");
   app.add_flag("-q,--quiet", o->quiet, "no progress bar");
   app.add_option("--scramble", o->scramble,
-                 "owen, shift (digital), cp (Cranley-Patterson) or none; default owen, but cp "
-                 "for lattice (cp and shift both shift it on the torus) and none for stratified "
-                 "(its jitter is its randomization; nothing else applies); pmj02 takes owen, "
-                 "shift or none (one fixed sequence)")
+                 "owen, shift (digital), cp (Cranley-Patterson), baker (lattice only: cp, "
+                 "then the baker's transform) or none; default owen, but cp for lattice (cp "
+                 "and shift both shift it on the torus) and none for stratified (its jitter "
+                 "is its randomization; nothing else applies); pmj02 takes owen, shift or "
+                 "none (one fixed sequence)")
       ->check(oneOf(kScrambleNames));
   app.add_option("--n", o->n,
                  "points per set (any N >= 1; required unless --model; a graph model makes "

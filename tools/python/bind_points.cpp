@@ -212,9 +212,9 @@ through the equal-area map), made from the same SPEC strings as the CLI's
         return arrayOf(set.points, size, k ? *k : 0);
       },
       R"(N points of a sequence (sobol, halton, random, pmj02) or set of N
-(stratified, lattice), randomized by `scramble` (owen, shift, cp, none;
-default: the kind's own, as nuld generate: owen, cp for lattice, none for
-stratified); `instances` independent randomizations as (K, N, 2); mapped
+(stratified, lattice), randomized by `scramble` (owen, shift, cp, baker
+(lattice only: cp, then the baker's transform), none; default: the kind's
+own, as nuld generate: owen, cp for lattice, none for stratified); `instances` independent randomizations as (K, N, 2); mapped
 through `target`'s inverse CDF when given. `seed` defaults to 1, as every
 command's.)");
 

@@ -65,14 +65,14 @@ std::uint64_t rowSeed(const IntegrateOptions &o, const Integrand &in, const Samp
   return hash3(o.seed, hashString(in.name + "|" + key), n);
 }
 
-// A classic sampler's sets (its default randomization), through the BRDF's own
+// A classic sampler's sets (in its randomization), through the BRDF's own
 // sample() on a lobe integrand (unless tabulated), else the target's inverse
 // CDF.
 class ClassicEstimator final : public Estimator {
  public:
   ClassicEstimator(const IntegrateOptions &o, const SamplerChoice &s) : o_(o), s_(s) {}
   Measurement measure(const Integrand &in, std::size_t n) const override {
-    const SequenceOptions so{s_.sequence, defaultScramble(s_.sequence), rowSeed(o_, in, s_, n)};
+    const SequenceOptions so{s_.sequence, s_.scramble, rowSeed(o_, in, s_, n)};
     Measurement m;
     std::vector<Point2> u(n), x(n);
     for (std::size_t k = 0; k < o_.instances; ++k) {

@@ -63,11 +63,10 @@ std::vector<SamplerChoice> parseSamplers(const std::vector<std::string> &tokens,
                                          const std::vector<std::string> &models) {
   using K = SamplerChoice::Kind;
   using B = BackendKind;
-  const std::vector<std::string> defaults{"independent", "independent-tabulated",
-                                          "sobol",       "sobol-tabulated",
-                                          "halton",      "halton-tabulated",
-                                          "stratified",  "pmj02",
-                                          "lattice",     "optimized"};
+  const std::vector<std::string> defaults{
+      "independent", "independent-tabulated", "sobol",      "sobol-tabulated",
+      "halton",      "halton-tabulated",      "stratified", "pmj02",
+      "lattice",     "lattice-baker",         "optimized"};
   std::vector<SamplerChoice> out;
   const auto add = [&](SamplerChoice c) {
     for (const auto &o : out) {
@@ -105,9 +104,11 @@ std::vector<SamplerChoice> parseSamplers(const std::vector<std::string> &tokens,
       throw std::invalid_argument(std::string("--samplers: ") + e.what());
     }
     const std::string name = spec.entry().name;
-    const auto classic = [&](SequenceKind sequence, bool tabulated) {
+    const auto classic = [&](SequenceKind sequence, bool tabulated,
+                             std::optional<Scramble> scramble = std::nullopt) {
       SamplerChoice c{name, K::Classic, tabulated};
       c.sequence = sequence;
+      c.scramble = scramble.value_or(defaultScramble(sequence));
       return c;
     };
     // Each classic sampler in its own mapping (a lobe integrand's BRDF
@@ -123,6 +124,7 @@ std::vector<SamplerChoice> parseSamplers(const std::vector<std::string> &tokens,
       case B::Stratified: add(classic(SequenceKind::Stratified, false)); break;
       case B::Pmj02: add(classic(SequenceKind::Pmj02, false)); break;
       case B::Lattice: add(classic(SequenceKind::Lattice, false)); break;
+      case B::LatticeBaker: add(classic(SequenceKind::Lattice, false, Scramble::Baker)); break;
       case B::Sot:
       case B::SotMapped:
       case B::Gbn:

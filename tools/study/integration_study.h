@@ -92,15 +92,16 @@ struct SamplerChoice {
   // sets are shifted.
   std::string paths;
   bool shifted = false;
-  // Classic: the sampler (its default randomization: sequence.h).
+  // Classic: the sampler and its randomization (sequence.h).
   SequenceKind sequence = SequenceKind::Sobol;
+  Scramble scramble = Scramble::Owen;
 };
 
 // Tokens: the backend registry's words that serve the integration study
 // (backends/backend_registry.h, parsed there; a word means what it means in
 // renders): independent|random, sobol, halton and each -tabulated (on lobe
 // integrands through the tabulated lobe's inverse CDF), stratified, pmj02,
-// lattice, optimized (sets
+// lattice, lattice-baker, optimized (sets
 // optimized for each integrand's target), optimized:PATHS|points:PATHS and
 // shifted:PATHS (sets from files, on the integrands whose target they
 // follow; uniform sets on every integrand, shifted per instance and mapped
