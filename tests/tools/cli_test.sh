@@ -137,7 +137,7 @@ fails_with "optimize unknown preset" "unknown preset" "$nuld" optimize --target 
 fails_with "optimize unknown box kind" "--box-kind: unknown box kind 'cube' (expected multicorner, anchored or twopoint)" "$nuld" optimize --target uniform --n 8 --box-kind cube -o "$dir/x.txt"
 ok "optimize box kind alias" "$nuld" optimize --target uniform --n 8 --epochs 2 --boxes 64 --box-kind two-point -q -o "$dir/alias.txt"
 grep -q '^# settings: .*box_kind=twopoint ' "$dir/alias.txt" || { echo "FAIL: an alias is recorded by its name"; failures=$((failures + 1)); }
-fails_with "generate unknown scrambling" "unknown scrambling 'xor' (expected owen, shift, cp or none)" "$nuld" generate --sequence sobol --scramble xor --n 4 -o "$dir/x.txt"
+fails_with "generate unknown scrambling" "unknown scrambling 'xor' (expected owen, shift, cp, baker or none)" "$nuld" generate --sequence sobol --scramble xor --n 4 -o "$dir/x.txt"
 fails_with "render unknown integrator" "unknown integrator 'mis' (expected path, direct, light or bsdf)" "$nuld" render default --integrator mis -q -o "$dir/x.exr"
 
 # Rendering: the built-in scene needs no files; compare prints mse and relmse.
