@@ -219,8 +219,9 @@ TEST(Lattice, BakerSetsFoldTheShiftedSet) {
 // Why the fold: on a smooth integrand that is not periodic (exp(x + y / 2))
 // a shifted lattice converges like a rule for a discontinuous one, and the
 // folded lattice far faster. The estimates' spread over 3000 seeds, a
-// standard error times sqrt(3000); measured 41x apart at N = 64 and 69x at
-// N = 144 by an independent script (tools/experiments/classic_samplers.md).
+// standard error times sqrt(3000); 42x apart at N = 64 and 68x at N = 144
+// by an oracle sharing no code with this one
+// (tools/experiments/lattice_oracle.py smooth 1).
 TEST(Lattice, TheBakersFoldIntegratesSmoothNonPeriodicFunctionsBetter) {
   for (std::size_t n : {64u, 144u}) {
     const test::MeanEstimate shifted = test::smoothIntegrandMean(
