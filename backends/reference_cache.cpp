@@ -1,10 +1,16 @@
 #include "backends/reference_cache.h"
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include "backends/ranks.h"
@@ -147,17 +153,51 @@ std::uintmax_t ReferenceCache::clear() const {
   return freed;
 }
 
+ReferenceLock::ReferenceLock(const fs::path &dir, const std::function<void()> &waiting) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  const int fd = ::open((dir / "reference.lock").c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd < 0) return;
+  if (::flock(fd, LOCK_EX | LOCK_NB) == 0) {
+    fd_ = fd;
+    return;
+  }
+  if (errno == EWOULDBLOCK) {
+    if (waiting) waiting();
+    int rc;
+    while ((rc = ::flock(fd, LOCK_EX)) != 0 && errno == EINTR) {
+    }
+    if (rc == 0) {
+      fd_ = fd;
+      return;
+    }
+  }
+  ::close(fd);
+}
+
+ReferenceLock::~ReferenceLock() {
+  if (fd_ >= 0) ::close(fd_);  // closing the last descriptor releases the lock
+}
+
 CachedReference cachedReference(const Scene &scene, const std::string &sceneName,
                                 const ReferenceSettings &settings, const ReferenceCache &cache,
                                 const std::function<void(const ReferenceProgress &)> &progress,
                                 std::size_t stopAfterPasses) {
   CachedReference out;
   out.description = settings.describe(scene);
-  // Rank 0 names the entry (a new one only it creates) and every rank
-  // renders into the same name.
+  // Rank 0 names the entry (a new one only it creates) and locks it; every
+  // rank renders into the same name, the others waiting for rank 0 here.
   const Ranks &ranks = Ranks::world();
-  const std::string dir = ranks.broadcast(
-      ranks.root() ? cache.entry(sceneName, settings, out.description).string() : std::string());
+  std::optional<ReferenceLock> lock;
+  std::string name;
+  if (ranks.root()) {
+    const fs::path entry = cache.entry(sceneName, settings, out.description);
+    lock.emplace(entry, [&] {
+      if (progress) progress(ReferenceProgress{.waiting = true});
+    });
+    name = entry.string();
+  }
+  const std::string dir = ranks.broadcast(name);
   out.dir = dir;
   try {
     out.result = renderReference(scene, sceneName, settings, out.dir, progress, stopAfterPasses,

@@ -18,9 +18,12 @@
 // files renderReference writes: while in progress the partial sums and the
 // state, which any later run resumes pass by pass; when complete the
 // reference and its two halves. Every file is written atomically, so a run
-// killed mid-write leaves the last whole pass. Two runs making the same
-// entry at once both render it (the same deterministic passes); the last
-// write wins and either result is whole.
+// killed mid-write leaves the last whole pass. A run holds the entry's
+// advisory lock (ReferenceLock) while it reads or makes it, so a second run
+// of the same reference (two studies, two jobs of an array on a shared
+// cache) waits, saying so through its progress, and then finds the first
+// run's reference, or resumes its passes if that run died: the system
+// releases a dead process's lock.
 
 #include <chrono>
 #include <cstdint>
@@ -72,6 +75,24 @@ class ReferenceCache {
   std::filesystem::path dir_;
 };
 
+// The advisory lock of an entry: DIR/reference.lock (created with DIR),
+// held from construction to destruction by flock(2). `waiting` is called
+// once, before blocking, when another process holds it. Where the lock file
+// cannot be made or locked (a read-only cache, a file system without
+// locks) the object holds nothing and the caller goes on unlocked, as every
+// file it writes is still written atomically.
+class ReferenceLock {
+ public:
+  ReferenceLock(const std::filesystem::path &dir, const std::function<void()> &waiting = {});
+  ~ReferenceLock();
+  ReferenceLock(const ReferenceLock &) = delete;
+  ReferenceLock &operator=(const ReferenceLock &) = delete;
+  bool held() const { return fd_ >= 0; }
+
+ private:
+  int fd_ = -1;
+};
+
 // The key of a description: 16 hex digits.
 std::string referenceKey(const std::string &description);
 
@@ -86,7 +107,9 @@ struct CachedReference {
 
 // Finds the reference in `cache`, or renders (or resumes) it there
 // (renderReference's passes, progress and stopAfterPasses; under MPI every
-// rank renders passes and rank 0 writes the entry).
+// rank renders passes and rank 0 writes the entry). Rank 0 holds the
+// entry's ReferenceLock throughout; while another process holds it,
+// `progress` is told so (ReferenceProgress::waiting).
 CachedReference cachedReference(const Scene &scene, const std::string &sceneName,
                                 const ReferenceSettings &settings, const ReferenceCache &cache,
                                 const std::function<void(const ReferenceProgress &)> &progress = {},

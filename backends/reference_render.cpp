@@ -36,6 +36,11 @@ std::string ReferenceSettings::describe(const Scene &scene) const {
   return s.str();
 }
 
+std::string referenceProgressText(const ReferenceProgress &p) {
+  if (p.waiting) return "waiting for another process making this reference";
+  return "pass " + std::to_string(p.passesDone) + "/" + std::to_string(p.passes);
+}
+
 ReferenceNoise referenceNoise(const Image &half0, const Image &half1) {
   if (half0.width != half1.width || half0.height != half1.height ||
       half0.channels != half1.channels || half0.pixels.size() != half1.pixels.size())

@@ -54,7 +54,12 @@ struct ReferenceSettings {
 struct ReferenceProgress {
   std::size_t passesDone = 0, passes = 0;
   double fraction = 0;  // of the whole reference, counting the pass in flight
+  // Another process is making the same reference in the cache and this one
+  // waits for it (reference_cache.h); nothing else is set then.
+  bool waiting = false;
 };
+// What a progress bar says of it: "pass 3/16", or that it waits.
+std::string referenceProgressText(const ReferenceProgress &p);
 
 // What DIR/reference.state says of a reference in progress or complete: its
 // description, the passes done and their render seconds over every run.

@@ -1,13 +1,17 @@
 // The reference cache (backends/reference_cache.h): a reference is rendered
 // once per content and settings, found under another scene name, resumed
-// from an interrupted run's passes, listed, and cleared without touching a
-// file it did not write.
+// from an interrupted run's passes, waited for while another run holds it,
+// listed, and cleared without touching a file it did not write.
 #include "backends/reference_cache.h"
 
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <optional>
+#include <thread>
 
 #include "scenes/scene_file.h"
 #include "tests/common/temp_dir.h"
@@ -88,6 +92,42 @@ TEST(ReferenceCache, AnInterruptedReferenceResumesFromItsPassesBitForBit) {
   ASSERT_EQ(lines.size(), 2u);
   EXPECT_NE(lines[1].find("complete"), std::string::npos) << lines[1];
   EXPECT_NE(lines[1].find(referenceKey(rest.description)), std::string::npos) << lines[1];
+}
+
+// While another run holds the entry (a second descriptor's flock conflicts
+// like another process's), a run waits, says so through its progress, and
+// then finds the reference the other run left, rendering nothing.
+TEST(ReferenceCache, ASecondRunWaitsForTheFirstAndFindsItsReference) {
+  TempDir tmp;
+  const ReferenceCache cache(tmp / "cache");
+  const LoadedScene scene = loadScene("default", resolveAssetRoot(""));
+  const ReferenceSettings s = smallReference();
+  const CachedReference first = cachedReference(scene.scene, "default", s, cache);
+  ASSERT_TRUE(first.result.complete);
+
+  std::optional<ReferenceLock> other(std::in_place, first.dir);
+  ASSERT_TRUE(other->held());
+  std::atomic<bool> waiting = false, done = false;
+  CachedReference second;
+  std::thread run([&] {
+    second = cachedReference(scene.scene, "default", s, cache, [&](const ReferenceProgress &p) {
+      if (p.waiting) waiting = true;
+    });
+    done = true;
+  });
+  const auto start = std::chrono::steady_clock::now();
+  while (!waiting && std::chrono::steady_clock::now() - start < std::chrono::seconds(30))
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  EXPECT_TRUE(waiting);
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  EXPECT_FALSE(done) << "the run went on while another held the entry";
+  other.reset();
+  run.join();
+  EXPECT_TRUE(second.found);
+  EXPECT_EQ(second.result.passesRun, 0u);
+  EXPECT_EQ(second.result.image.pixels, first.result.image.pixels);
+  EXPECT_EQ(referenceProgressText(ReferenceProgress{.waiting = true}),
+            "waiting for another process making this reference");
 }
 
 TEST(ReferenceCache, ClearRemovesOnlyTheReferencesFiles) {

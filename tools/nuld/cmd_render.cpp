@@ -84,8 +84,7 @@ int renderCachedReference(const LoadedScene &loaded, const ReferenceSettings &se
   const CachedReference ref = cachedReference(
       loaded.scene, slug(loaded.name), settings, cache,
       [&](const ReferenceProgress &p) {
-        bar.update(long(1000 * p.fraction),
-                   "pass " + std::to_string(p.passesDone) + "/" + std::to_string(p.passes));
+        bar.update(long(1000 * p.fraction), referenceProgressText(p));
       },
       stopAfter);
   bar.finish(ref.found ? "found in the cache" : formatDuration(ref.result.seconds));

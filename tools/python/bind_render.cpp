@@ -127,12 +127,11 @@ py::object cachedReferenceOf(const LoadedScene &loaded, const RenderSettings &s,
   CachedReference ref;
   {
     py::gil_scoped_release release;
-    ref = cachedReference(
-        loaded.scene, slug(loaded.name), r, ReferenceCache::fromEnvironment(),
-        [&](const ReferenceProgress &p) {
-          report("reference", long(1000 * p.fraction), 1000,
-                 "pass " + std::to_string(p.passesDone) + "/" + std::to_string(p.passes));
-        });
+    ref = cachedReference(loaded.scene, slug(loaded.name), r, ReferenceCache::fromEnvironment(),
+                          [&](const ReferenceProgress &p) {
+                            report("reference", long(1000 * p.fraction), 1000,
+                                   referenceProgressText(p));
+                          });
   }
   FloatArray out = arrayOf(ref.result.image);
   if (!stats) return py::object(out);

@@ -396,9 +396,7 @@ RenderStudyResult runRenderStudy(const RenderStudySettings &s, const StudyProgre
         s.referenceCacheDir.empty() ? ReferenceCache::fromEnvironment()
                                     : ReferenceCache(s.referenceCacheDir),
         [&](const ReferenceProgress &p) {
-          if (progress)
-            progress(scene.slug + ": reference", p.fraction,
-                     "pass " + std::to_string(p.passesDone) + "/" + std::to_string(p.passes));
+          if (progress) progress(scene.slug + ": reference", p.fraction, referenceProgressText(p));
         },
         s.referenceStopAfter);
     if (!ref.result.complete) {
