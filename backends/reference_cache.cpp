@@ -9,6 +9,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
+#include <iostream>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -192,7 +193,11 @@ CachedReference cachedReference(const Scene &scene, const std::string &sceneName
   std::string name;
   if (ranks.root()) {
     const fs::path entry = cache.entry(sceneName, settings, out.description);
+    // Said on stderr as well as through `progress`: a bar off a terminal
+    // (a job's log) draws only tenths of the work, and a wait may be long.
     lock.emplace(entry, [&] {
+      std::cerr << "\nnuld: note: another process is making this reference in " << entry.string()
+                << "; waiting for it\n";
       if (progress) progress(ReferenceProgress{.waiting = true});
     });
     name = entry.string();
