@@ -21,9 +21,9 @@
 // killed mid-write leaves the last whole pass. A run holds the entry's
 // advisory lock (ReferenceLock) while it reads or makes it, so a second run
 // of the same reference (two studies, two jobs of an array on a shared
-// cache) waits, saying so through its progress, and then finds the first
-// run's reference, or resumes its passes if that run died: the system
-// releases a dead process's lock.
+// cache) waits, saying so on stderr and through its progress, and then
+// finds the first run's reference, or resumes its passes if that run died:
+// the system releases a dead process's lock.
 
 #include <chrono>
 #include <cstdint>
