@@ -2,6 +2,8 @@
 
 #include <fcntl.h>
 #include <sys/file.h>
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -9,6 +11,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
 #include <iostream>
 #include <map>
 #include <optional>
@@ -61,6 +64,29 @@ std::size_t count(const std::map<std::string, std::string> &kv, const std::strin
   } catch (...) {
     return 0;
   }
+}
+
+// The pid holding a flock on `file`, read from /proc/locks (lines "N: FLOCK
+// ADVISORY WRITE PID MAJ:MIN:INODE ..."), so that listing an entry never
+// takes its lock; 0 when none is held or the file is missing.
+long flockHolder(const fs::path &file) {
+  struct stat st;
+  if (::stat(file.c_str(), &st) != 0) return 0;
+  char device[32];
+  std::snprintf(device, sizeof device, "%02x:%02x:%llu", major(st.st_dev), minor(st.st_dev),
+                static_cast<unsigned long long>(st.st_ino));
+  std::ifstream locks("/proc/locks");
+  std::string line;
+  while (std::getline(locks, line)) {
+    std::istringstream in(line);
+    std::string id, kind, mode, access, where;
+    long pid = 0;
+    // A waiter's line ("N: -> FLOCK ...") is a process that holds nothing.
+    if (in >> id >> kind && kind == "FLOCK" && in >> mode >> access >> pid >> where &&
+        where == device)
+      return pid;
+  }
+  return 0;
 }
 
 }  // namespace
@@ -124,6 +150,7 @@ std::vector<ReferenceCache::Entry> ReferenceCache::list() const {
     e.passes = passSpp ? e.spp / passSpp : 0;
     e.complete =
         e.passes > 0 && e.passesDone >= e.passes && fs::exists(dir.path() / "reference.exr", ec);
+    e.lockedBy = flockHolder(dir.path() / "reference.lock");
     out.push_back(std::move(e));
   }
   return out;
@@ -227,7 +254,8 @@ std::vector<std::string> referenceListing(const std::vector<ReferenceCache::Entr
     cells.push_back(
         {e.scene, e.resolution, e.integrator, e.spp ? std::to_string(e.spp) : "?", e.backend,
          e.complete ? "complete"
-                    : "passes " + std::to_string(e.passesDone) + "/" + std::to_string(e.passes),
+                    : "passes " + std::to_string(e.passesDone) + "/" + std::to_string(e.passes) +
+                          (e.lockedBy ? ", pid " + std::to_string(e.lockedBy) + " making it" : ""),
          seconds, humanBytes(e.bytes),
          humanAge(std::chrono::duration_cast<std::chrono::seconds>(now - e.modified)),
          name.substr(name.rfind('_') + 1)});

@@ -60,6 +60,10 @@ class ReferenceCache {
     std::string resolution, integrator, backend;
     std::size_t spp = 0, passesDone = 0, passes = 0;
     bool complete = false;
+    // The process holding the entry's lock now (a run making it, or reading
+    // it for a moment), from /proc/locks: 0 when none, or when the system
+    // does not say (another host's lock on a network file system).
+    long lockedBy = 0;
     double seconds = 0;  // render time of its passes so far, over every run
     std::filesystem::file_time_type modified{};
   };
@@ -116,7 +120,8 @@ CachedReference cachedReference(const Scene &scene, const std::string &sceneName
                                 std::size_t stopAfterPasses = 0);
 
 // The listing `nuld cache list` prints: a header and one line per entry
-// (scene, resolution, integrator, spp, state, seconds, size, age, key).
+// (scene, resolution, integrator, spp, state, seconds, size, age, key); the
+// state of an entry in progress names the process making it, if any.
 std::vector<std::string> referenceListing(
     const std::vector<ReferenceCache::Entry> &entries,
     std::filesystem::file_time_type now = std::filesystem::file_time_type::clock::now());

@@ -5,6 +5,7 @@
 #include "backends/reference_cache.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <chrono>
@@ -79,6 +80,18 @@ TEST(ReferenceCache, AnInterruptedReferenceResumesFromItsPassesBitForBit) {
   EXPECT_EQ(partial.scene, "default");
   EXPECT_EQ(partial.resolution, "10x6");
   EXPECT_EQ(partial.spp, 8u);
+
+  EXPECT_EQ(partial.lockedBy, 0);
+  {  // a run making it now is named in the listing (this process holds the lock)
+    const ReferenceLock making(partial.dir);
+    ASSERT_TRUE(making.held());
+    EXPECT_EQ(cache.list().front().lockedBy, long(::getpid()));
+    const auto lines = referenceListing(cache.list());
+    EXPECT_NE(lines[1].find("passes 1/4, pid " + std::to_string(::getpid()) + " making it"),
+              std::string::npos)
+        << lines[1];
+  }
+  EXPECT_EQ(cache.list().front().lockedBy, 0);
 
   const CachedReference rest = cachedReference(scene.scene, "default", s, cache);
   ASSERT_TRUE(rest.result.complete);
