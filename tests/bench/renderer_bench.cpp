@@ -15,8 +15,9 @@
 //    model (the neural backend's inference per table);
 //  - EmbreeRaw/SCENE/spp:N: the same rays, recorded from one such render,
 //    replayed through rtcIntersect1 alone with the same TBB parallelism.
-// Their ratio (renderer rays/s over raw rays/s) is what the renderer issue
-// asks for (target >= 0.5). N is 4 (quick, per-pixel costs weigh most) and
+// Their ratio (renderer rays/s over raw rays/s) measures the renderer's own
+// cost per ray; tools/experiments/renderer_speed.md has it measured, and
+// what raising it would take. N is 4 (quick, per-pixel costs weigh most) and
 // the scene file's own spp (64 for lte-orb: what `nuld render` runs; its
 // recording holds 42M rays, about 1 GB). Needs the assets (NULD_ASSETS or
 // ../shared/assets); the default scene is benchmarked too, which needs none.
