@@ -19,7 +19,7 @@
 // cost per ray; tools/experiments/renderer_speed.md has it measured, and
 // what raising it would take. N is 4 (quick, per-pixel costs weigh most) and
 // the scene file's own spp (64 for lte-orb: what `nuld render` runs; its
-// recording holds 42M rays, about 1 GB). Needs the assets (NULD_ASSETS or
+// recording holds 58M rays, about 1.4 GB). Needs the assets (NULD_ASSETS or
 // ../shared/assets); the default scene is benchmarked too, which needs none.
 
 #include <benchmark/benchmark.h>
