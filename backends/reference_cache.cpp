@@ -66,15 +66,11 @@ std::size_t count(const std::map<std::string, std::string> &kv, const std::strin
   }
 }
 
-// The pid holding a flock on `file`, read from /proc/locks (lines "N: FLOCK
-// ADVISORY WRITE PID MAJ:MIN:INODE ..."), so that listing an entry never
-// takes its lock; 0 when none is held or the file is missing.
-long flockHolder(const fs::path &file) {
-  struct stat st;
-  if (::stat(file.c_str(), &st) != 0) return 0;
-  char device[32];
-  std::snprintf(device, sizeof device, "%02x:%02x:%llu", major(st.st_dev), minor(st.st_dev),
-                static_cast<unsigned long long>(st.st_ino));
+// The holders of every flock now, by file ("MAJ:MIN:INODE", as /proc/locks
+// names it: lines "N: FLOCK ADVISORY WRITE PID MAJ:MIN:INODE ..."), read
+// once per listing, so that listing an entry never takes its lock.
+std::map<std::string, long> flockHolders() {
+  std::map<std::string, long> out;
   std::ifstream locks("/proc/locks");
   std::string line;
   while (std::getline(locks, line)) {
@@ -82,11 +78,22 @@ long flockHolder(const fs::path &file) {
     std::string id, kind, mode, access, where;
     long pid = 0;
     // A waiter's line ("N: -> FLOCK ...") is a process that holds nothing.
-    if (in >> id >> kind && kind == "FLOCK" && in >> mode >> access >> pid >> where &&
-        where == device)
-      return pid;
+    if (in >> id >> kind && kind == "FLOCK" && in >> mode >> access >> pid >> where)
+      out[where] = pid;
   }
-  return 0;
+  return out;
+}
+
+// The pid among `holders` holding `file`'s flock; 0 when none or the file is
+// missing.
+long flockHolder(const std::map<std::string, long> &holders, const fs::path &file) {
+  struct stat st;
+  if (holders.empty() || ::stat(file.c_str(), &st) != 0) return 0;
+  char device[32];
+  std::snprintf(device, sizeof device, "%02x:%02x:%llu", major(st.st_dev), minor(st.st_dev),
+                static_cast<unsigned long long>(st.st_ino));
+  const auto it = holders.find(device);
+  return it == holders.end() ? 0 : it->second;
 }
 
 }  // namespace
@@ -119,6 +126,7 @@ fs::path ReferenceCache::entry(const std::string &sceneName, const ReferenceSett
 std::vector<ReferenceCache::Entry> ReferenceCache::list() const {
   std::vector<Entry> out;
   std::error_code ec;
+  const std::map<std::string, long> holders = flockHolders();
   for (const auto &dir : entryDirs(referencesDir())) {
     Entry e;
     e.dir = dir.path();
@@ -150,7 +158,7 @@ std::vector<ReferenceCache::Entry> ReferenceCache::list() const {
     e.passes = passSpp ? e.spp / passSpp : 0;
     e.complete =
         e.passes > 0 && e.passesDone >= e.passes && fs::exists(dir.path() / "reference.exr", ec);
-    e.lockedBy = flockHolder(dir.path() / "reference.lock");
+    e.lockedBy = flockHolder(holders, dir.path() / "reference.lock");
     out.push_back(std::move(e));
   }
   return out;

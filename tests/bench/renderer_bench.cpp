@@ -19,8 +19,10 @@
 // cost per ray; tools/experiments/renderer_speed.md has it measured, and
 // what raising it would take. N is 4 (quick, per-pixel costs weigh most) and
 // the scene file's own spp (64 for lte-orb: what `nuld render` runs; its
-// recording holds 58M rays, about 1.4 GB). Needs the assets (NULD_ASSETS or
-// ../shared/assets); the default scene is benchmarked too, which needs none.
+// recording holds every ray of one render in memory, tens of millions; its
+// size is in tools/experiments/README.md's renderer speed entry). Needs the
+// assets (NULD_ASSETS or ../shared/assets); the default scene is benchmarked
+// too, which needs none.
 
 #include <benchmark/benchmark.h>
 #include <tbb/parallel_for.h>
