@@ -8,6 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "backends/set_cache.h"
 #include "sampler/io/pointset_io.h"
 #include "sampler/io/pointset_metadata.h"
 #include "sampler/optimize/optimizer.h"
@@ -65,7 +66,7 @@ OptimizedSets optimizedSets(const Target &target, const OptimizedSetsRequest &re
                             const fs::path &path,
                             const std::function<void(int, int, double)> &progress) {
   const OptimizerSettings settings = optimizerSettings(target, request);
-  if (fs::exists(path)) {
+  if (verifiedEntry(path)) {
     const PointSet cached = readPointSet(path.string());
     const std::string cachedSettings = metaOr(cached, meta::kSettings, ""),
                       cachedTarget = metaOr(cached, meta::kTarget, "");
@@ -114,8 +115,9 @@ std::vector<SetsJob> makeMissingSets(const Ranks &ranks, const std::vector<SetsJ
                                      const SetsProgress &progress) {
   std::vector<SetsJob> missing;
   for (const SetsJob &job : jobs)
-    if (!fs::exists(job.file) && std::none_of(missing.begin(), missing.end(),
-                                              [&](const SetsJob &m) { return m.file == job.file; }))
+    if (!verifiedEntry(job.file) &&
+        std::none_of(missing.begin(), missing.end(),
+                     [&](const SetsJob &m) { return m.file == job.file; }))
       missing.push_back(job);
   // A file that another process (a render, a study, a second bank) writes
   // while this one works is taken as found: its sets are not optimized
@@ -126,7 +128,7 @@ std::vector<SetsJob> makeMissingSets(const Ranks &ranks, const std::vector<SetsJ
       ranks, missing.size(),
       [&](std::size_t i) {
         const SetsJob &job = missing[i];
-        if (fs::exists(job.file)) return std::string();
+        if (verifiedEntry(job.file)) return std::string();
         return ByteWriter()
             .put(optimizeSets(*job.target, job.request, job.file,
                               [&](int epoch, int epochs, double loss) {
@@ -137,7 +139,13 @@ std::vector<SetsJob> makeMissingSets(const Ranks &ranks, const std::vector<SetsJ
       },
       [&](std::size_t i, const std::string &bytes) {
         ++done;
-        if (bytes.empty() || fs::exists(missing[i].file)) return;
+        // Found written by another process: this one's checkpoint, rewritten
+        // while it worked, is removed all the same.
+        if (bytes.empty() || verifiedEntry(missing[i].file)) {
+          std::error_code ec;
+          fs::remove(missing[i].file.string() + ".ckpt", ec);
+          return;
+        }
         writeOptimizedSets(missing[i].file, fromBytes<PointSet>(bytes));
         written[i] = '1';
       });
@@ -149,8 +157,7 @@ std::vector<SetsJob> makeMissingSets(const Ranks &ranks, const std::vector<SetsJ
 }
 
 void writeOptimizedSets(const fs::path &path, const PointSet &sets) {
-  fs::create_directories(path.parent_path());
-  writePointSet(path.string(), sets);
+  writeCacheEntry(path, sets);
   fs::remove(path.string() + ".ckpt");
 }
 

@@ -173,20 +173,74 @@ std::uintmax_t ReferenceCache::bytes() const {
   return total;
 }
 
-std::uintmax_t ReferenceCache::clear() const {
-  std::uintmax_t freed = 0;
+namespace {
+
+// The key at the end of an entry's name: SCENE_WxH_INTEGRATOR_SPPspp_KEY.
+std::string keyOfEntry(const fs::path &dir) {
+  const std::string name = dir.filename().string();
+  return name.substr(name.rfind('_') + 1);
+}
+
+// Removes the reference files of the entry `dir` unless another process
+// holds its lock: the lock is taken (without waiting) for the removal, so a
+// run that starts meanwhile waits for it and then makes the entry anew.
+CacheRemoval removeEntry(const fs::path &dir) {
+  CacheRemoval out;
+  const fs::path lockFile = dir / "reference.lock";
   std::error_code ec;
-  for (const auto &dir : entryDirs(referencesDir())) {
-    std::vector<fs::path> files;
-    for (fs::directory_iterator it(dir.path(), ec), end; !ec && it != end; it.increment(ec))
-      if (it->is_regular_file(ec) && isReferenceFile(it->path())) files.push_back(it->path());
-    for (const fs::path &file : files) {
-      const std::uintmax_t size = fs::file_size(file, ec);
-      if (fs::remove(file, ec)) freed += size;
+  int fd = -1;
+  if (fs::exists(lockFile, ec)) {
+    fd = ::open(lockFile.c_str(), O_RDWR | O_CLOEXEC);
+    if (fd >= 0 && ::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+      const long pid = flockHolder(flockHolders(), lockFile);
+      out.skipped.push_back(
+          dir.string() + ": " +
+          (pid ? "process " + std::to_string(pid) : std::string("another process")) +
+          " is making or reading it");
+      ::close(fd);
+      return out;
     }
-    fs::remove(dir.path(), ec);  // only when nothing else is left in it
   }
-  return freed;
+  std::vector<fs::path> files;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec))
+    if (it->is_regular_file(ec) && isReferenceFile(it->path()) && it->path() != lockFile)
+      files.push_back(it->path());
+  if (ec) out.failed.push_back(dir.string() + ": cannot list it (" + ec.message() + ")");
+  files.push_back(lockFile);  // last: it is held until the others are gone
+  for (const fs::path &file : files) {
+    if (!fs::exists(file, ec)) continue;
+    const std::uintmax_t size = fs::file_size(file, ec);
+    if (fs::remove(file, ec)) {
+      out.freed += size;
+      ++out.removed;
+    } else {
+      out.failed.push_back(file.string() + ": " + ec.message());
+    }
+  }
+  if (fd >= 0) ::close(fd);
+  fs::remove(dir, ec);  // only when nothing else is left in it
+  return out;
+}
+
+}  // namespace
+
+CacheRemoval ReferenceCache::clear() const { return remove("", ""); }
+
+CacheRemoval ReferenceCache::remove(const std::string &key, const std::string &scene) const {
+  CacheRemoval out;
+  const bool all = key.empty() && scene.empty();
+  for (const Entry &e : list())
+    if (all || (!key.empty() && keyOfEntry(e.dir) == key) || (!scene.empty() && e.scene == scene))
+      out += removeEntry(e.dir);
+  return out;
+}
+
+std::vector<std::string> ReferenceCache::verify() const {
+  std::vector<std::string> out;
+  for (const auto &dir : entryDirs(referencesDir()))
+    if (const std::string why = referenceProblem(dir.path()); !why.empty())
+      out.push_back(why);  // it names the file
+  return out;
 }
 
 ReferenceLock::ReferenceLock(const fs::path &dir, const std::function<void()> &waiting) {

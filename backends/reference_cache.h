@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "backends/reference_render.h"
+#include "backends/set_cache.h"
 
 namespace nuld {
 
@@ -71,9 +72,16 @@ class ReferenceCache {
   std::vector<Entry> list() const;
   // Bytes of everything under the references directory.
   std::uintmax_t bytes() const;
-  // Removes every entry (only the files references are made of); returns
-  // the bytes freed.
-  std::uintmax_t clear() const;
+  // Removes every entry (only the files references are made of) that no
+  // other process holds: an entry whose lock another process holds (a run
+  // making or reading it) is skipped and named, never removed under it.
+  CacheRemoval clear() const;
+  // The same for the entries whose key is `key`, or whose scene (the
+  // readable part of its name) is `scene`.
+  CacheRemoval remove(const std::string &key, const std::string &scene = "") const;
+  // One line "DIR: why" per entry that would not be used
+  // (referenceProblem), in progress or complete.
+  std::vector<std::string> verify() const;
 
  private:
   std::filesystem::path dir_;

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <fstream>
+#include <iostream>
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -12,6 +13,7 @@
 #include "renderer/image_metrics.h"
 #include "renderer/sampler_backend.h"
 #include "sampler/io/atomic_file.h"
+#include "sampler/io/content_hash.h"
 #include "sampler/io/image_io.h"
 #include "sampler/io/round_trip.h"
 
@@ -126,6 +128,46 @@ struct PartialSums {
   double seconds = 0;
 };
 
+// What proves a reference's image (its sums, halves and mean): the hash of
+// its floats, recorded beside its description. An image edited, swapped
+// for another valid image or damaged is never read as the reference.
+constexpr const char *kPixelsHash = "nuld:pixels_hash";
+
+std::string pixelsHash(const Image &image) {
+  return ContentHash()
+      .add(std::string_view(reinterpret_cast<const char *>(image.pixels.data()),
+                            image.pixels.size() * sizeof(float)))
+      .hex();
+}
+
+// A damaged entry: the reference starts again (renderReference).
+struct DamagedReference : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// `path` read and proved: it decodes, was made for `description`, and its
+// floats hash to the recorded hash; else DamagedReference saying why.
+Image readProved(const fs::path &path, const std::string &description) {
+  Image image;
+  std::map<std::string, std::string> kv;
+  try {
+    image = readImage(path.string());
+    for (const auto &[name, value] : readImageAttributes(path.string())) kv[name] = value;
+  } catch (const std::exception &e) {
+    throw DamagedReference(e.what());
+  }
+  if (kv["nuld:reference"] != description)
+    throw DamagedReference(path.string() + ": made for another reference");
+  if (kv[kPixelsHash] != pixelsHash(image))
+    throw DamagedReference(path.string() + ": its pixels do not match the hash recorded with them");
+  return image;
+}
+
+ImageAttributes proved(ImageAttributes attributes, const Image &image) {
+  attributes.emplace_back(kPixelsHash, pixelsHash(image));
+  return attributes;
+}
+
 void writePartial(const fs::path &path, const PartialSums &p, const std::string &description) {
   const Image &a = p.sum[0], &b = p.sum[1];
   Image both{a.width, a.height, 6, std::vector<float>(a.pixels.size() * 2)};
@@ -135,15 +177,17 @@ void writePartial(const fs::path &path, const PartialSums &p, const std::string 
       both.pixels[6 * i + 3 + c] = b.pixels[3 * i + c];
     }
   writeImage(path.string(), both,
-             {{"nuld:reference", description},
-              {"nuld:passes_done", std::to_string(p.passesDone)},
-              {"nuld:seconds", std::to_string(p.seconds)}});
+             proved({{"nuld:reference", description},
+                     {"nuld:passes_done", std::to_string(p.passesDone)},
+                     {"nuld:seconds", std::to_string(p.seconds)}},
+                    both));
 }
 
-PartialSums readPartial(const fs::path &path, int width, int height) {
-  const Image both = readImage(path.string());
+PartialSums readPartial(const fs::path &path, int width, int height,
+                        const std::string &description) {
+  const Image both = readProved(path, description);
   if (both.width != width || both.height != height || both.channels != 6)
-    throw std::runtime_error(path.string() + ": size differs from the state's");
+    throw DamagedReference(path.string() + ": size differs from the state's");
   PartialSums p;
   for (Image &sum : p.sum)
     sum = Image{width, height, 3, std::vector<float>(std::size_t(width) * height * 3)};
@@ -158,13 +202,32 @@ PartialSums readPartial(const fs::path &path, int width, int height) {
     p.passesDone = std::stoul(kv.at("nuld:passes_done"));
     p.seconds = std::stod(kv.at("nuld:seconds"));
   } catch (...) {
-    throw std::runtime_error(
-        path.string() + ": attributes nuld:passes_done and nuld:seconds missing or not numbers");
+    throw DamagedReference(path.string() +
+                           ": attributes nuld:passes_done and nuld:seconds missing or not numbers");
   }
   return p;
 }
 
 }  // namespace
+
+std::string referenceProblem(const fs::path &dir) {
+  try {
+    // No state yet: made before its first pass ended, nothing counted.
+    if (std::error_code ec;
+        !fs::exists(dir / "reference.state", ec) && !fs::exists(dir / "reference.exr", ec))
+      return "";
+    const ReferenceState state = readReferenceState(dir / "reference.state");
+    if (std::error_code ec; fs::exists(dir / "reference.exr", ec)) {
+      for (const char *name : {"reference.exr", "reference.half0.exr", "reference.half1.exr"})
+        readProved(dir / name, state.description);
+    } else if (state.passesDone > 0) {
+      readProved(dir / "reference.partial.exr", state.description);
+    }
+    return "";
+  } catch (const std::exception &e) {
+    return e.what();
+  }
+}
 
 ReferenceResult renderReference(const Scene &scene, const std::string &sceneName,
                                 const ReferenceSettings &settings, const fs::path &dir,
@@ -197,24 +260,35 @@ ReferenceResult renderReference(const Scene &scene, const std::string &sceneName
       checkDescription(statePath, state, description);
     }
     alreadyComplete = state.passesDone >= passes && fs::exists(finalPath);
-    if (alreadyComplete) {
-      for (const fs::path &half : halfPath)
-        if (!fs::exists(half))
-          throw std::runtime_error(half.string() + ": missing beside its complete reference; " +
-                                   "delete " + (dir / "reference.*").string() +
-                                   " to render it again");
-      result.image = readImage(finalPath.string());
-      result.noise =
-          referenceNoise(readImage(halfPath[0].string()), readImage(halfPath[1].string()));
-    } else if (state.passesDone > 0) {
-      partial = readPartial(partialPath, rs.width, rs.height);
-      state.passesDone = partial.passesDone;
-      state.seconds = partial.seconds;
-    } else {
+    // What the entry holds is proved before it is used; a damaged entry
+    // (an image that does not decode, was swapped or edited) is rendered
+    // again from its first pass, said on stderr, and never served.
+    try {
+      if (alreadyComplete) {
+        result.image = readProved(finalPath, description);
+        result.noise = referenceNoise(readProved(halfPath[0], description),
+                                      readProved(halfPath[1], description));
+        if (result.image.width != rs.width || result.image.height != rs.height)
+          throw DamagedReference(finalPath.string() + ": size differs from the state's");
+      } else if (state.passesDone > 0) {
+        partial = readPartial(partialPath, rs.width, rs.height, description);
+        state.passesDone = partial.passesDone;
+        state.seconds = partial.seconds;
+      }
+    } catch (const DamagedReference &e) {
+      std::cerr << "\nnuld: note: the reference in " << dir.string() << " is damaged (" << e.what()
+                << "); rendering it again\n";
+      for (const fs::path &file : {finalPath, fs::path(finalPath).replace_extension(".png"),
+                                   halfPath[0], halfPath[1], partialPath})
+        fs::remove(file);
+      state = ReferenceState{description, 0};
+      writeState(statePath, state);
+      alreadyComplete = false;
+    }
+    if (state.passesDone == 0)
       for (Image &half : sum)
         half = Image{rs.width, rs.height, 3,
                      std::vector<float>(std::size_t(rs.width) * rs.height * 3, 0.0f)};
-    }
   }
   {
     const std::string bytes = ranks.broadcast(
@@ -297,8 +371,9 @@ ReferenceResult renderReference(const Scene &scene, const std::string &sceneName
           renderAttributes(sceneName, scene, whole, settings.backend, settings.seed, stats);
       attributes.emplace_back("nuld:reference", description);
       // The halves before the reference: a reference on disk has its halves.
-      for (int h = 0; h < 2; ++h) writeImage(halfPath[h].string(), mean[h], attributes);
-      writeRender(finalPath.string(), result.image, attributes);
+      for (int h = 0; h < 2; ++h)
+        writeImage(halfPath[h].string(), mean[h], proved(attributes, mean[h]));
+      writeRender(finalPath.string(), result.image, proved(attributes, result.image));
       fs::remove(partialPath);
     }
   }

@@ -72,6 +72,14 @@ struct ReferenceState {
 // field is not a number.
 ReferenceState readReferenceState(const std::filesystem::path &file);
 
+// Why the reference in `dir` would not be used ("" when it would): its
+// state does not read, or an image it counts (the reference and its halves
+// when complete, the partial sums while in progress) does not decode, was
+// made for another reference, or does not match the hash of its pixels
+// recorded in it. The checks every use makes (renderReference), without
+// changing anything.
+std::string referenceProblem(const std::filesystem::path &dir);
+
 // A reference's own noise, from its two halves h0 and h1 (each the mean of
 // half the passes, so of twice the reference's variance v per pixel):
 // E[(h0 - h1)^2] = 4 v, so v is estimated by a quarter of their mean squared

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cstdio>
 #include <cstdlib>
+#include <iostream>
 #include <mutex>
 #include <optional>
 #include <sstream>
@@ -63,6 +64,42 @@ bool isEntry(const fs::directory_entry &e) {
   return !name.starts_with(".") && e.path().extension() == ".ptsb";
 }
 
+// The key at the end of an entry's name: NAME_nN_KEY.ptsb.
+std::string keyOf(const fs::path &file) {
+  const std::string stem = file.stem().string();
+  const auto underscore = stem.rfind('_');
+  const std::string key = underscore == std::string::npos ? "" : stem.substr(underscore + 1);
+  const bool hex = key.size() == 16 && std::all_of(key.begin(), key.end(), [](char c) {
+                     return std::isxdigit(static_cast<unsigned char>(c));
+                   });
+  return hex ? key : "";
+}
+
+// The files the cache writes into its sets directory, and so the only ones
+// clear() removes: entries, their checkpoints (ENTRY.ckpt), entries moved
+// aside (ENTRY.corrupt) and writers' temporaries (.NAME.tmpPID.ptsb, and
+// the checkpoint's).
+bool isCacheFile(const fs::directory_entry &e) {
+  const std::string name = e.path().filename().string();
+  if (isEntry(e)) return !keyOf(e.path()).empty();
+  for (const std::string suffix : {".ckpt", ".corrupt"})
+    if (name.ends_with(".ptsb" + suffix))
+      return !keyOf(fs::path(name.substr(0, name.size() - suffix.size()))).empty();
+  return name.starts_with(".") && name.find(".tmp") != std::string::npos;
+}
+
+// Removes `file`, counting it into `out`.
+void removeInto(const fs::path &file, CacheRemoval &out) {
+  std::error_code ec;
+  const std::uintmax_t size = fs::file_size(file, ec);
+  if (fs::remove(file, ec)) {
+    out.freed += size;
+    ++out.removed;
+  } else if (ec) {
+    out.failed.push_back(file.string() + ": " + ec.message());
+  }
+}
+
 // A settings description without what a nested entry may differ in: N, the
 // prefix sizes and the bank term's group size (which follows N).
 std::string withoutSize(const std::string &describe) {
@@ -118,8 +155,7 @@ fs::path SetCache::modelEntry(std::uint64_t modelChecksum, const Target &table,
 std::optional<LobeBank> SetCacheLobeBankStore::load(std::uint64_t model, const Target &table,
                                                     std::size_t n) const {
   const fs::path file = SetCache::fromEnvironment().modelEntry(model, table, n);
-  std::error_code ec;
-  if (!fs::is_regular_file(file, ec)) return std::nullopt;
+  if (!verifiedEntry(file)) return std::nullopt;
   try {
     LobeBank bank{readPointSet(file.string()), false};
     const std::string serves = metaOr(bank.sets, meta::kServes, "");
@@ -141,8 +177,7 @@ void SetCacheLobeBankStore::save(std::uint64_t model, const Target &table, std::
     char checksum[24];
     std::snprintf(checksum, sizeof checksum, "%016llx", static_cast<unsigned long long>(model));
     setMeta(sets, meta::kModel, checksum);
-    fs::create_directories(file.parent_path());
-    writePointSet(file.string(), sets);
+    writeCacheEntry(file, std::move(sets));
   } catch (const std::exception &e) {
     static std::once_flag once;
     std::call_once(once, [&] {
@@ -161,6 +196,7 @@ fs::path SetCache::findNested(const Target &target, const OptimizerSettings &set
     if (!isEntry(e)) continue;
     try {
       const PointSet set = readPointSet(e.path().string());
+      if (metaOr(set, meta::kCacheKey, "") != keyOf(e.path())) continue;
       if (!findMeta(set, meta::kPrefixes) || set.n < spp || (bestN && set.n >= bestN)) continue;
       if (metaOr(set, meta::kTargetHash, "") != hash) continue;
       if (withoutSize(metaOr(set, meta::kSettings, "")) != want) continue;
@@ -182,17 +218,6 @@ std::optional<std::string> settingOf(const std::string &describe, const std::str
   while (in >> word)
     if (word.starts_with(name + "=")) return word.substr(name.size() + 1);
   return std::nullopt;
-}
-
-// The key at the end of an entry's name: NAME_nN_KEY.ptsb.
-std::string keyOf(const fs::path &file) {
-  const std::string stem = file.stem().string();
-  const auto underscore = stem.rfind('_');
-  const std::string key = underscore == std::string::npos ? "" : stem.substr(underscore + 1);
-  const bool hex = key.size() == 16 && std::all_of(key.begin(), key.end(), [](char c) {
-                     return std::isxdigit(static_cast<unsigned char>(c));
-                   });
-  return hex ? key : "";
 }
 
 }  // namespace
@@ -329,14 +354,80 @@ std::uintmax_t SetCache::bytes() const {
   return total;
 }
 
-std::uintmax_t SetCache::clear() const {
-  std::uintmax_t freed = 0;
-  std::error_code ec;
+CacheRemoval &CacheRemoval::operator+=(const CacheRemoval &other) {
+  freed += other.freed;
+  removed += other.removed;
+  failed.insert(failed.end(), other.failed.begin(), other.failed.end());
+  skipped.insert(skipped.end(), other.skipped.begin(), other.skipped.end());
+  return *this;
+}
+
+CacheRemoval SetCache::clear() const {
+  CacheRemoval out;
+  for (const auto &e : filesIn(setsDir()))
+    if (isCacheFile(e)) removeInto(e.path(), out);
+  return out;
+}
+
+CacheRemoval SetCache::remove(const std::string &key) const {
+  CacheRemoval out;
   for (const auto &e : filesIn(setsDir())) {
-    const std::uintmax_t size = e.file_size(ec);
-    if (fs::remove(e.path(), ec)) freed += size;
+    const std::string name = e.path().filename().string();
+    if (isCacheFile(e) && !name.starts_with(".") &&
+        name.find("_" + key + ".ptsb") != std::string::npos)
+      removeInto(e.path(), out);
   }
-  return freed;
+  return out;
+}
+
+std::vector<std::string> SetCache::verify() const {
+  std::vector<std::string> out;
+  for (const Entry &e : list())
+    if (const std::string why = entryProblem(e.file); !why.empty())
+      out.push_back(e.file.string() + ": " + why);
+  return out;
+}
+
+std::string entryProblem(const fs::path &file) {
+  try {
+    const PointSet set = readPointSet(file.string());
+    const std::string recorded = metaOr(set, meta::kCacheKey, ""), key = keyOf(file);
+    if (recorded != key)
+      return recorded.empty() ? "it records no cache key (written by an older nuld, or not by nuld)"
+                              : "it records the key " + recorded + ", not its name's " + key +
+                                    " (a file copied over another entry)";
+    return "";
+  } catch (const std::exception &e) {
+    // readPointSet's message begins with the path; the reason is what follows.
+    const std::string what = e.what(), prefix = file.string() + ": ";
+    return what.starts_with(prefix) ? what.substr(prefix.size()) : what;
+  }
+}
+
+bool verifiedEntry(const fs::path &file) {
+  std::error_code ec;
+  if (!fs::exists(file, ec)) return false;
+  const std::string why = entryProblem(file);
+  if (why.empty()) return true;
+  fs::path aside = file;
+  aside += ".corrupt";
+  fs::rename(file, aside, ec);
+  std::cerr << "\nnuld: note: the set cache entry " << file.string() << " is not served (" << why
+            << "); "
+            << (ec ? "it could not be moved aside (" + ec.message() + ")"
+                   : "moved to " + aside.filename().string())
+            << ", and made again\n";
+  if (ec)
+    throw std::runtime_error(file.string() +
+                             ": a damaged cache entry that cannot be moved aside (" + ec.message() +
+                             "); remove it with nuld cache remove " + keyOf(file));
+  return false;
+}
+
+void writeCacheEntry(const fs::path &file, PointSet sets) {
+  if (const std::string key = keyOf(file); !key.empty()) setMeta(sets, meta::kCacheKey, key);
+  fs::create_directories(file.parent_path());
+  writePointSet(file.string(), sets);
 }
 
 }  // namespace nuld

@@ -15,6 +15,12 @@
 // writer killed mid-write never leave a torn entry: readers see the whole
 // file or none. Two writers of the same entry both optimize it (the same
 // deterministic sets) and the last rename wins.
+//
+// An entry proves itself: its file's checksum covers every byte
+// (pointset_io.h) and its metadata records the key it was made for
+// (meta::kCacheKey), which must be the key its name ends in. Every use of
+// an entry checks both (verifiedEntry); one that fails is moved aside to
+// NAME.corrupt, named in a note, and made again: it is never served.
 
 #include <chrono>
 #include <cstdint>
@@ -26,12 +32,24 @@
 
 #include "backends/neural_backend.h"
 #include "sampler/optimize/optimizer.h"
+#include "sampler/point.h"
 #include "sampler/targets/target.h"
 
 namespace nuld {
 
 // Bumped when an entry's content changes meaning for the same key.
-inline constexpr int kSetCacheVersion = 1;
+// 2: entries record their key and end in a checksum.
+inline constexpr int kSetCacheVersion = 2;
+
+// What removing files from a cache did: the bytes freed and files removed,
+// the files that could not be removed (each "FILE: why"), and the entries
+// another process holds now, skipped (each "DIR: why").
+struct CacheRemoval {
+  std::uintmax_t freed = 0;
+  std::size_t removed = 0;
+  std::vector<std::string> failed, skipped;
+  CacheRemoval &operator+=(const CacheRemoval &other);
+};
 
 class SetCache {
  public:
@@ -97,8 +115,14 @@ class SetCache {
   // Bytes of everything under the cache's sets directory (checkpoints and
   // temporaries included).
   std::uintmax_t bytes() const;
-  // Removes every entry, checkpoint and temporary file; returns the bytes freed.
-  std::uintmax_t clear() const;
+  // Removes every entry, checkpoint, quarantined entry and writer's
+  // temporary file (never another file of the directory).
+  CacheRemoval clear() const;
+  // Removes the entry whose key is `key` (16 hex digits) and its checkpoint.
+  CacheRemoval remove(const std::string &key) const;
+  // Every entry checked as a use checks it (verifiedEntry, without moving
+  // it aside): one line "FILE: why" per entry that would not be served.
+  std::vector<std::string> verify() const;
 
  private:
   std::filesystem::path root_;
@@ -106,6 +130,18 @@ class SetCache {
 
 // The key of an entry (16 hex digits): target content, settings, version.
 std::string setCacheKey(const Target &target, const OptimizerSettings &settings);
+
+// Why the entry `file` would not be served ("" when it would): it does not
+// read (its checksum included), or its recorded key (meta::kCacheKey) is not
+// the key its name ends in.
+std::string entryProblem(const std::filesystem::path &file);
+// Whether `file` is an entry to serve. One with a problem is moved aside to
+// FILE.corrupt (replacing an earlier one) with a note on stderr naming it,
+// so that it is made again; false then, and when there is no file.
+bool verifiedEntry(const std::filesystem::path &file);
+// An entry's sets with the key its name ends in recorded (meta::kCacheKey),
+// written atomically and synced (writePointSet).
+void writeCacheEntry(const std::filesystem::path &file, PointSet sets);
 
 // The set cache as the renderer's store of neural lobe banks: each bank an
 // entry (SetCache::modelEntry) with its serving verdict in its metadata, in

@@ -247,9 +247,8 @@ void checkRenderOutputs(const std::string &exrPath) {
 void writeRender(const std::string &exrPath, const Image &image,
                  const ImageAttributes &attributes) {
   checkRenderOutputs(exrPath);
-  writeImage(exrPath, image, attributes);
-  writeImage(std::filesystem::path(exrPath).replace_extension(".png").string(), toneMap(image),
-             attributes);
+  writeImagePair(exrPath, image, std::filesystem::path(exrPath).replace_extension(".png").string(),
+                 toneMap(image), attributes);
 }
 
 }  // namespace nuld

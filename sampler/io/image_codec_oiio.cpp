@@ -61,9 +61,12 @@ class OiioCodec final : public ImageCodec {
     if (!out->open(file, spec))
       throw std::runtime_error(path + ": cannot open " + file +
                                " for writing (is the directory writable?)");
-    if (!out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data()))
+    // The close writes what the codec buffered (a PNG's last rows, an EXR's
+    // offset table): a failure there is a truncated file too.
+    if (!out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data()) || !out->close()) {
+      OIIO::geterror();
       throw std::runtime_error(path + ": cannot write the image (is the disk full?)");
-    out->close();
+    }
   }
 
   ImageAttributes attributes(const std::string &path, const std::string &prefix) const override {

@@ -2,6 +2,7 @@
 
 #include <cctype>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <stdexcept>
 
@@ -56,11 +57,48 @@ Image readImage(const std::string &path, bool requireFinite) {
   return img;
 }
 
-void writeImage(const std::string &path, const Image &image, const ImageAttributes &attributes) {
-  AtomicFile file(path);
+namespace {
+
+// The image written to `file`'s temporary name and read back, before it
+// takes its name: a codec that lost bytes without saying so (a full disk
+// under a buffered writer) is caught here. An EXR holds the floats exactly;
+// an 8-bit picture only its size. Compared bit for bit: a test's NaN
+// pixel reads back as the same NaN.
+void writeChecked(const AtomicFile &file, const Image &image, const ImageAttributes &attributes) {
+  const std::string path = file.destination().string();
   // The temporary file keeps the extension: the codec picks the format by it.
   imageCodec().write(path, file.tempPath(), image, attributes);
+  Image back;
+  try {
+    back = imageCodec().read(file.tempPath(), [](const Image &) {});
+  } catch (const std::exception &) {
+    throw std::runtime_error(path +
+                             ": cannot write the image (it does not read back whole: is the "
+                             "disk full?)");
+  }
+  const bool exact = file.destination().extension() == ".exr";
+  if (back.width != image.width || back.height != image.height || back.channels != image.channels ||
+      (exact && (back.pixels.size() != image.pixels.size() ||
+                 std::memcmp(back.pixels.data(), image.pixels.data(),
+                             image.pixels.size() * sizeof(float)) != 0)))
+    throw std::runtime_error(path + ": cannot write the image (it reads back differently)");
+}
+
+}  // namespace
+
+void writeImage(const std::string &path, const Image &image, const ImageAttributes &attributes) {
+  AtomicFile file(path);
+  writeChecked(file, image, attributes);
   file.commit();
+}
+
+void writeImagePair(const std::string &pathA, const Image &imageA, const std::string &pathB,
+                    const Image &imageB, const ImageAttributes &attributes) {
+  AtomicFile a(pathA), b(pathB);
+  writeChecked(a, imageA, attributes);
+  writeChecked(b, imageB, attributes);
+  a.commit();
+  b.commit();
 }
 
 ImageAttributes readImageAttributes(const std::string &path, const std::string &prefix) {

@@ -43,8 +43,13 @@ using ImageAttributes = std::vector<std::pair<std::string, std::string>>;
 
 // The format follows the extension (.exr, .png, .hdr, ...); 8-bit formats are
 // written with the values clamped to [0, 1] (no tone mapping here).
+// Atomic (atomic_file.h), and read back before it takes its name.
 void writeImage(const std::string &path, const Image &image,
                 const ImageAttributes &attributes = {});
+// Two images as one write (a render's EXR and its PNG): both are written
+// and read back before either takes its name, so a failure leaves neither.
+void writeImagePair(const std::string &pathA, const Image &imageA, const std::string &pathB,
+                    const Image &imageB, const ImageAttributes &attributes = {});
 
 // The string attributes of an image file whose names start with `prefix`, in
 // the file's order. Throws std::runtime_error naming the file.

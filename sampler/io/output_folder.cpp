@@ -39,6 +39,10 @@ std::string adoptHint(const fs::path &dir, const std::string &owner) {
 
 void claimOutputFolder(const fs::path &dir, const std::string &owner) {
   std::error_code ec;
+  if (fs::is_symlink(fs::symlink_status(dir, ec)) && !fs::exists(dir, ec))
+    throw std::invalid_argument(dir.string() + ": is a dangling symbolic link (to " +
+                                fs::read_symlink(dir, ec).string() +
+                                "); name a folder, or make the folder it names first");
   const auto status = fs::status(dir, ec);
   if (fs::exists(status)) {
     if (!fs::is_directory(status))

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "sampler/io/atomic_file.h"
+#include "sampler/io/content_hash.h"
 #include "sampler/io/input_file.h"
 #include "sampler/io/pointset_metadata.h"
 #include "sampler/io/round_trip.h"
@@ -17,7 +18,11 @@
 namespace nuld {
 namespace {
 
-constexpr char kMagic[8] = {'N', 'U', 'L', 'D', 'P', 'T', 'S', '1'};
+// Version 2 ends in a checksum of every byte before it; version 1 files
+// (written before 2026-12) have none and are still read.
+constexpr char kMagic[8] = {'N', 'U', 'L', 'D', 'P', 'T', 'S', '2'};
+constexpr char kMagicV1[8] = {'N', 'U', 'L', 'D', 'P', 'T', 'S', '1'};
+constexpr std::size_t kChecksumBytes = sizeof(std::uint64_t);
 
 bool endsWith(const std::string &s, const std::string &suffix) {
   return s.size() >= suffix.size() &&
@@ -114,7 +119,8 @@ void readRaw(std::istream &in, T &value, const std::string &path, const char *fi
   if (!in) fail(path, 0, std::string("truncated binary file while reading ") + field);
 }
 
-PointSet readBinary(const std::string &path, std::istream &in, std::uintmax_t fileSize) {
+PointSet readBinary(const std::string &path, std::istream &in, std::uintmax_t fileSize,
+                    bool checksummed) {
   in.seekg(sizeof(kMagic));
   std::uint32_t dim = 0, metaBytes = 0;
   std::uint64_t n = 0, instances = 0;
@@ -126,7 +132,8 @@ PointSet readBinary(const std::string &path, std::istream &in, std::uintmax_t fi
   if (n == 0 || instances == 0) fail(path, 0, "no points; expected N > 0 and instances > 0");
   const std::uintmax_t header = sizeof(kMagic) + 4 + 8 + 8 + 4;
   if (n > (std::uint64_t(1) << 40) / instances ||
-      fileSize != header + metaBytes + n * instances * 2 * sizeof(double))
+      fileSize != header + metaBytes + n * instances * 2 * sizeof(double) +
+                      (checksummed ? kChecksumBytes : 0))
     fail(path, 0,
          "file size does not match its header (N = " + std::to_string(n) +
              ", instances = " + std::to_string(instances) + ")");
@@ -143,6 +150,17 @@ PointSet readBinary(const std::string &path, std::istream &in, std::uintmax_t fi
   in.read(reinterpret_cast<char *>(set.points.data()),
           std::streamsize(n * instances * sizeof(Point2)));
   if (!in) fail(path, 0, "truncated binary file while reading points");
+  if (checksummed) {
+    // The hash of the bytes just read, header included: a flipped bit, an
+    // edited setting or a file cut and padded back is refused here.
+    std::uint64_t recorded = 0;
+    readRaw(in, recorded, path, "checksum");
+    in.seekg(0);
+    std::string bytes(fileSize - kChecksumBytes, '\0');
+    in.read(bytes.data(), std::streamsize(bytes.size()));
+    if (!in || ContentHash().add(bytes).value() != recorded)
+      fail(path, 0, "checksum mismatch: the file was changed or damaged after it was written");
+  }
   for (std::size_t i = 0; i < set.points.size(); ++i)
     if (const std::string why = pointProblem(set.points[i]); !why.empty())
       fail(path, 0, "point " + std::to_string(i) + ": " + why);
@@ -166,13 +184,14 @@ PointSet readPointSet(const std::string &path) {
   if (!in) fail(path, 0, "cannot open point-set file");
   char magic[sizeof(kMagic)] = {};
   in.read(magic, sizeof(magic));
-  const bool binary =
-      in.gcount() == sizeof(magic) && std::memcmp(magic, kMagic, sizeof(kMagic)) == 0;
+  const bool whole = in.gcount() == sizeof(magic);
+  const bool v2 = whole && std::memcmp(magic, kMagic, sizeof(kMagic)) == 0;
+  const bool v1 = whole && std::memcmp(magic, kMagicV1, sizeof(kMagicV1)) == 0;
   in.clear();
-  if (binary) {
+  if (v1 || v2) {
     in.seekg(0, std::ios::end);
     const auto size = static_cast<std::uintmax_t>(in.tellg());
-    return readBinary(path, in, size);
+    return readBinary(path, in, size, v2);
   }
   in.seekg(0);
   return readText(path, in);
@@ -213,6 +232,8 @@ void writePointSet(const std::string &path, const PointSet &set) {
     out.write(meta.data(), std::streamsize(meta.size()));
     out.write(reinterpret_cast<const char *>(set.points.data()),
               std::streamsize(set.points.size() * sizeof(Point2)));
+    const std::uint64_t checksum = ContentHash().add(out.view()).value();
+    out.write(reinterpret_cast<const char *>(&checksum), kChecksumBytes);
   } else {
     writePointSetText(out, set);
   }

@@ -7,8 +7,11 @@
 // have the same size.
 //
 // Binary (written for names ending in .ptsb; read by its magic number): the
-// 8-byte magic "NULDPTS1", uint32 dimension (2), uint64 N, uint64 instances,
-// uint32 metadata bytes, metadata as "key=value\n" lines, then the doubles.
+// 8-byte magic "NULDPTS2", uint32 dimension (2), uint64 N, uint64 instances,
+// uint32 metadata bytes, metadata as "key=value\n" lines, the doubles, then
+// the uint64 FNV-1a hash (content_hash.h) of every byte before it, which
+// every read verifies. "NULDPTS1" files, the same without the hash, are
+// still read.
 //
 // Reading errors name the file, the line (text) and what was expected.
 

@@ -60,6 +60,11 @@ inline constexpr std::string_view kServes = "serves";
 // (ModelFile::checksum) in hex.
 inline constexpr std::string_view kModel = "model";
 
+// The set cache's key an entry was made for (backends/set_cache.h): its
+// file's name ends in the same key, and an entry whose two disagree (a file
+// copied over another entry) is never served.
+inline constexpr std::string_view kCacheKey = "cache_key";
+
 }  // namespace meta
 
 // Sets (or replaces) `key`.

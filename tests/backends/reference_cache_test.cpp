@@ -5,6 +5,8 @@
 #include "backends/reference_cache.h"
 
 #include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -155,10 +157,69 @@ TEST(ReferenceCache, ClearRemovesOnlyTheReferencesFiles) {
   }();
   std::ofstream(other.dir / "notes.txt") << "mine";
   EXPECT_GT(cache.bytes(), 0u);
-  EXPECT_GT(cache.clear(), 0u);
+  EXPECT_GT(cache.clear().freed, 0u);
   EXPECT_FALSE(fs::exists(made.dir));
   EXPECT_TRUE(fs::exists(other.dir / "notes.txt"));
   EXPECT_FALSE(fs::exists(other.dir / "reference.exr"));
+}
+
+// A cached reference proves itself: its image swapped for another valid
+// image of its size, or one of its halves edited, is named by verify(),
+// never served, and rendered again to the clean image.
+TEST(ReferenceCache, DamagedReferencesAreRenderedAgain) {
+  TempDir tmp;
+  const ReferenceCache cache(tmp / "cache");
+  const LoadedScene scene = loadScene("default", resolveAssetRoot(""));
+  const ReferenceSettings s = smallReference();
+  const CachedReference made = cachedReference(scene.scene, "default", s, cache);
+  ReferenceSettings otherSeed = s;
+  otherSeed.seed += 7;
+  const CachedReference other = cachedReference(scene.scene, "default", otherSeed, cache);
+  EXPECT_TRUE(cache.verify().empty());
+  for (const char *name : {"reference.exr", "reference.half1.exr"}) {
+    fs::copy_file(other.dir / name, made.dir / name, fs::copy_options::overwrite_existing);
+    const std::vector<std::string> problems = cache.verify();
+    ASSERT_EQ(problems.size(), 1u) << name;
+    EXPECT_NE(problems[0].find(name), std::string::npos) << problems[0];
+    const CachedReference again = cachedReference(scene.scene, "default", s, cache);
+    EXPECT_FALSE(again.found) << name << ": a damaged reference was served";
+    EXPECT_EQ(again.result.image.pixels, made.result.image.pixels) << name;
+    EXPECT_EQ(again.result.noise.variance, made.result.noise.variance) << name;
+    EXPECT_TRUE(cache.verify().empty()) << name;
+  }
+}
+
+// clear() skips an entry another process holds and names it, and removes
+// the rest; the held entry is whole after.
+TEST(ReferenceCache, ClearSkipsAnEntryAnotherProcessHolds) {
+  TempDir tmp;
+  const ReferenceCache cache(tmp / "cache");
+  const LoadedScene scene = loadScene("default", resolveAssetRoot(""));
+  const CachedReference held = cachedReference(scene.scene, "default", smallReference(), cache);
+  ReferenceSettings s = smallReference();
+  s.render.width = 8;
+  const CachedReference free = cachedReference(scene.scene, "default", s, cache);
+  int ready[2];
+  ASSERT_EQ(::pipe(ready), 0);
+  const pid_t holder = fork();
+  ASSERT_GE(holder, 0);
+  if (holder == 0) {
+    const ReferenceLock lock(held.dir);
+    [[maybe_unused]] const ssize_t n = ::write(ready[1], "x", 1);
+    ::pause();
+    ::_exit(0);
+  }
+  char c;
+  ASSERT_EQ(::read(ready[0], &c, 1), 1);
+  const CacheRemoval removed = cache.clear();
+  ::kill(holder, SIGKILL);
+  ::waitpid(holder, nullptr, 0);
+  ASSERT_EQ(removed.skipped.size(), 1u);
+  EXPECT_NE(removed.skipped[0].find(held.dir.string()), std::string::npos) << removed.skipped[0];
+  EXPECT_TRUE(removed.failed.empty());
+  EXPECT_TRUE(fs::exists(held.dir / "reference.exr"));
+  EXPECT_FALSE(fs::exists(free.dir));
+  EXPECT_TRUE(cache.verify().empty());
 }
 
 TEST(ReferenceCache, AnUnwritableCacheIsNamed) {

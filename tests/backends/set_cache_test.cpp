@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <set>
 #include <sstream>
 #include <thread>
@@ -104,9 +105,62 @@ TEST(SetCache, ListsSizesAndClears) {
   EXPECT_EQ(list[0].instances, 3u);
   EXPECT_EQ(list[0].target, "gaussian:0.5,0.5,0.2");
   EXPECT_EQ(cache.bytes(), 3 * fs::file_size(e));
-  EXPECT_EQ(cache.clear(), 3 * fs::file_size(e) / 1);
+  std::ofstream(cache.setsDir() / "notes.txt") << "mine";
+  const std::uintmax_t ours = cache.bytes() - fs::file_size(cache.setsDir() / "notes.txt");
+  EXPECT_EQ(ours, 3 * fs::file_size(e));
+  const CacheRemoval removed = cache.clear();
+  EXPECT_EQ(removed.freed, ours);
+  EXPECT_EQ(removed.removed, 3u);
+  EXPECT_TRUE(removed.failed.empty());
   EXPECT_TRUE(cache.list().empty());
-  EXPECT_EQ(cache.bytes(), 0u);
+  EXPECT_TRUE(fs::exists(cache.setsDir() / "notes.txt")) << "clear removed a file it did not write";
+}
+
+// An entry proves itself on every use: one swapped for another entry's file
+// (a whole, valid set file), one bit-flipped and one cut short are never
+// served; each is moved aside, named by verify() first, and made again to
+// the sets a clean cache makes.
+TEST(SetCache, DamagedEntriesAreNeverServed) {
+  TempDir dir;
+  const SetCache cache(dir / "cache"), clean(dir / "clean");
+  const auto t = makeTarget("gaussian:0.5,0.5,0.2"), other = makeTarget("gaussian:0.3,0.6,0.2");
+  OptimizedSetsRequest r;
+  r.n = 4, r.instances = 2, r.epochs = 5;
+  const fs::path e = cache.entry(*t, optimizerSettings(*t, r)),
+                 o = cache.entry(*other, optimizerSettings(*other, r));
+  optimizedSets(*other, r, o);
+  const PointSet want =
+      readPointSet(optimizedSets(*t, r, clean.entry(*t, optimizerSettings(*t, r))).file.string());
+  const auto damage = [&](const std::string &how) {
+    optimizedSets(*t, r, e);
+    if (how == "swapped") fs::copy_file(o, e, fs::copy_options::overwrite_existing);
+    if (how == "cut") fs::resize_file(e, fs::file_size(e) - 8);
+    if (how == "flipped") {
+      std::fstream f(e, std::ios::in | std::ios::out | std::ios::binary);
+      f.seekp(-20, std::ios::end);
+      f.put(char(0x10));
+    }
+  };
+  for (const std::string how : {"swapped", "cut", "flipped"}) {
+    damage(how);
+    const std::vector<std::string> problems = cache.verify();
+    ASSERT_EQ(problems.size(), 1u) << how;
+    EXPECT_NE(problems[0].find(e.filename().string()), std::string::npos) << problems[0];
+    EXPECT_FALSE(verifiedEntry(e)) << how;
+    EXPECT_TRUE(fs::exists(e.string() + ".corrupt")) << how;
+    const OptimizedSets made = optimizedSets(*t, r, e);
+    EXPECT_FALSE(made.cached) << how << ": a damaged entry was served";
+    EXPECT_EQ(readPointSet(e.string()).points, want.points) << how;
+    EXPECT_TRUE(cache.verify().empty()) << how;
+    fs::remove(e);
+  }
+  // remove(KEY) takes one entry and its quarantined file, nothing else.
+  optimizedSets(*t, r, e);
+  const std::string key = e.stem().string().substr(e.stem().string().rfind('_') + 1);
+  const CacheRemoval removed = cache.remove(key);
+  EXPECT_EQ(removed.removed, 2u);
+  EXPECT_FALSE(fs::exists(e));
+  EXPECT_TRUE(fs::exists(o));
 }
 
 // nuld cache list and nuld bank print one listing: the whole target (two

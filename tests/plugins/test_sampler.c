@@ -2,12 +2,17 @@
  * (tests/backends/plugin_backend_test.cpp, tests/tools/plugin_test.sh).
  * ARGS: "" independent points; "nan", "one", "negative": that value at
  * sample 1 of pair 1 of every pixel; "fail": fill returns 7; "refuse":
- * create refuses; "camera": serves pair 0 only. Built also without its entry
+ * create refuses; "camera": serves pair 0 only; "half": fill writes only
+ * the first half of its points and returns 0; "impure": every call's points
+ * differ (a shared counter, as a thread-unsafe sampler's state would);
+ * "crash": fill dereferences NULL for pair 1; "stall": the first fill of
+ * pair 1 sleeps 3 s. Built also without its entry
  * (NULD_TEST_NO_ENTRY) and for another version (NULD_TEST_VERSION). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "plugins/nuld_sampler.h"
 
@@ -39,8 +44,20 @@ static int fill(const void *p, uint32_t x, uint32_t y, uint32_t pair, uint32_t f
                 uint32_t count, double *xy) {
   const state *s = p;
   if (strcmp(s->mode, "fail") == 0) return 7;
-  const uint64_t set = mix(mix(s->seed + (uint64_t)y * s->width + x) + pair);
-  for (uint32_t i = 0; i < count; ++i) {
+  if (strcmp(s->mode, "crash") == 0 && pair == 1) {
+    volatile double *nowhere = NULL;
+    *nowhere = 1;
+  }
+  static int stalled = 0;
+  if (strcmp(s->mode, "stall") == 0 && pair == 1 &&
+      !__atomic_exchange_n(&stalled, 1, __ATOMIC_SEQ_CST))
+    sleep(3);
+  static uint64_t calls = 0;
+  const uint64_t salt =
+      strcmp(s->mode, "impure") == 0 ? __atomic_fetch_add(&calls, 1, __ATOMIC_RELAXED) : 0;
+  const uint64_t set = mix(mix(s->seed + (uint64_t)y * s->width + x) + pair + salt);
+  const uint32_t written = strcmp(s->mode, "half") == 0 && count > 1 ? count / 2 : count;
+  for (uint32_t i = 0; i < written; ++i) {
     const uint64_t h = mix(set + first + i);
     xy[2 * i] = (double)(h >> 11) * 0x1.0p-53, xy[2 * i + 1] = (double)(mix(h) >> 11) * 0x1.0p-53;
   }

@@ -157,6 +157,40 @@ TEST(PointSetIo, MalformedFilesNameFileLineAndProblem) {
   EXPECT_NE(errorOf(d / "t.ptsb").find("does not match"), std::string::npos);
 }
 
+// Every byte of a binary file is under its checksum: one flipped bit of a
+// coordinate's exponent (a point still in the square) and a same-length
+// edit of a setting are refused by name; the untouched file reads back.
+TEST(PointSetIo, BinaryChecksumRefusesFlippedBitsAndEdits) {
+  const test::TempDir dir;
+  PointSet set = generatePointSet({SequenceKind::Sobol, Scramble::Owen, 3}, 16, 2);
+  setMeta(set, "seed", "1");
+  const fs::path file = dir / "s.ptsb";
+  writePointSet(file.string(), set);
+  EXPECT_EQ(readPointSet(file.string()).points, set.points);
+  const auto bytesOf = [&] {
+    std::ifstream in(file, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  const std::string clean = bytesOf();
+  const auto writeBytes = [&](const std::string &bytes) {
+    std::ofstream(file, std::ios::binary | std::ios::trunc) << bytes;
+  };
+  // The lowest exponent bit of the last point's y (bit 52 of the double
+  // before the checksum): the value halves or doubles.
+  std::string flipped = clean;
+  flipped[clean.size() - 8 - 8 + 6] ^= char(0x10);
+  writeBytes(flipped);
+  EXPECT_NE(errorOf(file).find("s.ptsb: checksum mismatch"), std::string::npos) << errorOf(file);
+  std::string edited = clean;
+  const auto at = edited.find("seed=1");
+  ASSERT_NE(at, std::string::npos);
+  edited[at + 5] = '2';
+  writeBytes(edited);
+  EXPECT_NE(errorOf(file).find("checksum mismatch"), std::string::npos) << errorOf(file);
+  writeBytes(clean);
+  EXPECT_EQ(readPointSet(file.string()).metadata.at("seed"), "1");
+}
+
 TEST(PointSetIo, WriteIsAtomicAndLeavesNoTemporaries) {
   const test::TempDir dir;
   const fs::path d = dir / "atomic";
@@ -197,6 +231,19 @@ TEST(AtomicFile, RefusesToReplaceWhatIsNotARegularFile) {
   std::string text;
   in >> text;
   EXPECT_EQ(text, "new");
+}
+
+// A dangling link is refused by name, as GNU cp refuses to write through
+// one, and stays a link: the rename would have replaced it by a file.
+TEST(AtomicFile, RefusesToWriteThroughADanglingLink) {
+  const test::TempDir dir;
+  const auto link = dir / "out.exr";
+  std::filesystem::create_symlink(dir / "gone" / "out.exr", link);
+  const std::string message =
+      test::errorMessage<std::runtime_error>([&] { writeFileAtomically(link, "x"); });
+  EXPECT_NE(message.find("out.exr: is a dangling symbolic link"), std::string::npos) << message;
+  EXPECT_TRUE(std::filesystem::is_symlink(link));
+  EXPECT_FALSE(std::filesystem::exists(dir / "gone"));
 }
 
 // A file made read-only is kept, also through a link and for root (whose

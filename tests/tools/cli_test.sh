@@ -438,6 +438,15 @@ fails_with "a render over a read-only file" "ro.exr: is read-only; refusing to r
   "$nuld" render default --spp 1 --res 8 -q -o "$dir/ro.exr"
 cmp -s "$dir/ro.exr" "$dir/ro.orig" || { echo "FAIL: a read-only output was replaced"; failures=$((failures + 1)); }
 exits_with 2 "an output named .EXR" "$nuld" render default --spp 1 --res 8 -q -o "$dir/out.EXR"
+# A dangling link is neither written through nor replaced (GNU cp's rule).
+ln -s "$dir/nowhere/x.exr" "$dir/dangling.exr"
+fails_with "a render through a dangling link" "dangling.exr: is a dangling symbolic link" \
+  "$nuld" render default --spp 1 --res 8 -q -o "$dir/dangling.exr"
+[[ -L "$dir/dangling.exr" && ! -e "$dir/nowhere" ]] || { echo "FAIL: a dangling link was replaced"; failures=$((failures + 1)); }
+ln -s "$dir/nowhere/study" "$dir/dangling-study"
+fails_with "a study into a dangling link" "dangling-study: is a dangling symbolic link" \
+  "$nuld" study render default --res 8x6 --spp 4 --reference-spp 8 --backends sobol -q -o "$dir/dangling-study"
+
 # Messages that tell the truth: a backend whose sets the integrator never
 # draws is refused before rendering, saying so; one repeat decides nothing.
 fails_with "optimized under the bsdf integrator" "the bsdf integrator samples BSDFs only" \

@@ -50,7 +50,9 @@ def load(path):  # the binary point-set layout of sampler/io/pointset_io.cpp
     data = path.read_bytes()
     dim, n, instances, meta_bytes = struct.unpack_from("<IQQI", data, 8)
     meta = [l for l in data[32:32 + meta_bytes].split(b"\n") if not l.startswith(b"optimize_seconds=")]
-    return dim, n, instances, meta, data[32 + meta_bytes:]
+    # NULDPTS2 ends in a checksum of the bytes before it, optimize_seconds included.
+    end = len(data) - 8 if data[:8] == b"NULDPTS2" else len(data)
+    return dim, n, instances, meta, data[32 + meta_bytes:end]
 a, b = (pathlib.Path(p) for p in sys.argv[1:3])
 files = sorted(a.rglob("*.ptsb"))
 bad = [str(f.relative_to(a)) for f in files if load(f) != load(b / f.relative_to(a))]

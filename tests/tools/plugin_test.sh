@@ -66,7 +66,21 @@ refused "another version" "version 99, expected 1" "$nuld" render default --back
 refused "no such file" "$dir/none.so: no such file" "$nuld" render default --backend "plugin:$dir/none.so" --res 32 -q -o "$dir/x.exr"
 refused "not a library" "the sampler plugin $source/README.md" "$nuld" render default --backend "plugin:$source/README.md" --res 32 -q -o "$dir/x.exr"
 refused "the example's own refusal of arguments" "takes no arguments (got 'x=1')" "$nuld" render default --backend "plugin:$mine:x=1" --res 32 -q -o "$dir/x.exr"
+refused "half its points written" "fill returned 0 but left sample" "$nuld" render default --backend "plugin:$bad:half" --res 32 -q -o "$dir/x.exr"
+refused "an impure fill" "expected a pure function" "$nuld" render default --backend "plugin:$bad:impure" --res 32 -q -o "$dir/x.exr"
 [[ ! -e "$dir/x.exr" ]] || fail "a refused plugin leaves no image"
+# A crash cannot be recovered from, but it is named: the process ends by the
+# signal (status 139) after a note naming the plugin.
+"$nuld" render default --backend "plugin:$bad:crash" --res 32 -q -o "$dir/x.exr" >"$dir/out" 2>"$dir/err"
+rc=$?
+[[ $rc -eq 139 ]] && grep -qF "the sampler plugin $bad crashed" "$dir/err" ||
+  { fail "a crashing plugin: exit $rc, expected 139 and a note naming it:"; cat "$dir/err"; }
+[[ ! -e "$dir/x.exr" ]] || fail "a crashed render leaves no image"
+# A fill that does not return is noted naming the plugin (here after 1 s).
+NULD_PLUGIN_STALL_SECONDS=1 "$nuld" render default --backend "plugin:$bad:stall" --res 8 --spp 1 --threads 1 -q -o "$dir/s.exr" >"$dir/out" 2>"$dir/err" ||
+  fail "a stalling plugin's render: exit $?"
+grep -qF "the sampler plugin $bad has not returned from fill for 1 s" "$dir/err" ||
+  { fail "a stalling plugin is noted by name:"; cat "$dir/err"; }
 
 if [[ $failures -gt 0 ]]; then echo "$failures plugin check(s) failed"; exit 1; fi
 echo "plugin checks passed"

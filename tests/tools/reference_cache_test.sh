@@ -68,6 +68,46 @@ run clear "$nuld" cache clear
 [[ -e "$entry/notes.txt" && ! -e "$entry/reference.exr" ]] || fail "cache clear removed the wrong files"
 [[ -s "$dir/study/default/reference.exr" ]] || fail "cache clear took the study's reference"
 
+# A damaged reference is named by cache verify, never served, and rendered
+# again to the clean image; cache remove takes one entry by key.
+small=(render default --reference --spp 8 --res 12 --reference-pass-spp 4 --integrator direct -q)
+run clean "$nuld" "${small[@]}" -o "$dir/clean.exr"
+other=(render default --reference --spp 8 --res 12 --reference-pass-spp 4 --integrator direct --seed 9 -q)
+run other "$nuld" "${other[@]}" -o "$dir/other.exr"
+entry=$(sed -n 's/^nuld: the reference is now in the cache: //p' "$dir/clean.err")
+cp "$dir/other.exr" "$entry/reference.exr"
+"$nuld" cache verify >"$dir/verify.out" 2>&1 && fail "cache verify passed a swapped reference"
+grep -q "damaged $entry/reference.exr" "$dir/verify.out" || fail "cache verify names the swapped image: $(cat "$dir/verify.out")"
+run again "$nuld" "${small[@]}" -o "$dir/again.exr"
+grep -q "is damaged" "$dir/again.err" || fail "the damaged reference is noted: $(cat "$dir/again.err")"
+idiff -q -fail 0 -warn 0 "$dir/clean.exr" "$dir/again.exr" >/dev/null 2>&1 || fail "the reference made again differs from the clean one"
+run verified "$nuld" cache verify
+run remove "$nuld" cache remove "${entry##*_}"
+[[ ! -e "$entry" ]] || fail "cache remove KEY left $entry"
+"$nuld" cache remove 0123456789abcdef >/dev/null 2>"$dir/err"
+[[ $? -eq 1 ]] && grep -q "no entry of key" "$dir/err" || fail "cache remove of no entry: $(cat "$dir/err")"
+"$nuld" cache remove nothex >/dev/null 2>"$dir/err"
+[[ $? -eq 2 ]] && grep -q "16 hex digits" "$dir/err" || fail "cache remove of a bad key: $(cat "$dir/err")"
+
+# cache clear while another process makes a reference: the entry is
+# skipped and named, and the other process finishes it.
+long=(render default --reference --spp 64 --res 64 --reference-pass-spp 4 --integrator path -q)
+"$nuld" "${long[@]}" -o "$dir/long.exr" >"$dir/long.out" 2>"$dir/long.err" &
+maker=$!
+for _ in $(seq 100); do
+  "$nuld" cache list 2>/dev/null | grep -q "making it" && break
+  sleep 0.1
+done
+run busy "$nuld" cache clear
+grep -q "^skipped .*process $maker is making or reading it" "$dir/busy.out" ||
+  fail "cache clear names the entry it skipped: $(cat "$dir/busy.out")"
+wait $maker || { fail "the reference being made when the cache was cleared: exit $?"; cat "$dir/long.err"; }
+[[ -s "$dir/long.exr" ]] || fail "the reference being made when the cache was cleared wrote nothing"
+
+# A cache that is a regular file is an error, not an empty cache.
+NULD_CACHE="$dir/file" "$nuld" cache clear >/dev/null 2>"$dir/err"
+[[ $? -eq 1 ]] && grep -q "not a folder" "$dir/err" || fail "cache clear of a file: $(cat "$dir/err")"
+
 # Repeats until the target: every row says how it stopped.
 run adaptive "$nuld" study render default --res 24 --integrator direct --reference-spp 32 \
   --backends sobol,independent --spp 4 --repeats 2 --target-stderr 0.05 --max-repeats 8 --no-report -o "$dir/adaptive"

@@ -5,9 +5,12 @@
 #include <chrono>
 #include <filesystem>
 #include <iostream>
+#include <memory>
+#include <stdexcept>
 
 #include "backends/reference_cache.h"
 #include "backends/set_cache.h"
+#include "tools/nuld/cli_util.h"
 #include "tools/nuld/commands.h"
 
 namespace nuld::cli {
@@ -27,24 +30,80 @@ Runner addCache(CLI::App &app) {
       "weight, key, target), then any checkpoints with their size and age, then the references "
       "(scene, resolution, integrator, spp, backend, complete or the passes done, render "
       "seconds, size, age, key)");
-  CLI::App *clear =
-      app.add_subcommand("clear", "Remove every cached set, checkpoint and reference");
+  CLI::App *clear = app.add_subcommand(
+      "clear",
+      "Remove every cached set, checkpoint and reference (a reference another process is "
+      "making or reading is skipped and named); exits 1 when a file could not be removed");
+  CLI::App *remove = app.add_subcommand(
+      "remove",
+      "Remove the entries of one key (a set or a reference; the KEY column of nuld "
+      "cache list) or the references of one scene");
+  auto key = std::make_shared<std::string>(), scene = std::make_shared<std::string>();
+  remove->add_option("key", *key, "an entry's key: 16 hex digits, as nuld cache list shows it");
+  remove->add_option("--scene", *scene, "the references of this scene (the list's scene column)");
+  CLI::App *verify = app.add_subcommand(
+      "verify",
+      "Check every entry as a use checks it (sets: checksum and recorded key; references: "
+      "each image's decoding, description and pixel hash) and name each that would not be "
+      "served; exits 1 when one fails");
   CLI::App *path = app.add_subcommand("path", "Print the cache's directory");
-  return [list, clear, path] {
+  return [list, clear, remove, verify, path, key, scene] {
     const SetCache cache = SetCache::fromEnvironment();
     const ReferenceCache references = ReferenceCache::fromEnvironment();
     if (path->parsed()) {
       std::cout << cache.root().string() << "\n";
       return 0;
     }
-    if (clear->parsed()) {
-      const std::uintmax_t freed = cache.clear();
-      std::cout << "cleared " << cache.setsDir().string() << ": " << humanBytes(freed)
-                << " freed\n";
-      const std::uintmax_t referencesFreed = references.clear();
-      std::cout << "cleared " << references.referencesDir().string() << ": "
-                << humanBytes(referencesFreed) << " freed\n";
-      return 0;
+    // A cache that is not a folder is a mistake to say, not an empty cache.
+    for (const std::filesystem::path &dir : {cache.root(), references.referencesDir()})
+      if (std::error_code ec;
+          std::filesystem::exists(dir, ec) && !std::filesystem::is_directory(dir, ec))
+        throw std::invalid_argument(
+            dir.string() +
+            ": the cache (NULD_CACHE, NULD_REFERENCE_CACHE) names something "
+            "that is not a folder; expected a folder");
+    if (clear->parsed() || remove->parsed()) {
+      if (remove->parsed()) {
+        if (key->empty() == scene->empty())
+          throw UsageError("cache remove: name a KEY or --scene NAME (one of them)");
+        if (!key->empty() &&
+            (key->size() != 16 || key->find_first_not_of("0123456789abcdef") != std::string::npos))
+          throw UsageError("cache remove: '" + *key +
+                           "' is not a key; expected 16 hex digits (nuld cache list)");
+      }
+      CacheRemoval sets = clear->parsed() ? cache.clear()
+                          : key->empty()  ? CacheRemoval{}
+                                          : cache.remove(*key);
+      const CacheRemoval refs =
+          clear->parsed() ? references.clear() : references.remove(*key, *scene);
+      std::cout << (clear->parsed() ? "cleared " : "removed from ") << cache.setsDir().string()
+                << ": " << sets.removed << " files, " << humanBytes(sets.freed) << " freed\n";
+      std::cout << (clear->parsed() ? "cleared " : "removed from ")
+                << references.referencesDir().string() << ": " << refs.removed << " files, "
+                << humanBytes(refs.freed) << " freed\n";
+      sets += refs;
+      for (const std::string &s : sets.skipped) std::cout << "skipped " << s << "\n";
+      for (const std::string &f : sets.failed) std::cerr << "nuld: cannot remove " << f << "\n";
+      if (remove->parsed() && sets.removed == 0 && sets.skipped.empty() && sets.failed.empty())
+        throw std::invalid_argument(
+            "cache remove: no entry " +
+            (key->empty() ? "of scene '" + *scene + "'" : "of key " + *key) +
+            " (nuld cache list shows them)");
+      return sets.failed.empty() ? 0 : 1;
+    }
+    if (verify->parsed()) {
+      std::vector<std::string> problems = cache.verify();
+      for (const std::string &p : references.verify()) problems.push_back(p);
+      const std::size_t entries = cache.list().size() + references.list().size();
+      for (const std::string &p : problems) std::cout << "damaged " << p << "\n";
+      std::cout << entries - std::min(entries, problems.size()) << " of " << entries
+                << " entries verified"
+                << (problems.empty() ? ""
+                                     : "; a damaged one is never served: the next use "
+                                       "moves it aside and makes it again (or nuld cache "
+                                       "remove KEY)")
+                << "\n";
+      return problems.empty() ? 0 : 1;
     }
     (void)list;
     const auto entries = cache.list();
@@ -61,10 +120,14 @@ Runner addCache(CLI::App &app) {
                 << " of sets being made or left by an interrupted run (the same command "
                    "continues one; nuld cache clear removes them):\n";
       const auto now = std::filesystem::file_time_type::clock::now();
-      for (const auto &c : checkpoints)
+      for (const auto &c : checkpoints) {
+        // Beside a complete entry a checkpoint is stale: nothing continues it.
+        const bool stale = std::filesystem::exists(std::filesystem::path(c.file).replace_extension());
         std::cout << "  " << humanBytes(c.bytes) << "  "
                   << humanAge(std::chrono::duration_cast<std::chrono::seconds>(now - c.modified))
-                  << "  " << c.file.filename().string() << "\n";
+                  << "  " << c.file.filename().string()
+                  << (stale ? "  (stale: its entry is complete)" : "") << "\n";
+      }
     }
     const auto refs = references.list();
     std::cout << "\n";

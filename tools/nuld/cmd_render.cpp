@@ -80,6 +80,12 @@ std::string fallbackNote(const std::string &backend,
 int renderCachedReference(const LoadedScene &loaded, const ReferenceSettings &settings,
                           std::size_t stopAfter, const std::string &output, bool quiet) {
   const ReferenceCache cache = ReferenceCache::fromEnvironment();
+  // Ctrl-C or SIGTERM ends the reference with the note every long command
+  // prints (also when started with SIGINT ignored, as a script's `&` does).
+  const InterruptNote interruptNote(cache.referencesDir().string(),
+                                    "the passes rendered so far are kept in the reference cache, " +
+                                        cache.referencesDir().string() +
+                                        ": run the same command again to continue them");
   ProgressBar bar("reference", 1000, 0, quiet);
   const CachedReference ref = cachedReference(
       loaded.scene, slug(loaded.name), settings, cache,
@@ -100,12 +106,8 @@ int renderCachedReference(const LoadedScene &loaded, const ReferenceSettings &se
        {std::pair{ref.dir / "reference.half0.exr", stem.string() + ".half0.exr"},
         std::pair{ref.dir / "reference.half1.exr", stem.string() + ".half1.exr"},
         std::pair{ref.dir / "reference.png", stem.string() + ".png"},
-        std::pair{ref.dir / "reference.exr", out.string()}}) {
-    AtomicFile file(to);
-    std::filesystem::copy_file(from, file.tempPath(),
-                               std::filesystem::copy_options::overwrite_existing);
-    file.commit();
-  }
+        std::pair{ref.dir / "reference.exr", out.string()}})
+    copyFileAtomically(from, to);
   std::cerr << "nuld: "
             << (ref.found ? "the reference was found in the cache: "
                           : "the reference is now in the cache: ")

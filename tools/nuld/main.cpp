@@ -156,7 +156,8 @@ int main(int argc, char **argv) {
       nuld::cli::addStudy);
   add("bank", "Make (or find in the set cache) a scene's learned sets and list them by pair",
       nuld::cli::addBank);
-  add("cache", "The shared cache of optimized sets: list, clear, path", nuld::cli::addCache);
+  add("cache", "The shared caches of sets and references: list, verify, remove, clear, path",
+      nuld::cli::addCache);
   // --threads on every command that does work (the leaves of the command
   // tree): the cores TBB may use, for sharing a machine or timing.
   int threads = 0;

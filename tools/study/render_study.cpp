@@ -88,10 +88,7 @@ void placeReference(const CachedReference &ref, const fs::path &dir) {
     const fs::path from = ref.dir / name, to = dir / name;
     std::error_code ec;
     if (!fs::exists(from) || fs::equivalent(from, to, ec)) continue;
-    AtomicFile file(to);
-    fs::create_hard_link(from, file.tempPath(), ec);
-    if (ec) fs::copy_file(from, file.tempPath(), fs::copy_options::overwrite_existing);
-    file.commit();
+    copyFileAtomically(from, to, true);
   }
 }
 
