@@ -26,6 +26,9 @@ except ImportError as e:  # the caller turns this into a warning
     sys.exit(f"plot_integrate.py: matplotlib is missing ({e}); "
              "install python3-matplotlib and run /usr/bin/python3")
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from atomic_output import save_figure  # noqa: E402
+
 # A fixed colour and marker per sampler, so a sampler looks the same everywhere.
 STYLES = {
     "independent": ("#7f7f7f", "o"), "sobol": ("#1f77b4", "s"), "halton": ("#2ca02c", "^"),
@@ -131,7 +134,7 @@ def draw_plots(root, rows):
         a.legend(fontsize=7, ncol=2)
         fig.tight_layout()
         name = os.path.join(plots, f"integrate_{safe_name(integrand)}.png")
-        fig.savefig(name, dpi=110)
+        save_figure(fig, name, dpi=110)
         plt.close(fig)
         written.append(name)
         by_name[integrand] = os.path.relpath(name, root)
@@ -146,7 +149,7 @@ def draw_plots(root, rows):
     axes.flat[0].legend(fontsize=6, ncol=2)
     fig.tight_layout()
     name = os.path.join(plots, "integrate_all.png")
-    fig.savefig(name, dpi=100)
+    save_figure(fig, name, dpi=100)
     plt.close(fig)
     written.append(name)
     return by_name, written

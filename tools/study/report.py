@@ -25,6 +25,7 @@ import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import plot_integrate  # noqa: E402  (the integrate study's plots, drawn once)
+from atomic_output import save_figure, write_text  # noqa: E402
 
 CROP_SCALE_PX = 192  # a zoomed crop is drawn this wide
 TOO_NOISY_FACTOR = 10  # baselines.h, kTooNoisyFactor: render.csv's reference_too_noisy
@@ -141,7 +142,7 @@ def render_plots(scene, rows, plots_dir):
     fig.suptitle(f"{scene}: error against a reference")
     fig.tight_layout()
     name = f"render_{scene}.png"
-    fig.savefig(os.path.join(plots_dir, name), dpi=110)
+    save_figure(fig, os.path.join(plots_dir, name), dpi=110)
     plt.close(fig)
     return "plots/" + name
 
@@ -188,7 +189,7 @@ def error_scale(plots_dir):
     bar = fig.colorbar(plt.cm.ScalarMappable(norm=LogNorm(1e-4, 1), cmap=cmap), cax=ax)
     bar.set_label("relative squared error")
     fig.subplots_adjust(left=0.05, right=0.35, top=0.95, bottom=0.05)
-    fig.savefig(os.path.join(plots_dir, name), dpi=110)
+    save_figure(fig, os.path.join(plots_dir, name), dpi=110)
     plt.close(fig)
     return "plots/" + name
 
@@ -238,7 +239,7 @@ def spectrum_plots(root, scene, rows, plots_dir):
     fig.suptitle(f"{scene}: radially averaged power spectrum of the error")
     fig.tight_layout()
     name = f"spectrum_{scene}.png"
-    fig.savefig(os.path.join(plots_dir, name), dpi=110)
+    save_figure(fig, os.path.join(plots_dir, name), dpi=110)
     plt.close(fig)
     return "plots/" + name
 
@@ -488,10 +489,7 @@ def main():
             f"<title>nuld study</title><style>{STYLE}</style></head><body><h1>nuld study</h1>"
             f"<p class='note'>Generated {datetime.datetime.now():%Y-%m-%d %H:%M}. {toc}"
             f"<br>Data: {data}</p>" + "\n".join(body) + "</body></html>\n")
-    tmp = os.path.join(root, ".index.html.tmp")
-    with open(tmp, "w") as f:
-        f.write(page)
-    os.replace(tmp, os.path.join(root, "index.html"))
+    write_text(os.path.join(root, "index.html"), page)
     print(f"report: {os.path.join(root, 'index.html')}")
 
 
