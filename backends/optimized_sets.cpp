@@ -66,8 +66,8 @@ OptimizedSets optimizedSets(const Target &target, const OptimizedSetsRequest &re
                             const fs::path &path,
                             const std::function<void(int, int, double)> &progress) {
   const OptimizerSettings settings = optimizerSettings(target, request);
-  if (verifiedEntry(path)) {
-    const PointSet cached = readPointSet(path.string());
+  if (const std::optional<PointSet> found = readVerifiedEntry(path)) {
+    const PointSet &cached = *found;
     const std::string cachedSettings = metaOr(cached, meta::kSettings, ""),
                       cachedTarget = metaOr(cached, meta::kTarget, "");
     if (cachedSettings != settings.describe() ||

@@ -155,9 +155,10 @@ fs::path SetCache::modelEntry(std::uint64_t modelChecksum, const Target &table,
 std::optional<LobeBank> SetCacheLobeBankStore::load(std::uint64_t model, const Target &table,
                                                     std::size_t n) const {
   const fs::path file = SetCache::fromEnvironment().modelEntry(model, table, n);
-  if (!verifiedEntry(file)) return std::nullopt;
+  std::optional<PointSet> sets = readVerifiedEntry(file);
+  if (!sets) return std::nullopt;
   try {
-    LobeBank bank{readPointSet(file.string()), false};
+    LobeBank bank{std::move(*sets), false};
     const std::string serves = metaOr(bank.sets, meta::kServes, "");
     if (bank.sets.n != n || (serves != "yes" && serves != "no")) return std::nullopt;
     bank.serves = serves == "yes";
@@ -388,9 +389,12 @@ std::vector<std::string> SetCache::verify() const {
   return out;
 }
 
-std::string entryProblem(const fs::path &file) {
+namespace {
+
+// entryProblem, with the sets read into `set` when there is none.
+std::string problemOf(const fs::path &file, PointSet &set) {
   try {
-    const PointSet set = readPointSet(file.string());
+    set = readPointSet(file.string());
     const std::string recorded = metaOr(set, meta::kCacheKey, ""), key = keyOf(file);
     if (recorded != key)
       return recorded.empty() ? "it records no cache key (written by an older nuld, or not by nuld)"
@@ -404,25 +408,32 @@ std::string entryProblem(const fs::path &file) {
   }
 }
 
-bool verifiedEntry(const fs::path &file) {
+}  // namespace
+
+std::string entryProblem(const fs::path &file) {
+  PointSet set;
+  return problemOf(file, set);
+}
+
+std::optional<PointSet> readVerifiedEntry(const fs::path &file) {
   std::error_code ec;
-  if (!fs::exists(file, ec)) return false;
-  const std::string why = entryProblem(file);
-  if (why.empty()) return true;
+  if (!fs::exists(file, ec)) return std::nullopt;
+  PointSet set;
+  const std::string why = problemOf(file, set);
+  if (why.empty()) return set;
   fs::path aside = file;
   aside += ".corrupt";
   fs::rename(file, aside, ec);
-  std::cerr << "\nnuld: note: the set cache entry " << file.string() << " is not served (" << why
-            << "); "
-            << (ec ? "it could not be moved aside (" + ec.message() + ")"
-                   : "moved to " + aside.filename().string())
-            << ", and made again\n";
   if (ec)
-    throw std::runtime_error(file.string() +
-                             ": a damaged cache entry that cannot be moved aside (" + ec.message() +
+    throw std::runtime_error(file.string() + ": a damaged set cache entry (" + why +
+                             ") that cannot be moved aside (" + ec.message() +
                              "); remove it with nuld cache remove " + keyOf(file));
-  return false;
+  std::cerr << "\nnuld: note: the set cache entry " << file.string() << " is not served (" << why
+            << "); moved to " << aside.filename().string() << ", and made again\n";
+  return std::nullopt;
 }
+
+bool verifiedEntry(const fs::path &file) { return readVerifiedEntry(file).has_value(); }
 
 void writeCacheEntry(const fs::path &file, PointSet sets) {
   if (const std::string key = keyOf(file); !key.empty()) setMeta(sets, meta::kCacheKey, key);

@@ -135,9 +135,12 @@ std::string setCacheKey(const Target &target, const OptimizerSettings &settings)
 // read (its checksum included), or its recorded key (meta::kCacheKey) is not
 // the key its name ends in.
 std::string entryProblem(const std::filesystem::path &file);
-// Whether `file` is an entry to serve. One with a problem is moved aside to
-// FILE.corrupt (replacing an earlier one) with a note on stderr naming it,
-// so that it is made again; false then, and when there is no file.
+// The sets of the entry `file`, proved (entryProblem). One with a problem
+// is moved aside to FILE.corrupt (replacing an earlier one) with a note on
+// stderr naming it, so that it is made again; none then, and when there is
+// no file. An entry that cannot be moved aside is an error naming it.
+std::optional<PointSet> readVerifiedEntry(const std::filesystem::path &file);
+// Whether readVerifiedEntry finds sets to serve.
 bool verifiedEntry(const std::filesystem::path &file);
 // An entry's sets with the key its name ends in recorded (meta::kCacheKey),
 // written atomically and synced (writePointSet).

@@ -153,12 +153,24 @@ PointSet readBinary(const std::string &path, std::istream &in, std::uintmax_t fi
   if (checksummed) {
     // The hash of the bytes just read, header included: a flipped bit, an
     // edited setting or a file cut and padded back is refused here.
+    // FNV-1a runs byte by byte, so the parts hash as the whole file would.
     std::uint64_t recorded = 0;
     readRaw(in, recorded, path, "checksum");
-    in.seekg(0);
-    std::string bytes(fileSize - kChecksumBytes, '\0');
-    in.read(bytes.data(), std::streamsize(bytes.size()));
-    if (!in || ContentHash().add(bytes).value() != recorded)
+    const auto bytesOf = [](const auto &value) {
+      return std::string_view(reinterpret_cast<const char *>(&value), sizeof value);
+    };
+    const std::uint64_t actual =
+        ContentHash()
+            .add(std::string_view(kMagic, sizeof kMagic))
+            .add(bytesOf(dim))
+            .add(bytesOf(n))
+            .add(bytesOf(instances))
+            .add(bytesOf(metaBytes))
+            .add(meta)
+            .add(std::string_view(reinterpret_cast<const char *>(set.points.data()),
+                                  set.points.size() * sizeof(Point2)))
+            .value();
+    if (actual != recorded)
       fail(path, 0, "checksum mismatch: the file was changed or damaged after it was written");
   }
   for (std::size_t i = 0; i < set.points.size(); ++i)
