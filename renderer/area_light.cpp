@@ -58,6 +58,23 @@ double AreaLight::power() const {
   return (twoSided_ ? 2 : 1) * kPi * area_ * radiance_.luminance();
 }
 
+Vec3 AreaLight::boundsMin() const {
+  if (shape_ == Shape::Sphere) return p0_ - Vec3{radius_, radius_, radius_};
+  const Vec3 far = shape_ == Shape::Rectangle ? p0_ + e0_ + e1_ : p0_;
+  return min(min(p0_, far), min(p0_ + e0_, p0_ + e1_));
+}
+
+Vec3 AreaLight::boundsMax() const {
+  if (shape_ == Shape::Sphere) return p0_ + Vec3{radius_, radius_, radius_};
+  const Vec3 far = shape_ == Shape::Rectangle ? p0_ + e0_ + e1_ : p0_;
+  return max(max(p0_, far), max(p0_ + e0_, p0_ + e1_));
+}
+
+void AreaLight::hashContent(ContentHash &h) const {
+  for (const Vec3 v : {p0_, e0_, e1_}) h.add(v.x).add(v.y).add(v.z);
+  h.add(radius_).add(radiance_.r).add(radiance_.g).add(radiance_.b);
+}
+
 Rgb AreaLight::emitted(Vec3 n, Vec3 wi) const {
   return twoSided_ || dot(n, wi) < 0 ? radiance_ : Rgb{};
 }

@@ -22,6 +22,7 @@
 
 #include "materials/rgb.h"
 #include "materials/vec3.h"
+#include "sampler/io/content_hash.h"
 #include "sampler/point.h"
 
 namespace nuld {
@@ -56,6 +57,12 @@ class AreaLight {
   // choosing lights by power weighs (light_power.h).
   double power() const;
 
+  // The corners of a box around it.
+  Vec3 boundsMin() const;
+  Vec3 boundsMax() const;
+  // Adds its geometry and radiance to `h` (the scene's content key).
+  void hashContent(ContentHash &h) const;
+
   // A direction towards the light from `p` for a uniform `u`; none when `p`
   // sees none of it (on its plane). Seen from behind a one-sided light the
   // sample carries no radiance (its pdf stays what pdf() says).
@@ -67,6 +74,8 @@ class AreaLight {
   // The radiance leaving the light at a point whose outward normal is `n`
   // towards the direction -wi (wi pointing at the light).
   Rgb emitted(Vec3 n, Vec3 wi) const;
+  // The same for a rectangle or triangle, whose normal is its own.
+  Rgb emittedTowards(Vec3 wi) const { return emitted(normal_, wi); }
   // The distance along the ray p + t wi (unit wi) to the light, and its
   // outward normal there; none on a miss.
   struct Hit {

@@ -208,4 +208,18 @@ void EnvironmentLight::sampleTarget(std::span<const Point2> x,
   }
 }
 
+double EnvironmentLight::meanLuminance() const {
+  // Row j of the lat-long map spans polar angles pi j / H to pi (j + 1) / H:
+  // its share of the sphere is half the difference of their cosines.
+  double mean = 0;
+  for (int j = 0; j < height_ && !texels_.empty(); ++j) {
+    const double share = 0.5 * (std::cos(std::numbers::pi * j / height_) -
+                                std::cos(std::numbers::pi * (j + 1) / height_));
+    double row = 0;
+    for (int i = 0; i < width_; ++i) row += rgbOf(texels_[std::size_t(j) * width_ + i]).luminance();
+    mean += share * row / width_;
+  }
+  return mean;
+}
+
 }  // namespace nuld

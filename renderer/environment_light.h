@@ -73,6 +73,9 @@ class EnvironmentLight {
   void sample(std::span<const Point2> u, std::span<std::optional<LightSample>> out) const;
   void sampleTarget(std::span<const Point2> x, std::span<std::optional<LightSample>> out) const;
 
+  // The luminance of its radiance averaged over the sphere of directions
+  // (each texel weighted by its solid angle); 0 for a black map.
+  double meanLuminance() const;
   // The sampling density on the equal-area square; null when the map is black.
   const GridTarget *target() const { return target_.get(); }
   const std::string &source() const { return source_; }

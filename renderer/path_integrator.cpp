@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "materials/frame.h"
@@ -21,7 +22,10 @@ PathIntegrator::PathIntegrator(const Scene &scene, IntegratorKind kind, int maxD
       lobes_(lobes),
       maxDepth_(kind == IntegratorKind::Path ? maxDepth : 1),
       rouletteDepth_(rouletteDepth),
-      strategies_(Strategies::of(kind)) {
+      strategies_(Strategies::of(kind)),
+      environmentChoice_(scene.lights.choice && light_
+                             ? scene.lights.choice->probability(scene.lights.count())
+                             : 1.0) {
   if (maxDepth < 1) throw std::invalid_argument("max depth must be at least 1");
   if (rouletteDepth < 1) throw std::invalid_argument("roulette depth must be at least 1");
 }
@@ -105,13 +109,14 @@ namespace {
 // light give the same values as its one-point forms). At 4 spp a packet holds
 // four pixels, so this batches more than one pixel's samples could.
 void lightSamples(const EnvironmentLight &light, std::span<PathIntegrator::PathState> paths,
-                  int depth, std::span<std::optional<LightSample>> ls) {
+                  int depth, std::span<const bool> chosen,
+                  std::span<std::optional<LightSample>> ls) {
   const std::uint32_t pair = SamplePairs::light(depth);
   constexpr std::size_t kMax = PathIntegrator::kMaxPaths;
   Point2 target[kMax], primary[kMax];
   std::size_t targetOf[kMax], primaryOf[kMax], nt = 0, np = 0;
   for (std::size_t k = 0; k < paths.size(); ++k) {
-    if (!paths[k].alive) continue;
+    if (!paths[k].alive || !chosen[k]) continue;
     PixelSamples &s = *paths[k].samples;
     if (const Point2 *x = s.distributed(*light.target(), pair, paths[k].index)) {
       target[nt] = *x, targetOf[nt++] = k;
@@ -133,19 +138,59 @@ bool PathIntegrator::arrive(std::span<PathState> path,
   const std::size_t n = path.size();
   // Rays that escaped, paths that end here, and the shading at each hit.
   bool any = false;
+  const SceneLights &lights = scene_.lights;
   for (std::size_t k = 0; k < n; ++k) {
     PathState &p = path[k];
     if (!p.alive) continue;
+    // A ray that meets a rectangle or sphere light before any surface ends
+    // there, adding its radiance (weighed against the light's own sampling
+    // when a BSDF sample drew the ray).
+    if (!lights.shapes.empty()) {
+      const double tSurface = hit[k] ? hit[k]->t : std::numeric_limits<double>::infinity();
+      std::size_t nearest = lights.shapes.size();
+      AreaLight::Hit at{tSurface, {}};
+      for (std::size_t i = 0; i < lights.shapes.size(); ++i)
+        if (const auto h = lights.shapes[i].intersect(p.ray.origin, p.ray.direction);
+            h && h->distance < at.distance)
+          at = *h, nearest = i;
+      if (nearest < lights.shapes.size()) {
+        const AreaLight &l = lights.shapes[nearest];
+        const Rgb Le = l.emitted(at.normal, p.ray.direction);
+        const double w = p.cameraRay
+                             ? 1.0
+                             : misWeight(p.lastBsdfPdf, lights.choice->probability(nearest) *
+                                                            l.pdf(p.ray.origin, p.ray.direction));
+        p.L += w * p.beta * Le;
+        p.alive = false;
+        continue;
+      }
+    }
     if (!hit[k]) {
       if (light_) {
         double lightPdf;
         const Rgb Le =
             light_->radiance(depth > 0 ? p.escape : light_->find(p.ray.direction), lightPdf);
-        const double w = p.cameraRay ? 1.0 : misWeight(p.lastBsdfPdf, lightPdf);
+        const double w =
+            p.cameraRay ? 1.0 : misWeight(p.lastBsdfPdf, environmentChoice_ * lightPdf);
         p.L += w * p.beta * Le;
       }
       p.alive = false;
       continue;
+    }
+    // An emitting mesh's triangle adds its radiance and still reflects.
+    if (const std::uint32_t first = hit[k]->mesh < lights.meshFirst.size()
+                                        ? lights.meshFirst[hit[k]->mesh]
+                                        : SceneLights::kNone;
+        first != SceneLights::kNone) {
+      const std::size_t t = first + hit[k]->triangle;
+      const AreaLight &l = lights.triangles[t];
+      const Rgb Le = l.emittedTowards(p.ray.direction);
+      const double w =
+          p.cameraRay
+              ? 1.0
+              : misWeight(p.lastBsdfPdf, lights.choice->probability(lights.shapes.size() + t) *
+                                             l.pdf(p.ray.origin, p.ray.direction));
+      p.L += w * p.beta * Le;
     }
     if (depth >= maxDepth_) {
       p.alive = false;
@@ -199,31 +244,80 @@ void PathIntegrator::chooseBsdfStrategies(std::span<PathState> path, int depth,
 
 void PathIntegrator::addLightSamples(std::span<PathState> path, int depth,
                                      PathCounters &counters) const {
+  if (!strategies_.light) return;
   const std::size_t n = path.size();
-  // Next-event estimation of the environment.
-  if (light_ && light_->target() && strategies_.light) {
-    std::array<std::optional<LightSample>, kMaxPaths> ls;
-    lightSamples(*light_, path, depth, ls);
+  const SceneLights &lights = scene_.lights;
+  const bool environment = light_ && light_->target();
+  if (!environment && lights.empty()) return;
+  // Which light each path samples: the environment alone in a scene without
+  // emitters; else one light chosen by power with the roulette pair's y (a
+  // number no other decision of the bounce takes).
+  std::array<bool, kMaxPaths> chosesEnvironment;
+  std::array<double, kMaxPaths> choice;
+  std::array<std::optional<AreaLightSample>, kMaxPaths> area;
+  std::array<std::size_t, kMaxPaths> areaIndex;
+  chosesEnvironment.fill(environment);
+  choice.fill(1.0);
+  if (lights.choice) {
     for (std::size_t k = 0; k < n; ++k) {
       PathState &p = path[k];
-      if (!p.alive || !ls[k]) continue;
-      const Vec3 wi = p.sh.frame.toLocal(ls[k]->wi);
-      if (!(wi.z > 0)) continue;  // below the shading hemisphere: f = 0
-      // Visibility before the BSDF: an occluded sample then costs no eval.
-      const Ray shadow{p.sh.origin, ls[k]->wi};
-      record(counters, shadow);
-      if (scene_.geometry.occluded(shadow)) continue;
-      // Alone, the light's weight is 1 and the material's pdf unused:
-      // eval alone (the same f as evalWithPdf's, bit for bit).
-      const auto [f, materialPdf] =
-          strategies_.bsdf ? p.bsdf->evalWithPdf(p.wo, wi) : BsdfValue{p.bsdf->eval(p.wo, wi), 0.0};
-      if (f.isBlack()) continue;
-      // Whatever route draws the BSDF sample, the weights of both
-      // strategies take the material's own sampling pdf (BsdfSample::misPdf).
-      const double w = misWeight(ls[k]->pdf, materialPdf);
-      p.L += (w * wi.z / ls[k]->pdf) * p.beta * f * ls[k]->radiance;
+      if (!p.alive) continue;
+      const auto c =
+          lights.choice->choose(p.samples->primary(SamplePairs::roulette(depth), p.index).y);
+      choice[k] = c.probability;
+      chosesEnvironment[k] = c.index == lights.count();
+      if (chosesEnvironment[k]) continue;
+      areaIndex[k] = c.index;
+      area[k] = lights.light(c.index).sample(
+          p.sh.origin, p.samples->primary(SamplePairs::light(depth), p.index));
     }
   }
+  std::array<std::optional<LightSample>, kMaxPaths> ls;
+  if (environment) lightSamples(*light_, path, depth, chosesEnvironment, ls);
+  for (std::size_t k = 0; k < n; ++k) {
+    PathState &p = path[k];
+    if (!p.alive) continue;
+    Vec3 wiWorld;
+    Rgb radiance;
+    double pdf, tMax = std::numeric_limits<double>::infinity();
+    if (chosesEnvironment[k]) {
+      if (!ls[k]) continue;
+      wiWorld = ls[k]->wi, radiance = ls[k]->radiance, pdf = ls[k]->pdf;
+    } else {
+      if (!area[k] || area[k]->radiance.isBlack()) continue;
+      wiWorld = area[k]->wi, radiance = area[k]->radiance, pdf = area[k]->pdf;
+      // Up to just before the light: an emitting mesh is in the geometry.
+      tMax = area[k]->distance * (1 - 1e-4);
+    }
+    pdf *= choice[k];
+    const Vec3 wi = p.sh.frame.toLocal(wiWorld);
+    if (!(wi.z > 0)) continue;  // below the shading hemisphere: f = 0
+    // Visibility before the BSDF: an occluded sample then costs no eval.
+    const Ray shadow{p.sh.origin, wiWorld, tMax};
+    record(counters, shadow);
+    if (scene_.geometry.occluded(shadow) ||
+        shadowedByShapes(shadow, chosesEnvironment[k] ? lights.shapes.size() : areaIndex[k]))
+      continue;
+    // Alone, the light's weight is 1 and the material's pdf unused:
+    // eval alone (the same f as evalWithPdf's, bit for bit).
+    const auto [f, materialPdf] =
+        strategies_.bsdf ? p.bsdf->evalWithPdf(p.wo, wi) : BsdfValue{p.bsdf->eval(p.wo, wi), 0.0};
+    if (f.isBlack()) continue;
+    // Whatever route draws the BSDF sample, the weights of both
+    // strategies take the material's own sampling pdf (BsdfSample::misPdf).
+    const double w = misWeight(pdf, materialPdf);
+    p.L += (w * wi.z / pdf) * p.beta * f * radiance;
+  }
+}
+
+bool PathIntegrator::shadowedByShapes(const Ray &shadow, std::size_t except) const {
+  const std::vector<AreaLight> &shapes = scene_.lights.shapes;
+  for (std::size_t i = 0; i < shapes.size(); ++i)
+    if (i != except)
+      if (const auto h = shapes[i].intersect(shadow.origin, shadow.direction);
+          h && h->distance < shadow.tMax)
+        return true;
+  return false;
 }
 
 bool PathIntegrator::continuePaths(std::span<PathState> path, int depth,

@@ -122,12 +122,18 @@ class PathIntegrator {
   // against `otherPdf`, the other strategy's at the same direction: the
   // power heuristic when both run, 1 when one runs alone.
   double misWeight(double pdf, double otherPdf) const;
+  // Whether a rectangle or sphere light other than shape `except` blocks
+  // the shadow ray before its tMax (they are not in the geometry).
+  bool shadowedByShapes(const Ray &shadow, std::size_t except) const;
 
   const Scene &scene_;
   const EnvironmentLight *light_;  // sampledLight()
   const LobeTables *lobes_;
   int maxDepth_, rouletteDepth_;
   Strategies strategies_;
+  // The probability that next-event estimation picks the environment (1
+  // without emitters), which its MIS weight for an escaping ray takes.
+  double environmentChoice_;
 };
 
 }  // namespace nuld

@@ -9,12 +9,39 @@
 
 #include "materials/bsdf.h"
 #include "materials/disney.h"
+#include "renderer/area_light.h"
 #include "renderer/camera.h"
 #include "renderer/embree_scene.h"
 #include "renderer/environment_light.h"
+#include "renderer/light_power.h"
 #include "renderer/lobe_tables.h"
 
 namespace nuld {
+
+// The emitters of a scene beside its environment (area_light.h) and the
+// choice among all its lights by power. Empty in a scene without emitters,
+// which then builds none of it.
+struct SceneLights {
+  // Rectangles and spheres: the integrator intersects them itself (they are
+  // not in the geometry).
+  std::vector<AreaLight> shapes;
+  // The triangles of emitting meshes (which are in the geometry): triangle
+  // t of mesh m is triangles[meshFirst[m] + t]; meshFirst[m] is kNone for a
+  // mesh that does not emit (meshFirst is empty without such meshes).
+  std::vector<AreaLight> triangles;
+  static constexpr std::uint32_t kNone = 0xffffffffu;
+  std::vector<std::uint32_t> meshFirst;
+  // Over shapes, then triangles, then the environment (last, when the scene
+  // has one); set by finishLights().
+  std::optional<LightPowerChooser> choice;
+
+  bool empty() const { return shapes.empty() && triangles.empty(); }
+  std::size_t count() const { return shapes.size() + triangles.size(); }
+  // Light i of the choice's numbering (i < count()).
+  const AreaLight &light(std::size_t i) const {
+    return i < shapes.size() ? shapes[i] : triangles[i - shapes.size()];
+  }
+};
 
 struct Scene {
   EmbreeScene geometry;
@@ -26,6 +53,9 @@ struct Scene {
   // The lobe tables its renders build, kept for the next render (only
   // backends that sample lobes ask for them).
   std::shared_ptr<LobeTableCache> lobeTables = std::make_shared<LobeTableCache>();
+  // Emitters beside the environment (last: scenes built in code name the
+  // members above in order).
+  SceneLights lights;
 };
 
 // 16 hex digits of everything a render of the scene depends on beyond its
@@ -36,5 +66,15 @@ struct Scene {
 // edited material another. Reference caches key by it (backends/
 // reference_cache.h). Hashes every byte, about 0.1 s for the dragon.
 std::string sceneContentKey(const Scene &scene);
+
+// Makes mesh `mesh` of the scene's geometry an emitter of `radiance`: each
+// of its triangles a light (degenerate triangles, of zero area, left out).
+void addEmittingMesh(Scene &scene, std::size_t mesh, Rgb radiance, bool twoSided);
+// Builds the choice among the scene's lights by power once its emitters and
+// environment are set: each area light's power (AreaLight::power), the
+// environment's pi R^2 times its radiant exitance over the sphere (pbrt-v4's
+// infinite lights), R the radius of the geometry's bounding sphere. Nothing
+// without emitters.
+void finishLights(Scene &scene);
 
 }  // namespace nuld

@@ -14,6 +14,8 @@
 #include "sampler/io/image_io.h"
 #include "sampler/io/input_file.h"
 #include "sampler/io/round_trip.h"
+#include "scenes/cornell_scene.h"
+#include "scenes/cornell_scene.h"
 #include "scenes/default_scene.h"
 #include "scenes/gltf_loader.h"
 #include "scenes/json_reader.h"
@@ -149,12 +151,15 @@ void readRender(const JsonReader &r, LoadedScene &out) {
 
 }  // namespace
 
-bool isBuiltInScene(const std::string &name) { return name == "default" || name == "stress"; }
+bool isBuiltInScene(const std::string &name) {
+  return name == "default" || name == "stress" || name == "cornell";
+}
 
 LoadedScene loadScene(const std::string &path, const std::string &assetRoot,
                       const SceneChoices &choices) {
   if (path == "default") return makeDefaultScene(choices);
   if (path == "stress") return makeStressScene(choices);
+  if (path == "cornell") return makeCornellScene();
   const LobeChoice lobes = choices.lobes;
 
   requireInputFile(path, "the scene file");

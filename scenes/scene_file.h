@@ -77,11 +77,11 @@ struct LoadedScene {
 // shared/assets beside the checkout (../shared/assets from the source tree).
 std::string resolveAssetRoot(const std::string &explicitRoot);
 
-// Whether `name` is one of the built-in scenes ("default", "stress"), which
+// Whether `name` is one of the built-in scenes ("default", "stress", "cornell"), which
 // need no files and no asset root.
 bool isBuiltInScene(const std::string &name);
 
-// `path` is a JSON scene file, "default" or "stress" (built in, see
+// `path` is a JSON scene file, "default", "stress" or "cornell" (built in, see
 // default_scene.h). Throws std::invalid_argument or
 // std::runtime_error naming the file, the field and what was expected.
 // `choices` set its materials' lobe choice and may override its

@@ -226,6 +226,46 @@ TEST(DefaultScene, BuildsWithoutFilesAndRendersFiniteValues) {
   EXPECT_GT(sum, 0);
 }
 
+// The Cornell box needs no files: one rectangle light, no environment, and
+// a scene without emitters (the default) builds no light choice at all.
+// Every classic word renders it NaN-free under each integrator, and the
+// pixel looking at the light is the light's radiance.
+TEST(CornellScene, BuildsItsLightAndRendersFiniteValuesWithEveryClassicWord) {
+  const LoadedScene s = loadScene("cornell", "/nonexistent");
+  EXPECT_FALSE(s.scene.environment);
+  ASSERT_EQ(s.scene.lights.shapes.size(), 1u);
+  ASSERT_TRUE(s.scene.lights.choice);
+  EXPECT_FALSE(loadScene("default", "").scene.lights.choice);
+  EXPECT_TRUE(loadScene("default", "").scene.lights.empty());
+  for (const char *word : {"independent", "stratified", "sobol", "halton", "pmj02", "zsobol",
+                           "lattice", "lattice-baker", "sobol-tabulated"})
+    for (IntegratorKind kind : {IntegratorKind::Path, IntegratorKind::Direct, IntegratorKind::Light,
+                                IntegratorKind::Bsdf}) {
+      RenderSettings settings = s.settings;
+      settings.width = settings.height = 16;
+      settings.spp = 4;
+      settings.integrator = kind;
+      auto backend = makeBackend(word, 3);
+      RenderStats stats;
+      const Image img = render(s.scene, settings, *backend, &stats);
+      EXPECT_EQ(stats.rejectedSamples, 0u) << word;
+      double sum = 0;
+      for (float v : img.pixels) {
+        ASSERT_TRUE(std::isfinite(v)) << word << " " << toString(kind);
+        sum += v;
+      }
+      EXPECT_GT(sum, 0) << word << " " << toString(kind);
+    }
+  // Looking up at the light from below its centre.
+  Scene scene = loadScene("cornell", "").scene;
+  scene.camera = {{0, 0.9, 0.01}, {0, 1, 0.01}, {0, 0, 1}, 2, false};
+  RenderSettings one = s.settings;
+  one.width = one.height = 1;
+  one.spp = 1;
+  auto backend = makeBackend("sobol", 1);
+  EXPECT_FLOAT_EQ(render(scene, one, *backend).at(0, 0, 0), 18.387f);
+}
+
 TEST(DefaultScene, ProceduralSkyReachesTheRequestedDynamicRange) {
   const Image sky = proceduralSky(256, 128, 1e6);
   float lo = 1e30f, hi = 0;
