@@ -49,7 +49,9 @@ AreaLight AreaLight::triangle(Vec3 a, Vec3 b, Vec3 c, Rgb radiance, bool twoSide
   l.p0_ = a, l.e0_ = b - a, l.e1_ = c - a;
   const Vec3 n = cross(l.e0_, l.e1_);
   l.area_ = 0.5 * length(n);
-  l.normal_ = normalize(n);
+  // A degenerate triangle (a mesh's sliver) has no area and no normal: it
+  // has power 0, so it is never chosen, and no sample or pdf of its own.
+  l.normal_ = l.area_ > 0 ? n / (2 * l.area_) : Vec3{};
   l.radiance_ = radiance, l.twoSided_ = twoSided;
   return l;
 }

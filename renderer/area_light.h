@@ -1,6 +1,6 @@
 #pragma once
-// Emitters on shapes, beside the environment (renderer/README.md, "Area
-// lights"): a rectangle, a sphere or a triangle of a mesh, emitting a
+// Emitters on shapes, beside the environment (renderer/README.md,
+// `area_light`): a rectangle, a sphere or a triangle of a mesh, emitting a
 // constant radiance, one-sided (the side its normal faces) unless made
 // two-sided. Next-event estimation samples each by solid angle where the
 // field does, and pdf() gives the same density for a direction a BSDF
@@ -50,6 +50,8 @@ class AreaLight {
   static AreaLight triangle(Vec3 a, Vec3 b, Vec3 c, Rgb radiance, bool twoSided = false);
 
   Shape shape() const { return shape_; }
+  // A rectangle's or triangle's unit normal (the side it emits from).
+  Vec3 normal() const { return normal_; }
   double area() const { return area_; }
   Rgb radiance() const { return radiance_; }
   bool twoSided() const { return twoSided_; }

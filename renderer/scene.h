@@ -68,7 +68,7 @@ struct Scene {
 std::string sceneContentKey(const Scene &scene);
 
 // Makes mesh `mesh` of the scene's geometry an emitter of `radiance`: each
-// of its triangles a light (degenerate triangles, of zero area, left out).
+// of its triangles a light (a degenerate one, of zero area, with power 0).
 void addEmittingMesh(Scene &scene, std::size_t mesh, Rgb radiance, bool twoSided);
 // Builds the choice among the scene's lights by power once its emitters and
 // environment are set: each area light's power (AreaLight::power), the

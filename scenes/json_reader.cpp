@@ -108,6 +108,14 @@ Rgb JsonReader::reflectance() const {
   return {at(0).number(0, 1), at(1).number(0, 1), at(2).number(0, 1)};
 }
 
+Rgb JsonReader::radiance() const {
+  constexpr double kMax = 1e30;  // finite, and its square too
+  if (value_.is_number()) return Rgb::grey(number(0, kMax));
+  if (!value_.is_array() || value_.size() != 3)
+    fail("[r, g, b] or one number, each finite and >= 0");
+  return {at(0).number(0, kMax), at(1).number(0, kMax), at(2).number(0, kMax)};
+}
+
 std::vector<std::string> JsonReader::strings() const {
   if (value_.is_string()) return {value_.get<std::string>()};
   std::vector<std::string> out;

@@ -33,6 +33,7 @@ class JsonReader {
   std::string string() const;
   Vec3 vec3() const;
   Rgb reflectance() const;                   // [r, g, b] or one grey number, each in [0, 1]
+  Rgb radiance() const;                      // [r, g, b] or one grey number, each finite, >= 0
   std::vector<std::string> strings() const;  // a string or an array of strings
   // A string that names a value of `names`; fails listing the names and,
   // after them, `note`.

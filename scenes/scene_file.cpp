@@ -15,7 +15,6 @@
 #include "sampler/io/input_file.h"
 #include "sampler/io/round_trip.h"
 #include "scenes/cornell_scene.h"
-#include "scenes/cornell_scene.h"
 #include "scenes/default_scene.h"
 #include "scenes/gltf_loader.h"
 #include "scenes/json_reader.h"
@@ -111,6 +110,51 @@ TriangleMesh builtinShape(const JsonReader &entry) {
   entry["shape"].fail("\"floor\" or \"sphere\"");
 }
 
+// An emitter's radiance times its scale ("radiance", "scale"); one that
+// emits nothing is noted.
+Rgb readEmission(const JsonReader &e, const std::string &what) {
+  const Rgb radiance = e["radiance"].radiance() * e.number("scale", 1.0, 0, 1e30);
+  if (radiance.isBlack())
+    warning(e.file() + ": field '" + e.path() + "': " + what + " emits nothing (radiance 0)");
+  return radiance;
+}
+
+// {"shape": "rectangle", "corner": [..], "edge0": [..], "edge1": [..]} (it
+// faces cross(edge0, edge1)) or {"shape": "sphere", "center": [..],
+// "radius": r}, with "radiance", "scale" and "two_sided".
+AreaLight readEmitter(const JsonReader &e) {
+  e.allowOnly({"shape", "corner", "edge0", "edge1", "center", "radius", "radiance", "scale",
+               "two_sided", "comment"});
+  const std::string shape = e["shape"].string();
+  const bool twoSided = e.has("two_sided") && e["two_sided"].boolean();
+  if (shape == "rectangle") {
+    const Vec3 corner = e["corner"].vec3(), a = e["edge0"].vec3(), b = e["edge1"].vec3();
+    const double la = length(a), lb = length(b);
+    if (!(la > 0) || !(lb > 0) || !std::isfinite(la * lb))
+      e[la > 0 ? "edge1" : "edge0"].refuse(
+          "an edge of zero (or unbounded) length: the rectangle has no area");
+    if (std::abs(dot(a, b)) > 1e-6 * la * lb)
+      e["edge1"].refuse("not at right angles to edge0 (a rectangle's edges are orthogonal)");
+    return AreaLight::rectangle(corner, a, b, readEmission(e, "the rectangle"), twoSided);
+  }
+  if (shape == "sphere")
+    return AreaLight::sphere(e["center"].vec3(), e["radius"].number(1e-9, 1e9),
+                             readEmission(e, "the sphere"), twoSided);
+  e["shape"].fail("\"rectangle\" or \"sphere\"");
+}
+
+// A one-sided planar light whose every surface lies behind it lights nothing.
+void noteFacingAway(const Scene &scene, const AreaLight &light, const JsonReader &e) {
+  if (light.twoSided() || light.shape() == AreaLight::Shape::Sphere) return;
+  const Vec3 n = light.normal(), p = light.boundsMin();
+  for (const TriangleMesh &m : scene.geometry.meshes())
+    for (const Vec3 q : m.positions)
+      if (dot(q - p, n) > 0) return;
+  warning(e.file() + ": field '" + e.path() +
+          "': the light faces away from every surface of the scene (it lights nothing; "
+          "\"two_sided\": true, or swap its edges)");
+}
+
 // A direction of any length, made unit: scaled by its largest component
 // first, so that [1e-200, 0, 0] neither vanishes nor [1e200, 0, 0] overflows.
 Vec3 readDirection(const JsonReader &field, const std::string &meaning) {
@@ -177,7 +221,8 @@ LoadedScene loadScene(const std::string &path, const std::string &assetRoot,
     throw std::invalid_argument(path + ": malformed JSON: " + why);
   }
   const JsonReader root(doc, path);
-  root.allowOnly({"camera", "film", "render", "environment", "materials", "meshes", "comment"});
+  root.allowOnly(
+      {"camera", "film", "render", "environment", "materials", "meshes", "emitters", "comment"});
 
   LoadedScene out{path, Scene{EmbreeScene({}), {}, std::nullopt, {}}};
   out.scene.lobeChoice = lobes;
@@ -196,11 +241,12 @@ LoadedScene loadScene(const std::string &path, const std::string &assetRoot,
   const std::set<std::string> known(materialNames.begin(), materialNames.end());
   std::map<std::string, std::shared_ptr<const Bsdf>> built;
   std::vector<TriangleMesh> meshes;
+  std::vector<std::pair<std::size_t, JsonReader>> emitting;  // meshes with an "emission"
   const JsonReader meshList = root["meshes"];
   for (std::size_t i = 0; i < meshList.size(); ++i) {
     const JsonReader entry = meshList.at(i);
     entry.allowOnly({"file", "shape", "material", "skip", "transform", "half_size", "height",
-                     "center", "radius"});
+                     "center", "radius", "emission"});
     if (entry.has("file") == entry.has("shape"))
       entry.fail("an object with either a \"file\" or a \"shape\" (floor or sphere)");
     const std::string file = entry.has("file") ? assetPath(assetRoot, entry["file"].string()) : "";
@@ -227,11 +273,28 @@ LoadedScene loadScene(const std::string &path, const std::string &assetRoot,
       if (entry.has("transform")) applyTransform(mesh, entry["transform"]);
       checkGeometry(mesh, entry, file.empty() ? "" : " from " + quotedInput(file));
       out.scene.materials.push_back(built[name]);
+      if (entry.has("emission")) emitting.push_back({meshes.size(), entry["emission"]});
       meshes.push_back(std::move(mesh));
     }
   }
   if (meshes.empty()) meshList.fail("at least one mesh that is not skipped");
   out.scene.geometry = EmbreeScene(std::move(meshes));
+  for (const auto &[mesh, e] : emitting) {
+    e.allowOnly({"radiance", "scale", "two_sided"});
+    addEmittingMesh(out.scene, mesh, readEmission(e, "the mesh"),
+                    e.has("two_sided") && e["two_sided"].boolean());
+    const auto &lights = out.scene.lights.triangles;
+    if (std::none_of(lights.begin() + out.scene.lights.meshFirst[mesh], lights.end(),
+                     [](const AreaLight &l) { return l.area() > 0; }))
+      e.refuse("the mesh has no triangle of nonzero area to emit from");
+  }
+  if (root.has("emitters")) {
+    const JsonReader list = root["emitters"];
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      out.scene.lights.shapes.push_back(readEmitter(list.at(i)));
+      noteFacingAway(out.scene, out.scene.lights.shapes.back(), list.at(i));
+    }
+  }
 
   if (root.has("environment")) {
     const JsonReader env = root["environment"];
@@ -259,6 +322,7 @@ LoadedScene loadScene(const std::string &path, const std::string &assetRoot,
     out.scene.environment.emplace(readImage(file), env.number("scale", 1.0, 0, 1e12),
                                   env.number("rotation", 0.0), file, up, weight);
   }
+  finishLights(out.scene);
   return out;
 }
 

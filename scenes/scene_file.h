@@ -18,7 +18,11 @@
 //                     {"file": "cup/geometry_mesh_00002.ply", "material": "floor",
 //                      "transform": {"scale": 1, "rotate_y": 0, "translate": [0,0,0]}},
 //                     {"shape": "floor", "half_size": 20, "height": 0, "material": "floor"},
-//                     {"shape": "sphere", "center": [0,1,0], "radius": 1}]
+//                     {"shape": "sphere", "center": [0,1,0], "radius": 1,
+//                      "emission": {"radiance": [1,1,1], "scale": 1, "two_sided": false}}],
+//     "emitters":    [{"shape": "rectangle", "corner": [x,y,z], "edge0": [..], "edge1": [..],
+//                      "radiance": [r,g,b], "scale": 1, "two_sided": false},
+//                     {"shape": "sphere", "center": [x,y,z], "radius": r, "radiance": 10}]
 //   }
 //
 // A mesh gets the entry's "material" if given, else the material named like
@@ -31,8 +35,11 @@
 // mean of its channels ("mean"), either less the map's mean over the sphere
 // ("-compensated": MIS compensation, the default, kDefaultImportance). A
 // scene builds only what
-// it uses: unused materials are never instantiated, and without an
-// "environment" no map is read.
+// it uses: unused materials are never instantiated, without an
+// "environment" no map is read, and without emitters no light choice is
+// built. A rectangle emits on the side of cross(edge0, edge1), its edges
+// orthogonal; an "emission" makes each triangle of the entry's meshes a
+// light (renderer/area_light.h); radiance is finite and >= 0.
 
 #include <cstdint>
 #include <map>

@@ -132,6 +132,73 @@ TEST_F(SceneFileTest, BadInputGivesClearErrors) {
       {"environment.importance", "luminance, mean, luminance-compensated or mean-compensated"});
 }
 
+// Emitters in the scene format (scenes/scene_file.h; docs/usage.md): a
+// rectangle and a sphere of the "emitters" list and an emitting mesh build
+// lights and their choice; bad ones are refused naming the field; a light
+// that emits nothing or faces away from every surface is noted.
+TEST_F(SceneFileTest, EmittersBuildLightsAndBadOnesAreNamed) {
+  const std::string lights = R"("emitters": [
+      {"shape": "rectangle", "corner": [-0.5, 3, -0.5], "edge0": [1, 0, 0], "edge1": [0, 0, 1],
+       "radiance": [2, 3, 4], "scale": 5},
+      {"shape": "sphere", "center": [1, 2, 0], "radius": 0.1, "radiance": 100, "two_sided": true}],
+      "meshes":)";
+  const LoadedScene s = loadScene(valid("\"meshes\":", lights), dir_.path().string());
+  ASSERT_EQ(s.scene.lights.shapes.size(), 2u);
+  EXPECT_EQ(s.scene.lights.shapes[0].radiance().b, 20);
+  EXPECT_TRUE(s.scene.lights.shapes[1].twoSided());
+  ASSERT_TRUE(s.scene.lights.choice);
+  EXPECT_EQ(s.scene.lights.choice->size(), 3u) << "two lights and the environment";
+  auto backend = makeBackend("sobol", 1);
+  for (float v : render(s.scene, s.settings, *backend).pixels) ASSERT_TRUE(std::isfinite(v));
+  const LoadedScene mesh = loadScene(
+      valid("\"material\": \"ball\"}", "\"material\": \"ball\", \"emission\": {\"radiance\": 2}}"),
+      dir_.path().string());
+  EXPECT_GT(mesh.scene.lights.triangles.size(), 100u);
+  EXPECT_EQ(mesh.scene.lights.meshFirst.at(1), 0u);
+
+  const auto withEmitter = [&](const std::string &emitter) {
+    return valid("\"meshes\":", "\"emitters\": [" + emitter + "], \"meshes\":");
+  };
+  expectError(withEmitter(R"({"shape": "rectangle", "corner": [0, 3, 0], "edge0": [1, 0, 0],
+      "edge1": [0, 0, 1], "radiance": [1, -1, 1]})"),
+              {"scene.json", "emitters[0].radiance[1]", "expected a number in [0"});
+  expectError(withEmitter(R"({"shape": "rectangle", "corner": [0, 3, 0], "edge0": [1, 0, 0],
+      "edge1": [0, 0, 0], "radiance": 1})"),
+              {"emitters[0].edge1", "zero (or unbounded) length"});
+  expectError(withEmitter(R"({"shape": "rectangle", "corner": [0, 3, 0], "edge0": [1, 0, 0],
+      "edge1": [1, 0, 1], "radiance": 1})"),
+              {"emitters[0].edge1", "not at right angles"});
+  expectError(
+      withEmitter(R"({"shape": "sphere", "center": [0, 3, 0], "radius": 0, "radiance": 1})"),
+      {"emitters[0].radius"});
+  expectError(withEmitter(R"({"shape": "disc", "radiance": 1})"),
+              {"emitters[0].shape", "\"rectangle\" or \"sphere\""});
+  expectError(withEmitter(R"({"shape": "sphere", "center": [0, 3, 0], "radius": 1,
+      "radiance": 1, "scale": -2})"),
+              {"emitters[0].scale"});
+  expectError(
+      withEmitter(R"({"shape": "sphere", "center": [0, 3, 0], "radius": 1, "radiance": 1e300})"),
+      {"emitters[0].radiance", "expected a number in [0"});
+  expectError(withEmitter(R"({"shape": "sphere", "center": [0, 3, 0], "radius": 1})"),
+              {"emitters[0]", "radiance"});
+
+  std::vector<std::string> warnings;
+  const WarningHandler previous =
+      setWarningHandler([&](const std::string &m) { warnings.push_back(m); });
+  loadScene(withEmitter(R"({"shape": "rectangle", "corner": [-1, 5, -1], "edge0": [0, 0, 2],
+      "edge1": [2, 0, 0], "radiance": 1})"),
+            dir_.path().string());
+  loadScene(withEmitter(R"({"shape": "sphere", "center": [0, 3, 0], "radius": 1, "radiance": 0})"),
+            dir_.path().string());
+  setWarningHandler(previous);
+  ASSERT_EQ(warnings.size(), 2u) << (warnings.empty() ? "" : warnings[0]);
+  EXPECT_NE(warnings[0].find("emitters[0]': the light faces away from every surface"),
+            std::string::npos)
+      << warnings[0];
+  EXPECT_NE(warnings[1].find("emitters[0]': the sphere emits nothing"), std::string::npos)
+      << warnings[1];
+}
+
 // What the loader accepts but reports (sampler/diagnostics.h): triangles of
 // zero area and negative map pixels. What it refuses naming the cause:
 // geometry or a camera beyond the range single-precision tracing resolves.
