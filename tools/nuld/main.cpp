@@ -148,7 +148,7 @@ int main(int argc, char **argv) {
   add("plot", "Draw a point set (over its target density) to a PNG", nuld::cli::addPlot);
   add("spectrum", "Power spectrum of a point set: PNG image and radial-average CSV",
       nuld::cli::addSpectrum);
-  add("render", "Render a scene (JSON file or 'default') with a sampler backend to EXR + PNG",
+  add("render", "Render a scene (JSON file, or built in: default, stress, cornell) with a sampler backend to EXR + PNG",
       nuld::cli::addRender);
   add("compare", "Print mse and relmse of an image against a reference; write an error map",
       nuld::cli::addCompare);
