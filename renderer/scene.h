@@ -55,7 +55,7 @@ struct Scene {
   std::shared_ptr<LobeTableCache> lobeTables = std::make_shared<LobeTableCache>();
   // Emitters beside the environment (last: scenes built in code name the
   // members above in order).
-  SceneLights lights;
+  SceneLights lights{};
 };
 
 // 16 hex digits of everything a render of the scene depends on beyond its
