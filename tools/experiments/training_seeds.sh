@@ -45,8 +45,9 @@ for r in rows:
     m, se = float(r["rmse"]) ** 2, float(r["mse_stderr"])
     q = m / ms
     qse = q * ((se / m) ** 2 + (se_s / ms) ** 2) ** 0.5
-    model = r["sampler"].split(":", 1)[1]
-    v = [(float(x["validation_l2"]), int(x["step"])) for x in csv.DictReader(open(model + ".validation.csv"))]
+    model = r["sampler"].split(":", 1)[1]  # the model file's stem
+    v = [(float(x["validation_l2"]), int(x["step"]))
+         for x in csv.DictReader(open(f"{out}/{model}.nuldnet.validation.csv"))]
     best = min(v)
     print(f"{model}: MSE/Owen-Sobol {q:.3f} +- {qse:.3f}; kept step {best[1]} "
           f"(held-out L2 {best[0]:.4f}, untrained {v[0][0]:.4f}, last {v[-1][0]:.4f})")
