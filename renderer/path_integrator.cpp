@@ -133,6 +133,16 @@ void lightSamples(const EnvironmentLight &light, std::span<PathIntegrator::PathS
 
 }  // namespace
 
+void PathIntegrator::addEmitted(PathState &p, std::size_t light, Rgb Le) const {
+  const SceneLights &lights = scene_.lights;
+  const double w =
+      p.cameraRay
+          ? 1.0
+          : misWeight(p.lastBsdfPdf, lights.choice->probability(light) *
+                                         lights.light(light).pdf(p.ray.origin, p.ray.direction));
+  p.L += w * p.beta * Le;
+}
+
 bool PathIntegrator::arrive(std::span<PathState> path,
                             std::span<const std::optional<SurfaceHit>> hit, int depth) const {
   const std::size_t n = path.size();
@@ -154,13 +164,7 @@ bool PathIntegrator::arrive(std::span<PathState> path,
             h && h->distance < at.distance)
           at = *h, nearest = i;
       if (nearest < lights.shapes.size()) {
-        const AreaLight &l = lights.shapes[nearest];
-        const Rgb Le = l.emitted(at.normal, p.ray.direction);
-        const double w = p.cameraRay
-                             ? 1.0
-                             : misWeight(p.lastBsdfPdf, lights.choice->probability(nearest) *
-                                                            l.pdf(p.ray.origin, p.ray.direction));
-        p.L += w * p.beta * Le;
+        addEmitted(p, nearest, lights.shapes[nearest].emitted(at.normal, p.ray.direction));
         p.alive = false;
         continue;
       }
@@ -183,14 +187,7 @@ bool PathIntegrator::arrive(std::span<PathState> path,
                                         : SceneLights::kNone;
         first != SceneLights::kNone) {
       const std::size_t t = first + hit[k]->triangle;
-      const AreaLight &l = lights.triangles[t];
-      const Rgb Le = l.emittedTowards(p.ray.direction);
-      const double w =
-          p.cameraRay
-              ? 1.0
-              : misWeight(p.lastBsdfPdf, lights.choice->probability(lights.shapes.size() + t) *
-                                             l.pdf(p.ray.origin, p.ray.direction));
-      p.L += w * p.beta * Le;
+      addEmitted(p, lights.shapes.size() + t, lights.triangles[t].emittedTowards(p.ray.direction));
     }
     if (depth >= maxDepth_) {
       p.alive = false;

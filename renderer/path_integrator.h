@@ -122,6 +122,10 @@ class PathIntegrator {
   // against `otherPdf`, the other strategy's at the same direction: the
   // power heuristic when both run, 1 when one runs alone.
   double misWeight(double pdf, double otherPdf) const;
+  // Adds the radiance Le of light `light` (SceneLights::light's numbering)
+  // that path p's ray met, weighed against that light's own sampling when a
+  // BSDF sample drew the ray.
+  void addEmitted(PathState &p, std::size_t light, Rgb Le) const;
   // Whether a rectangle or sphere light other than shape `except` blocks
   // the shadow ray before its tMax (they are not in the geometry).
   bool shadowedByShapes(const Ray &shadow, std::size_t except) const;

@@ -94,7 +94,8 @@ test::ChiSquare chiSquareOf(const AreaLight &light, Vec3 p, Vec3 axis, double ca
 }
 
 // The half-angle of the smallest cap about the direction to `centre` that
-// holds every `corners` direction, widened by 10 %.
+// holds every `corners` direction, widened so that no sample falls on the
+// cap's own edge.
 double capOf(Vec3 p, Vec3 centre, std::initializer_list<Vec3> corners) {
   const Vec3 axis = normalize(centre - p);
   double widest = 0;
