@@ -64,6 +64,13 @@ const std::vector<BackendEntry> &backendRegistry() {
                "as blue noise over the screen (Ahmed and Wonka 2020, as pbrt-v4's "
                "ZSobolSampler)",
        .uses = kRenders},
+      {.kind = K::SobolFull,
+       .name = "sobol-full",
+       .help = "the domains of a path take consecutive dimensions of one Owen-scrambled Sobol "
+               "sequence per pixel (pbrt-v4's SobolSampler over the pixel's samples; "
+               "sobol pads each domain instead), so camera, light and BSDF numbers are "
+               "stratified together; domains past Sobol's 25th dimension are padded",
+       .uses = kRenders},
       {.kind = K::Lattice,
        .name = "lattice",
        .help = "a rank-1 lattice (the best-separated generator coprime with N up to 65536 "

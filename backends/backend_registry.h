@@ -26,6 +26,7 @@ enum class BackendKind {
   Stratified,
   Pmj02,
   ZSobol,
+  SobolFull,  // consecutive dimensions of one Owen-Sobol sequence per pixel
   Lattice,
   LatticeBaker,
   Optimized,         // optimized[:PATHS]: sets from files, or made for the scene's map

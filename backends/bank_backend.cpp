@@ -24,7 +24,7 @@ bool SetBank::nested() const { return findMeta(sets, meta::kPrefixes) != nullptr
 
 namespace {
 
-// Sets for a tabulated lobe (what BSDF pairs are asked for), not a map.
+// Sets for a tabulated lobe (what BSDF domains are asked for), not a map.
 bool isLobeSpec(const std::string &spec) { return spec.rfind("disney", 0) == 0; }
 
 SetBank loadBank(const fs::path &file) {
@@ -121,11 +121,11 @@ void BankBackend::setBanks(std::vector<SetBank> banks) {
   uniform_.reset();
 }
 
-// A learned row adds only what it learned: the first bounce's BSDF pairs no
+// A learned row adds only what it learned: the first bounce's BSDF domains no
 // lobe bank serves take the classic lobe routes (as sobol-tabulated), so a
 // bank of environment sets is scored against the best classic mapping, not
 // against the material's sampler alone; only a uniform bank, which serves
-// those pairs as primary points itself, keeps them.
+// those domains as primary points itself, keeps them.
 bool BankBackend::samplesLobes() const {
   const auto has = [&](auto &&test) {
     return std::any_of(banks_.begin(), banks_.end(),
@@ -215,42 +215,46 @@ void BankBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
 }
 
 std::size_t BankBackend::pick(std::size_t instances, std::uint64_t pixel,
-                              std::uint32_t pair) const {
-  return hash3(seed_ ^ salt_, pixel, pair) % instances;
+                              std::uint32_t domain) const {
+  return hash3(seed_ ^ salt_, pixel, domain) % instances;
 }
 
-void BankBackend::primary(std::uint64_t pixel, std::uint32_t pair, std::span<Point2> out) const {
-  const int depth = SamplePairs::depthOf(pair);
-  if (!uniform_ || depth >= setBounces_ || pair == SamplePairs::roulette(depth) ||
-      out.size() != n_) {
-    if (uniform_ && depth == 0 && out.size() == n_ && pair != SamplePairs::roulette(depth))
+void BankBackend::primary(std::uint64_t pixel, std::uint32_t domain, std::span<Point2> out) const {
+  const int depth = SampleLayout::bounceOf(domain);
+  if (!uniform_ || depth >= setBounces_ || out.size() != n_) {
+    if (uniform_ && depth == 0 && out.size() == n_)
       use_[2].fellBack.fetch_add(1, std::memory_order_relaxed);
-    fallback_->primary(pixel, pair, out);
+    fallback_->primary(pixel, domain, out);
     return;
   }
   use_[2].served.fetch_add(1, std::memory_order_relaxed);
-  const std::uint64_t shift = hash3(seed_, pixel, pair);
-  uniform_->deal(pick(uniform_->instances(), pixel, pair), shift, out);
+  const std::uint64_t shift = hash3(seed_, pixel, domain);
+  uniform_->deal(pick(uniform_->instances(), pixel, domain), shift, out);
   shufflePoints(out, shift);
 }
 
-bool BankBackend::distributed(const Target &target, std::uint64_t pixel, std::uint32_t pair,
+void BankBackend::primary1D(std::uint64_t pixel, std::uint32_t domain,
+                            std::span<double> out) const {
+  fallback_->primary1D(pixel, domain, out);
+}
+
+bool BankBackend::distributed(const Target &target, std::uint64_t pixel, std::uint32_t domain,
                               std::span<Point2> out) const {
   // Targets were matched by spec once in prepare(); here they are addresses.
   const auto it = std::find_if(served_.begin(), served_.end(),
                                [&](const Served &s) { return s.target == &target; });
-  const int depth = SamplePairs::depthOf(pair);
+  const int depth = SampleLayout::bounceOf(domain);
   Use &use = use_[&target == light_ ? 0 : 1];
   if (it == served_.end() || out.size() != n_) {
     if (depth == 0) use.fellBack.fetch_add(1, std::memory_order_relaxed);
     return false;
   }
   if (depth >= setBounces_ ||
-      pair != (&target == light_ ? SamplePairs::light(depth) : SamplePairs::bsdf(depth)))
+      domain != (&target == light_ ? SampleLayout::light(depth) : SampleLayout::bsdf(depth)))
     return false;
   use.served.fetch_add(1, std::memory_order_relaxed);
-  const std::uint64_t shift = hash3(seed_, pixel, pair);
-  it->dealer.deal(pick(it->dealer.instances(), pixel, pair), shift, out);
+  const std::uint64_t shift = hash3(seed_, pixel, domain);
+  it->dealer.deal(pick(it->dealer.instances(), pixel, domain), shift, out);
   shufflePoints(out, shift);
   return true;
 }

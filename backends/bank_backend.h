@@ -8,15 +8,15 @@
 // contexts (renderer/sampler_backend.h) by its target spec:
 //  - a bank for the scene's environment map serves the first bounce's light
 //    pair, a bank for a tabulated lobe (renderer/lobe_tables.h) the first
-//    bounce's BSDF pair of the shading points that sample that table; one
-//    instance is picked per (pixel, pair), as the paper does with its bank of
+//    bounce's BSDF domain of the shading points that sample that table; one
+//    instance is picked per (pixel, domain), as the paper does with its bank of
 //    optimized sets, and dealt out in a random order;
-//  - a bank for the uniform target serves the first bounce's pairs as
-//    primary-sample-space points, one instance per (pixel, pair) under its
+//  - a bank for the uniform target serves the first bounce's 2D domains as
+//    primary-sample-space points, one instance per (pixel, domain) under its
 //    own Cranley-Patterson shift, which keeps the estimator unbiased.
-// Every other pair and context (deeper bounces, other materials) falls back
+// Every other domain and context (deeper bounces, other materials) falls back
 // to Owen-scrambled Sobol with the same seed, bit for bit what `sobol` gives,
-// except the first bounce's BSDF pairs: unless a uniform bank serves them,
+// except the first bounce's BSDF domains: unless a uniform bank serves them,
 // they take the classic lobe routes with those points, as `sobol-tabulated`
 // does (its tables built even where no bank is for a lobe), so that a bank's
 // row measures what its sets add to the best classic mapping.
@@ -26,7 +26,7 @@
 // misses the target where the instances converge to nearly one set (glossy
 // lobes do). `shifted:PATHS` randomizes them instead: each point is pulled
 // back to primary space through the target's CDF map (GridTarget::primaryOf),
-// the set is Cranley-Patterson shifted there per (pixel, pair), and mapped
+// the set is Cranley-Patterson shifted there per (pixel, domain), and mapped
 // back through the inverse CDF, so every point follows the target exactly
 // and the estimator is unbiased, at the price of the structure the shift
 // cuts across the torus seams.
@@ -71,7 +71,7 @@ enum class Dealing {
 Dealing dealingOf(const SetBank &bank, bool shifted);
 
 // The one way a bank's sets become the points of one estimate, in renders
-// (BankBackend, an instance per pixel and pair) and in the integration
+// (BankBackend, an instance per pixel and domain) and in the integration
 // study (one estimate per instance). A shift is a Cranley-Patterson
 // rotation in primary space; mapped through the target's inverse CDF, it
 // makes every point follow the target exactly and the estimate unbiased. A
@@ -80,7 +80,7 @@ Dealing dealingOf(const SetBank &bank, bool shifted);
 class SetDealer {
  public:
   // `target`: what the dealt points follow (nullptr with Primary: primary
-  // points, as the renderer's primary pairs take them). Throws
+  // points, as the renderer's primary domains take them). Throws
   // std::invalid_argument naming the target when Shifted needs a CDF map
   // it does not have.
   SetDealer(const SetBank &bank, const Target *target, Dealing dealing);
@@ -107,8 +107,10 @@ class BankBackend : public SamplerBackend {
   std::string name() const override { return name_; }
   bool samplesLobes() const override;
   void prepare(std::size_t spp, const SamplingTargets &targets) override;
-  void primary(std::uint64_t pixel, std::uint32_t pair, std::span<Point2> out) const override;
-  bool distributed(const Target &target, std::uint64_t pixel, std::uint32_t pair,
+  void primary(std::uint64_t pixel, std::uint32_t domain, std::span<Point2> out) const override;
+  // The fallback's: banks are 2D sets.
+  void primary1D(std::uint64_t pixel, std::uint32_t domain, std::span<double> out) const override;
+  bool distributed(const Target &target, std::uint64_t pixel, std::uint32_t domain,
                    std::span<Point2> out) const override;
   bool mapsPrimaryThrough(const Target &target) const override;
   Report report() const override;
@@ -130,8 +132,8 @@ class BankBackend : public SamplerBackend {
   std::uint64_t seed() const { return seed_; }
 
  private:
-  // The instance a pixel's pair takes of a bank of `instances`.
-  std::size_t pick(std::size_t instances, std::uint64_t pixel, std::uint32_t pair) const;
+  // The instance a pixel's domain takes of a bank of `instances`.
+  std::size_t pick(std::size_t instances, std::uint64_t pixel, std::uint32_t domain) const;
 
   std::string name_;
   std::vector<SetBank> banks_;
@@ -143,7 +145,7 @@ class BankBackend : public SamplerBackend {
   // for banks (backends/backend_registry.h).
   int setBounces_;  // BackendEntry::setBounces
   // Set by prepare(): the served targets (by address) and their banks'
-  // dealers; a uniform bank's, for the primary pairs.
+  // dealers; a uniform bank's, for the primary domains.
   struct Served {
     const Target *target;
     SetDealer dealer;
@@ -155,7 +157,7 @@ class BankBackend : public SamplerBackend {
   std::vector<const Target *> lobes_;  // the scene's lobe tables (prepare())
   std::size_t n_ = 0;
   // pairUse()'s counts: light, bsdf, primary; relaxed atomics (a context is
-  // asked once per pixel and pair, not per sample).
+  // asked once per pixel and domain, not per sample).
   struct Use {
     std::atomic<std::uint64_t> served{0}, fellBack{0};
   };

@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -10,6 +11,7 @@
 #include <cstring>
 #include <iostream>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 #include "plugins/nuld_sampler.h"
@@ -21,23 +23,55 @@ namespace {
 
 static_assert(sizeof(Point2) == 2 * sizeof(double), "fill writes Point2s as pairs of doubles");
 
-const nuld_sampler *loadSampler(const std::string &path) {
-  const PluginSpec spec{"", "", "nuld_sampler_entry", NULD_SAMPLER_VERSION, "the sampler plugin"};
-  return static_cast<const nuld_sampler *>(
-      loadPluginFile(path, spec,
-                     "rebuild it against this nuld's plugins/nuld_sampler.h, version " +
-                         std::to_string(NULD_SAMPLER_VERSION)));
+// Version 1's interface (plugins/v1/nuld_sampler.h), as nuld still calls it:
+// 2D pairs numbered camera 0, then per bounce d a light pair 1 + 3d, a BSDF
+// pair 2 + 3d and a roulette pair 3 + 3d.
+struct V1Setup {
+  std::uint64_t seed;
+  std::uint32_t spp, width, height, pairs;
+  const char *arguments;
+  std::uint32_t pairs_served;
+  char error[256];
+};
+struct V1Sampler {
+  void *(*create)(V1Setup *setup);
+  int (*fill)(const void *state, std::uint32_t x, std::uint32_t y, std::uint32_t pair,
+              std::uint32_t first, std::uint32_t count, double *xy);
+  void (*destroy)(void *state);
+};
+
+// The version-1 pair that carries a domain, and the coordinate (-1: both):
+// the 2D domains their own pairs, roulette the roulette pair's x and the
+// light choice its y (where version 1 took them); the lobe choice none.
+struct V1Pair {
+  std::uint32_t pair;
+  int coordinate;
+};
+std::optional<V1Pair> v1PairOf(std::uint32_t domain) {
+  const SampleDomain d = SampleLayout::domain(domain);
+  const std::uint32_t base = 3 * std::uint32_t(d.bounce);
+  switch (d.role) {
+    case SampleRole::Camera: return V1Pair{0, -1};
+    case SampleRole::Light: return V1Pair{1 + base, -1};
+    case SampleRole::Bsdf: return V1Pair{2 + base, -1};
+    case SampleRole::Roulette: return V1Pair{3 + base, 0};
+    case SampleRole::LightChoice: return V1Pair{3 + base, 1};
+    case SampleRole::LobeChoice: return std::nullopt;
+  }
+  return std::nullopt;
 }
 
-// "pair 5 (bounce 1's BSDF pair)": a pair as SamplePairs numbers it.
-std::string pairName(std::uint32_t pair) {
-  if (pair == SamplePairs::camera) return "pair 0 (the camera's)";
-  const int depth = SamplePairs::depthOf(pair);
-  const char *kind = pair == SamplePairs::light(depth)  ? "light"
-                     : pair == SamplePairs::bsdf(depth) ? "BSDF"
-                                                        : "roulette";
-  return "pair " + std::to_string(pair) + " (bounce " + std::to_string(depth) + "'s " + kind + ")";
+const void *loadSampler(const std::string &path, int &version) {
+  PluginSpec spec{"", "", "nuld_sampler_entry", NULD_SAMPLER_VERSION, "the sampler plugin"};
+  spec.oldestVersion = 1;
+  return loadPluginFile(path, spec,
+                        "rebuild it against this nuld's plugins/nuld_sampler.h, version " +
+                            std::to_string(NULD_SAMPLER_VERSION),
+                        &version);
 }
+
+const nuld_sampler &v2(const void *plugin) { return *static_cast<const nuld_sampler *>(plugin); }
+const V1Sampler &v1(const void *plugin) { return *static_cast<const V1Sampler *>(plugin); }
 
 // What the crash handler says: prepared before any signal (a handler may
 // only call async-signal-safe functions), for the plugin loaded last.
@@ -92,8 +126,11 @@ PluginBackend::PluginBackend(std::string word, const std::string &argument, std:
   arguments_ = colon == std::string::npos ? "" : argument.substr(colon + 1);
   if (path_.empty())
     throw std::invalid_argument("backend '" + word_ + "': expected plugin:PATH[:ARGS]");
-  plugin_ = loadSampler(path_);
-  if (!plugin_->create || !plugin_->fill || !plugin_->destroy)
+  plugin_ = loadSampler(path_, version_);
+  const bool complete = version_ == 1
+                            ? v1(plugin_).create && v1(plugin_).fill && v1(plugin_).destroy
+                            : v2(plugin_).create && v2(plugin_).fill && v2(plugin_).destroy;
+  if (!complete)
     throw std::runtime_error("the sampler plugin " + path_ +
                              ": its nuld_sampler lacks create, fill or destroy");
   noteCrashesOf(path_);
@@ -129,102 +166,192 @@ void PluginBackend::watch(std::stop_token stop) {
   }
 }
 
-int PluginBackend::guardedFill(std::uint32_t x, std::uint32_t y, std::uint32_t pair,
-                               std::span<Point2> out) const {
-  std::fill(
-      out.begin(), out.end(),
-      Point2{std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()});
+int PluginBackend::guardedFill(std::uint32_t x, std::uint32_t y, std::uint32_t domain,
+                               std::span<double> out) const {
+  std::fill(out.begin(), out.end(), std::numeric_limits<double>::quiet_NaN());
   inFlight_.fetch_add(1, std::memory_order_relaxed);
   int code;
   {
     const InsidePlugin inside;
-    code = plugin_->fill(state_, x, y, pair, 0, std::uint32_t(out.size()),
-                         reinterpret_cast<double *>(out.data()));
+    if (version_ == 1) {
+      const std::uint32_t n = std::uint32_t(out.size() / 2);
+      code = v1(plugin_).fill(state_, x, y, v1PairOf(domain)->pair, 0, n, out.data());
+    } else {
+      const nuld_domain &d = layout_[domain];
+      code = v2(plugin_).fill(state_, x, y, &d, 0, std::uint32_t(out.size() / d.dimensions),
+                              out.data());
+    }
   }
   inFlight_.fetch_sub(1, std::memory_order_relaxed);
   returned_.fetch_add(1, std::memory_order_relaxed);
   return code;
 }
 
+std::size_t PluginBackend::numbersOf(std::uint32_t domain, std::size_t spp) const {
+  return spp * (version_ == 1 ? 2 : std::size_t(SampleLayout::dimensions(domain)));
+}
+
 void PluginBackend::checkPurity(std::size_t spp, const SamplingTargets &targets) const {
-  // Corners and the middle, the camera pair and the last pair served.
+  // Corners and the middle, the first and the last domain served.
   const std::uint32_t w = std::max<std::uint32_t>(1, targets.width),
                       h = std::max<std::uint32_t>(1, targets.height);
-  const std::uint32_t last = std::max<std::uint32_t>(1, rest_.served()) - 1;
+  std::uint32_t first = targets.domains, last = 0;
+  for (std::uint32_t d = 0; d < targets.domains; ++d)
+    if (rest_.serves(d)) first = std::min(first, d), last = d;
+  if (first == targets.domains) return;
   struct Call {
-    std::uint32_t x, y, pair;
+    std::uint32_t x, y, domain;
   };
-  const Call calls[] = {{0, 0, 0}, {w - 1, h - 1, last}, {w / 2, h / 2, 0}, {w / 2, h / 2, last}};
+  const Call calls[] = {
+      {0, 0, first}, {w - 1, h - 1, last}, {w / 2, h / 2, first}, {w / 2, h / 2, last}};
   const auto fillAll = [&] {
-    std::vector<Point2> points(std::size(calls) * spp);
-    for (std::size_t i = 0; i < std::size(calls); ++i)
-      if (guardedFill(calls[i].x, calls[i].y, calls[i].pair,
-                      std::span<Point2>(points).subspan(i * spp, spp)) != 0)
-        return std::vector<Point2>{};  // primary() reports the code
-    return points;
+    std::vector<double> numbers;
+    for (const Call &c : calls) {
+      std::vector<double> one(numbersOf(c.domain, spp));
+      if (guardedFill(c.x, c.y, c.domain, one) != 0)
+        return std::vector<double>{};  // primary() reports the code
+      numbers.insert(numbers.end(), one.begin(), one.end());
+    }
+    return numbers;
   };
-  const std::vector<Point2> here = fillAll();
-  std::vector<Point2> there;
+  const std::vector<double> here = fillAll();
+  std::vector<double> there;
   std::thread([&] { there = fillAll(); }).join();
   if (here.empty() || there.empty()) return;
-  if (std::memcmp(here.data(), there.data(), here.size() * sizeof(Point2)) != 0)
+  if (std::memcmp(here.data(), there.data(), here.size() * sizeof(double)) != 0)
     throw BackendRefusal("the sampler plugin " + path_ +
-                         ": fill gave other points for the same pixel and pair when called "
+                         ": fill gave other numbers for the same pixel and domain when called "
                          "again from another thread; expected a pure function of its arguments "
                          "and the state create returned (plugins/README.md): a sampler that "
                          "keeps changing state makes every render differ");
 }
 
 PluginBackend::~PluginBackend() {
-  if (state_) plugin_->destroy(state_);
+  if (state_) destroyState();
+}
+
+void PluginBackend::destroyState() {
+  if (version_ == 1)
+    v1(plugin_).destroy(state_);
+  else
+    v2(plugin_).destroy(state_);
+  state_ = nullptr;
 }
 
 void PluginBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
-  if (state_) plugin_->destroy(state_), state_ = nullptr;
-  nuld_sampler_setup setup{};
-  setup.seed = seed_;
-  setup.spp = std::uint32_t(spp);
-  setup.width = targets.width, setup.height = targets.height;
-  setup.pairs = targets.pairs;
-  setup.arguments = arguments_.c_str();
-  setup.pairs_served = targets.pairs;
-  {
-    const InsidePlugin inside;
-    state_ = plugin_->create(&setup);
+  if (state_) destroyState();
+  std::vector<bool> served(targets.domains, true);
+  std::string why;
+  if (version_ == 1) {
+    V1Setup setup{};
+    setup.seed = seed_;
+    setup.spp = std::uint32_t(spp);
+    setup.width = targets.width, setup.height = targets.height;
+    const std::uint32_t bounces =
+        (std::max<std::uint32_t>(1, targets.domains) - 1) / SampleLayout::kPerBounce;
+    setup.pairs = targets.domains == 0 ? 0 : 1 + 3 * bounces;
+    setup.arguments = arguments_.c_str();
+    setup.pairs_served = setup.pairs;
+    {
+      const InsidePlugin inside;
+      state_ = v1(plugin_).create(&setup);
+    }
+    why.assign(setup.error, strnlen(setup.error, sizeof setup.error));
+    for (std::uint32_t d = 0; d < targets.domains; ++d) {
+      const auto pair = v1PairOf(d);
+      served[d] = pair && pair->pair < setup.pairs_served;
+    }
+  } else {
+    layout_.assign(targets.domains, {});
+    for (std::uint32_t d = 0; d < targets.domains; ++d) {
+      const SampleDomain sd = SampleLayout::domain(d);
+      layout_[d] = {d,
+                    std::uint32_t(sd.role),
+                    std::uint32_t(sd.bounce),
+                    std::uint32_t(sd.dimensions),
+                    SampleLayout::firstDimension(d),
+                    1};
+    }
+    nuld_sampler_setup setup{};
+    setup.seed = seed_;
+    setup.spp = std::uint32_t(spp);
+    setup.width = targets.width, setup.height = targets.height;
+    setup.integrator = targets.integrator.c_str();
+    setup.domains = targets.domains;
+    setup.layout = layout_.data();
+    setup.arguments = arguments_.c_str();
+    {
+      const InsidePlugin inside;
+      state_ = v2(plugin_).create(&setup);
+    }
+    why.assign(setup.error, strnlen(setup.error, sizeof setup.error));
+    // What create said, kept apart from what fill is handed.
+    for (std::uint32_t d = 0; d < targets.domains; ++d) {
+      served[d] = layout_[d].served != 0;
+      layout_[d] = {d,
+                    std::uint32_t(SampleLayout::domain(d).role),
+                    std::uint32_t(SampleLayout::bounceOf(d)),
+                    std::uint32_t(SampleLayout::dimensions(d)),
+                    SampleLayout::firstDimension(d),
+                    served[d] ? 1u : 0u};
+    }
   }
-  if (!state_) {
-    const std::string why(setup.error, strnlen(setup.error, sizeof setup.error));
+  if (!state_)
     throw BackendRefusal("the sampler plugin " + path_ + " refused the render (" +
                          std::to_string(spp) + " spp, " + std::to_string(targets.width) + "x" +
                          std::to_string(targets.height) +
                          "): " + (why.empty() ? "it gave no reason" : why));
-  }
   width_ = std::max<std::uint32_t>(1, targets.width);
-  rest_.prepare("the plugin", setup.pairs_served, spp, targets);
+  rest_.prepare("the plugin", std::move(served), spp, targets);
   checkPurity(spp, targets);
 }
 
-void PluginBackend::primary(std::uint64_t pixel, std::uint32_t pair, std::span<Point2> out) const {
-  if (pair >= rest_.served() || !state_) return rest_.primary(pixel, pair, out);
+void PluginBackend::checkedFill(std::uint64_t pixel, std::uint32_t domain,
+                                std::span<double> out) const {
   const auto x = std::uint32_t(pixel % width_), y = std::uint32_t(pixel / width_);
   const auto where = [&] {
-    return " for pixel (" + std::to_string(x) + ", " + std::to_string(y) + "), " + pairName(pair);
+    return " for pixel (" + std::to_string(x) + ", " + std::to_string(y) + "), " +
+           SobolRest::domainName(domain) +
+           (version_ == 1 ? " (version 1's pair " + std::to_string(v1PairOf(domain)->pair) + ")"
+                          : "");
   };
-  if (const int code = guardedFill(x, y, pair, out))
+  if (const int code = guardedFill(x, y, domain, out))
     throw std::runtime_error("the sampler plugin " + path_ + ": fill returned " +
                              std::to_string(code) + where());
-  for (std::size_t i = 0; i < out.size(); ++i) {
-    const Point2 p = out[i];
-    if (std::isnan(p.x) && std::isnan(p.y))
+  const std::size_t dims = version_ == 1 ? 2 : std::size_t(SampleLayout::dimensions(domain));
+  const std::size_t n = out.size() / dims;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::span<const double> sample = out.subspan(i * dims, dims);
+    if (std::all_of(sample.begin(), sample.end(), [](double v) { return std::isnan(v); }))
       throw std::runtime_error(
           "the sampler plugin " + path_ + ": fill returned 0 but left sample " + std::to_string(i) +
-          " of " + std::to_string(out.size()) + " unwritten" + where() +
-          " (nuld fills the buffer with NaN first); expected every point written");
-    if (!(p.x >= 0 && p.x < 1 && p.y >= 0 && p.y < 1))
-      throw std::runtime_error("the sampler plugin " + path_ + " gave the point (" +
-                               formatRoundTrip(p.x) + ", " + formatRoundTrip(p.y) + ")" + where() +
-                               ", sample " + std::to_string(i) + ": expected points in [0, 1)^2");
+          " of " + std::to_string(n) + " unwritten" + where() +
+          " (nuld fills the buffer with NaN first); expected every sample written");
+    if (!std::all_of(sample.begin(), sample.end(), [](double v) { return v >= 0 && v < 1; })) {
+      std::string values;
+      for (const double v : sample) values += (values.empty() ? "" : ", ") + formatRoundTrip(v);
+      throw std::runtime_error("the sampler plugin " + path_ + " gave (" + values + ")" + where() +
+                               ", sample " + std::to_string(i) + ": expected numbers in [0, 1)");
+    }
   }
+}
+
+void PluginBackend::primary(std::uint64_t pixel, std::uint32_t domain,
+                            std::span<Point2> out) const {
+  if (!rest_.serves(domain) || !state_) return rest_.primary(pixel, domain, out);
+  checkedFill(pixel, domain, {reinterpret_cast<double *>(out.data()), 2 * out.size()});
+}
+
+void PluginBackend::primary1D(std::uint64_t pixel, std::uint32_t domain,
+                              std::span<double> out) const {
+  if (!rest_.serves(domain) || !state_) return rest_.primary1D(pixel, domain, out);
+  if (version_ != 1) return checkedFill(pixel, domain, out);
+  // Version 1: the coordinate of the pair that carries it.
+  thread_local std::vector<double> pair;
+  pair.resize(2 * out.size());
+  checkedFill(pixel, domain, pair);
+  const int c = v1PairOf(domain)->coordinate;
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = pair[2 * i + std::size_t(c)];
 }
 
 }  // namespace nuld

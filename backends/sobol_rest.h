@@ -1,14 +1,15 @@
 #pragma once
-// A user's sampler (plugin:PATH, Python's sampler=ENGINE) serves the first
-// pairs of a render, or all of them; the rest take Owen-Sobol, and the
-// backend's report says so. One piece for both, so that they split the pairs
-// and say it alike.
+// A user's sampler (plugin:PATH, Python's sampler=ENGINE) serves some
+// domains of a render (renderer/sample_layout.h), or all of them; the rest
+// take Owen-Sobol, and the backend's report says so. One piece for both, so
+// that they split the domains and say it alike.
 
 #include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "backends/backend_registry.h"
 
@@ -18,22 +19,30 @@ class SobolRest {
  public:
   explicit SobolRest(std::uint64_t seed) : sobol_(makeClassicBackend(BackendKind::Sobol, seed)) {}
 
-  // The render's first `served` pairs (at most targets.pairs) are `who`'s
-  // ("the plugin"), the rest sobol's, prepared for the render.
-  void prepare(const std::string &who, std::uint32_t served, std::size_t spp,
+  // served[k]: whether `who` ("the plugin") serves domain k of the render
+  // (those past served.size(): sobol's); prepared for the render.
+  void prepare(const std::string &who, std::vector<bool> served, std::size_t spp,
                const SamplingTargets &targets) {
-    served_ = std::min(served, targets.pairs);
+    served.resize(targets.domains, false);
+    served_ = std::move(served);
     sobol_->prepare(spp, targets);
-    note_ = served_ == 0 ? who + " serves no pair; every point is sobol's"
-            : served_ < targets.pairs
-                ? who + " serves the first " + std::to_string(served_) + " of the " +
-                      std::to_string(targets.pairs) + " pairs; the rest are sobol's"
+    const auto count = std::size_t(std::count(served_.begin(), served_.end(), true));
+    std::string left;
+    for (std::uint32_t d = 0; d < served_.size(); ++d)
+      if (!served_[d]) left += (left.empty() ? "" : ", ") + domainName(d);
+    note_ = count == 0 ? who + " serves no domain; every sample is sobol's"
+            : count < served_.size()
+                ? who + " serves " + std::to_string(count) + " of the " +
+                      std::to_string(served_.size()) + " domains; sobol serves " + left
                 : "";
   }
-  std::uint32_t served() const { return served_; }
-  // Sobol's points for a pair the sampler leaves.
-  void primary(std::uint64_t pixel, std::uint32_t pair, std::span<Point2> out) const {
-    sobol_->primary(pixel, pair, out);
+  bool serves(std::uint32_t domain) const { return domain < served_.size() && served_[domain]; }
+  // Sobol's samples for a domain the sampler leaves.
+  void primary(std::uint64_t pixel, std::uint32_t domain, std::span<Point2> out) const {
+    sobol_->primary(pixel, domain, out);
+  }
+  void primary1D(std::uint64_t pixel, std::uint32_t domain, std::span<double> out) const {
+    sobol_->primary1D(pixel, domain, out);
   }
   // The report of a backend whose only news is the split.
   SamplerBackend::Report report() const {
@@ -42,9 +51,17 @@ class SobolRest {
     return r;
   }
 
+  // "domain 4 (bounce 0's bsdf)": a domain as the layout numbers it.
+  static std::string domainName(std::uint32_t domain) {
+    const SampleDomain d = SampleLayout::domain(domain);
+    if (d.role == SampleRole::Camera) return "domain 0 (the camera's)";
+    return "domain " + std::to_string(domain) + " (bounce " + std::to_string(d.bounce) + "'s " +
+           toString(d.role) + ")";
+  }
+
  private:
   std::unique_ptr<SamplerBackend> sobol_;
-  std::uint32_t served_ = 0;
+  std::vector<bool> served_;
   std::string note_;
 };
 

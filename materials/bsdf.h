@@ -51,9 +51,20 @@ class Bsdf {
   // Both at once, the same values as eval and pdf; materials whose two share
   // work (half vector, microfacet D) override it.
   virtual BsdfValue evalWithPdf(Vec3 wo, Vec3 wi) const { return {eval(wo, wi), pdf(wo, wi)}; }
-  // Maps u in [0,1)^2 to a direction; nullopt when none is produced (for
-  // example a microfacet reflection that points below the surface).
-  virtual std::optional<BsdfSample> sample(Vec3 wo, Point2 u) const = 0;
+  // Maps (uc, u) in [0,1)^3 to a direction, pbrt-v4's form: uc chooses
+  // among the material's lobes (a material of one lobe ignores it) and u
+  // samples the chosen lobe; the renderer draws uc from the lobe-choice
+  // domain (renderer/sample_layout.h). nullopt when no direction is produced
+  // (for example a microfacet reflection that points below the surface).
+  virtual std::optional<BsdfSample> sample(Vec3 wo, double uc, Point2 u) const = 0;
+  // How many lobes uc chooses among (1: sample() ignores uc).
+  virtual int lobeCount() const { return 1; }
+  // The same distribution from the square alone, for studies of 2D sets on
+  // a BSDF integrand (tools/study): u.x chooses the lobe and, rescaled,
+  // stays the lobe's first coordinate. A material of one lobe: sample().
+  virtual std::optional<BsdfSample> sampleSquare(Vec3 wo, Point2 u) const {
+    return sample(wo, 0.0, u);
+  }
 };
 
 }  // namespace nuld

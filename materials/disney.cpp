@@ -284,16 +284,27 @@ std::optional<Vec3> DisneyBrdf::sampleLobe(int k, Vec3 wo, Point2 u) const {
   return std::nullopt;
 }
 
-std::optional<BsdfSample> DisneyBrdf::sample(Vec3 wo, Point2 u) const {
-  if (!(wo.z > 0)) return std::nullopt;
-  // u.x chooses the lobe and, rescaled, stays the lobe's first coordinate.
-  const LobeProbabilities lobeP = lobeProbabilities(wo);
-  const auto [k, ux] = pickLobe(lobeP, u.x);
-  const auto wi = sampleLobe(k, wo, {ux, u.y});
+std::optional<BsdfSample> DisneyBrdf::sampleChosen(Vec3 wo, const LobeProbabilities &lobeP, int k,
+                                                   Point2 u) const {
+  const auto wi = sampleLobe(k, wo, u);
   if (!wi || !(wi->z > 0)) return std::nullopt;
   const auto [f, p] = evalWithPdf(wo, *wi, lobeP);
   if (!(p > 0) || !std::isfinite(p) || !f.isFinite()) return std::nullopt;
   return BsdfSample{*wi, f, p, p};
+}
+
+std::optional<BsdfSample> DisneyBrdf::sample(Vec3 wo, double uc, Point2 u) const {
+  if (!(wo.z > 0)) return std::nullopt;
+  const LobeProbabilities lobeP = lobeProbabilities(wo);
+  return sampleChosen(wo, lobeP, pickLobe(lobeP, uc).k, u);
+}
+
+std::optional<BsdfSample> DisneyBrdf::sampleSquare(Vec3 wo, Point2 u) const {
+  if (!(wo.z > 0)) return std::nullopt;
+  // u.x chooses the lobe and, rescaled, stays the lobe's first coordinate.
+  const LobeProbabilities lobeP = lobeProbabilities(wo);
+  const auto [k, ux] = pickLobe(lobeP, u.x);
+  return sampleChosen(wo, lobeP, k, {ux, u.y});
 }
 
 void DisneyBrdf::hashContent(ContentHash &h) const {

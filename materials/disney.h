@@ -83,12 +83,14 @@ class DisneyBrdf final : public Bsdf {
   double pdf(Vec3 wo, Vec3 wi) const override;
   // One half vector and one D per microfacet lobe for both.
   BsdfValue evalWithPdf(Vec3 wo, Vec3 wi) const override;
-  // f is the full eval (all lobes) and pdf the full mixture pdf.
-  std::optional<BsdfSample> sample(Vec3 wo, Point2 u) const override;
+  // f is the full eval (all lobes) and pdf the full mixture pdf: uc picks
+  // the lobe by lobeProbabilities(wo), u samples it.
+  std::optional<BsdfSample> sample(Vec3 wo, double uc, Point2 u) const override;
+  std::optional<BsdfSample> sampleSquare(Vec3 wo, Point2 u) const override;
 
   // Lobes in sampling order: diffuse, subsurface, specular, then clearcoat
   // when clearcoat > 0.
-  int lobeCount() const { return lobeCount_; }
+  int lobeCount() const override { return lobeCount_; }
   // The probability with which sample() picks each lobe at the view wo
   // (0 beyond lobeCount); they sum to 1 and depend on wo only through wo.z,
   // so every symmetry of f that moves the view keeps them. Lobe k's stripe
@@ -118,6 +120,9 @@ class DisneyBrdf final : public Bsdf {
     double x;
   };
   LobePick pickLobe(const LobeProbabilities &p, double x) const;
+  // Lobe k's sample at u, with the full f and mixture pdf.
+  std::optional<BsdfSample> sampleChosen(Vec3 wo, const LobeProbabilities &p, int k,
+                                         Point2 u) const;
   // Where lobe k's stripe of u.x starts under `p`.
   static double stripeStart(const LobeProbabilities &p, int k);
   // evalWithPdf with the view's lobe probabilities already at hand.

@@ -14,7 +14,7 @@ double Lambertian::pdf(Vec3 wo, Vec3 wi) const {
   return cosineHemispherePdf(wi.z);
 }
 
-std::optional<BsdfSample> Lambertian::sample(Vec3 wo, Point2 u) const {
+std::optional<BsdfSample> Lambertian::sample(Vec3 wo, double, Point2 u) const {
   if (!(wo.z > 0)) return std::nullopt;
   const Vec3 wi = cosineHemisphere(u);
   if (!(wi.z > 0)) return std::nullopt;  // only for u.x = 1, outside [0,1)

@@ -17,7 +17,7 @@ class Lambertian final : public Bsdf {
   }
   Rgb eval(Vec3 wo, Vec3 wi) const override;
   double pdf(Vec3 wo, Vec3 wi) const override;
-  std::optional<BsdfSample> sample(Vec3 wo, Point2 u) const override;
+  std::optional<BsdfSample> sample(Vec3 wo, double uc, Point2 u) const override;
 
  private:
   Rgb albedo_;

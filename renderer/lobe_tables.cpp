@@ -52,7 +52,7 @@ struct RouteVariances {
 RouteVariances measureAt(const DisneyBrdf &m, Vec3 wo, const LobeFrame &lobe, bool underMis,
                          std::uint64_t seed) {
   std::array<std::array<double, kMeasureRepeats>, kLights> classic{}, table{};
-  std::array<Point2, kMeasurePoints> u, ul;
+  std::array<Point2, kMeasurePoints> u, ul, choice;
   // A proxy light sample: its direction, f cos / (pdf N) there, and the
   // material's pdf (each route's MIS weight starts from it).
   struct LightSample {
@@ -64,6 +64,9 @@ RouteVariances measureAt(const DisneyBrdf &m, Vec3 wo, const LobeFrame &lobe, bo
     const std::uint64_t key = mix64(seed + r);
     generateSet({SequenceKind::Sobol, Scramble::Owen, key}, 0, u, 0);
     shufflePoints(u, key);
+    // The lobe choice's numbers, a 1D set of their own as in a render.
+    generateSet({SequenceKind::Sobol, Scramble::Owen, key ^ 0x6c0be}, 0, choice, 0);
+    shufflePoints(choice, key ^ 0x6c0be);
     if (underMis) {
       generateSet({SequenceKind::Sobol, Scramble::Owen, mix64(key)}, 0, ul, 0);
       for (std::size_t i = 0; i < kMeasurePoints; ++i) {
@@ -80,8 +83,8 @@ RouteVariances measureAt(const DisneyBrdf &m, Vec3 wo, const LobeFrame &lobe, bo
       for (int k = 0; k < kLights; ++k) sums[k][r] += w * smoothLight(k, b.wi);
     };
     for (std::size_t i = 0; i < kMeasurePoints; ++i) {
-      add(sampleRoute(m, wo, LobeFrame{}, {u[i]}), classic);
-      add(sampleRoute(m, wo, lobe, {u[i]}), table);
+      add(sampleRoute(m, wo, LobeFrame{}, {u[i]}, choice[i].x), classic);
+      add(sampleRoute(m, wo, lobe, {u[i]}, choice[i].x), table);
     }
     // The proxy light's samples, weighted as the path integrator weighs
     // them: against the material's pdf whichever route draws the BSDF
@@ -115,9 +118,9 @@ std::optional<BsdfSample> tableSample(const Bsdf &bsdf, Vec3 wo, const LobeFrame
 }
 
 // The route's sample before its one validity check (sampleRoute).
-std::optional<BsdfSample> drawRoute(const Bsdf &bsdf, Vec3 wo, const LobeFrame &lobe,
-                                    RoutePoint p) {
-  if (!lobe.table) return bsdf.sample(wo, p.value);
+std::optional<BsdfSample> drawRoute(const Bsdf &bsdf, Vec3 wo, const LobeFrame &lobe, RoutePoint p,
+                                    double uc) {
+  if (!lobe.table) return bsdf.sample(wo, uc, p.value);
   const double d = lobe.defensive;
   // A point that follows the table, in a cell the table can draw from, is
   // the table's sample as it is: pulling it back to primary space and
@@ -135,7 +138,7 @@ std::optional<BsdfSample> drawRoute(const Bsdf &bsdf, Vec3 wo, const LobeFrame &
   // stratification on both sides, which a random choice per sample would
   // not.
   if (u.x < d) {
-    auto drawn = bsdf.sample(wo, {u.x / d, u.y});
+    auto drawn = bsdf.sample(wo, uc, {u.x / d, u.y});
     if (drawn) drawn->pdf = lobe.pdf(drawn->wi, drawn->misPdf);
     return drawn;
   }
@@ -145,8 +148,8 @@ std::optional<BsdfSample> drawRoute(const Bsdf &bsdf, Vec3 wo, const LobeFrame &
 }  // namespace
 
 std::optional<BsdfSample> sampleRoute(const Bsdf &bsdf, Vec3 wo, const LobeFrame &lobe,
-                                      RoutePoint p) {
-  auto s = drawRoute(bsdf, wo, lobe, p);
+                                      RoutePoint p, double uc) {
+  auto s = drawRoute(bsdf, wo, lobe, p, uc);
   if (!s || !(s->pdf > 0) || !std::isfinite(s->pdf) || !s->f.isFinite()) return std::nullopt;
   return s;
 }

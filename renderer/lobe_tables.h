@@ -165,8 +165,8 @@ struct RoutePoint {
   bool followsTable = false;
 };
 
-// The sample of the route `lobe` at wo for the point p: without a table the
-// material's own sample() of the primary point; with one, a primary point
+// The sample of the route `lobe` at wo for the point p and the lobe-choice
+// number uc: without a table the material's own sample(wo, uc, p); with one, a primary point
 // is mapped by the table's inverse CDF, except that a share `defensive` of
 // the square (u.x < defensive) goes to the material's own sample() and the
 // rest, stretched over the square, through the table. A point that follows
@@ -175,7 +175,7 @@ struct RoutePoint {
 // split there. f is the material's; with uniform primary points, wi
 // follows the route's density. nullopt when no direction results.
 std::optional<BsdfSample> sampleRoute(const Bsdf &bsdf, Vec3 wo, const LobeFrame &lobe,
-                                      RoutePoint p);
+                                      RoutePoint p, double uc);
 
 // What the route measurement found for one bin (renderer/README.md, "Lobe
 // routes"): the relative variance of a 16-point Owen-Sobol estimate of the

@@ -1,14 +1,15 @@
 #pragma once
-// Padding (Kollig & Keller 2002): the renderer asks every dimension pair of a
-// pixel for its N points separately, and sample i combines point i of each
-// pair. Pairs cut from the same net (every pair of the sobol and halton
+// Padding (Kollig & Keller 2002): the renderer asks every domain of a pixel
+// (renderer/sample_layout.h) for its N samples separately, and sample i
+// combines sample i of each domain. Pairs cut from the same net (every pair of the sobol and halton
 // backends is a scrambled copy of dimensions 0 and 1; optimized sets come
 // from one bank) share its index order: scrambling each copy independently
 // still ties point i of one pair to point i of another by a fixed bijection,
 // so the N combined samples lie on a lower-dimensional pattern whose error
 // stops falling with N (tools/experiments/implementation_notes.md). Each
-// (pixel, pair) therefore deals its points out in a random order of its own:
-// pairs are matched at random, and every pair keeps its stratification.
+// (pixel, domain) therefore deals its samples out in a random order of its
+// own: domains are matched at random, and every domain keeps its
+// stratification.
 
 #include <span>
 
@@ -19,7 +20,8 @@ namespace nuld {
 
 // A uniformly random permutation of `points` keyed by `seed` (Fisher-Yates;
 // each 64-bit draw serves two swaps, by Lemire's multiply-shift on 32 bits).
-inline void shufflePoints(std::span<Point2> points, std::uint64_t seed) {
+template <class T>
+void shuffleSamples(std::span<T> points, std::uint64_t seed) {
   Rng rng(seed, 0x5eed5bu);
   const auto below = [](std::uint64_t bits32, std::size_t n) {
     return std::size_t((bits32 * n) >> 32);
@@ -29,6 +31,14 @@ inline void shufflePoints(std::span<Point2> points, std::uint64_t seed) {
     std::swap(points[i - 1], points[below(bits & 0xffffffffu, i)]);
     if (i > 2) std::swap(points[i - 2], points[below(bits >> 32, i - 1)]);
   }
+}
+
+// A 2D domain's points and a 1D domain's numbers.
+inline void shufflePoints(std::span<Point2> points, std::uint64_t seed) {
+  shuffleSamples(points, seed);
+}
+inline void shufflePoints(std::span<double> numbers, std::uint64_t seed) {
+  shuffleSamples(numbers, seed);
 }
 
 }  // namespace nuld

@@ -111,17 +111,17 @@ namespace {
 void lightSamples(const EnvironmentLight &light, std::span<PathIntegrator::PathState> paths,
                   int depth, std::span<const bool> chosen,
                   std::span<std::optional<LightSample>> ls) {
-  const std::uint32_t pair = SamplePairs::light(depth);
+  const std::uint32_t domain = SampleLayout::light(depth);
   constexpr std::size_t kMax = PathIntegrator::kMaxPaths;
   Point2 target[kMax], primary[kMax];
   std::size_t targetOf[kMax], primaryOf[kMax], nt = 0, np = 0;
   for (std::size_t k = 0; k < paths.size(); ++k) {
     if (!paths[k].alive || !chosen[k]) continue;
     PixelSamples &s = *paths[k].samples;
-    if (const Point2 *x = s.distributed(*light.target(), pair, paths[k].index)) {
+    if (const Point2 *x = s.distributed(*light.target(), domain, paths[k].index)) {
       target[nt] = *x, targetOf[nt++] = k;
     } else {
-      primary[np] = s.primary(pair, paths[k].index), primaryOf[np++] = k;
+      primary[np] = s.primary(domain, paths[k].index), primaryOf[np++] = k;
     }
   }
   std::optional<LightSample> out[kMax];
@@ -201,7 +201,7 @@ bool PathIntegrator::arrive(std::span<PathState> path,
     // the same time (measured in tools/experiments/path_noise.md).
     if (depth >= rouletteDepth_ && p.beta.maxComponent() < 1) {
       const double q = std::max(0.0, 1 - std::sqrt(p.beta.maxComponent()));
-      if (p.samples->primary(SamplePairs::roulette(depth), p.index).x < q) {
+      if (p.samples->number(SampleLayout::roulette(depth), p.index) < q) {
         p.alive = false;
         continue;
       }
@@ -231,7 +231,7 @@ void PathIntegrator::chooseBsdfStrategies(std::span<PathState> path, int depth,
       continue;
     const auto frame = lobes_->frame(p.bsdf, p.wo);
     if (!frame) continue;
-    if (p.samples->tablePoint(*frame->table, SamplePairs::bsdf(depth), p.index, p.lobePoint)) {
+    if (p.samples->tablePoint(*frame->table, SampleLayout::bsdf(depth), p.index, p.lobePoint)) {
       p.lobe = *frame;
     } else if (depth == 0) {
       ++counters.classicFallbacks;
@@ -247,8 +247,7 @@ void PathIntegrator::addLightSamples(std::span<PathState> path, int depth,
   const bool environment = light_ && light_->target();
   if (!environment && lights.empty()) return;
   // Which light each path samples: the environment alone in a scene without
-  // emitters; else one light chosen by power with the roulette pair's y (a
-  // number no other decision of the bounce takes).
+  // emitters; else one light chosen by power with the light-choice number.
   std::array<bool, kMaxPaths> chosesEnvironment;
   std::array<double, kMaxPaths> choice;
   std::array<std::optional<AreaLightSample>, kMaxPaths> area;
@@ -260,13 +259,13 @@ void PathIntegrator::addLightSamples(std::span<PathState> path, int depth,
       PathState &p = path[k];
       if (!p.alive) continue;
       const auto c =
-          lights.choice->choose(p.samples->primary(SamplePairs::roulette(depth), p.index).y);
+          lights.choice->choose(p.samples->number(SampleLayout::lightChoice(depth), p.index));
       choice[k] = c.probability;
       chosesEnvironment[k] = c.index == lights.count();
       if (chosesEnvironment[k]) continue;
       areaIndex[k] = c.index;
       area[k] = lights.light(c.index).sample(
-          p.sh.origin, p.samples->primary(SamplePairs::light(depth), p.index));
+          p.sh.origin, p.samples->primary(SampleLayout::light(depth), p.index));
     }
   }
   std::array<std::optional<LightSample>, kMaxPaths> ls;
@@ -329,10 +328,14 @@ bool PathIntegrator::continuePaths(std::span<PathState> path, int depth,
     PathState &p = path[k];
     if (!p.alive) continue;
     p.alive = false;
+    // The lobe choice is drawn only where a material's own sampler runs (a
+    // table's point samples the whole mixture) and has lobes to choose.
+    const bool own = (!p.lobe.table || p.lobe.defensive > 0) && p.bsdf->lobeCount() > 1;
     const auto bs = sampleRoute(
         *p.bsdf, p.wo, p.lobe,
         p.lobe.table ? p.lobePoint
-                     : RoutePoint{p.samples->primary(SamplePairs::bsdf(depth), p.index)});
+                     : RoutePoint{p.samples->primary(SampleLayout::bsdf(depth), p.index)},
+        own ? p.samples->number(SampleLayout::lobeChoice(depth), p.index) : 0.0);
     if (!bs) continue;
     if (!(bs->wi.z > 0)) continue;  // below the shading hemisphere: f = 0
     const Vec3 wiWorld = p.sh.frame.toWorld(bs->wi);

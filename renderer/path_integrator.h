@@ -8,7 +8,7 @@
 // MIS weight): the estimator of the supplement's environment-map experiment,
 // where only the light's points vary between backends. The BSDF mode is its
 // mirror image: the first bounce by BSDF sampling alone (the estimator in
-// which only the BSDF pair's points vary).
+// which only the BSDF sample's numbers vary: its lobe choice and direction).
 //
 // BSDF sampling at a Disney material samples its tabulated lobe
 // (renderer/lobe_tables.h) when the backend hands over points distributed by
@@ -68,7 +68,7 @@ Vec3 shadingLocal(const SurfaceHit &hit, Vec3 wo);
 
 class PathIntegrator {
  public:
-  // `lobes`: the tables BSDF pairs are asked for (null: never asked).
+  // `lobes`: the tables BSDF domains are asked for (null: never asked).
   // `rouletteDepth`: the first hit (0-based) where Russian roulette may end a
   // path; the default 2 never cuts the first two hits' direct light.
   PathIntegrator(const Scene &scene, IntegratorKind kind, int maxDepth,

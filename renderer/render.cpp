@@ -22,11 +22,9 @@ namespace {
 
 constexpr int kTile = 16;  // tiles of kTile x kTile pixels, one task each
 
-// The dimension pairs a path may ask for: a camera pair, then a light, a
-// BSDF and a roulette pair a bounce (one bounce but under path).
-std::uint32_t pathPairs(const RenderSettings &s) {
-  const int bounces = s.integrator == IntegratorKind::Path ? s.maxDepth : 1;
-  return SamplePairs::roulette(bounces - 1) + 1;
+// The domains a path may ask for (one bounce's but under path).
+std::uint32_t pathDomains(const RenderSettings &s) {
+  return SampleLayout::domains(s.integrator == IntegratorKind::Path ? s.maxDepth : 1);
 }
 
 // Renders the tile whose top-left pixel is (x0, y0) into `image`.
@@ -59,7 +57,7 @@ void renderTile(const Scene &scene, const RenderSettings &s, SamplerBackend &bac
         const std::size_t n = std::min(kPacket, total - first);
         for (std::size_t k = 0; k < n; ++k) {
           const std::size_t p = (first + k) / s.spp, i = (first + k) % s.spp;
-          const Point2 jitter = samples[p].primary(SamplePairs::camera, i);
+          const Point2 jitter = samples[p].primary(SampleLayout::camera, i);
           cameraRays[k] = camera.generateRay({gx + int(p) + jitter.x, y + jitter.y});
         }
         scene.geometry.intersectCoherent(std::span(cameraRays.data(), n),
@@ -128,10 +126,10 @@ OverrideNames OverrideNames::python() {
 double renderMemoryBytes(const RenderSettings &s) {
   constexpr double kPixelBytes = 2 * 3 * sizeof(float);  // the image and its caller's copy
   // A tile's task renders max(1, 16 / spp) pixels at once (renderTile),
-  // each with spp points of every pair its paths reach and of one context a
-  // pair.
+  // each with spp samples of every domain its paths reach and of one context
+  // a domain (counted as if every domain were 2D).
   const double samples = std::max<double>(double(s.spp), double(PathIntegrator::kMaxPaths));
-  const double threadBytes = samples * double(pathPairs(s)) * 2 * sizeof(Point2);
+  const double threadBytes = samples * double(pathDomains(s)) * 2 * sizeof(Point2);
   const double threads =
       double(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
   return double(s.width) * double(s.height) * kPixelBytes + threads * threadBytes;
@@ -210,7 +208,8 @@ Image render(const Scene &scene, const RenderSettings &s, SamplerBackend &backen
   const auto setupStart = std::chrono::steady_clock::now();
   SamplingTargets targets;
   targets.width = std::uint32_t(s.width), targets.height = std::uint32_t(s.height);
-  targets.pairs = pathPairs(s);
+  targets.domains = pathDomains(s);
+  targets.integrator = toString(s.integrator);
   const EnvironmentLight *light = sampledLight(scene, s.integrator);
   targets.light = light ? light->target() : nullptr;
   std::shared_ptr<const LobeTables> lobes;

@@ -17,9 +17,10 @@ namespace nuld {
 
 // The estimator's revision, raised whenever a change alters what renders
 // converge to or how noisy they are (2: the terminator policy and roulette
-// from the third hit). Study references record it, so one made by another
+// from the third hit; 3: the sample layout's domains, the lobe choice a
+// number of its own). Study references record it, so one made by another
 // revision is refused rather than compared against.
-inline constexpr int kRendererRevision = 2;
+inline constexpr int kRendererRevision = 3;
 
 // The longest path a scene, a command or the Python module may ask for.
 inline constexpr int kMaxDepthLimit = 1000;

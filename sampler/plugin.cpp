@@ -33,7 +33,7 @@ std::vector<std::string> candidates(const PluginSpec &spec) {
 // `why` saying what is wrong with it; `rebuild` says what to do about a
 // version mismatch.
 const void *loadFrom(const std::string &place, const PluginSpec &spec, const char *rebuild,
-                     std::string &why) {
+                     std::string &why, int &version) {
   if (!std::filesystem::exists(place)) {
     why = "no such file";
     return nullptr;
@@ -50,11 +50,14 @@ const void *loadFrom(const std::string &place, const PluginSpec &spec, const cha
     why = std::string("not the plugin (no ") + spec.entry + ")";
     return nullptr;
   }
-  int version = 0;
+  version = 0;
   const void *object = entry(&version);
-  if (version != spec.version) {
+  const int oldest = spec.oldestVersion > 0 ? spec.oldestVersion : spec.version;
+  if (version < oldest || version > spec.version) {
     why = "built for interface version " + std::to_string(version) + ", expected " +
-          std::to_string(spec.version) + " (" + rebuild + ")";
+          (oldest < spec.version ? std::to_string(oldest) + " to " + std::to_string(spec.version)
+                                 : std::to_string(spec.version)) +
+          " (" + rebuild + ")";
     return nullptr;
   }
   if (!object) why = std::string(spec.entry) + " returned no interface";
@@ -65,7 +68,8 @@ const void *load(const PluginSpec &spec) {
   std::string tried;
   for (const std::string &place : candidates(spec)) {
     std::string why;
-    if (const void *object = loadFrom(place, spec, "rebuild nuld", why)) return object;
+    int version;
+    if (const void *object = loadFrom(place, spec, "rebuild nuld", why, version)) return object;
     tried += "\n  " + place + ": " + why;
   }
   throw std::runtime_error(
@@ -89,21 +93,23 @@ const void *loadPlugin(const PluginSpec &spec) {
 }
 
 const void *loadPluginFile(const std::string &path, const PluginSpec &spec,
-                           const std::string &rebuild) {
-  static std::map<std::string, const void *> loaded;  // by the file's canonical path
+                           const std::string &rebuild, int *version) {
+  // By the file's canonical path: the interface and its version.
+  static std::map<std::string, std::pair<const void *, int>> loaded;
   std::error_code error;
   const std::filesystem::path canonical = std::filesystem::weakly_canonical(path, error);
   const std::string key = error ? path : canonical.string();
   const std::lock_guard guard(loaderLock());
-  const void *&object = loaded[key];
+  auto &[object, found] = loaded[key];
   if (!object) {
     std::string why;
     // dlopen searches the library path for a name without a slash: a file
     // in the working directory is meant.
     const std::string place = path.find('/') == std::string::npos ? "./" + path : path;
-    object = loadFrom(place, spec, rebuild.c_str(), why);
+    object = loadFrom(place, spec, rebuild.c_str(), why, found);
     if (!object) throw std::runtime_error(std::string(spec.purpose) + " " + path + ": " + why);
   }
+  if (version) *version = found;
   return object;
 }
 

@@ -22,6 +22,9 @@ struct PluginSpec {
   const char *entry;     // the exported function's name
   int version;           // the interface version the caller was built with
   const char *purpose;   // "the neural generator": what needs the plugin
+  // The oldest version the caller still loads (0: `version` only); a plugin
+  // of any version from it to `version` is accepted (loadPluginFile).
+  int oldestVersion = 0;
 };
 
 // The plugin's interface object, loaded from (in this order) the file the
@@ -37,8 +40,9 @@ const void *loadPlugin(const PluginSpec &spec);
 // entry and version, no other place tried. Loaded once per file. Throws
 // std::runtime_error starting with the spec's purpose and the path, saying
 // what is wrong (no such file, not loadable, no entry, another version:
-// then `rebuild`, what to do about it).
+// then `rebuild`, what to do about it). `version`, if given, receives the
+// version the plugin was built for.
 const void *loadPluginFile(const std::string &path, const PluginSpec &spec,
-                           const std::string &rebuild);
+                           const std::string &rebuild, int *version = nullptr);
 
 }  // namespace nuld

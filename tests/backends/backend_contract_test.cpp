@@ -82,8 +82,8 @@ TEST_P(BackendContract, PointsAreInTheUnitSquareAndAPureFunctionOfTheirArguments
   b->prepare(kSpp, targets);
   std::vector<Point2> x(kSpp), y(kSpp), again(kSpp);
   for (std::uint64_t pixel : {0ull, 5ull, 1234567ull})
-    for (std::uint32_t pair : {SamplePairs::light(0), SamplePairs::bsdf(0), SamplePairs::light(2),
-                               SamplePairs::roulette(3)}) {
+    for (std::uint32_t pair : {SampleLayout::camera, SampleLayout::light(0), SampleLayout::bsdf(0),
+                               SampleLayout::light(2), SampleLayout::bsdf(3)}) {
       a->primary(pixel, pair, x);
       b->primary(pixel, pair, y);
       a->primary(pixel, pair, again);
@@ -100,6 +100,19 @@ TEST_P(BackendContract, PointsAreInTheUnitSquareAndAPureFunctionOfTheirArguments
         EXPECT_EQ(x, y) << spec();
         for (const Point2 &p : x) ASSERT_TRUE(p.x >= 0 && p.x < 1 && p.y >= 0 && p.y < 1);
       }
+    }
+  // The 1D domains: numbers in [0, 1), the same for the same arguments, and
+  // another set for another domain.
+  std::vector<double> u(kSpp), v(kSpp), w(kSpp);
+  for (std::uint64_t pixel : {0ull, 5ull, 1234567ull})
+    for (std::uint32_t domain : {SampleLayout::lightChoice(0), SampleLayout::lobeChoice(0),
+                                 SampleLayout::roulette(0), SampleLayout::roulette(3)}) {
+      a->primary1D(pixel, domain, u);
+      b->primary1D(pixel, domain, v);
+      a->primary1D(pixel, domain + SampleLayout::kPerBounce, w);
+      EXPECT_EQ(u, v) << spec() << " pixel " << pixel << " domain " << domain;
+      EXPECT_NE(u, w) << spec() << " pixel " << pixel << " domain " << domain;
+      for (const double x1 : u) ASSERT_TRUE(x1 >= 0 && x1 < 1) << spec() << ": " << x1;
     }
 }
 

@@ -43,21 +43,76 @@ bool isNet(const std::vector<Point2> &pts) {
   return true;
 }
 
+// The t of a (t, m, 2)-net of N = 2^m points: the smallest t for which every
+// elementary box of area 2^(t - m) holds 2^t points.
+int netQuality(const std::vector<Point2> &pts) {
+  const int m = int(std::log2(pts.size()));
+  for (int t = 0; t <= m; ++t) {
+    bool all = true;
+    for (int a = 0; a <= m - t && all; ++a) {
+      const int nx = 1 << a, ny = 1 << (m - t - a);
+      std::vector<int> count(std::size_t(nx) * ny, 0);
+      for (const Point2 &p : pts) ++count[std::size_t(int(p.y * ny)) * nx + int(p.x * nx)];
+      all = std::all_of(count.begin(), count.end(), [&](int c) { return c == 1 << t; });
+    }
+    if (all) return t;
+  }
+  return m;
+}
+
+// sobol-full: a pixel's domains are consecutive dimensions of one sequence,
+// so numbers of different domains are stratified together (the camera's x
+// with the light choice, Sobol dimensions 0 and 2, are a (1, 6, 2)-net of 64
+// points), where sobol's padded domains are matched at random; every domain
+// is still stratified.
+TEST(Backends, SobolFullDomainsAreOneSequencesDimensions) {
+  SamplingTargets targets;
+  targets.width = 8, targets.height = 8, targets.domains = SampleLayout::domains(5);
+  const auto full = makeBackend("sobol-full", 5), padded = makeBackend("sobol", 5);
+  full->prepare(64, targets);
+  padded->prepare(64, targets);
+  EXPECT_NE(full->report().note.find("bounce 3 on are padded"), std::string::npos)
+      << full->report().note;
+  const auto across = [](SamplerBackend &b, std::uint64_t pixel) {
+    std::vector<Point2> camera(64);
+    std::vector<double> choice(64);
+    b.primary(pixel, SampleLayout::camera, camera);
+    b.primary1D(pixel, SampleLayout::lightChoice(0), choice);
+    std::vector<Point2> joint(64);
+    for (std::size_t i = 0; i < 64; ++i) joint[i] = {camera[i].x, choice[i]};
+    return joint;
+  };
+  for (std::uint64_t pixel : {0ull, 9ull, 63ull}) {
+    EXPECT_LE(netQuality(across(*full, pixel)), 1) << pixel;
+    EXPECT_GE(netQuality(across(*padded, pixel)), 3) << pixel;
+    std::vector<Point2> camera(64), light(64);
+    full->primary(pixel, SampleLayout::camera, camera);
+    EXPECT_TRUE(isNet(camera));
+    std::vector<Point2> other(64);
+    full->primary(pixel + 1, SampleLayout::camera, other);
+    EXPECT_NE(camera, other);  // every pixel scrambled afresh
+  }
+  // A domain past Sobol's dimensions is a padded set, still a net.
+  std::vector<Point2> deep(64);
+  full->primary(3, SampleLayout::bsdf(4), deep);
+  EXPECT_TRUE(isNet(deep));
+}
+
 TEST(Backends, SobolPixelsAreNetsAndPairsAreIndependentlyScrambled) {
   const auto sobol = makeBackend("sobol", 5);
   std::vector<Point2> a(64), b(64), c(64);
-  sobol->primary(17, 3, a);
-  sobol->primary(17, 4, b);
-  sobol->primary(18, 3, c);
+  sobol->primary(17, SampleLayout::light(0), a);
+  sobol->primary(17, SampleLayout::bsdf(0), b);
+  sobol->primary(18, SampleLayout::light(0), c);
   EXPECT_TRUE(isNet(a) && isNet(b) && isNet(c));
   EXPECT_NE(a, b);
   EXPECT_NE(a, c);
   std::vector<Point2> again(64);
-  sobol->primary(17, 3, again);
+  sobol->primary(17, SampleLayout::light(0), again);
   EXPECT_EQ(a, again);
   // Independent points are (almost surely) not a net.
   const auto independent = makeBackend("independent", 5);
-  independent->primary(17, 3, a);
+  independent->primary(17, SampleLayout::light(0), a);
   EXPECT_FALSE(isNet(a));
 }
 
@@ -73,9 +128,9 @@ TEST(Backends, PairsOfAPixelAreMatchedAtRandom) {
     const auto backend = makeBackend(name, 3);
     for (std::uint64_t pixel : {0u, 17u, 40000u}) {
       std::vector<Point2> camera(N), light(N), bsdf(N);
-      backend->primary(pixel, SamplePairs::camera, camera);
-      backend->primary(pixel, SamplePairs::light(0), light);
-      backend->primary(pixel, SamplePairs::bsdf(0), bsdf);
+      backend->primary(pixel, SampleLayout::camera, camera);
+      backend->primary(pixel, SampleLayout::light(0), light);
+      backend->primary(pixel, SampleLayout::bsdf(0), bsdf);
       if (std::string(name) == "sobol") {
         EXPECT_TRUE(isNet(light)) << "shuffling keeps the net";
       }
@@ -147,7 +202,7 @@ TEST(BankBackend, UniformSetsAreShiftedPerPixelAndDeeperPairsFallBack) {
   BankBackend backend("optimized:test", {{set, "test"}}, 4);
   backend.prepare(8, {});
   std::vector<Point2> out(8);
-  backend.primary(11, SamplePairs::bsdf(0), out);
+  backend.primary(11, SampleLayout::bsdf(0), out);
   // out is one of the instances under a toroidal shift, in some order (the
   // pairs' points are shuffled, see renderer/padding.h).
   const auto same = [](Point2 a, Point2 b) {
@@ -172,8 +227,8 @@ TEST(BankBackend, UniformSetsAreShiftedPerPixelAndDeeperPairsFallBack) {
   EXPECT_TRUE(found);
   // A deeper pair falls back to Owen-scrambled Sobol with the same seed.
   std::vector<Point2> deep(8), sobol(8);
-  backend.primary(11, SamplePairs::light(1), deep);
-  makeBackend("sobol", 4)->primary(11, SamplePairs::light(1), sobol);
+  backend.primary(11, SampleLayout::light(1), deep);
+  makeBackend("sobol", 4)->primary(11, SampleLayout::light(1), sobol);
   EXPECT_EQ(deep, sobol);
   EXPECT_THROW(backend.prepare(16, {}), std::invalid_argument);
 }
@@ -193,7 +248,7 @@ TEST(BankBackend, DistributedSetsServeOnlyTheirTargetAtTheFirstBounce) {
   BankBackend backend("optimized:x", {{set, "x.ptsb"}}, 0);
   EXPECT_NO_THROW(backend.prepare(4, {light.target()}));
   std::vector<Point2> out(4);
-  ASSERT_TRUE(backend.distributed(*light.target(), 5, SamplePairs::light(0), out));
+  ASSERT_TRUE(backend.distributed(*light.target(), 5, SampleLayout::light(0), out));
   // One of the instances, in some order (shuffled like every pair).
   const auto sorted = [](auto points) {
     std::vector<Point2> v(points.begin(), points.end());
@@ -201,7 +256,7 @@ TEST(BankBackend, DistributedSetsServeOnlyTheirTargetAtTheFirstBounce) {
     return v;
   };
   EXPECT_TRUE(sorted(out) == sorted(set.instance(0)) || sorted(out) == sorted(set.instance(1)));
-  EXPECT_FALSE(backend.distributed(*light.target(), 5, SamplePairs::light(1), out));
+  EXPECT_FALSE(backend.distributed(*light.target(), 5, SampleLayout::light(1), out));
 
   const auto message = [&](std::size_t spp, const Target *t) {
     try {
@@ -236,7 +291,7 @@ TEST(BankBackend, NestedBanksServePrefixesAndMapsMatchByContent) {
   for (std::size_t spp : {2, 4, 5, 8}) {
     ASSERT_NO_THROW(nested.prepare(spp, {copy.target()})) << spp;
     std::vector<Point2> out(spp);
-    ASSERT_TRUE(nested.distributed(*copy.target(), 9, SamplePairs::light(0), out)) << spp;
+    ASSERT_TRUE(nested.distributed(*copy.target(), 9, SampleLayout::light(0), out)) << spp;
     std::vector<Point2> sorted(out), first0, first1;
     const auto byX = [](Point2 a, Point2 b) { return a.x < b.x; };
     std::sort(sorted.begin(), sorted.end(), byX);
@@ -330,7 +385,7 @@ TEST(BackendRegistry, EveryWordParsesToItsKindAndBack) {
     EXPECT_FALSE(e.help.empty()) << e.name;
     EXPECT_EQ(&backendEntry(e.kind), &e);
   }
-  EXPECT_EQ(kinds.size(), 22u);
+  EXPECT_EQ(kinds.size(), 23u);
   // The classic words make their backends without files, named by their
   // word; the declared properties agree with what the backends report.
   for (const char *word : {"independent", "random", "sobol", "halton", "sobol-tabulated",

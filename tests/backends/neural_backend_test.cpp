@@ -52,12 +52,12 @@ TEST(NeuralBackend, EnvironmentModelServesTheFirstLightPairFromItsBank) {
   backend.prepare(8, {light.target()});
   EXPECT_GT(backend.bankSets(), 1000u);
   std::vector<Point2> a(8), b(8);
-  ASSERT_TRUE(backend.distributed(*light.target(), 5, SamplePairs::light(0), a));
-  ASSERT_TRUE(backend.distributed(*light.target(), 6, SamplePairs::light(0), b));
+  ASSERT_TRUE(backend.distributed(*light.target(), 5, SampleLayout::light(0), a));
+  ASSERT_TRUE(backend.distributed(*light.target(), 6, SampleLayout::light(0), b));
   EXPECT_NE(a, b);  // pixels draw different offsets
   for (const Point2 &p : a) EXPECT_TRUE(p.x >= 0 && p.x < 1 && p.y >= 0 && p.y < 1);
-  EXPECT_FALSE(backend.distributed(*light.target(), 5, SamplePairs::light(1), a));
-  EXPECT_FALSE(backend.distributed(*other.target(), 5, SamplePairs::light(0), a));
+  EXPECT_FALSE(backend.distributed(*light.target(), 5, SampleLayout::light(1), a));
+  EXPECT_FALSE(backend.distributed(*other.target(), 5, SampleLayout::light(0), a));
 
   EXPECT_NE(errorOf([&] { backend.prepare(16, {light.target()}); }).find("--spp 8"),
             std::string::npos);
@@ -72,8 +72,8 @@ TEST(NeuralBackend, UniformModelIsShiftedPerPixelAndRendersFiniteImages) {
   auto backend = makeBackend("neural:" + model, 1);
   backend->prepare(4, {});
   std::vector<Point2> a(4), b(4);
-  backend->primary(3, SamplePairs::camera, a);
-  backend->primary(3, SamplePairs::bsdf(0), b);
+  backend->primary(3, SampleLayout::camera, a);
+  backend->primary(3, SampleLayout::bsdf(0), b);
   EXPECT_NE(a, b);
   const Scene scene =
       test::sceneWith({test::unitSphere()}, {std::make_shared<Lambertian>(Rgb::grey(0.5))},
@@ -110,9 +110,9 @@ TEST(NeuralBackend, DisneyFamilyModelServesTheLobeTablesOfItsMaterial) {
   EXPECT_EQ(again.report().setsMadeSeconds, 0);
   std::vector<Point2> out(4);
   for (const Target *t : targets) {
-    ASSERT_TRUE(backend.distributed(*t, 9, SamplePairs::bsdf(0), out));
+    ASSERT_TRUE(backend.distributed(*t, 9, SampleLayout::bsdf(0), out));
     for (const Point2 &p : out) EXPECT_GT(t->pdf(p), 0) << t->spec();
-    EXPECT_FALSE(backend.distributed(*t, 9, SamplePairs::bsdf(1), out));
+    EXPECT_FALSE(backend.distributed(*t, 9, SampleLayout::bsdf(1), out));
   }
   DisneyParams other = supplementDisneyParams();
   other.roughness = 0.2;

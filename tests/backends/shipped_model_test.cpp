@@ -75,7 +75,7 @@ TEST(ShippedModel, ServedSetsFollowTheirTargetAtUnseenOffsetsAndMaterials) {
   std::vector<double> observed(kCols * kRows, 0), expected(kCols * kRows, 0);
   std::vector<Point2> out(16);
   for (int pixel = 0; pixel < kPixels; ++pixel) {
-    ASSERT_TRUE(backend.distributed(*target, std::uint64_t(pixel), SamplePairs::bsdf(0), out));
+    ASSERT_TRUE(backend.distributed(*target, std::uint64_t(pixel), SampleLayout::bsdf(0), out));
     for (const Point2 &p : out) {
       ASSERT_LT(p.y, 0.5);  // the lower hemisphere has no mass
       observed[std::min(int(p.y * 2 * kRows), kRows - 1) * kCols +
@@ -107,8 +107,8 @@ TEST(ShippedModel, LobeBanksDependOnTheTableNotTheSeed) {
   ASSERT_EQ(b.banks().size(), 1u);
   EXPECT_EQ(a.banks()[0].sets.points, b.banks()[0].sets.points);
   std::vector<Point2> pa(16), pb(16);
-  ASSERT_TRUE(a.distributed(*target, 7, SamplePairs::bsdf(0), pa));
-  ASSERT_TRUE(b.distributed(*target, 7, SamplePairs::bsdf(0), pb));
+  ASSERT_TRUE(a.distributed(*target, 7, SampleLayout::bsdf(0), pa));
+  ASSERT_TRUE(b.distributed(*target, 7, SampleLayout::bsdf(0), pb));
   EXPECT_NE(pa, pb);
 }
 

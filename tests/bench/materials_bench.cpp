@@ -18,7 +18,10 @@ void BM_DisneySample(benchmark::State &state) {
   const Vec3 wo = supplementWo();
   const auto us = uniformPoints(4096);
   std::size_t k = 0;
-  for (auto _ : state) benchmark::DoNotOptimize(brdf.sample(wo, us[k++ & 4095]));
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(brdf.sample(wo, us[(k + 7) & 4095].x, us[k & 4095]));
+    ++k;
+  }
   state.SetItemsProcessed(state.iterations());
 }
 BENCHMARK(BM_DisneySample);
@@ -28,7 +31,7 @@ void BM_DisneyEvalAndPdf(benchmark::State &state) {
   const Vec3 wo = supplementWo();
   std::vector<Vec3> wis;
   for (const Point2 u : uniformPoints(4096))
-    if (const auto s = brdf.sample(wo, u)) wis.push_back(s->wi);
+    if (const auto s = brdf.sampleSquare(wo, u)) wis.push_back(s->wi);
   std::size_t k = 0;
   for (auto _ : state) {
     const Vec3 wi = wis[k++ % wis.size()];

@@ -140,7 +140,10 @@ void BM_MaterialSample(benchmark::State &state) {
   const DisneyBrdf brdf(dragonMaterial());
   const auto us = uniformPoints(4096);
   std::size_t k = 0;
-  for (auto _ : state) benchmark::DoNotOptimize(brdf.sample(kWo, us[k++ & 4095]));
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(brdf.sample(kWo, us[(k + 7) & 4095].x, us[k & 4095]));
+    ++k;
+  }
   state.SetItemsProcessed(state.iterations());
 }
 BENCHMARK(BM_MaterialSample);
@@ -170,7 +173,7 @@ void BM_LobeRouteSample(benchmark::State &state) {
   const auto us = uniformPoints(4096);
   std::size_t k = 0;
   for (auto _ : state)
-    benchmark::DoNotOptimize(sampleRoute(*dragon.brdf, kWo, lobe, {us[k++ & 4095]}));
+    benchmark::DoNotOptimize(sampleRoute(*dragon.brdf, kWo, lobe, {us[k++ & 4095]}, 0.5));
   state.SetItemsProcessed(state.iterations());
 }
 BENCHMARK(BM_LobeRouteSample)->Arg(0)->Arg(10);
@@ -185,7 +188,7 @@ void BM_LobeRouteFromTablePoint(benchmark::State &state) {
   for (const Point2 u : uniformPoints(4096)) xs.push_back(lobe.table->invert(u).x);
   std::size_t k = 0;
   for (auto _ : state)
-    benchmark::DoNotOptimize(sampleRoute(*dragon.brdf, kWo, lobe, {xs[k++ & 4095], true}));
+    benchmark::DoNotOptimize(sampleRoute(*dragon.brdf, kWo, lobe, {xs[k++ & 4095], true}, 0.5));
   state.SetItemsProcessed(state.iterations());
 }
 BENCHMARK(BM_LobeRouteFromTablePoint)->Arg(0)->Arg(10);

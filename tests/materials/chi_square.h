@@ -7,6 +7,7 @@
 // below 5, and compare the statistic with a Sidak-corrected significance.
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -30,6 +31,14 @@ namespace nuld::test {
 // probability at most 1 %.
 inline constexpr int kChiSquareTests = 64;
 inline double sidakLevel(double overall = 0.01) { return sidakLevel(overall, kChiSquareTests); }
+
+// A third uniform number for a sampler of the square that also draws a lobe
+// choice (Bsdf::sample's uc): a hash of u's bits, independent of u for any
+// test's purposes.
+inline double choiceOf(Point2 u) {
+  return toUnitDouble(
+      hashCombine(std::bit_cast<std::uint64_t>(u.x), std::bit_cast<std::uint64_t>(u.y)));
+}
 
 // A direction sampler (nullopt: no sample) and the pdf it claims, per unit
 // solid angle.

@@ -152,7 +152,7 @@ Estimate albedo(const DisneyBrdf &brdf, Vec3 wo, int n, std::uint64_t seed) {
   Rng rng(seed);
   double sum = 0, sum2 = 0;
   for (int k = 0; k < n; ++k) {
-    const auto s = brdf.sample(wo, {rng.uniform(), rng.uniform()});
+    const auto s = brdf.sampleSquare(wo, {rng.uniform(), rng.uniform()});
     const double w = s ? s->f.luminance() * s->wi.z / s->pdf : 0;
     sum += w;
     sum2 += w * w;

@@ -81,10 +81,13 @@ std::vector<Case> samplingCases() {
   return cases;
 }
 
-test::DirectionTest runCase(const DisneyBrdf &brdf, Vec3 wo, std::uint64_t seed) {
+// The renderer's form, sample(wo, uc, u), its lobe choice a number of its
+// own; `square`: the studies' form, sampleSquare(wo, u).
+test::DirectionTest runCase(const DisneyBrdf &brdf, Vec3 wo, std::uint64_t seed,
+                            bool square = false) {
   return test::testDirections(
       [&](Point2 u) -> std::optional<Vec3> {
-        const auto s = brdf.sample(wo, u);
+        const auto s = square ? brdf.sampleSquare(wo, u) : brdf.sample(wo, test::choiceOf(u), u);
         return s ? std::optional<Vec3>(s->wi) : std::nullopt;
       },
       [&](Vec3 wi) { return brdf.pdf(wo, wi); }, kSamples, seed,
@@ -93,12 +96,12 @@ test::DirectionTest runCase(const DisneyBrdf &brdf, Vec3 wo, std::uint64_t seed)
 
 // One lobe choice's cases (a test per choice, so that ctest runs them side
 // by side).
-void chiSquareAgainstPdf(LobeChoice choice, std::uint64_t seed) {
+void chiSquareAgainstPdf(LobeChoice choice, std::uint64_t seed, bool square = false) {
   double minP = 1;
   for (const Case &c : samplingCases()) {
     const DisneyBrdf brdf(c.params, choice);
     const Vec3 wo = fromAngles(c.theta, c.phi);
-    const auto t = runCase(brdf, wo, seed++);
+    const auto t = runCase(brdf, wo, seed++, square);
     minP = std::min(minP, t.chi.pValue);
     EXPECT_GT(t.chi.pValue, test::sidakLevel()) << c.name << ": " << t.describe();
     EXPECT_EQ(t.belowFraction, 0) << c.name;
@@ -122,6 +125,11 @@ TEST(DisneySampling, ChiSquareAgainstPdfWeightChoice) {
 TEST(DisneySampling, ChiSquareAgainstPdfAlbedoChoice) {
   chiSquareAgainstPdf(LobeChoice::Albedo, 3000);
 }
+// The square's form (u.x chooses the lobe, rescaled), which the studies of
+// 2D sets on a BSDF integrand use.
+TEST(DisneySampling, ChiSquareAgainstPdfSquareForm) {
+  chiSquareAgainstPdf(LobeChoice::Albedo, 4000, true);
+}
 
 // The test has power: sampling one roughness while claiming another fails,
 // and so does a sampler that silently drops 1 % of its samples (its shape is
@@ -134,7 +142,7 @@ TEST(DisneySampling, ChiSquareRejectsWrongPdfAndDroppedSamples) {
   const Vec3 wo = supplementWo();
   const auto wrong = test::testDirections(
       [&](Point2 u) -> std::optional<Vec3> {
-        const auto s = sampled.sample(wo, u);
+        const auto s = sampled.sampleSquare(wo, u);
         return s ? std::optional<Vec3>(s->wi) : std::nullopt;
       },
       [&](Vec3 wi) { return claimed.pdf(wo, wi); }, kSamples, 5);
@@ -145,7 +153,7 @@ TEST(DisneySampling, ChiSquareRejectsWrongPdfAndDroppedSamples) {
         // Drop on a hash of u, independent of the direction produced.
         if (mix64(std::uint64_t(u.x * 0x1p53) ^ std::uint64_t(u.y * 0x1p52)) % 100 == 0)
           return std::nullopt;
-        const auto s = sampled.sample(wo, u);
+        const auto s = sampled.sampleSquare(wo, u);
         return s ? std::optional<Vec3>(s->wi) : std::nullopt;
       },
       [&](Vec3 wi) { return sampled.pdf(wo, wi); }, kSamples, 6);
@@ -159,7 +167,7 @@ TEST(DisneySampling, SampleReturnsFullEvalAndMixturePdf) {
       const DisneyBrdf brdf(c.params, choice);
       const Vec3 wo = fromAngles(c.theta, c.phi);
       for (int k = 0; k < 2000; ++k) {
-        const auto s = brdf.sample(wo, {rng.uniform(), rng.uniform()});
+        const auto s = brdf.sampleSquare(wo, {rng.uniform(), rng.uniform()});
         if (!s) continue;
         ASSERT_GT(s->pdf, 0) << c.name;
         EXPECT_NEAR(std::sqrt(lengthSquared(s->wi)), 1, 1e-12);
@@ -209,7 +217,7 @@ TEST(DisneySampling, LobeApiComposesIntoTheMixture) {
         for (int j = 0; j < k; ++j) start += p[j];
         const double u0 = 0.001 + 0.998 * rng.uniform(), u1 = rng.uniform();
         const auto lobeDir = brdf.sampleLobe(k, wo, {u0, u1});
-        const auto s = brdf.sample(wo, {start + u0 * p[k], u1});
+        const auto s = brdf.sampleSquare(wo, {start + u0 * p[k], u1});
         ASSERT_EQ(lobeDir.has_value(), s.has_value()) << name << " lobe " << k;
         if (!s) continue;
         EXPECT_NEAR(lobeDir->x, s->wi.x, 1e-6) << name;
@@ -231,14 +239,14 @@ TEST(DisneySampling, LobeChoiceEdgesStayInRange) {
   const double justBelowOne = std::nextafter(1.0, 0.0);
   for (const double ux : {0.0, 1.0 / 3, 2.0 / 3, justBelowOne, 1.0})
     for (const double uy : {0.0, 0.5, justBelowOne}) {
-      const auto s = brdf.sample(wo, {ux, uy});
+      const auto s = brdf.sampleSquare(wo, {ux, uy});
       if (!s) continue;
       EXPECT_GT(s->wi.z, 0);
       EXPECT_TRUE(s->f.isFinite());
       EXPECT_GT(s->pdf, 0);
     }
   // The diffuse lobe never fails: u = (0, 0) is the normal.
-  const auto first = brdf.sample(wo, {0, 0});
+  const auto first = brdf.sampleSquare(wo, {0, 0});
   ASSERT_TRUE(first);
   EXPECT_EQ(first->wi.z, 1.0);
 }

@@ -44,7 +44,7 @@ TEST(Lambertian, WhiteFurnace) {
   const double mean = sum / n, stdError = std::sqrt((sum2 / n - mean * mean) / n);
   EXPECT_NEAR(mean, 1, 4 * stdError);
   for (int k = 0; k < 1000; ++k) {
-    const auto s = l.sample(wo, {rng.uniform(), rng.uniform()});
+    const auto s = l.sample(wo, 0.5, {rng.uniform(), rng.uniform()});
     ASSERT_TRUE(s);
     EXPECT_NEAR(s->f.luminance() * s->wi.z / s->pdf, 1, 1e-12);
   }
@@ -55,7 +55,7 @@ TEST(Lambertian, SamplingMatchesPdf) {
   const Vec3 wo = normalize(Vec3{-0.2, 0.1, 0.3});
   const auto t = test::testDirections(
       [&](Point2 u) -> std::optional<Vec3> {
-        const auto s = l.sample(wo, u);
+        const auto s = l.sample(wo, 0.5, u);
         return s ? std::optional<Vec3>(s->wi) : std::nullopt;
       },
       [&](Vec3 wi) { return l.pdf(wo, wi); }, 300000, 42);
@@ -72,8 +72,8 @@ TEST(Lambertian, BackFacingGivesNothing) {
   EXPECT_TRUE(l.eval(horizon, up).isBlack());
   EXPECT_EQ(l.pdf(up, down), 0);
   EXPECT_EQ(l.pdf(down, up), 0);
-  EXPECT_FALSE(l.sample(down, {0.3, 0.3}));
-  EXPECT_FALSE(l.sample(horizon, {0.3, 0.3}));
+  EXPECT_FALSE(l.sample(down, 0.5, {0.3, 0.3}));
+  EXPECT_FALSE(l.sample(horizon, 0.5, {0.3, 0.3}));
 }
 
 }  // namespace

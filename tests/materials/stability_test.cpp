@@ -76,7 +76,7 @@ TEST(Stability, DisneyIsFiniteEverywhere) {
     const DisneyBrdf brdf(params);
     for (const Vec3 wo : views()) {
       for (const Point2 u : us) {
-        const auto s = brdf.sample(wo, u);
+        const auto s = brdf.sampleSquare(wo, u);
         if (!s) continue;
         ASSERT_TRUE(s->f.isFinite()) << name;
         ASSERT_TRUE(std::isfinite(s->pdf) && s->pdf > 0) << name;
@@ -105,7 +105,7 @@ TEST(Stability, DisneyIsFiniteEverywhere) {
       }
     }
     for (const Vec3 wo : nonReflectingViews()) {
-      for (const Point2 u : us) ASSERT_FALSE(brdf.sample(wo, u)) << name;
+      for (const Point2 u : us) ASSERT_FALSE(brdf.sampleSquare(wo, u)) << name;
       for (int l = 0; l < brdf.lobeCount(); ++l) ASSERT_FALSE(brdf.sampleLobe(l, wo, {0.5, 0.5}));
       const Vec3 wi = normalize(Vec3{0.1, 0.2, 0.9});
       EXPECT_TRUE(brdf.eval(wo, wi).isBlack()) << name;

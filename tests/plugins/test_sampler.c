@@ -14,7 +14,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "plugins/nuld_sampler.h"
+#include "plugins/v1/nuld_sampler.h"
 
 typedef struct {
   uint64_t seed;

@@ -56,11 +56,31 @@ def test_an_engine_and_a_callable_tie_the_words_they_resemble():
     assert 0.5 < draws / independent < 2, (draws, independent)
 
 
-def test_sampler_pairs_leave_the_rest_to_sobol():
-    _, stats = nuld.render("default", sampler=qmc.Halton(d=2, seed=1), sampler_pairs=1,
+def test_sampler_domains_leave_the_rest_to_sobol():
+    _, stats = nuld.render("default", sampler=qmc.Halton(d=2, seed=1), sampler_domains=1,
                            stats=True, **SMALL)
     assert stats["backend"] == "sampler:Halton"
-    assert "the sampler serves the first 1 of the" in stats["note"]
+    assert "the sampler serves 1 of the" in stats["note"]
+
+
+def test_a_sampler_that_takes_a_domain_is_told_its_role():
+    seen = []
+
+    def latin(n, domain):
+        seen.append((domain["role"], domain["bounce"], domain["dimensions"], domain["integrator"]))
+        rng = np.random.default_rng(len(seen))
+        k = domain["dimensions"]
+        # n rooks: each column a permutation of n strata, jittered.
+        return (np.stack([rng.permutation(n) for _ in range(k)], axis=1)
+                + rng.random((n, k))) / n
+
+    image = nuld.render("cornell", sampler=latin, integrator="path", max_depth=2, **SMALL)
+    assert np.isfinite(image).all() and image.mean() > 0
+    roles = {r for r, _, _, _ in seen}
+    assert roles == {"camera", "light-choice", "light", "lobe-choice", "bsdf", "roulette"}, roles
+    assert all(d == (2 if r in ("camera", "light", "bsdf") else 1) for r, _, d, _ in seen)
+    assert {b for _, b, _, _ in seen} == {0, 1}
+    assert {i for _, _, _, i in seen} == {"path"}
 
 
 def refusal(call, kind, *words):
@@ -80,12 +100,14 @@ def test_bad_samplers_are_refused_in_words():
     refusal(render(sampler=lambda n: np.zeros((n, 3))), ValueError, "returned shape", ", 3)")
     refusal(render(sampler=lambda n: "points"), ValueError, "returned str")
     refusal(render(sampler=lambda n: None), TypeError, "returned NoneType")
-    refusal(render(sampler=lambda n: np.full((n, 2), 1.0)), ValueError, "gave the point (1, 1)",
-            "expected points in [0, 1)^2")
-    refusal(render(sampler=lambda n: np.full((n, 2), np.nan)), ValueError, "gave the point (nan")
+    refusal(render(sampler=lambda n: np.full((n, 2), 1.0)), ValueError, "gave (1, 1)",
+            "expected numbers in [0, 1)")
+    refusal(render(sampler=lambda n: np.full((n, 2), np.nan)), ValueError, "gave (nan")
+    refusal(render(sampler=lambda n, domain: np.zeros((n, 2))), ValueError, "domain={'index': 1",
+            "returned shape", "expected (")
     refusal(render(sampler=qmc.Sobol(d=2), backend="sobol"), ValueError, "backend: not with sampler")
-    refusal(render(sampler_pairs=1), ValueError, "sampler_pairs applies to a sampler only")
-    refusal(render(sampler=qmc.Sobol(d=2), sampler_pairs=0), ValueError, "sampler_pairs")
+    refusal(render(sampler_domains=1), ValueError, "sampler_domains applies to a sampler only")
+    refusal(render(sampler=qmc.Sobol(d=2), sampler_domains=0), ValueError, "sampler_domains")
 
     def broken(n):
         raise ZeroDivisionError("the user's own error")

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 #include "backends/backend_registry.h"
 #include "backends/bank_backend.h"
@@ -61,7 +62,7 @@ TEST(LobeRoutes, RouteSamplesFollowTheMixturePdf) {
     // the folds of an anisotropic frame keep those edges in place.
     const auto t = test::testDirections(
         [&](Point2 u) -> std::optional<Vec3> {
-          const auto s = sampleRoute(*m, wo, lobe, {u});
+          const auto s = sampleRoute(*m, wo, lobe, {u}, test::choiceOf(u));
           return s ? std::optional<Vec3>(s->wi) : std::nullopt;
         },
         [&](Vec3 wi) { return lobe.pdf(wi, m->pdf(wo, wi)); }, kSamples, seed++,
@@ -96,9 +97,10 @@ TEST(LobeRoutes, WeightsStayWithinTheDefensiveBound) {
             double routeMax = 0, ownMax = 0;
             for (int i = 0; i < 400; ++i) {
               const Point2 u{rng.uniform(), rng.uniform()};
-              if (const auto own = m->sample(wo, u))
+              const double uc = rng.uniform();
+              if (const auto own = m->sample(wo, uc, u))
                 ownMax = std::max(ownMax, own->f.luminance() * own->wi.z / own->pdf);
-              const auto route = sampleRoute(*m, wo, lobe, {u});
+              const auto route = sampleRoute(*m, wo, lobe, {u}, uc);
               if (!route) continue;
               const BsdfSample &s = *route;
               EXPECT_NEAR(route->misPdf, m->pdf(wo, s.wi), 1e-12 * route->misPdf);
@@ -129,9 +131,10 @@ TEST(LobeRoutes, DefensiveShareOfZeroAndOneAreTheTwoRoutes) {
     Rng rng(5);
     for (int i = 0; i < 200; ++i) {
       const Point2 u{rng.uniform(), rng.uniform()};
-      const auto route = sampleRoute(*m, wo, lobe, {u});
+      const double uc = rng.uniform();
+      const auto route = sampleRoute(*m, wo, lobe, {u}, uc);
       if (d == 1) {
-        const auto own = m->sample(wo, u);
+        const auto own = m->sample(wo, uc, u);
         ASSERT_EQ(bool(route), bool(own));
         if (!route) continue;
         EXPECT_EQ(route->wi.x, own->wi.x);
@@ -164,8 +167,8 @@ TEST(LobeRoutes, APointThatFollowsTheTableGivesItsPrimaryPointsSample) {
     int drawn = 0;
     for (int i = 0; i < 500; ++i) {
       const Point2 x = lobe.table->invert({rng.uniform(), rng.uniform()}).x;
-      const auto fromPoint = sampleRoute(*m, wo, lobe, {x, true});
-      const auto fromPrimary = sampleRoute(*m, wo, lobe, {lobe.table->primaryOf(x)});
+      const auto fromPoint = sampleRoute(*m, wo, lobe, {x, true}, 0.5);
+      const auto fromPrimary = sampleRoute(*m, wo, lobe, {lobe.table->primaryOf(x)}, 0.5);
       ASSERT_EQ(bool(fromPoint), bool(fromPrimary)) << d;
       if (!fromPoint) continue;
       ++drawn;
@@ -179,8 +182,8 @@ TEST(LobeRoutes, APointThatFollowsTheTableGivesItsPrimaryPointsSample) {
     // Below the surface the table has no density: pulled back to its CDF.
     const Point2 below{0.3, 0.8};
     ASSERT_EQ(lobe.table->pdf(below), 0);
-    const auto fromPoint = sampleRoute(*m, wo, lobe, {below, true});
-    const auto fromPrimary = sampleRoute(*m, wo, lobe, {lobe.table->primaryOf(below)});
+    const auto fromPoint = sampleRoute(*m, wo, lobe, {below, true}, 0.5);
+    const auto fromPrimary = sampleRoute(*m, wo, lobe, {lobe.table->primaryOf(below)}, 0.5);
     ASSERT_TRUE(fromPoint && fromPrimary) << d;
     EXPECT_GT(fromPoint->wi.z, 0) << d;
     EXPECT_EQ(fromPoint->wi.x, fromPrimary->wi.x) << d;
@@ -218,9 +221,10 @@ TEST(LobeRoutes, MeasurementKeepsTheMaterialsSamplerForNarrowLobes) {
 // light strategy beside it, weighted as the integrator weighs them: for the
 // cup's glazed porcelain (a broad diffuse lobe under a glossy coat) light
 // sampling then covers the broad lobe, so the material's own sampler's
-// estimates vary less than by BSDF sampling alone, and no bin takes a table
-// that BSDF sampling alone would not; every bin's route is the one of least
-// measured variance (under the uniform lobe choice).
+// estimates vary less in every bin than by BSDF sampling alone; every bin's
+// route is the one of least measured variance (under the uniform lobe
+// choice). (Which bins take a table is not monotone: since the lobe choice
+// is a number of its own, the 45-degree bin takes one under MIS only.)
 TEST(LobeRoutes, RoutesUnderMisAreMeasuredWithLightSamplingBeside) {
   DisneyParams p;
   p.baseColor = {0.92, 0.9, 0.86};
@@ -230,12 +234,11 @@ TEST(LobeRoutes, RoutesUnderMisAreMeasuredWithLightSamplingBeside) {
   const auto glaze = std::make_shared<DisneyBrdf>(p, LobeChoice::Uniform);
   LobeTableSettings settings;
   settings.samplingMix = 1.0;
-  const auto tabulated = [&](bool underMis, double &classic) {
+  const auto tabulated = [&](bool underMis, std::vector<double> &classic) {
     const LobeTables tables({glaze}, LobeTablesConfig(settings, underMis));
     std::size_t count = 0;
-    classic = 0;
     for (const LobeBinRoute &r : tables.routes()) {
-      classic += r.classicVariance;
+      classic.push_back(r.classicVariance);
       const double best = std::min(r.classicVariance, r.tableVariance);
       EXPECT_TRUE(std::isfinite(best) && best > 0) << r.thetaDegrees;
       const double chosen = r.table ? r.tableVariance : r.classicVariance;
@@ -244,10 +247,13 @@ TEST(LobeRoutes, RoutesUnderMisAreMeasuredWithLightSamplingBeside) {
     }
     return count;
   };
-  double classicAlone = 0, classicMis = 0;
+  std::vector<double> classicAlone, classicMis;
   const std::size_t alone = tabulated(false, classicAlone), mis = tabulated(true, classicMis);
-  EXPECT_LE(mis, alone) << "of 9 bins";
-  EXPECT_LT(classicMis, classicAlone);
+  EXPECT_GT(alone, 0u);
+  EXPECT_GT(mis, 0u);
+  ASSERT_EQ(classicAlone.size(), classicMis.size());
+  for (std::size_t b = 0; b < classicAlone.size(); ++b)
+    EXPECT_LT(classicMis[b], classicAlone[b]) << "bin " << b;
 }
 
 TEST(LobeTableCache, BuildsTablesOncePerMaterialsAndSettings) {

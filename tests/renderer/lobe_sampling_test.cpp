@@ -282,7 +282,7 @@ TEST(LobeSampling, ShiftedBanksFollowTheTableOverPixels) {
     std::vector<double> observed(kX * kY, 0);
     std::vector<Point2> out(kN);
     for (std::uint64_t pixel = 0; pixel < 4000; ++pixel) {
-      ASSERT_TRUE(backend.distributed(table, pixel, SamplePairs::bsdf(0), out));
+      ASSERT_TRUE(backend.distributed(table, pixel, SampleLayout::bsdf(0), out));
       for (const Point2 &p : out) {
         ASSERT_GT(table.pdf(p), 0);
         observed[std::min(kY - 1, int(p.y * 2 * kY)) * kX + std::min(kX - 1, int(p.x * kX))] += 1;

@@ -249,7 +249,7 @@ TEST(Render, PathsTracedTogetherEqualPathsTracedAlone) {
       std::array<std::size_t, 16> indices;
       std::array<Rgb, 16> L;
       for (std::size_t k = 0; k < 16; ++k) {
-        const Point2 j = together.primary(SamplePairs::camera, k);
+        const Point2 j = together.primary(SampleLayout::camera, k);
         rays[k] = camera.generateRay({pixel % 32 + j.x, pixel / 32 + j.y});
         hits[k] = scene.geometry.intersect(rays[k]);
         samples[k] = &together;

@@ -412,7 +412,11 @@ namespace {
 // weights of tabulated samples took the material's pdf instead of the
 // table's (renderer/lobe_tables.h, BsdfSample::misPdf). Both were made with the
 // defensive share of 0.05 that the lobe tables had by default then (the
-// paper has no tables, so the share is not one of its flags).
+// paper has no tables, so the share is not one of its flags). Both were
+// made again when the sample layout gave the lobe choice, light choice and
+// roulette numbers of their own (renderer/sample_layout.h, renderer
+// revision 3), with --lobe-choice uniform --env-importance luminance (and
+// --lobe-defensive 0.05 for sobol-tabulated).
 TEST(DefaultScene, PapersConfigurationReproducesThePapersRenders) {
   for (const auto &[backendName, integrator] :
        {std::pair{"sobol", IntegratorKind::Path}, {"sobol-tabulated", IntegratorKind::Direct}}) {

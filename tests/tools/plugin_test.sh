@@ -25,9 +25,17 @@ refused() { # refused DESCRIPTION PATTERN COMMAND...: exit 1 or 2 with PATTERN i
   fi
 }
 
-# Outside the tree, with the header alone, as plugins/README.md says.
-mkdir "$dir/mine"
-cp "$source/plugins/nuld_sampler.h" "$source/plugins/example_independent.c" "$dir/mine/"
+# Outside the tree, with the header alone, as plugins/README.md says: the
+# version-1 example against the version-1 header it was written for (a
+# plugin of then, loaded unchanged), and the version-2 one below.
+mkdir "$dir/mine" "$dir/latin"
+cp "$source/plugins/v1/nuld_sampler.h" "$source/plugins/v1/example_independent.c" "$dir/mine/"
+cp "$source/plugins/nuld_sampler.h" "$source/plugins/example_latin.c" "$dir/latin/"
+ok "the version-2 example builds against the header alone" \
+  "$cc" -std=c99 -O2 -Wall -Werror -shared -fPIC -fvisibility=hidden \
+  "$dir/latin/example_latin.c" -o "$dir/latin/liblatin.so"
+ok "it renders the cornell box, serving the light and the camera" \
+  "$nuld" render cornell --backend "plugin:$dir/latin/liblatin.so:camera,light" --res 32 -q -o "$dir/l.exr"
 ok "the example builds against the header alone" \
   "$cc" -std=c99 -O2 -Wall -Werror -shared -fPIC -fvisibility=hidden \
   "$dir/mine/example_independent.c" -o "$dir/mine/libmine.so"
@@ -57,8 +65,8 @@ PY
 
 # Misbehaving plugins, each refused naming the file and what is wrong.
 bad="$plugins/libnuld_test_sampler_ok.so"
-refused "a NaN" "expected points in [0, 1)^2" "$nuld" render default --backend "plugin:$bad:nan" --res 32 -q -o "$dir/x.exr"
-refused "a 1.0" "gave the point (1," "$nuld" render default --backend "plugin:$bad:one" --res 32 -q -o "$dir/x.exr"
+refused "a NaN" "expected numbers in [0, 1)" "$nuld" render default --backend "plugin:$bad:nan" --res 32 -q -o "$dir/x.exr"
+refused "a 1.0" "gave (1," "$nuld" render default --backend "plugin:$bad:one" --res 32 -q -o "$dir/x.exr"
 refused "a failed fill" "fill returned 7" "$nuld" render default --backend "plugin:$bad:fail" --res 32 -q -o "$dir/x.exr"
 refused "a refusal" "refuses on purpose" "$nuld" render default --backend "plugin:$bad:refuse" --res 32 -q -o "$dir/x.exr"
 refused "no entry" "no nuld_sampler_entry" "$nuld" render default --backend "plugin:$plugins/libnuld_test_sampler_no_entry.so" --res 32 -q -o "$dir/x.exr"

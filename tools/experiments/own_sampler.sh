@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Your own sampler as a row (tools/experiments/own_sampler.md): the example
-# plugin (plugins/example_independent.c, `independent` with another hash)
+# plugin (plugins/v1/example_independent.c, `independent` with another hash)
 # against `independent` on the default scene under direct and path; then,
 # from Python, scipy.stats.qmc engines dealt as one stream against
 # per-pixel `sobol` on the dragon at 1/4 resolution (nuld.study), and the

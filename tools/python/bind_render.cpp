@@ -183,7 +183,7 @@ void bindRender(py::module_ &m) {
         Param("opt_union_weight", py::none()),
         Param("progress", py::none()),
         Param("sampler", py::none()),
-        Param("sampler_pairs", py::none()),
+        Param("sampler_domains", py::none()),
         Param("reference", false)}},
       [anyWhole, positive](
           py::object sceneArg, py::object backendArg, py::object sppArg, py::object resArg,
@@ -193,7 +193,7 @@ void bindRender(py::module_ &m) {
           py::object importanceArg, py::object scaleArg, py::object routesArg,
           py::object defensiveArg, py::object bouncesArg, py::object nestedArg,
           py::object objectiveArg, py::object unionArg, py::object progressArg,
-          py::object samplerArg, py::object samplerPairsArg, py::object referenceArg) {
+          py::object samplerArg, py::object samplerDomainsArg, py::object referenceArg) {
         const std::string f = "render";
         const std::string scene = text(sceneArg, {f, "scene"});
         const auto backend = optional(backendArg, {f, "backend"}, text);
@@ -225,11 +225,11 @@ void bindRender(py::module_ &m) {
         const auto bounces = optional(bouncesArg, {f, "lobe_bounces"}, anyWhole);
         const Progress progress(progressArg, {f, "progress"});
         const bool ownSampler = !samplerArg.is_none();
-        const auto samplerPairs = optional(samplerPairsArg, {f, "sampler_pairs"}, positive);
-        onlyWhen(ownSampler, {{"sampler_pairs", bool(samplerPairs)}}, "a sampler");
+        const auto samplerDomains = optional(samplerDomainsArg, {f, "sampler_domains"}, positive);
+        onlyWhen(ownSampler, {{"sampler_domains", bool(samplerDomains)}}, "a sampler");
         if (ownSampler && backend)
           throw std::invalid_argument(
-              "render: backend: not with sampler (the pairs a sampler leaves are sobol's)");
+              "render: backend: not with sampler (the domains a sampler leaves are sobol's)");
         SetSettings sets;
         if (optInstances) sets.instances = std::size_t(*optInstances);
         sets.epochs = optEpochs.value_or(0);
@@ -306,7 +306,7 @@ void bindRender(py::module_ &m) {
         Image img;
         std::unique_ptr<SamplerBackend> b;
         if (ownSampler)
-          b = std::make_unique<StreamSampler>(samplerArg, std::uint32_t(samplerPairs.value_or(0)),
+          b = std::make_unique<StreamSampler>(samplerArg, std::uint32_t(samplerDomains.value_or(0)),
                                               seedValue);
         RenderProgress report(progress);
         {
@@ -374,11 +374,13 @@ taking a dict (stage 'sets' or 'render', done, total, status); Ctrl-C raises
 KeyboardInterrupt. A render the machine cannot hold is refused before
 anything is made. sampler: your own sampler in place of backend, a
 scipy.stats.qmc engine of d = 2 (its random(n)) or a callable n -> (n, 2)
-array of points in [0, 1)^2, drawn in blocks per batch of tiles (one stream
-dealt spp points a pixel, each pixel's points shuffled per pair; the engine
-advances, so pass a fresh one for a repeatable render); sampler_pairs: the
-first pairs it serves (1: the camera's; default every pair), the rest
-sobol's. With stats=True returns (image, dict), the dict with what
+array of points in [0, 1)^2 (1D domains take the first column), or a
+callable (n, domain) -> (n, dims) told each domain (a dict: index, role,
+bounce, dimensions, integrator), drawn in blocks per batch of tiles (one
+stream dealt spp samples a pixel, each pixel's shuffled per domain; the
+engine advances, so pass a fresh one for a repeatable render);
+sampler_domains: the first domains it serves (1: the camera's; default
+every domain), the rest sobol's. With stats=True returns (image, dict), the dict with what
 a learned backend's sets served per pair and, under 'note', what nuld render
 prints as notes. reference=True: the scene's reference as nuld render
 --reference and the studies make it (spp in all, default 4096, in passes of

@@ -25,8 +25,8 @@ std::string typeName(py::handle h) { return py::str(py::type::of(h).attr("__name
 
 }  // namespace
 
-StreamSampler::StreamSampler(py::handle sampler, std::uint32_t pairs, std::uint64_t seed)
-    : pairs_(pairs), seedKey_(mix64(seed ^ 0x73747265616d00ull)), rest_(seed) {
+StreamSampler::StreamSampler(py::handle sampler, std::uint32_t domains, std::uint64_t seed)
+    : domains_(domains), seedKey_(mix64(seed ^ 0x73747265616d00ull)), rest_(seed) {
   const std::string expected =
       "render: sampler: expected a scipy.stats.qmc engine of d = 2 or a callable n -> (n, 2) "
       "array of points in [0, 1)^2";
@@ -45,6 +45,14 @@ StreamSampler::StreamSampler(py::handle sampler, std::uint32_t pairs, std::uint6
                                      : typeName(sampler);
     name_ = "sampler:" + callable;
     call_ = callable;
+    // Told the role when it takes a parameter named `domain`.
+    try {
+      const py::object parameters =
+          py::module_::import("inspect").attr("signature")(sampler).attr("parameters");
+      toldDomain_ = parameters.contains("domain");
+    } catch (const py::error_already_set &) {  // no signature (a builtin): not told
+      toldDomain_ = false;
+    }
   } else {
     throw py::type_error(expected + " (got " + typeName(sampler) + ")");
   }
@@ -56,14 +64,17 @@ StreamSampler::~StreamSampler() {
 }
 
 void StreamSampler::prepare(std::size_t spp, const SamplingTargets &targets) {
-  if (targets.width == 0 || targets.pairs == 0)
+  if (targets.width == 0 || targets.domains == 0)
     throw BackendRefusal(name_ + ": deals its stream over an image; it serves renders only");
   spp_ = spp;
-  rest_.prepare("the sampler", pairs_ ? pairs_ : targets.pairs, spp, targets);
-  const std::uint32_t served = rest_.served();
+  integrator_ = targets.integrator;
+  served_ = domains_ ? std::min(domains_, targets.domains) : targets.domains;
+  std::vector<bool> served(targets.domains, false);
+  std::fill(served.begin(), served.begin() + served_, true);
+  rest_.prepare("the sampler", std::move(served), spp, targets);
   slot_.assign(std::size_t(targets.width) * targets.height, 0);
-  staged_.assign(served, {});
-  const std::size_t tilePoints = kTilePixels * spp * std::max<std::uint32_t>(1, served);
+  staged_.assign(served_, {});
+  const std::size_t tilePoints = kTilePixels * spp * std::max<std::uint32_t>(1, served_);
   tilesPerStage_ = std::max<std::size_t>(1, kStagePoints / tilePoints);
   requireMemory(double(tilesPerStage_ * tilePoints) * sizeof(Point2),
                 "render: sampler: a batch of " + std::to_string(tilesPerStage_) +
@@ -91,42 +102,80 @@ void StreamSampler::stage(std::span<const std::uint64_t> pixels) {
       }
     }
   } exit{quiet};
-  for (std::uint32_t pair = 0; pair < rest_.served(); ++pair) {
-    const std::string call = "render: sampler: " + call_ + "(" + std::to_string(n) + ")";
-    const py::object got = draw_(n);
+  for (std::uint32_t domain = 0; domain < served_; ++domain) {
+    const SampleDomain d = SampleLayout::domain(domain);
+    const std::size_t dims = toldDomain_ ? std::size_t(d.dimensions) : 2;
+    std::string call = "render: sampler: " + call_ + "(" + std::to_string(n);
+    py::object got;
+    if (toldDomain_) {
+      py::dict about;
+      about["index"] = domain;
+      about["role"] = toString(d.role);
+      about["bounce"] = d.bounce;
+      about["dimensions"] = d.dimensions;
+      about["integrator"] = integrator_;
+      call += ", domain={'index': " + std::to_string(domain) + ", 'role': '" + toString(d.role) +
+              "', ...})";
+      got = draw_(n, py::arg("domain") = about);
+    } else {
+      call += ")";
+      got = draw_(n);
+    }
+    const std::string shapeWanted = "(n, " + std::to_string(dims) + ")";
     if (!py::isinstance<py::array>(got) && !PySequence_Check(got.ptr()))
-      throw py::type_error(call + " returned " + typeName(got) + ", expected an (n, 2) array");
+      throw py::type_error(call + " returned " + typeName(got) + ", expected an " + shapeWanted +
+                           " array");
     const DoubleArray a = DoubleArray::ensure(got);
-    if (!a || a.ndim() != 2 || a.shape(0) != py::ssize_t(n) || a.shape(1) != 2) {
+    if (!a || a.ndim() != 2 || a.shape(0) != py::ssize_t(n) || a.shape(1) != py::ssize_t(dims)) {
       PyErr_Clear();
       std::string shape;
       if (a)
-        for (py::ssize_t d = 0; d < a.ndim(); ++d)
-          shape += (d ? ", " : "") + std::to_string(a.shape(d));
+        for (py::ssize_t k = 0; k < a.ndim(); ++k)
+          shape += (k ? ", " : "") + std::to_string(a.shape(k));
       throw py::value_error(call + " returned " + (a ? "shape (" + shape + ")" : typeName(got)) +
-                            ", expected (" + std::to_string(n) + ", 2) real numbers");
+                            ", expected (" + std::to_string(n) + ", " + std::to_string(dims) +
+                            ") real numbers");
     }
-    std::vector<Point2> &points = staged_[pair];
-    points.resize(n);
-    const double *xy = a.data();
-    for (std::size_t i = 0; i < n; ++i) {
-      const Point2 p{xy[2 * i], xy[2 * i + 1]};
-      if (!(p.x >= 0 && p.x < 1 && p.y >= 0 && p.y < 1))
-        throw py::value_error(call + " gave the point (" + formatRoundTrip(p.x) + ", " +
-                              formatRoundTrip(p.y) + ") at row " + std::to_string(i) +
-                              ": expected points in [0, 1)^2");
-      points[i] = p;
-    }
+    std::vector<double> &numbers = staged_[domain];
+    const std::size_t kept = std::size_t(d.dimensions);
+    numbers.resize(n * kept);
+    const double *v = a.data();
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t k = 0; k < dims; ++k) {
+        const double x = v[dims * i + k];
+        if (!(x >= 0 && x < 1)) {
+          std::string row;
+          for (std::size_t j = 0; j < dims; ++j)
+            row += (j ? ", " : "") + formatRoundTrip(v[dims * i + j]);
+          throw py::value_error(call + " gave (" + row + ") at row " + std::to_string(i) +
+                                ": expected numbers in [0, 1)");
+        }
+        if (k < kept) numbers[kept * i + k] = x;
+      }
   }
 }
 
-void StreamSampler::primary(std::uint64_t pixel, std::uint32_t pair, std::span<Point2> out) const {
-  if (pair >= rest_.served()) return rest_.primary(pixel, pair, out);
+std::uint64_t StreamSampler::shuffleSeed(std::uint64_t pixel, std::uint32_t domain) const {
+  return mix64(mix64(seedKey_ + 0x9e3779b97f4a7c15ull * pixel) ^
+               (0xd1b54a32d192ed03ull * (domain + 1)));
+}
+
+void StreamSampler::primary(std::uint64_t pixel, std::uint32_t domain,
+                            std::span<Point2> out) const {
+  if (!rest_.serves(domain)) return rest_.primary(pixel, domain, out);
   if (out.size() != spp_) throw std::logic_error("StreamSampler: asked for another spp");
-  const Point2 *set = staged_[pair].data() + std::size_t(slot_[pixel]) * spp_;
+  const double *set = staged_[domain].data() + 2 * std::size_t(slot_[pixel]) * spp_;
+  for (std::size_t i = 0; i < spp_; ++i) out[i] = {set[2 * i], set[2 * i + 1]};
+  shufflePoints(out, shuffleSeed(pixel, domain));
+}
+
+void StreamSampler::primary1D(std::uint64_t pixel, std::uint32_t domain,
+                              std::span<double> out) const {
+  if (!rest_.serves(domain)) return rest_.primary1D(pixel, domain, out);
+  if (out.size() != spp_) throw std::logic_error("StreamSampler: asked for another spp");
+  const double *set = staged_[domain].data() + std::size_t(slot_[pixel]) * spp_;
   std::copy(set, set + spp_, out.begin());
-  shufflePoints(out, mix64(mix64(seedKey_ + 0x9e3779b97f4a7c15ull * pixel) ^
-                           (0xd1b54a32d192ed03ull * (pair + 1))));
+  shufflePoints(out, shuffleSeed(pixel, domain));
 }
 
 }  // namespace nuld::python

@@ -261,7 +261,7 @@ Integrand makeDisneyEnvmap(std::shared_ptr<const StudyEnvmap> map, const DisneyP
   };
   in.f = [g](Point2 x) { return kFourPi * g(sphereDirection(x), x); };
   in.lobeContribution = [brdf, map, wo](Point2 u) {
-    const auto s = brdf->sample(wo, u);
+    const auto s = brdf->sampleSquare(wo, u);
     if (!s) return 0.0;
     return s->f.luminance() * s->wi.z * map->luminanceAt(spherePoint(s->wi)) / s->pdf;
   };
@@ -343,7 +343,7 @@ Integrand makeDisneyCosines(double thetaDegrees, const DisneyParams &params, Lob
   in.target = makeDisneyTarget(spec);
   in.f = [g](Point2 x) { return kFourPi * g(sphereDirection(x)); };
   in.lobeContribution = [brdf, wo, light](Point2 u) {
-    const auto s = brdf->sample(wo, u);
+    const auto s = brdf->sampleSquare(wo, u);
     if (!s) return 0.0;
     return s->f.luminance() * s->wi.z * light(s->wi) / s->pdf;
   };
