@@ -20,6 +20,7 @@
 #include "scenes/json_reader.h"
 #include "scenes/material_factory.h"
 #include "scenes/ply_loader.h"
+#include "scenes/veach_mis_scene.h"
 
 namespace fs = std::filesystem;
 
@@ -195,8 +196,20 @@ void readRender(const JsonReader &r, LoadedScene &out) {
 
 }  // namespace
 
+const std::vector<std::string> &builtInScenes() {
+  static const std::vector<std::string> names{"default", "stress", "cornell", "veach-mis"};
+  return names;
+}
+
+std::string builtInSceneList() {
+  std::string out;
+  for (const std::string &n : builtInScenes()) out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
+
 bool isBuiltInScene(const std::string &name) {
-  return name == "default" || name == "stress" || name == "cornell";
+  const auto &names = builtInScenes();
+  return std::find(names.begin(), names.end(), name) != names.end();
 }
 
 LoadedScene loadScene(const std::string &path, const std::string &assetRoot,
@@ -204,6 +217,7 @@ LoadedScene loadScene(const std::string &path, const std::string &assetRoot,
   if (path == "default") return makeDefaultScene(choices);
   if (path == "stress") return makeStressScene(choices);
   if (path == "cornell") return makeCornellScene();
+  if (path == "veach-mis") return makeVeachMisScene(choices.lobes);
   const LobeChoice lobes = choices.lobes;
 
   requireInputFile(path, "the scene file");

@@ -84,12 +84,14 @@ struct LoadedScene {
 // shared/assets beside the checkout (../shared/assets from the source tree).
 std::string resolveAssetRoot(const std::string &explicitRoot);
 
-// Whether `name` is one of the built-in scenes ("default", "stress", "cornell"), which
-// need no files and no asset root.
+// The built-in scenes, which need no files and no asset root: default,
+// stress (default_scene.h), cornell (cornell_scene.h) and veach-mis
+// (veach_mis_scene.h); and the same as "default, stress, ..." for help texts.
+const std::vector<std::string> &builtInScenes();
+std::string builtInSceneList();
 bool isBuiltInScene(const std::string &name);
 
-// `path` is a JSON scene file, "default", "stress" or "cornell" (built in, see
-// default_scene.h). Throws std::invalid_argument or
+// `path` is a JSON scene file or a built-in scene's name. Throws std::invalid_argument or
 // std::runtime_error naming the file, the field and what was expected.
 // `choices` set its materials' lobe choice and may override its
 // environment's importance.

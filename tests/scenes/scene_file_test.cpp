@@ -305,7 +305,7 @@ TEST(CornellScene, BuildsItsLightAndRendersFiniteValuesWithEveryClassicWord) {
   EXPECT_FALSE(loadScene("default", "").scene.lights.choice);
   EXPECT_TRUE(loadScene("default", "").scene.lights.empty());
   for (const char *word : {"independent", "stratified", "sobol", "halton", "pmj02", "zsobol",
-                           "lattice", "lattice-baker", "sobol-tabulated"})
+                           "sobol-full", "lattice", "lattice-baker", "sobol-tabulated"})
     for (IntegratorKind kind : {IntegratorKind::Path, IntegratorKind::Direct, IntegratorKind::Light,
                                 IntegratorKind::Bsdf}) {
       RenderSettings settings = s.settings;

@@ -139,7 +139,9 @@ Runner addRender(CLI::App &app) {
     std::size_t referencePassSpp = ReferenceSettings{}.passSpp, referenceStopAfter = 0;
   };
   auto o = std::make_shared<Options>();
-  app.add_option("scene", o->scene, "scene file (JSON) or a built-in scene, which needs no files: default, stress, cornell")
+  app.add_option(
+         "scene", o->scene,
+         "scene file (JSON) or a built-in scene, which needs no files: " + builtInSceneList())
       ->required();
   app.add_option("--backend", o->backend,
                  "sampler backend: " + backendSpellings(kRenders) +

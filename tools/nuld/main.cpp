@@ -22,6 +22,7 @@
 #include "sampler/enum_names.h"
 #include "sampler/targets/target_family.h"
 #include "sampler/targets/target_spec.h"
+#include "scenes/scene_file.h"
 #include "tools/nuld/cli_util.h"
 #include "tools/nuld/commands.h"
 
@@ -131,7 +132,7 @@ int main(int argc, char **argv) {
   app.set_version_flag("--version", NULD_VERSION);
 
   std::map<CLI::App *, nuld::cli::Runner> runners;
-  auto add = [&](const char *name, const char *description, auto adder) {
+  auto add = [&](const char *name, const std::string &description, auto adder) {
     CLI::App *sub = app.add_subcommand(name, description);
     runners[sub] = adder(*sub);
   };
@@ -148,7 +149,9 @@ int main(int argc, char **argv) {
   add("plot", "Draw a point set (over its target density) to a PNG", nuld::cli::addPlot);
   add("spectrum", "Power spectrum of a point set: PNG image and radial-average CSV",
       nuld::cli::addSpectrum);
-  add("render", "Render a scene (JSON file, or built in: default, stress, cornell) with a sampler backend to EXR + PNG",
+  add("render",
+      "Render a scene (JSON file, or built in: " + nuld::builtInSceneList() +
+          ") with a sampler backend to EXR + PNG",
       nuld::cli::addRender);
   add("compare", "Print mse and relmse of an image against a reference; write an error map",
       nuld::cli::addCompare);

@@ -354,7 +354,7 @@ void bindRender(py::module_ &m) {
         }
         return py::object(py::make_tuple(out, d));
       },
-      R"(Renders a scene file (or 'default', 'stress', 'cornell') as `nuld render` does, to a
+      R"(Renders a scene file (or a built-in scene: 'default', 'stress', 'cornell', 'veach-mis') as `nuld render` does, to a
 linear float32 (H, W, 3) array, row 0 at the top. Unset arguments take the
 scene's values; resolution is (width, height); assets (scene files only)
 defaults to $NULD_ASSETS, else ../shared/assets. backend: any word `nuld
