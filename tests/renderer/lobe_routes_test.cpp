@@ -223,8 +223,8 @@ TEST(LobeRoutes, MeasurementKeepsTheMaterialsSamplerForNarrowLobes) {
 // sampling then covers the broad lobe, so the material's own sampler's
 // estimates vary less in every bin than by BSDF sampling alone; every bin's
 // route is the one of least measured variance (under the uniform lobe
-// choice). (Which bins take a table is not monotone: since the lobe choice
-// is a number of its own, the 45-degree bin takes one under MIS only.)
+// choice). Which bins take a table need not agree between the two (the
+// per-bin variances: tools/experiments/sample_layout.md).
 TEST(LobeRoutes, RoutesUnderMisAreMeasuredWithLightSamplingBeside) {
   DisneyParams p;
   p.baseColor = {0.92, 0.9, 0.86};

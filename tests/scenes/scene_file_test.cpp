@@ -14,6 +14,7 @@
 #include "sampler/diagnostics.h"
 #include "scenes/default_scene.h"
 #include "tests/common/temp_dir.h"
+#include "tests/scenes/builtin_scene_checks.h"
 
 namespace nuld {
 namespace {
@@ -304,25 +305,9 @@ TEST(CornellScene, BuildsItsLightAndRendersFiniteValuesWithEveryClassicWord) {
   ASSERT_TRUE(s.scene.lights.choice);
   EXPECT_FALSE(loadScene("default", "").scene.lights.choice);
   EXPECT_TRUE(loadScene("default", "").scene.lights.empty());
-  for (const char *word : {"independent", "stratified", "sobol", "halton", "pmj02", "zsobol",
-                           "sobol-full", "lattice", "lattice-baker", "sobol-tabulated"})
-    for (IntegratorKind kind : {IntegratorKind::Path, IntegratorKind::Direct, IntegratorKind::Light,
-                                IntegratorKind::Bsdf}) {
-      RenderSettings settings = s.settings;
-      settings.width = settings.height = 16;
-      settings.spp = 4;
-      settings.integrator = kind;
-      auto backend = makeBackend(word, 3);
-      RenderStats stats;
-      const Image img = render(s.scene, settings, *backend, &stats);
-      EXPECT_EQ(stats.rejectedSamples, 0u) << word;
-      double sum = 0;
-      for (float v : img.pixels) {
-        ASSERT_TRUE(std::isfinite(v)) << word << " " << toString(kind);
-        sum += v;
-      }
-      EXPECT_GT(sum, 0) << word << " " << toString(kind);
-    }
+  RenderSettings small = s.settings;
+  small.width = small.height = 16;
+  test::expectFiniteRendersWithEveryClassicWord(s, small);
   // Looking up at the light from below its centre.
   Scene scene = loadScene("cornell", "").scene;
   scene.camera = {{0, 0.9, 0.01}, {0, 1, 0.01}, {0, 0, 1}, 2, false};

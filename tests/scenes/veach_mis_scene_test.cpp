@@ -6,6 +6,7 @@
 #include "backends/backend_registry.h"
 #include "renderer/render.h"
 #include "scenes/scene_file.h"
+#include "tests/scenes/builtin_scene_checks.h"
 
 namespace nuld {
 namespace {
@@ -22,26 +23,10 @@ TEST(VeachMisScene, BuildsItsLightsAndRendersFiniteValuesWithEveryClassicWord) {
   ASSERT_TRUE(s.scene.lights.choice);
   for (std::size_t i = 1; i < 4; ++i)
     EXPECT_NEAR(s.scene.lights.shapes[i].power() / s.scene.lights.shapes[0].power(), 1, 3e-3) << i;
-  for (const char *word : {"independent", "stratified", "sobol", "halton", "pmj02", "zsobol",
-                           "sobol-full", "lattice", "lattice-baker", "sobol-tabulated"})
-    for (IntegratorKind kind : {IntegratorKind::Path, IntegratorKind::Direct, IntegratorKind::Light,
-                                IntegratorKind::Bsdf}) {
-      RenderSettings settings = s.settings;
-      settings.width = 24, settings.height = 16;
-      settings.spp = 4;
-      settings.maxDepth = 3;
-      settings.integrator = kind;
-      auto backend = makeBackend(word, 3);
-      RenderStats stats;
-      const Image img = render(s.scene, settings, *backend, &stats);
-      EXPECT_EQ(stats.rejectedSamples, 0u) << word;
-      double sum = 0;
-      for (float v : img.pixels) {
-        ASSERT_TRUE(std::isfinite(v)) << word << " " << toString(kind);
-        sum += v;
-      }
-      EXPECT_GT(sum, 0) << word << " " << toString(kind);
-    }
+  RenderSettings small = s.settings;
+  small.width = 24, small.height = 16;
+  small.maxDepth = 3;
+  test::expectFiniteRendersWithEveryClassicWord(s, small);
   Scene scene = loadScene("veach-mis", "").scene;
   scene.camera = {{-3.75, 0, 2}, {-3.75, 0, 0}, {0, 1, 0}, 0.1, false};
   RenderSettings one = s.settings;
