@@ -186,6 +186,11 @@ void NeuralBackend::prepare(std::size_t spp, const SamplingTargets &targets) {
         gammas.push_back(*g);
         members.push_back(t);
       }
+    if (targets.lobes.empty())
+      throw BackendRefusal(source_ +
+                           ": no BSDF sample of the scene goes through a lobe table (no Disney "
+                           "material, or the lobe routes keep every material's own sampler): "
+                           "there is nothing for the model's sets to serve");
     if (specs.empty())
       throw BackendRefusal(
           source_ + ": the model's family '" + generator_.family().spec() +

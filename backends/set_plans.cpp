@@ -150,10 +150,17 @@ BackendPlan planBackend(const BackendWord &backend, IntegratorKind integrator,
     request.epochs = s.lobeBankEpochs();
     const auto &targets = lobeTargets;  // the tabulated bins first hits take
     // No bin whose route is the table: every BSDF sample keeps the
-    // material's sampler, and the bank backend's fallback is Owen-Sobol with
-    // the same seed, so the row is sobol's (or the map sets') bit for bit.
+    // material's sampler. With map sets beside, the row serves those alone;
+    // without, it would be sobol's bit for bit, so it serves nothing and is
+    // refused, as a study's skipped row with this reason.
     if (targets.empty()) {
-      plan.spec = paths.empty() ? BackendSpec{BackendKind::Sobol, ""} : banks();
+      if (paths.empty())
+        return {std::nullopt,
+                {},
+                "no BSDF sample of the scene goes through a lobe table (the lobe routes keep "
+                "every material's own sampler at the bins first hits take; --lobe-routes "
+                "table routes them all): there is nothing for lobe sets to serve"};
+      plan.spec = banks();
       return plan;
     }
     // One entry per lobe table, each named to the backend.

@@ -4,6 +4,8 @@
 #include <cmath>
 
 #include "backends/backend_registry.h"
+#include "backends/ready_backend.h"
+#include "materials/disney_target.h"
 #include "renderer/render.h"
 #include "scenes/scene_file.h"
 #include "tests/scenes/builtin_scene_checks.h"
@@ -34,6 +36,33 @@ TEST(VeachMisScene, BuildsItsLightsAndRendersFiniteValuesWithEveryClassicWord) {
   one.spp = 1;
   auto backend = makeBackend("sobol", 1);
   EXPECT_FLOAT_EQ(render(scene, one, *backend).at(0, 0, 0), 901.803f);
+}
+
+// The learned words serve nothing here and say so, rather than render
+// sobol's image under their name: no map for the map's sets, and the
+// plates' lobe routes keep each plate's own sampler, so no BSDF sample goes
+// through a lobe table for lobe banks or the shipped model to serve.
+TEST(VeachMisScene, LearnedWordsThatServeNothingAreRefusedWithTheReason) {
+  registerMaterialTargets();  // the shipped model's family, as the CLI registers it
+  const LoadedScene s = loadScene("veach-mis", "");
+  RenderSettings small = s.settings;
+  small.width = 48, small.height = 32;
+  const auto refusal = [&](const std::string &word) -> std::string {
+    try {
+      auto ready = makeReadyBackend(parseBackendWord(word), s.scene, small, s.name, {}, 1);
+      render(s.scene, small, *ready.backend);
+    } catch (const std::invalid_argument &e) {
+      return e.what();
+    }
+    return "";
+  };
+  EXPECT_NE(refusal("optimized").find("no (non-black) environment map"), std::string::npos);
+  EXPECT_NE(refusal("optimized-bsdf").find("no BSDF sample of the scene goes through a lobe table"),
+            std::string::npos);
+  const std::string model = std::string(NULD_SOURCE_DIR) + "/models/disney.nuldnet";
+  EXPECT_NE(
+      refusal("neural:" + model).find("no BSDF sample of the scene goes through a lobe table"),
+      std::string::npos);
 }
 
 }  // namespace

@@ -6,7 +6,9 @@
 # and nuld's noise over Cycles' (overall, per channel, and its bootstrap 5-95 %
 # range over the seeds). Blender is an optional dependency: --install
 # installs Debian's package; nothing else in the project installs it.
-# Usage: [SEEDS=K] tools/crosscheck/crosscheck.sh [--install] OUT [SPP] [SCENE.json...]
+# A SCENE is a scene file or nuld's built-in `cornell` or `veach-mis`, which
+# cycles_render.py rebuilds from the same numbers.
+# Usage: [SEEDS=K] tools/crosscheck/crosscheck.sh [--install] OUT [SPP] [SCENE.json|cornell|veach-mis...]
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
@@ -29,10 +31,12 @@ mkdir -p "$out"
 echo "scene,nuld_r,nuld_g,nuld_b,cycles_r,cycles_g,cycles_b,ratio_r,ratio_g,ratio_b,rms_difference,rms_noise,noise_ratio,noise_ratio_r,noise_ratio_g,noise_ratio_b,noise_ratio_5pct,noise_ratio_95pct,nuld_seconds,cycles_seconds"
 for scene in "${scenes[@]}"; do
   name=$(basename "$scene" .json)
+  asset_flag=(--assets "$assets")  # the built-in scenes need none
+  case $scene in cornell | veach-mis) asset_flag=() ;; *.json) ;; *) echo "crosscheck: $scene: expected a .json scene file, cornell or veach-mis" >&2; exit 1 ;; esac
   nsec=0 csec=0
   for seed in $(seq 1 "$seeds"); do
     t0=$(date +%s.%N)
-    "$nuld" render "$scene" --assets "$assets" --spp "$spp" --seed "$seed" --backend sobol -q \
+    "$nuld" render "$scene" "${asset_flag[@]}" --spp "$spp" --seed "$seed" --backend sobol -q \
       -o "$out/${name}_nuld_$seed.exr" >/dev/null
     t1=$(date +%s.%N)
     blender -b --factory-startup -P "$here/cycles_render.py" -- "$scene" "$assets" \

@@ -22,7 +22,7 @@
 # Usage: tools/experiments/lobe_choice.sh OUT
 #   CHOICES (default "uniform weight albedo"), BACKENDS (default sobol,halton),
 #   SCENES, INTEGRATORS (default "direct path"), SPP (16,64), REFERENCE_SPP,
-#   BASELINE_CHOICE, REPEATS (default 8), SEED (of the studies, default 9173; the
+#   BASELINE_CHOICE, REPEATS (default 8), RES_SCALE (default 0.25), SEED (of the studies, default 9173; the
 #   references keep 9173), FLAGS (more options for every study, e.g. --lobe-routes table).
 source "$(dirname "$0")/common.sh"
 out=${1:?usage: lobe_choice.sh OUT}
@@ -48,7 +48,7 @@ for integrator in $integrators; do
     for choice in $choices; do
       dir="$out/$choice/$integrator"
       NULD_CACHE="$out/$choice/set-cache" "$nuld" study render "$scene" \
-        --integrator "$integrator" --res-scale 0.25 --spp "$spp" --repeats "${REPEATS:-8}" \
+        --integrator "$integrator" --res-scale "${RES_SCALE:-0.25}" --spp "$spp" --repeats "${REPEATS:-8}" \
         --reference-spp "$reference_spp" --seed "${SEED:-9173}" --backends "$backends" \
         $(flags_of "$choice") ${FLAGS:-} --no-report -q -o "$dir" >/dev/null
     done

@@ -6,7 +6,9 @@ Usage: /usr/bin/python3 tools/experiments/results_page.py OUT [OUT...] [PAGE.md]
 Each OUT is a directory tools/experiments/lobe_choice.sh wrote (OUT/CHOICE/
 INTEGRATOR/{render,verdicts,references}.csv); several (e.g. scenes run with
 different reference spp) are read as one table, scenes in the order given, a
-scene in a later OUT replacing the same scene of an earlier one.
+scene in a later OUT replacing the same scene of an earlier one, and a scene
+no OUT holds keeping the rows the page has for it (so new scenes can be
+added to the page without measuring the others again).
 PAGE defaults to docs/results.md. Everything in the page between
 the markers below is replaced; the text around them is kept, so the page's
 prose ("which backend should I use") is written by hand beside numbers the
@@ -62,11 +64,12 @@ def read_all(outs, *parts):
     return rows
 
 
-def tables(outs, choice, baseline="albedo"):
+def tables(outs, choice, kept, baseline="albedo"):
     """Per integrator, every backend's MSE over sobol's under the `baseline`
     lobe choice (the default: the classic baseline) and over the best
     classic row of its own study, time over its own study's sobol, setup and
-    break-even renders."""
+    break-even renders. A scene the page's table under the same heading
+    (`kept`) has and no OUT measured keeps its rows, before the new ones."""
     lines = []
     for integrator in ("direct", "path"):
         rows = read_all(outs, choice, integrator, "render.csv")
@@ -77,7 +80,8 @@ def tables(outs, choice, baseline="albedo"):
                          if r["backend"] == "sobol"}
         refs = {r["scene"]: r for r in read_all(outs, choice, integrator, "references.csv")}
         spps = sorted({int(r["spp"]) for r in rows})
-        lines.append(f"\n### `{integrator}`, {LABELS.get(choice, f'lobe choice `{choice}`')}\n")
+        heading = f"### `{integrator}`, {LABELS.get(choice, f'lobe choice `{choice}`')}"
+        lines.append(f"\n{heading}\n")
         head = ["scene", "backend"]
         for s in spps:
             head += [f"MSE / sobol ({baseline}), {s} spp", f"MSE / best classic, {s} spp",
@@ -88,6 +92,8 @@ def tables(outs, choice, baseline="albedo"):
         by = {(r["scene"], r["backend"], int(r["spp"])): r for r in rows}
         scenes = list(dict.fromkeys(r["scene"] for r in rows))
         backends = list(dict.fromkeys(r["backend"] for r in rows))
+        lines += [line for line in kept.get(heading, [])[3:]  # below the header rows
+                  if line.startswith("| ") and line[2:].split(" |")[0] not in scenes]
         for scene in scenes:
             ref = refs.get(scene, {})
             for b in backends:
@@ -152,7 +158,7 @@ def main():
     generated = []
     for choice in ("albedo", "paper", "uniform"):
         if any(os.path.isdir(os.path.join(out, choice)) for out in outs):
-            generated += tables(outs, choice)
+            generated += tables(outs, choice, kept)
         else:
             label = LABELS.get(choice, f"lobe choice `{choice}`")
             for heading, lines in kept.items():
