@@ -136,6 +136,10 @@ std::vector<ReferenceCache::Entry> ReferenceCache::list() const {
     for (int field = 0; field < 4 && name.rfind('_') != std::string::npos; ++field)
       name.resize(name.rfind('_'));
     e.scene = name;
+    // The newest of the directory and its files. Not the clock's zero as a
+    // start: libstdc++'s file clock counts from 2174, so every real time is
+    // below it and the entry would read as made now.
+    e.modified = dir.last_write_time(ec);
     for (fs::directory_iterator it(dir.path(), ec), end; !ec && it != end; it.increment(ec)) {
       e.bytes += it->is_regular_file(ec) ? it->file_size(ec) : 0;
       e.modified = std::max(e.modified, it->last_write_time(ec));

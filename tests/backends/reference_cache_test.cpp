@@ -107,6 +107,18 @@ TEST(ReferenceCache, AnInterruptedReferenceResumesFromItsPassesBitForBit) {
   ASSERT_EQ(lines.size(), 2u);
   EXPECT_NE(lines[1].find("complete"), std::string::npos) << lines[1];
   EXPECT_NE(lines[1].find(referenceKey(rest.description)), std::string::npos) << lines[1];
+
+  // Its age is that of its newest file: three hours old once every file
+  // and the directory are set back so, and counted from any `now`.
+  const auto threeHoursAgo = std::filesystem::file_time_type::clock::now() - std::chrono::hours(3);
+  for (const auto &f : std::filesystem::directory_iterator(rest.dir))
+    std::filesystem::last_write_time(f.path(), threeHoursAgo);
+  std::filesystem::last_write_time(rest.dir, threeHoursAgo);
+  EXPECT_NE(referenceListing(cache.list())[1].find("  3h  "), std::string::npos)
+      << referenceListing(cache.list())[1];
+  EXPECT_NE(
+      referenceListing(cache.list(), threeHoursAgo + std::chrono::minutes(5))[1].find("  5m  "),
+      std::string::npos);
 }
 
 // While another run holds the entry (a second descriptor's flock conflicts
