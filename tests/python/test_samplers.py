@@ -157,6 +157,18 @@ def test_the_study_helper_writes_csv_and_refuses_bad_rows(tmp_path):
             "study: repeats")
 
 
+def test_the_study_helpers_reference_spp_is_the_clis(nuld_bin):
+    # One default for both front ends: the CLI's help states its own.
+    import inspect
+    import re
+    import subprocess
+    help_text = subprocess.run([nuld_bin, "study", "render", "--help"], check=True,
+                               capture_output=True, text=True).stdout
+    cli = re.search(r"--reference-spp[^\n]*\n[^(]*\(default (\d+)", help_text)
+    assert cli, "the CLI's help names no --reference-spp default"
+    assert inspect.signature(nuld.study).parameters["reference_spp"].default == int(cli.group(1))
+
+
 def test_stats_and_statistics_functions():
     assert nuld.mean_and_error([2.0])["stderr"] == 0
     e = nuld.mean_and_error([1.0, 2.0, 3.0])

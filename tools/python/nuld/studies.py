@@ -68,7 +68,7 @@ def _render_row(scene, row, spp, seed, render_args):
 
 
 def study(scene="default", rows=None, spp=(4, 16), repeats=8, seed=1, baseline=None,
-          reference=None, reference_backend="halton", reference_spp=1024, **render_args):
+          reference=None, reference_backend="halton", reference_spp=4096, **render_args):
     """Renders every row at every spp `repeats` times (seeds seed, seed + 1,
     ...) and compares each render with one reference.
 
@@ -78,7 +78,8 @@ def study(scene="default", rows=None, spp=(4, 16), repeats=8, seed=1, baseline=N
     `lambda s: scipy.stats.qmc.Sobol(d=2, seed=s)` (a fresh engine a repeat).
     baseline: the label the ratios are against (default 'sobol' if a row,
     else the first). reference: an image, else the scene's reference of
-    reference_spp with reference_backend, as nuld.render(reference=True)
+    reference_spp (4096, the CLI's --reference-spp default) with
+    reference_backend, as nuld.render(reference=True)
     and the CLI's studies make it (two independent halves, whose difference
     gives its own variance), found in the reference cache or rendered into
     it. Other keywords go to
