@@ -137,8 +137,7 @@ def emission_material(name, radiance, two_sided=False, surface=None):
         out = nodes.new("ShaderNodeOutputMaterial")
     previous = out.inputs["Surface"].links[0].from_socket if out.inputs["Surface"].links else None
     emit = nodes.new("ShaderNodeEmission")
-    rgb = radiance if isinstance(radiance, list) else [radiance] * 3
-    emit.inputs["Color"].default_value = (*rgb, 1)
+    emit.inputs["Color"].default_value = (*scaled(radiance, 1), 1)
     emit.inputs["Strength"].default_value = 1
     shader = emit.outputs["Emission"]
     if not two_sided:
@@ -233,15 +232,11 @@ def build_veach_mis():
              (-3.99615, 4.0667, -3.82069, 3.08221, 0.1)]):
         metal = make_material(f"plate{k + 1}", {"type": "disney", "base_color": [0.8] * 3,
                                                  "metallic": 1, "roughness": math.sqrt(alpha)})
-        verts = [to_blender(v) for v in [(4, y0, z0), (4, y1, z1), (-4, y1, z1), (-4, y0, z0)]]
-        add_mesh(f"plate{k + 1}", verts, None, [(0, 1, 2), (0, 2, 3)], metal, smooth=False)
+        add_mesh(f"plate{k + 1}", *quad_mesh([4, y0, z0], [0, y1 - y0, z1 - z0], [-8, 0, 0]),
+                 metal, smooth=False)
     grey = lambertian("grey", (0.4, 0.4, 0.4))
-    add_mesh("floor", [to_blender(v) for v in
-                       [(-10, -4.1, -10), (10, -4.1, -10), (10, -4.1, 10), (-10, -4.1, 10)]],
-             None, [(0, 2, 1), (0, 3, 2)], grey, smooth=False)
-    add_mesh("wall", [to_blender(v) for v in
-                      [(-10, -4.1, -2), (10, -4.1, -2), (10, 10, -2), (-10, 10, -2)]],
-             None, [(0, 1, 2), (0, 2, 3)], grey, smooth=False)
+    add_mesh("floor", *quad_mesh([-10, -4.1, -10], [0, 0, 20], [20, 0, 0]), grey, smooth=False)
+    add_mesh("wall", *quad_mesh([-10, -4.1, -2], [20, 0, 0], [0, 14.1, 0]), grey, smooth=False)
     for k, (centre, radius, radiance) in enumerate(
             [([-3.75, 0, 0], 0.03333, 901.803), ([-1.25, 0, 0], 0.1, 100),
              ([1.25, 0, 0], 0.3, 11.1111), ([3.75, 0, 0], 0.9, 1.23457),
