@@ -1,9 +1,10 @@
 #pragma once
 // The material interface the renderer shades with. Everything is in the local
 // shading frame (normal +z, tangent +x); wo and wi point away from the
-// surface. A material reflects only: wo.z <= 0 or wi.z <= 0 gives f = 0 and
-// pdf = 0 (the renderer flips the frame to the side of wo for two-sided
-// surfaces).
+// surface. A material that reflects only (transmits() false) gives f = 0 and
+// pdf = 0 for wo.z <= 0 or wi.z <= 0, and the renderer flips the frame to
+// the side of wo (every surface is two-sided). A transmitting material takes
+// both directions on either side of a frame whose normal points outside.
 
 #include <optional>
 #include <string>
@@ -32,7 +33,13 @@ struct BsdfSample {
   // strategy by: pdf itself when sample() drew wi; for a table's sample the
   // material's, so that the light sample's weight, which takes the same
   // density, and this one still sum to 1 at every direction.
+  // +infinity for a delta lobe's sample, which no light sample can draw:
+  // the power heuristic then gives what the ray meets weight 1.
   double misPdf{};
+  // Drawn from a delta lobe (smooth glass): f is then the lobe's weight over
+  // |cos| and pdf the probability of the discrete choice, so that
+  // f |cos| / pdf is the sample's weight as for any other sample.
+  bool delta = false;
 };
 
 class Bsdf {
@@ -44,6 +51,11 @@ class Bsdf {
   // parameters) to `h`: a scene's content key (renderer/scene.h) is made of
   // these, so two materials that shade alike add the same bytes.
   virtual void hashContent(ContentHash &h) const = 0;
+  // Whether wo and wi may lie on both sides (see the top of this file).
+  virtual bool transmits() const { return false; }
+  // Whether every lobe is a delta: f and pdf are 0 for every pair, so a
+  // light sample cannot contribute and the renderer draws none.
+  virtual bool onlyDelta() const { return false; }
   // f(wo, wi), without the cosine factor.
   virtual Rgb eval(Vec3 wo, Vec3 wi) const = 0;
   // The density per unit solid angle with which sample() produces wi.

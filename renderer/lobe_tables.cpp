@@ -191,8 +191,11 @@ LobeTables::LobeTables(const std::vector<std::shared_ptr<const Bsdf>> &materials
     tanPhiEdges_.push_back(std::tan(p * 90.0 / settings.phiBins / kDegrees));
   for (const auto &m : materials) {
     const auto *disney = dynamic_cast<const DisneyBrdf *>(m.get());
-    if (!disney || std::any_of(entries_.begin(), entries_.end(),
-                               [&](const Entry &e) { return e.material == disney; }))
+    // A table covers the hemisphere of reflection; a transmitting material
+    // keeps its own sampler (docs/architecture.md, "Materials").
+    if (!disney || disney->transmits() ||
+        std::any_of(entries_.begin(), entries_.end(),
+                    [&](const Entry &e) { return e.material == disney; }))
       continue;
     Entry e{disney, disney->params().anisotropic > 0, {}, routes_.size()};
     const int phiBins = e.anisotropic ? settings.phiBins : 1;

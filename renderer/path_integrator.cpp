@@ -40,16 +40,26 @@ double PathIntegrator::misWeight(double pdf, double otherPdf) const {
 
 namespace {
 
-// The shading frame at a hit, turned to the side the path arrives from (every
-// material is two-sided). A shading normal that faces away from wo is
-// replaced by the geometric one, which always faces wo.
+// The shading frame at a hit. For a material that reflects only, it is
+// turned to the side the path arrives from (every such material is
+// two-sided), and a shading normal that faces away from wo is replaced by the
+// geometric one, which always faces wo. A transmitting material needs to know
+// which side is outside: its frame keeps the outward normal (the vertex
+// normals' side, embree_scene.cpp), again the geometric one where the shading
+// normal puts wo on the other side.
 struct Shading {
   Frame frame;
-  Vec3 origin;  // where rays leave the surface (shadingAt)
+  Vec3 origin;   // where rays toward wo's side leave the surface (shadingAt)
+  Vec3 through;  // where refracted rays leave it, on the other side (transmitting materials)
+  // Where a ray toward local direction wi leaves, given the local view wo:
+  // only a refraction (wi on the other side of the shading normal from wo)
+  // crosses, so a reflected direction between the flat triangle and the
+  // shading plane keeps the terminator policy below.
+  Vec3 leave(Vec3 wo, Vec3 wi) const { return wo.z * wi.z < 0 ? through : origin; }
 };
 
-// Where rays leave the surface (every material here reflects only, so every
-// ray leaves on wo's side). The terminator policy: the shading normal decides
+// Where rays leave the surface: on wo's side, or for a refracted direction
+// offset to the other side. The terminator policy: the shading normal decides
 // which directions are sampled and the BSDF is evaluated in its frame, and
 // rays start at the shading position (the smooth surface the vertex normals
 // describe; embree_scene.h) where that lies on wo's side of the flat
@@ -58,13 +68,15 @@ struct Shading {
 // smooth-shaded patch it escapes as it would the smooth surface, and a white
 // furnace returns the albedo (render_test.cpp); where it does hit the mesh,
 // that hit shadows it or continues the path like any other.
-Shading shadingAt(const SurfaceHit &hit, Vec3 wo) {
+Shading shadingAt(const SurfaceHit &hit, Vec3 wo, bool transmits = false) {
   Vec3 ng = hit.geometricNormal, ns = hit.shadingNormal;
-  if (dot(wo, ng) < 0) ng = -ng, ns = -ns;
+  const bool outside = dot(wo, ng) >= 0;
+  if (!outside) ng = -ng, ns = -ns;
   if (dot(wo, ns) <= 0) ns = ng;
   const Vec3 base =
       dot(hit.shadingOffset, ng) > 0 ? hit.position + hit.shadingOffset : hit.position;
-  return {Frame::fromNormal(ns), offsetRayOrigin(base, ng, ng)};
+  return {Frame::fromNormal(transmits && !outside ? -ns : ns), offsetRayOrigin(base, ng, ng),
+          offsetRayOrigin(hit.position, ng, -ng)};
 }
 
 void record(PathCounters &c, const Ray &r) {
@@ -208,9 +220,9 @@ bool PathIntegrator::arrive(std::span<PathState> path,
       p.beta = p.beta / (1 - q);
     }
     p.bsdf = scene_.materials[hit[k]->mesh].get();
-    p.sh = shadingAt(*hit[k], -p.ray.direction);
+    p.sh = shadingAt(*hit[k], -p.ray.direction, p.bsdf->transmits());
     p.wo = p.sh.frame.toLocal(-p.ray.direction);
-    p.alive = p.wo.z > 0;
+    p.alive = p.bsdf->transmits() ? p.wo.z != 0 : p.wo.z > 0;
     any = any || p.alive;
   }
   return any;
@@ -254,10 +266,17 @@ void PathIntegrator::addLightSamples(std::span<PathState> path, int depth,
   std::array<std::size_t, kMaxPaths> areaIndex;
   chosesEnvironment.fill(environment);
   choice.fill(1.0);
+  // A material of delta lobes alone (smooth glass) has nothing to meet a
+  // light sample with: no sample, no shadow ray.
+  std::array<bool, kMaxPaths> samples;
+  for (std::size_t k = 0; k < n; ++k) {
+    samples[k] = path[k].alive && !path[k].bsdf->onlyDelta();
+    chosesEnvironment[k] = chosesEnvironment[k] && samples[k];
+  }
   if (lights.choice) {
     for (std::size_t k = 0; k < n; ++k) {
       PathState &p = path[k];
-      if (!p.alive) continue;
+      if (!samples[k]) continue;
       const auto c =
           lights.choice->choose(p.samples->number(SampleLayout::lightChoice(depth), p.index));
       choice[k] = c.probability;
@@ -272,7 +291,7 @@ void PathIntegrator::addLightSamples(std::span<PathState> path, int depth,
   if (environment) lightSamples(*light_, path, depth, chosesEnvironment, ls);
   for (std::size_t k = 0; k < n; ++k) {
     PathState &p = path[k];
-    if (!p.alive) continue;
+    if (!samples[k]) continue;
     Vec3 wiWorld;
     Rgb radiance;
     double pdf, tMax = std::numeric_limits<double>::infinity();
@@ -287,9 +306,10 @@ void PathIntegrator::addLightSamples(std::span<PathState> path, int depth,
     }
     pdf *= choice[k];
     const Vec3 wi = p.sh.frame.toLocal(wiWorld);
-    if (!(wi.z > 0)) continue;  // below the shading hemisphere: f = 0
+    // Below the shading hemisphere f = 0, unless the material transmits.
+    if (!(wi.z > 0) && !(wi.z < 0 && p.bsdf->transmits())) continue;
     // Visibility before the BSDF: an occluded sample then costs no eval.
-    const Ray shadow{p.sh.origin, wiWorld, tMax};
+    const Ray shadow{p.sh.leave(p.wo, wi), wiWorld, tMax};
     record(counters, shadow);
     if (scene_.geometry.occluded(shadow) ||
         shadowedByShapes(shadow, chosesEnvironment[k] ? lights.shapes.size() : areaIndex[k]))
@@ -302,7 +322,7 @@ void PathIntegrator::addLightSamples(std::span<PathState> path, int depth,
     // Whatever route draws the BSDF sample, the weights of both
     // strategies take the material's own sampling pdf (BsdfSample::misPdf).
     const double w = misWeight(pdf, materialPdf);
-    p.L += (w * wi.z / pdf) * p.beta * f * radiance;
+    p.L += (w * std::abs(wi.z) / pdf) * p.beta * f * radiance;
   }
 }
 
@@ -337,13 +357,15 @@ bool PathIntegrator::continuePaths(std::span<PathState> path, int depth,
                      : RoutePoint{p.samples->primary(SampleLayout::bsdf(depth), p.index)},
         own ? p.samples->number(SampleLayout::lobeChoice(depth), p.index) : 0.0);
     if (!bs) continue;
-    if (!(bs->wi.z > 0)) continue;  // below the shading hemisphere: f = 0
+    // Below the shading hemisphere f = 0, unless the material transmits.
+    if (!(bs->wi.z > 0) && !(bs->wi.z < 0 && p.bsdf->transmits())) continue;
     const Vec3 wiWorld = p.sh.frame.toWorld(bs->wi);
-    p.beta *= (bs->wi.z / bs->pdf) * bs->f;
-    // The MIS weight's BSDF pdf (see addLightSamples).
+    p.beta *= (std::abs(bs->wi.z) / bs->pdf) * bs->f;
+    // The MIS weight's BSDF pdf (see addLightSamples); +infinity after a
+    // delta lobe, whose ray adds what it meets with weight 1.
     p.lastBsdfPdf = bs->misPdf;
     p.cameraRay = false;
-    p.ray = {p.sh.origin, wiWorld};
+    p.ray = {p.sh.leave(p.wo, bs->wi), wiWorld};
     if (p.beta.isBlack()) continue;
     p.alive = true;
     record(counters, p.ray);

@@ -17,7 +17,7 @@ std::shared_ptr<const Bsdf> makeMaterial(const JsonReader &m, LobeChoice lobes) 
   if (type != "disney") m["type"].fail("\"disney\" or \"lambertian\"");
   m.allowOnly({"type", "base_color", "metallic", "subsurface", "specular", "roughness",
                "specular_tint", "anisotropic", "sheen", "sheen_tint", "clearcoat",
-               "clearcoat_gloss"});
+               "clearcoat_gloss", "spec_trans", "ior"});
   DisneyParams p;
   if (m.has("base_color")) p.baseColor = m["base_color"].reflectance();
   const auto unit = [&](const char *key, double &value) { value = m.number(key, value, 0, 1); };
@@ -31,6 +31,9 @@ std::shared_ptr<const Bsdf> makeMaterial(const JsonReader &m, LobeChoice lobes) 
   unit("sheen_tint", p.sheenTint);
   unit("clearcoat", p.clearcoat);
   unit("clearcoat_gloss", p.clearcoatGloss);
+  unit("spec_trans", p.specTrans);
+  // The model refuses 1 itself (no interface), with its reason.
+  p.ior = m.number("ior", p.ior, 1, 4);
   // The checks above are the model's own; any it adds later still names the field.
   try {
     return std::make_shared<DisneyBrdf>(p, lobes);

@@ -26,10 +26,12 @@
 
 namespace nuld::test {
 
-// Upper bound on the number of chi-square tests in the materials suite; each
+// Upper bound on the number of chi-square tests in the materials suite (about
+// 115: the Disney sampling cases under four choices, the dielectric cases in
+// both forms, the microfacet, target and Lambertian ones); each
 // runs at the Sidak-corrected level, so the whole suite fails by chance with
 // probability at most 1 %.
-inline constexpr int kChiSquareTests = 64;
+inline constexpr int kChiSquareTests = 128;
 inline double sidakLevel(double overall = 0.01) { return sidakLevel(overall, kChiSquareTests); }
 
 // A third uniform number for a sampler of the square that also draws a lobe
@@ -71,12 +73,14 @@ inline Peak peakAt(std::optional<Vec3> w = std::nullopt) {
   return peak;
 }
 
-// Bins: `cols` in phi, `rows` in v over the upper hemisphere, plus one bin
-// for failed samples expected to hold n (1 - pdf mass).
+// Bins: `cols` in phi, `rows` in v over the upper hemisphere (or, for a
+// sampler that transmits, `wholeSphere`, the whole sphere: v in [0, 1]),
+// plus one bin for failed samples expected to hold n (1 - pdf mass).
 inline DirectionTest testDirections(const DirectionSampler &sample, const DirectionPdf &pdf, int n,
                                     std::uint64_t seed, const Peak &peak = peakAt(), int cols = 80,
-                                    int rows = 40) {
-  const auto xEdges = uniformEdges(0, 1, cols), yEdges = uniformEdges(0, 0.5, rows);
+                                    int rows = 40, bool wholeSphere = false) {
+  const double vMax = wholeSphere ? 1.0 : 0.5;
+  const auto xEdges = uniformEdges(0, 1, cols), yEdges = uniformEdges(0, vMax, rows);
   const std::size_t bins = std::size_t(cols) * rows;
   std::vector<double> observed(bins + 1, 0.0), expected(bins + 1, 0.0);
   Rng rng(seed);
@@ -89,13 +93,13 @@ inline DirectionTest testDirections(const DirectionSampler &sample, const Direct
       observed[bins] += 1;
       continue;
     }
-    if (!(w->z > 0)) {
+    if (!(w->z > 0) && !wholeSphere) {
       ++below;
       continue;
     }
     const Point2 p = spherePoint(*w);
     const int i = std::min(cols - 1, int(p.x * cols));
-    const int j = std::min(rows - 1, int(p.y * 2 * rows));
+    const int j = std::min(rows - 1, int(p.y / vMax * rows));
     observed[std::size_t(j) * cols + i] += 1;
   }
   // Density on the square = density per steradian * 4 pi (equal-area map).

@@ -121,6 +121,13 @@ TEST_F(SceneFileTest, BadInputGivesClearErrors) {
               {"materials.ball.roughness", "[0, 1]"});
   expectError(valid("\"type\": \"lambertian\"", "\"type\": \"glass\""),
               {"materials.tri.type", "disney"});
+  // Glass's two fields: an index of 1 has no interface, and the model says so.
+  expectError(valid("\"roughness\": 0.3", "\"roughness\": 0.3, \"spec_trans\": 1, \"ior\": 1"),
+              {"materials.ball", "ior", "(1, 4]"});
+  expectError(valid("\"roughness\": 0.3", "\"roughness\": 0.3, \"ior\": 9"),
+              {"materials.ball.ior", "[1, 4]"});
+  expectError(valid("\"roughness\": 0.3", "\"roughness\": 0.3, \"spec_trans\": 2"),
+              {"materials.ball.spec_trans", "[0, 1]"});
   expectError(valid("{\"tri\":", "{\"trx\":"), {"no material for mesh 'tri'"});
   expectError(valid("\"spp\": 4", "\"spp\": 0"), {"render.spp", "integer in [1"});
   expectError(valid("\"look_at\": [0, 0, 0]", "\"look_at\": [0, 2, 5]"), {"camera.look_at"});
