@@ -32,7 +32,10 @@ struct AreaLightSample {
   Vec3 wi;          // unit, from the shading point towards the light
   double distance;  // to the point sampled on the light
   Rgb radiance;     // emitted towards the shading point (0 from its back)
-  double pdf;       // per unit solid angle, > 0
+  double pdf;       // per unit solid angle, > 0; 1 for a delta light
+  // From a light of no extent (punctual_light.h): no BSDF sample can draw
+  // wi, so the light sample's MIS weight is 1.
+  bool delta = false;
 };
 
 class AreaLight {

@@ -189,6 +189,10 @@ std::optional<SurfaceHit> EmbreeScene::surfaceHit(const Ray &ray, float t, unsig
   ng = len > 0 && std::isfinite(len) ? ng / len : -normalize(ray.direction);
   hit.geometricNormal = ng;
   hit.shadingNormal = ng;
+  if (!mesh.uvs.empty()) {
+    const Point2 t0 = mesh.uvs[tri[0]], t1 = mesh.uvs[tri[1]], t2 = mesh.uvs[tri[2]];
+    hit.uv = {b0 * t0.x + b1 * t1.x + b2 * t2.x, b0 * t0.y + b1 * t1.y + b2 * t2.y};
+  }
   if (!mesh.normals.empty()) {
     const Vec3 ns =
         b0 * mesh.normals[tri[0]] + b1 * mesh.normals[tri[1]] + b2 * mesh.normals[tri[2]];

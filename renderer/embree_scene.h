@@ -32,6 +32,9 @@ struct SurfaceHit {
   // hemisphere but below the flat triangle escapes a convex patch as it
   // would the smooth surface.
   Vec3 shadingOffset;
+  // The texture coordinates interpolated at `position`; (0, 0) on a mesh
+  // without any.
+  Point2 uv;
   std::uint32_t mesh = 0, triangle = 0;
 };
 

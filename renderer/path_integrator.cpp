@@ -103,8 +103,10 @@ struct PathIntegrator::PathState {
   PixelSamples *samples = nullptr;
   std::size_t index = 0;
   EnvironmentLight::Lookup escape;  // the map's cell for `ray`, if it escapes
-  // At the current hit:
+  // At the current hit: its material, `local` where a texture makes it
+  // for this hit (Scene::textured).
   const Bsdf *bsdf = nullptr;
+  std::optional<DisneyBrdf> local;
   Shading sh;
   Vec3 wo;
   // The BSDF strategy of this sample at the hit: the tabulated lobe `lobe`
@@ -219,7 +221,13 @@ bool PathIntegrator::arrive(std::span<PathState> path,
       }
       p.beta = p.beta / (1 - q);
     }
-    p.bsdf = scene_.materials[hit[k]->mesh].get();
+    const std::uint32_t mesh = hit[k]->mesh;
+    if (mesh < scene_.textured.size() && scene_.textured[mesh]) {
+      const TexturedDisney &t = *scene_.textured[mesh];
+      p.bsdf = &p.local.emplace(t.at(hit[k]->uv), t.lobes);
+    } else {
+      p.bsdf = scene_.materials[mesh].get();
+    }
     p.sh = shadingAt(*hit[k], -p.ray.direction, p.bsdf->transmits());
     p.wo = p.sh.frame.toLocal(-p.ray.direction);
     p.alive = p.bsdf->transmits() ? p.wo.z != 0 : p.wo.z > 0;
@@ -283,8 +291,12 @@ void PathIntegrator::addLightSamples(std::span<PathState> path, int depth,
       chosesEnvironment[k] = c.index == lights.count();
       if (chosesEnvironment[k]) continue;
       areaIndex[k] = c.index;
-      area[k] = lights.light(c.index).sample(
-          p.sh.origin, p.samples->primary(SampleLayout::light(depth), p.index));
+      // A punctual light leaves the light domain undrawn: no dimension
+      // shifts, so every light keeps the same layout.
+      area[k] = lights.sample(c.index, p.sh.origin,
+                              c.index < lights.areaCount()
+                                  ? p.samples->primary(SampleLayout::light(depth), p.index)
+                                  : Point2{});
     }
   }
   std::array<std::optional<LightSample>, kMaxPaths> ls;
@@ -321,7 +333,8 @@ void PathIntegrator::addLightSamples(std::span<PathState> path, int depth,
     if (f.isBlack()) continue;
     // Whatever route draws the BSDF sample, the weights of both
     // strategies take the material's own sampling pdf (BsdfSample::misPdf).
-    const double w = misWeight(pdf, materialPdf);
+    const double w =
+        area[k] && !chosesEnvironment[k] && area[k]->delta ? 1.0 : misWeight(pdf, materialPdf);
     p.L += (w * std::abs(wi.z) / pdf) * p.beta * f * radiance;
   }
 }

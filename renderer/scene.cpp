@@ -32,6 +32,12 @@ std::string sceneContentKey(const Scene &scene) {
       scene.materials[i]->hashContent(h);
     else
       h.add("no material");
+    // Only a textured mesh adds its coordinates and textures: every other
+    // key stays as it was.
+    if (i < scene.textured.size() && scene.textured[i]) {
+      addBytes(h, meshes[i].uvs);
+      scene.textured[i]->hashContent(h);
+    }
   }
   if (scene.environment)
     scene.environment->hashContent(h);
@@ -45,6 +51,7 @@ std::string sceneContentKey(const Scene &scene) {
         h.add(std::uint64_t(l.shape())).add(std::uint64_t(l.twoSided()));
         l.hashContent(h);
       }
+    for (const PunctualLight &l : scene.lights.punctual) l.hashContent(h);
   }
   const CameraSettings &c = scene.camera;
   addVec(h, c.eye);
@@ -69,15 +76,15 @@ void addEmittingMesh(Scene &scene, std::size_t mesh, Rgb radiance, bool twoSided
 void finishLights(Scene &scene) {
   SceneLights &lights = scene.lights;
   if (lights.empty()) return;
+  Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+  for (const TriangleMesh &m : scene.geometry.meshes())
+    for (const Vec3 p : m.positions) lo = min(lo, p), hi = max(hi, p);
+  for (const AreaLight &l : lights.shapes) lo = min(lo, l.boundsMin()), hi = max(hi, l.boundsMax());
+  const double radius = 0.5 * length(hi - lo);
   std::vector<double> powers;
-  for (std::size_t i = 0; i < lights.count(); ++i) powers.push_back(lights.light(i).power());
+  for (std::size_t i = 0; i < lights.areaCount(); ++i) powers.push_back(lights.light(i).power());
+  for (const PunctualLight &l : lights.punctual) powers.push_back(l.power(radius));
   if (scene.environment && scene.environment->target()) {
-    Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
-    for (const TriangleMesh &m : scene.geometry.meshes())
-      for (const Vec3 p : m.positions) lo = min(lo, p), hi = max(hi, p);
-    for (const AreaLight &l : lights.shapes)
-      lo = min(lo, l.boundsMin()), hi = max(hi, l.boundsMax());
-    const double radius = 0.5 * length(hi - lo);
     // Radiant exitance of the sphere's inside: pi times its mean radiance.
     powers.push_back(kPi * radius * radius * kPi * 4 * scene.environment->meanLuminance());
   }

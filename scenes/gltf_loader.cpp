@@ -16,59 +16,16 @@
 #include <utility>
 
 #include "sampler/io/input_file.h"
+#include "scenes/gltf_content.h"
 
 namespace nuld {
 namespace {
 
+using gltf::Affine;
+using gltf::fail;
+
 // glTF buffers are little-endian; we read them with memcpy.
 static_assert(std::endian::native == std::endian::little, "the glTF loader assumes little-endian");
-
-[[noreturn]] void fail(const std::string &path, const std::string &what) {
-  throw std::runtime_error(path + ": " + what);
-}
-
-// --- Transforms ----------------------------------------------------------------
-
-// x -> l x + t; l is row-major.
-struct Affine {
-  std::array<std::array<double, 3>, 3> l = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
-  Vec3 t;
-
-  Vec3 linear(Vec3 v) const {
-    return {l[0][0] * v.x + l[0][1] * v.y + l[0][2] * v.z,
-            l[1][0] * v.x + l[1][1] * v.y + l[1][2] * v.z,
-            l[2][0] * v.x + l[2][1] * v.y + l[2][2] * v.z};
-  }
-  Vec3 point(Vec3 p) const { return linear(p) + t; }
-  double det() const {
-    return l[0][0] * (l[1][1] * l[2][2] - l[1][2] * l[2][1]) -
-           l[0][1] * (l[1][0] * l[2][2] - l[1][2] * l[2][0]) +
-           l[0][2] * (l[1][0] * l[2][1] - l[1][1] * l[2][0]);
-  }
-  // The normal matrix: the inverse transpose of l, up to the positive factor
-  // |det| (normals are renormalized). The cofactor matrix alone would be off by
-  // the sign of det, turning normals inward under a mirror.
-  Affine normalMatrix() const {
-    Affine n;
-    const double s = det() < 0 ? -1.0 : 1.0;
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) {
-        const int r1 = (r + 1) % 3, r2 = (r + 2) % 3, c1 = (c + 1) % 3, c2 = (c + 2) % 3;
-        n.l[r][c] = s * (l[r1][c1] * l[r2][c2] - l[r1][c2] * l[r2][c1]);
-      }
-    return n;
-  }
-};
-
-// a after b.
-Affine operator*(const Affine &a, const Affine &b) {
-  Affine m;
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c)
-      m.l[r][c] = a.l[r][0] * b.l[0][c] + a.l[r][1] * b.l[1][c] + a.l[r][2] * b.l[2][c];
-  m.t = a.point(b.t);
-  return m;
-}
 
 bool allFinite(const std::vector<double> &v) {
   return std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); });
@@ -128,6 +85,7 @@ struct AccessorData {
   std::size_t stride = 0;                // bytes from one element to the next
   std::size_t count = 0;
   int componentType = 0;
+  bool normalized = false;
 };
 
 // Reads one primitive's data; `where` names it in error messages.
@@ -138,7 +96,7 @@ class PrimitiveReader {
 
   [[noreturn]] void fail(const std::string &what) const { nuld::fail(path_, where_ + what); }
 
-  // `type` is TINYGLTF_TYPE_SCALAR or _VEC3.
+  // `type` is TINYGLTF_TYPE_SCALAR, _VEC2 or _VEC3.
   AccessorData accessor(int index, const std::string &role, int type) const {
     if (index < 0 || std::size_t(index) >= model_.accessors.size())
       fail(role + " accessor " + std::to_string(index) + " does not exist");
@@ -157,9 +115,14 @@ class PrimitiveReader {
       fail(what + "uses bufferView " + std::to_string(a.bufferView) + " (bytes " +
            std::to_string(view.byteOffset) + " + " + std::to_string(view.byteLength) +
            ") which exceeds its buffer of " + std::to_string(buffer.size()) + " bytes");
-    const std::size_t components = type == TINYGLTF_TYPE_VEC3 ? 3 : 1;
+    const std::size_t components = type == TINYGLTF_TYPE_VEC3   ? 3
+                                   : type == TINYGLTF_TYPE_VEC2 ? 2
+                                                                : 1;
     if (a.type != type || componentSize(a.componentType) == 0)
-      fail(what + "has the wrong type; expected " + (components == 3 ? "VEC3" : "SCALAR"));
+      fail(what + "has the wrong type; expected " +
+           (components == 3   ? "VEC3"
+            : components == 2 ? "VEC2"
+                              : "SCALAR"));
     const std::size_t elementSize = components * componentSize(a.componentType);
     const std::size_t stride = view.byteStride ? view.byteStride : elementSize;
     if (stride < elementSize)
@@ -172,7 +135,34 @@ class PrimitiveReader {
       fail(what + "(" + std::to_string(a.count) + " elements from byte " +
            std::to_string(a.byteOffset) + ") exceeds its bufferView of " + std::to_string(room) +
            " bytes");
-    return {buffer.data() + view.byteOffset + a.byteOffset, stride, a.count, a.componentType};
+    return {buffer.data() + view.byteOffset + a.byteOffset, stride, a.count, a.componentType,
+            a.normalized};
+  }
+
+  // Texture coordinates: float, or unsigned byte or short normalized to [0, 1].
+  std::vector<Point2> uvs(int index) const {
+    const AccessorData d = accessor(index, "TEXCOORD_0", TINYGLTF_TYPE_VEC2);
+    std::vector<Point2> out(d.count);
+    const auto read = [&]<typename T>(T, double scale) {
+      for (std::size_t i = 0; i < d.count; ++i) {
+        T v[2];
+        std::memcpy(v, d.first + i * d.stride, sizeof(v));
+        out[i] = {v[0] * scale, v[1] * scale};
+        if (!std::isfinite(out[i].x) || !std::isfinite(out[i].y))
+          fail("TEXCOORD_0 " + std::to_string(i) + " is not finite");
+      }
+    };
+    const bool normalized = d.normalized;
+    if (d.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT)
+      read(float{}, 1.0);
+    else if (normalized && d.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE)
+      read(std::uint8_t{}, 1.0 / 255);
+    else if (normalized && d.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT)
+      read(std::uint16_t{}, 1.0 / 65535);
+    else
+      fail("TEXCOORD_0 accessor " + std::to_string(index) +
+           " is neither float nor normalized unsigned byte or short");
+    return out;
   }
 
   std::vector<Vec3> vec3s(int index, const std::string &role) const {
@@ -247,6 +237,12 @@ TriangleMesh placePrimitive(const std::string &path, const tinygltf::Model &mode
       reader.fail("has " + std::to_string(mesh.normals.size()) + " normals for " +
                   std::to_string(vertexCount) + " positions");
   }
+  if (const auto uv = prim.attributes.find("TEXCOORD_0"); uv != prim.attributes.end()) {
+    mesh.uvs = reader.uvs(uv->second);
+    if (mesh.uvs.size() != vertexCount)
+      reader.fail("has " + std::to_string(mesh.uvs.size()) + " texture coordinates for " +
+                  std::to_string(vertexCount) + " positions");
+  }
 
   std::vector<std::uint32_t> indices;
   if (prim.indices >= 0) {
@@ -306,8 +302,9 @@ std::vector<int> rootNodes(const tinygltf::Model &model) {
   return roots;
 }
 
-std::vector<TriangleMesh> collectMeshes(const std::string &path, const tinygltf::Model &model) {
-  std::vector<TriangleMesh> meshes;
+// The meshes, with each one's material, and the first perspective camera
+// and the punctual lights the nodes place.
+void collectNodes(const std::string &path, const tinygltf::Model &model, GltfFile &out) {
   // Depth first with an explicit stack, in file order. glTF node hierarchies are
   // strict trees, so a node reached twice means a cycle or a shared child.
   std::vector<bool> visited(model.nodes.size(), false);
@@ -327,6 +324,7 @@ std::vector<TriangleMesh> collectMeshes(const std::string &path, const tinygltf:
     const Affine world = parent * localTransform(path, node, index);
     for (auto c = node.children.rbegin(); c != node.children.rend(); ++c)
       stack.emplace_back(*c, world);
+    gltf::placeCameraAndLight(path, model, index, world, out);
 
     // A zero scale hides a node: nothing to draw, and no normal matrix.
     if (node.mesh < 0 || world.det() == 0) continue;
@@ -344,10 +342,11 @@ std::vector<TriangleMesh> collectMeshes(const std::string &path, const tinygltf:
                        std::to_string(p) + " has mode " + std::to_string(mode) +
                        "; only TRIANGLES (4) is supported");
       TriangleMesh placed = placePrimitive(path, model, node, node.mesh, int(p), world);
-      if (!placed.triangles.empty()) meshes.push_back(std::move(placed));
+      if (placed.triangles.empty()) continue;
+      out.meshes.push_back(std::move(placed));
+      out.meshMaterials.push_back(mesh.primitives[p].material);
     }
   }
-  return meshes;
 }
 
 bool hasExtension(const std::string &path, const char *ext) {
@@ -356,22 +355,35 @@ bool hasExtension(const std::string &path, const char *ext) {
   return e == ext;
 }
 
-// Geometry only: leave embedded textures undecoded.
+// Geometry only: leave images unread.
 bool skipImage(tinygltf::Image *, const int, std::string *, std::string *, int, int,
                const unsigned char *, int, void *) {
   return true;
 }
 
-}  // namespace
+// Keeps an image's encoded bytes for GltfFile::images, decoded later only
+// where a material that is drawn reads it.
+bool keepImage(tinygltf::Image *, const int index, std::string *, std::string *, int, int,
+               const unsigned char *bytes, int size, void *images) {
+  auto &out = *static_cast<std::vector<GltfImage> *>(images);
+  if (index < 0) return true;
+  if (out.size() <= std::size_t(index)) out.resize(std::size_t(index) + 1);
+  if (bytes && size > 0) out[index].bytes.assign(bytes, bytes + size);
+  return true;
+}
 
-std::vector<TriangleMesh> loadGltf(const std::string &path) {
+GltfFile load(const std::string &path, bool withImages) {
   const bool binary = hasExtension(path, ".glb");
   if (!binary && !hasExtension(path, ".gltf"))
     fail(path, "unknown glTF file extension; expected .gltf or .glb");
 
   requireInputFile(path, "glTF file");
   tinygltf::TinyGLTF gltf;
-  gltf.SetImageLoader(&skipImage, nullptr);
+  GltfFile file;
+  if (withImages)
+    gltf.SetImageLoader(&keepImage, &file.images);
+  else
+    gltf.SetImageLoader(&skipImage, nullptr);
   tinygltf::Model model;
   std::string err, warn;
   const bool ok = binary ? gltf.LoadBinaryFromFile(&model, &err, &warn, path)
@@ -387,9 +399,18 @@ std::vector<TriangleMesh> loadGltf(const std::string &path) {
         ext == "KHR_mesh_quantization")
       fail(path, "requires glTF extension " + ext + ", which is not supported");
 
-  std::vector<TriangleMesh> meshes = collectMeshes(path, model);
-  if (meshes.empty()) fail(path, "no triangle meshes in the scene");
-  return meshes;
+  collectNodes(path, model, file);
+  if (file.meshes.empty()) fail(path, "no triangle meshes in the scene");
+  if (withImages) gltf::readMaterials(path, model, file);
+  return file;
+}
+
+}  // namespace
+
+GltfFile loadGltfFile(const std::string &path) { return load(path, true); }
+
+std::vector<TriangleMesh> loadGltf(const std::string &path) {
+  return std::move(load(path, false).meshes);
 }
 
 }  // namespace nuld

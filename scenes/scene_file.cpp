@@ -17,6 +17,7 @@
 #include "scenes/cornell_scene.h"
 #include "scenes/default_scene.h"
 #include "scenes/gltf_loader.h"
+#include "scenes/gltf_scene.h"
 #include "scenes/json_reader.h"
 #include "scenes/material_factory.h"
 #include "scenes/ply_loader.h"
@@ -47,6 +48,16 @@ std::vector<TriangleMesh> loadMeshFile(const std::string &path, const JsonReader
   if (ext == ".glb" || ext == ".gltf") return loadGltf(path);
   if (ext == ".ply") return {loadPly(path)};
   field.fail("a .glb, .gltf or .ply file");
+}
+
+// A scene file's "gltf" entry: the path of an existing .gltf or .glb file.
+std::string gltfFile(const JsonReader &field, const std::string &assetRoot) {
+  const std::string file = assetPath(assetRoot, field.string());
+  if (!isGltfPath(file)) field.fail("a .gltf or .glb file");
+  if (!fs::exists(file))
+    throw std::runtime_error(field.file() + ": field '" + field.path() + "': glTF file '" + file +
+                             "' does not exist (check --assets or NULD_ASSETS)");
+  return file;
 }
 
 // Embree traces in single precision: at 1e7 neighbouring floats are a unit
@@ -194,61 +205,11 @@ void readRender(const JsonReader &r, LoadedScene &out) {
   if (r.has("seed")) out.seed = std::uint64_t(r["seed"].integer(0, 2147483647));
 }
 
-}  // namespace
-
-const std::vector<std::string> &builtInScenes() {
-  static const std::vector<std::string> names{"default", "stress", "cornell", "veach-mis"};
-  return names;
-}
-
-std::string builtInSceneList() {
-  std::string out;
-  for (const std::string &n : builtInScenes()) out += (out.empty() ? "" : ", ") + n;
-  return out;
-}
-
-bool isBuiltInScene(const std::string &name) {
-  const auto &names = builtInScenes();
-  return std::find(names.begin(), names.end(), name) != names.end();
-}
-
-LoadedScene loadScene(const std::string &path, const std::string &assetRoot,
-                      const SceneChoices &choices) {
-  if (path == "default") return makeDefaultScene(choices);
-  if (path == "stress") return makeStressScene(choices);
-  if (path == "cornell") return makeCornellScene();
-  if (path == "veach-mis") return makeVeachMisScene(choices.lobes);
-  const LobeChoice lobes = choices.lobes;
-
-  requireInputFile(path, "the scene file");
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(path + ": cannot open the scene file");
-  nlohmann::json doc;
-  try {
-    doc = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception &e) {
-    // Syntax errors and numbers beyond a double: the parser's reason,
-    // without its "[json.exception.parse_error.101]" tag.
-    std::string why = e.what();
-    if (const auto tag = why.find("] "); why.rfind("[json.exception.", 0) == 0 && tag != why.npos)
-      why = why.substr(tag + 2);
-    throw std::invalid_argument(path + ": malformed JSON: " + why);
-  }
-  const JsonReader root(doc, path);
-  root.allowOnly(
-      {"camera", "film", "render", "environment", "materials", "meshes", "emitters", "comment"});
-
-  LoadedScene out{path, Scene{EmbreeScene({}), {}, std::nullopt, {}}};
-  out.scene.lobeChoice = lobes;
-  out.scene.camera = readCamera(root["camera"]);
-  if (root.has("film")) {
-    const JsonReader film = root["film"];
-    film.allowOnly({"width", "height"});
-    out.settings.width = film["width"].integer(1, 1 << 15);
-    out.settings.height = film["height"].integer(1, 1 << 15);
-  }
-  if (root.has("render")) readRender(root["render"], out);
-
+// The "meshes" of a scene file with the "materials" they name, and their
+// emission: the scene's geometry.
+void readMeshes(const JsonReader &root, const std::string &assetRoot, LobeChoice lobes,
+                LoadedScene &out) {
+  const std::string &path = out.name;
   // Meshes, and the materials they name.
   const JsonReader materials = root["materials"];
   const std::vector<std::string> materialNames = materials.keys();
@@ -301,6 +262,79 @@ LoadedScene loadScene(const std::string &path, const std::string &assetRoot,
     if (std::none_of(lights.begin() + out.scene.lights.meshFirst[mesh], lights.end(),
                      [](const AreaLight &l) { return l.area() > 0; }))
       e.refuse("the mesh has no triangle of nonzero area to emit from");
+  }
+}
+
+}  // namespace
+
+const std::vector<std::string> &builtInScenes() {
+  static const std::vector<std::string> names{"default", "stress", "cornell", "veach-mis"};
+  return names;
+}
+
+std::string builtInSceneList() {
+  std::string out;
+  for (const std::string &n : builtInScenes()) out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
+
+bool isBuiltInScene(const std::string &name) {
+  const auto &names = builtInScenes();
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+LoadedScene loadScene(const std::string &path, const std::string &assetRoot,
+                      const SceneChoices &choices) {
+  if (path == "default") return makeDefaultScene(choices);
+  if (path == "stress") return makeStressScene(choices);
+  if (path == "cornell") return makeCornellScene();
+  if (path == "veach-mis") return makeVeachMisScene(choices.lobes);
+  const LobeChoice lobes = choices.lobes;
+  if (isGltfPath(path)) {
+    LoadedScene out = loadGltfScene(path, choices);
+    finishLights(out.scene);
+    return out;
+  }
+
+  requireInputFile(path, "the scene file");
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path + ": cannot open the scene file");
+  nlohmann::json doc;
+  try {
+    doc = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception &e) {
+    // Syntax errors and numbers beyond a double: the parser's reason,
+    // without its "[json.exception.parse_error.101]" tag.
+    std::string why = e.what();
+    if (const auto tag = why.find("] "); why.rfind("[json.exception.", 0) == 0 && tag != why.npos)
+      why = why.substr(tag + 2);
+    throw std::invalid_argument(path + ": malformed JSON: " + why);
+  }
+  const JsonReader root(doc, path);
+  root.allowOnly({"camera", "film", "render", "environment", "materials", "meshes", "emitters",
+                  "gltf", "comment"});
+
+  // A "gltf" file brings geometry, materials, lights and a camera; the
+  // scene file's own camera, film and render settings override its.
+  const bool fromGltf = root.has("gltf");
+  LoadedScene out = fromGltf ? loadGltfScene(gltfFile(root["gltf"], assetRoot), choices)
+                             : LoadedScene{path, Scene{EmbreeScene({}), {}, std::nullopt, {}}};
+  out.name = path;
+  if (!fromGltf || root.has("camera")) out.scene.camera = readCamera(root["camera"]);
+  if (root.has("film")) {
+    const JsonReader film = root["film"];
+    film.allowOnly({"width", "height"});
+    out.settings.width = film["width"].integer(1, 1 << 15);
+    out.settings.height = film["height"].integer(1, 1 << 15);
+  }
+  if (root.has("render")) readRender(root["render"], out);
+
+  if (fromGltf) {
+    for (const char *key : {"meshes", "materials"})
+      if (root.has(key))
+        root[key].refuse("a scene with \"gltf\" takes its meshes and materials from the glTF file");
+  } else {
+    readMeshes(root, assetRoot, lobes, out);
   }
   if (root.has("emitters")) {
     const JsonReader list = root["emitters"];

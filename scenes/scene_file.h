@@ -40,6 +40,11 @@
 // built. A rectangle emits on the side of cross(edge0, edge1), its edges
 // orthogonal; an "emission" makes each triangle of the entry's meshes a
 // light (renderer/area_light.h); radiance is finite and >= 0.
+//
+// A .gltf or .glb path is a scene of its own (gltf_scene.h); a scene file's
+// "gltf": "FILE.glb" takes its meshes, materials, lights and camera from
+// it, and then refuses "meshes" and "materials" (its own "camera" and
+// "film" replace the file's).
 
 #include <cstdint>
 #include <map>

@@ -4,6 +4,7 @@
 // what callers use; this is the line between it and the plugin.
 
 #include <functional>
+#include <span>
 #include <string>
 
 #include "sampler/io/image_io.h"
@@ -18,6 +19,10 @@ class ImageCodec {
   // std::runtime_error naming the file.
   virtual Image read(const std::string &path,
                      const std::function<void(const Image &header)> &checkHeader) const = 0;
+  // The same for an image held in memory (a glTF file's embedded texture);
+  // `name` says its format by its extension and names it in messages.
+  virtual Image readMemory(const std::string &name, std::span<const unsigned char> bytes,
+                           const std::function<void(const Image &header)> &checkHeader) const = 0;
   // Writes `image` to `file`, in the format of its extension, on behalf of
   // `path` (what messages name). Throws std::runtime_error naming `path`.
   virtual void write(const std::string &path, const std::string &file, const Image &image,
@@ -26,7 +31,7 @@ class ImageCodec {
 };
 
 // Bumped whenever ImageCodec or Image changes.
-inline constexpr int kImageCodecVersion = 1;
+inline constexpr int kImageCodecVersion = 2;
 
 // The plugin's codec (loadPlugin; the variable is NULD_IMAGE_PLUGIN).
 const ImageCodec &imageCodec();

@@ -1,6 +1,7 @@
 // The image codec of the plugin libnuld_image.so (image_codec.h): the one
 // translation unit that includes OpenImageIO.
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include <filesystem>
@@ -23,25 +24,52 @@ std::unique_ptr<OIIO::ImageInput> openInput(const std::string &path, const char 
   return in;
 }
 
+// Every pixel of an open image as float, its size shown to `checkHeader`
+// before anything is allocated.
+Image decode(const std::string &name, std::unique_ptr<OIIO::ImageInput> in,
+             const std::function<void(const Image &)> &checkHeader) {
+  const OIIO::ImageSpec &spec = in->spec();
+  Image img;
+  img.width = spec.width;
+  img.height = spec.height;
+  img.channels = spec.nchannels;
+  checkHeader(img);
+  img.pixels.resize(std::size_t(img.width) * img.height * img.channels);
+  if (!in->read_image(0, 0, 0, img.channels, OIIO::TypeDesc::FLOAT, img.pixels.data())) {
+    OIIO::geterror();
+    throw std::runtime_error(name + ": cannot decode the image data (a truncated or damaged file)");
+  }
+  in->close();
+  return img;
+}
+
 class OiioCodec final : public ImageCodec {
  public:
   Image read(const std::string &path,
              const std::function<void(const Image &)> &checkHeader) const override {
-    const auto in = openInput(path,
-                              "cannot read it as an image (a format OpenImageIO does not read, "
-                              "or a damaged file)");
-    const OIIO::ImageSpec &spec = in->spec();
-    Image img;
-    img.width = spec.width;
-    img.height = spec.height;
-    img.channels = spec.nchannels;
-    checkHeader(img);
-    img.pixels.resize(std::size_t(img.width) * img.height * img.channels);
-    if (!in->read_image(0, 0, 0, img.channels, OIIO::TypeDesc::FLOAT, img.pixels.data()))
-      throw std::runtime_error(path +
-                               ": cannot decode the image data (a truncated or damaged file)");
-    in->close();
-    return img;
+    return decode(path,
+                  openInput(path,
+                            "cannot read it as an image (a format OpenImageIO does not read, "
+                            "or a damaged file)"),
+                  checkHeader);
+  }
+
+  Image readMemory(const std::string &name, std::span<const unsigned char> bytes,
+                   const std::function<void(const Image &)> &checkHeader) const override {
+    // OpenImageIO reads through the proxy only while it lives. The reader
+    // is made by the format's name and given the proxy before it opens:
+    // open(name, config, proxy) looks for a file of that name instead.
+    OIIO::Filesystem::IOMemReader proxy(bytes.data(), bytes.size());
+    const std::string format = std::filesystem::path(name).extension().string();
+    auto in = format.size() > 1 ? OIIO::ImageInput::create(format.substr(1)) : nullptr;
+    OIIO::ImageSpec spec;
+    if (!in || !in->supports("ioproxy") || !(in->set_ioproxy(&proxy), in->open(name, spec))) {
+      OIIO::geterror();
+      throw std::runtime_error(name +
+                               ": cannot read it as an image (not a PNG or JPEG "
+                               "OpenImageIO can decode, or damaged data)");
+    }
+    return decode(name, std::move(in), checkHeader);
   }
 
   void write(const std::string &path, const std::string &file, const Image &image,

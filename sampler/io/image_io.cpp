@@ -33,27 +33,45 @@ ImageEncoding imageEncoding(const std::string &path) {
   return ImageEncoding::Unknown;
 }
 
+namespace {
+
+// Refuses a header without pixels or larger than memory allows, before
+// anything is allocated: a corrupt or hostile one may claim far more than
+// the file holds.
+void checkImageHeader(const std::string &name, const Image &header) {
+  if (header.width <= 0 || header.height <= 0 || header.channels <= 0)
+    throw std::runtime_error(name + ": image has no pixels");
+  requireMemory(double(header.width) * header.height * header.channels * sizeof(float),
+                name + ": a " + std::to_string(header.width) + " x " +
+                    std::to_string(header.height) + " image of " + std::to_string(header.channels) +
+                    " channels");
+}
+
+void requireFinitePixels(const std::string &name, const Image &img) {
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x)
+      for (int c = 0; c < img.channels; ++c)
+        if (!std::isfinite(img.at(x, y, c)))
+          throw std::runtime_error(name + ": pixel (" + std::to_string(x) + ", " +
+                                   std::to_string(y) + ") channel " + std::to_string(c) +
+                                   " is not a finite number");
+}
+
+}  // namespace
+
 Image readImage(const std::string &path, bool requireFinite) {
   requireInputFile(path, "image file");
-  const Image img = imageCodec().read(path, [&](const Image &header) {
-    if (header.width <= 0 || header.height <= 0 || header.channels <= 0)
-      throw std::runtime_error(path + ": image has no pixels");
-    // The header's size, before allocating: a corrupt or hostile one may
-    // claim far more than the file holds.
-    requireMemory(double(header.width) * header.height * header.channels * sizeof(float),
-                  path + ": a " + std::to_string(header.width) + " x " +
-                      std::to_string(header.height) + " image of " +
-                      std::to_string(header.channels) + " channels");
-  });
-  if (requireFinite) {
-    for (int y = 0; y < img.height; ++y)
-      for (int x = 0; x < img.width; ++x)
-        for (int c = 0; c < img.channels; ++c)
-          if (!std::isfinite(img.at(x, y, c)))
-            throw std::runtime_error(path + ": pixel (" + std::to_string(x) + ", " +
-                                     std::to_string(y) + ") channel " + std::to_string(c) +
-                                     " is not a finite number");
-  }
+  const Image img =
+      imageCodec().read(path, [&](const Image &header) { checkImageHeader(path, header); });
+  if (requireFinite) requireFinitePixels(path, img);
+  return img;
+}
+
+Image readImageBytes(const std::string &name, std::span<const unsigned char> bytes) {
+  if (bytes.empty()) throw std::runtime_error(name + ": the image holds no bytes");
+  const Image img = imageCodec().readMemory(
+      name, bytes, [&](const Image &header) { checkImageHeader(name, header); });
+  requireFinitePixels(name, img);
   return img;
 }
 

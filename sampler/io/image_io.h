@@ -3,6 +3,7 @@
 // validates the pixels; writing goes through a temporary file and a rename,
 // so a reader never sees a half-written image.
 
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -35,6 +36,10 @@ ImageEncoding imageEncoding(const std::string &path);
 // Throws std::runtime_error naming the file on failure. With `requireFinite`
 // a NaN or infinite pixel is an error naming the pixel.
 Image readImage(const std::string &path, bool requireFinite = true);
+// The same for an image held in memory (PNG or JPEG: an embedded texture);
+// `name` ("file.glb: image 2.png") names it in messages and its extension
+// says the format.
+Image readImageBytes(const std::string &name, std::span<const unsigned char> bytes);
 
 // Text attributes an image file carries (EXR header attributes, PNG text
 // chunks), so that a file says how it was made: name and value pairs, names

@@ -1,5 +1,6 @@
 // Materials hot paths: Disney eval / pdf / sample at the supplement's
-// instance, and building its lobe target. Run: build/tests/bench_materials
+// instance and at rough glass (its transmission lobe), and building the
+// supplement's lobe target. Run: build/tests/bench_materials
 #include <benchmark/benchmark.h>
 
 #include <vector>
@@ -13,8 +14,18 @@ namespace {
 
 using bench::uniformPoints;
 
-void BM_DisneySample(benchmark::State &state) {
-  const DisneyBrdf brdf(supplementDisneyParams());
+// Rough glass (spec_trans 1, roughness 0.3, IOR 1.5), seen from outside
+// as the opaque instance is: its transmission lobe beside the supplement's.
+DisneyParams roughGlass() {
+  DisneyParams p;
+  p.specTrans = 1;
+  p.roughness = 0.3;
+  return p;
+}
+
+// sample() at uniform points, the lobe choice from another point's x.
+void sampleBench(benchmark::State &state, const DisneyParams &params) {
+  const DisneyBrdf brdf(params);
   const Vec3 wo = supplementWo();
   const auto us = uniformPoints(4096);
   std::size_t k = 0;
@@ -24,10 +35,10 @@ void BM_DisneySample(benchmark::State &state) {
   }
   state.SetItemsProcessed(state.iterations());
 }
-BENCHMARK(BM_DisneySample);
 
-void BM_DisneyEvalAndPdf(benchmark::State &state) {
-  const DisneyBrdf brdf(supplementDisneyParams());
+// eval + pdf at the directions the material samples (both sides for glass).
+void evalAndPdfBench(benchmark::State &state, const DisneyParams &params) {
+  const DisneyBrdf brdf(params);
   const Vec3 wo = supplementWo();
   std::vector<Vec3> wis;
   for (const Point2 u : uniformPoints(4096))
@@ -40,7 +51,17 @@ void BM_DisneyEvalAndPdf(benchmark::State &state) {
   }
   state.SetItemsProcessed(state.iterations());
 }
+
+void BM_DisneySample(benchmark::State &state) { sampleBench(state, supplementDisneyParams()); }
+BENCHMARK(BM_DisneySample);
+void BM_DisneyEvalAndPdf(benchmark::State &state) {
+  evalAndPdfBench(state, supplementDisneyParams());
+}
 BENCHMARK(BM_DisneyEvalAndPdf);
+void BM_GlassSample(benchmark::State &state) { sampleBench(state, roughGlass()); }
+BENCHMARK(BM_GlassSample);
+void BM_GlassEvalAndPdf(benchmark::State &state) { evalAndPdfBench(state, roughGlass()); }
+BENCHMARK(BM_GlassEvalAndPdf);
 
 // One lobe target at the default 256 x 128 cells, 4 x 4 evaluations each.
 void BM_MakeDisneyTarget(benchmark::State &state) {

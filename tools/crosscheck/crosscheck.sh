@@ -7,8 +7,10 @@
 # range over the seeds). Blender is an optional dependency: --install
 # installs Debian's package; nothing else in the project installs it.
 # A SCENE is a scene file or nuld's built-in `cornell` or `veach-mis`, which
-# cycles_render.py rebuilds from the same numbers.
-# Usage: [SEEDS=K] tools/crosscheck/crosscheck.sh [--install] OUT [SPP] [SCENE.json|cornell|veach-mis...]
+# cycles_render.py rebuilds from the same numbers, or `gltf`: a scene made
+# in Blender (gltf_blender.py), rendered by Cycles and exported by Blender's
+# glTF exporter, which nuld renders as a glTF scene.
+# Usage: [SEEDS=K] tools/crosscheck/crosscheck.sh [--install] OUT [SPP] [SCENE.json|cornell|veach-mis|gltf...]
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
@@ -32,18 +34,25 @@ echo "scene,nuld_r,nuld_g,nuld_b,cycles_r,cycles_g,cycles_b,ratio_r,ratio_g,rati
 for scene in "${scenes[@]}"; do
   name=$(basename "$scene" .json)
   asset_flag=(--assets "$assets")  # the built-in scenes need none
-  case $scene in cornell | veach-mis) asset_flag=() ;; *.json) ;; *) echo "crosscheck: $scene: expected a .json scene file, cornell or veach-mis" >&2; exit 1 ;; esac
+  case $scene in cornell | veach-mis | gltf) asset_flag=() ;; *.json) ;; *) echo "crosscheck: $scene: expected a .json scene file, cornell, veach-mis or gltf" >&2; exit 1 ;; esac
   nsec=0 csec=0
   for seed in $(seq 1 "$seeds"); do
+    # Cycles first: for `gltf` it writes the file nuld renders.
     t0=$(date +%s.%N)
-    "$nuld" render "$scene" "${asset_flag[@]}" --spp "$spp" --seed "$seed" --backend sobol -q \
-      -o "$out/${name}_nuld_$seed.exr" >/dev/null
+    if [[ $scene == gltf ]]; then
+      blender -b --factory-startup -P "$here/gltf_blender.py" -- "$out/gltf_scene.glb" \
+        "$out/${name}_cycles_$seed.exr" "$spp" "$seed" >"$out/${name}_cycles_$seed.log" 2>&1
+    else
+      blender -b --factory-startup -P "$here/cycles_render.py" -- "$scene" "$assets" \
+        "$out/${name}_cycles_$seed.exr" "$spp" "$seed" >"$out/${name}_cycles_$seed.log" 2>&1
+    fi || { echo "crosscheck: Cycles failed on $scene; see $out/${name}_cycles_$seed.log" >&2; exit 1; }
     t1=$(date +%s.%N)
-    blender -b --factory-startup -P "$here/cycles_render.py" -- "$scene" "$assets" \
-      "$out/${name}_cycles_$seed.exr" "$spp" "$seed" >"$out/${name}_cycles_$seed.log" 2>&1 ||
-      { echo "crosscheck: Cycles failed on $scene; see $out/${name}_cycles_$seed.log" >&2; exit 1; }
+    input=$scene
+    [[ $scene == gltf ]] && input="$out/gltf_scene.glb"
+    "$nuld" render "$input" "${asset_flag[@]}" --spp "$spp" --seed "$seed" --backend sobol -q \
+      -o "$out/${name}_nuld_$seed.exr" >/dev/null
     t2=$(date +%s.%N)
-    nsec=$(python3 -c "print($nsec + $t1 - $t0)") csec=$(python3 -c "print($csec + $t2 - $t1)")
+    csec=$(python3 -c "print($csec + $t1 - $t0)") nsec=$(python3 -c "print($nsec + $t2 - $t1)")
   done
   files=()
   for r in nuld cycles; do

@@ -15,6 +15,9 @@ import sys
 import bpy
 from mathutils import Matrix, Vector
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from cycles_settings import configure_cycles, write_exr  # noqa: E402
+
 
 def fail(message):
     print(f"cycles_render: {message}", file=sys.stderr)
@@ -294,34 +297,12 @@ def main():
             spec = json.load(f)
         build_file_scene(spec, assets)
     scene = bpy.context.scene
-    scene.render.engine = "CYCLES"
-    cycles = scene.cycles
-    cycles.device = "CPU"
-    cycles.samples = int(spp)
-    cycles.seed = int(seed)
-    cycles.use_adaptive_sampling = False
-    cycles.use_denoising = False
-    cycles.sample_clamp_direct = 0
-    cycles.sample_clamp_indirect = 0
-    cycles.blur_glossy = 0
-    cycles.light_sampling_threshold = 0
-    cycles.caustics_reflective = True
-    cycles.caustics_refractive = True
-    depth = spec.get("render", {}).get("max_depth", 5)
-    # nuld's max depth d counts hits; Cycles counts bounces after the first.
-    for attr in ["max_bounces", "diffuse_bounces", "glossy_bounces", "transmission_bounces",
-                 "transparent_max_bounces", "volume_bounces"]:
-        setattr(cycles, attr, depth - 1)
-    cycles.pixel_filter_type = "BOX"
-    cycles.filter_width = 1.0
+    configure_cycles(scene, spp, seed, spec.get("render", {}).get("max_depth", 5))
     film = spec.get("film", {})
     scene.render.resolution_x = film.get("width", 512)
     scene.render.resolution_y = film.get("height", 512)
     scene.render.resolution_percentage = 100
-    scene.render.image_settings.file_format = "OPEN_EXR"
-    scene.render.image_settings.color_depth = "32"
-    scene.render.image_settings.color_mode = "RGB"
-    scene.render.filepath = out_path
+    write_exr(scene, out_path)
 
     cam = spec["camera"]
     if cam.get("mirror_x", False):

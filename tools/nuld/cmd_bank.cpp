@@ -28,7 +28,8 @@ Runner addBank(CLI::App &app) {
     bool quiet = false;
   };
   auto o = std::make_shared<Options>();
-  app.add_option("scene", o->scene, "scene file (JSON) or a built-in scene: " + builtInSceneList())
+  app.add_option("scene", o->scene,
+                 "scene file (JSON, or glTF .gltf/.glb) or a built-in scene: " + builtInSceneList())
       ->required();
   app.add_option("--backend", o->backend,
                  "optimized, optimized-uniform, optimized-bsdf or optimized-both (default "

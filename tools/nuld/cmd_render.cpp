@@ -141,7 +141,8 @@ Runner addRender(CLI::App &app) {
   auto o = std::make_shared<Options>();
   app.add_option(
          "scene", o->scene,
-         "scene file (JSON) or a built-in scene, which needs no files: " + builtInSceneList())
+         "scene file (JSON, or glTF .gltf/.glb) or a built-in scene, which needs no files: " +
+             builtInSceneList())
       ->required();
   app.add_option("--backend", o->backend,
                  "sampler backend: " + backendSpellings(kRenders) +

@@ -212,9 +212,9 @@ Runner addStudyRender(CLI::App &app) {
     bool noReport = false, quiet = false;
   };
   auto o = std::make_shared<Options>();
-  app.add_option(
-      "scenes", o->s.scenes,
-      "scene files (JSON) or a built-in scene: " + builtInSceneList() + " (default: default)");
+  app.add_option("scenes", o->s.scenes,
+                 "scene files (JSON, or glTF .gltf/.glb) or a built-in scene: " +
+                     builtInSceneList() + " (default: default)");
   app.add_option("--backends", o->s.backends,
                  "comma-separated backend words: " + backendSpellings(kRenders) +
                      " (optimized without PATHS: sets for the scene's environment map; "

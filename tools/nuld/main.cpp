@@ -150,7 +150,7 @@ int main(int argc, char **argv) {
   add("spectrum", "Power spectrum of a point set: PNG image and radial-average CSV",
       nuld::cli::addSpectrum);
   add("render",
-      "Render a scene (JSON file, or built in: " + nuld::builtInSceneList() +
+      "Render a scene (JSON or glTF file, or built in: " + nuld::builtInSceneList() +
           ") with a sampler backend to EXR + PNG",
       nuld::cli::addRender);
   add("compare", "Print mse and relmse of an image against a reference; write an error map",

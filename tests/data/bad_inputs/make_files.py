@@ -58,6 +58,23 @@ def main():
     (HERE / "random_bytes.ptsb").write_bytes(noise)
     (HERE / "random_after_magic.ptsb").write_bytes(b"NULDPTS1" + noise)
     (HERE / "random_bytes.nuldnet").write_bytes(noise)
+    # A glTF binary header followed by noise, and one triangle whose
+    # material's roughness is out of range.
+    (HERE / "random_after_magic.glb").write_bytes(
+        b"glTF" + struct.pack("<II", 2, 12 + len(noise)) + noise)
+    import base64
+    import json
+    blob = struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 1, 0)
+    (HERE / "bad_roughness.gltf").write_text(json.dumps({
+        "asset": {"version": "2.0"},
+        "buffers": [{"byteLength": len(blob), "uri": "data:application/octet-stream;base64,"
+                     + base64.b64encode(blob).decode()}],
+        "bufferViews": [{"buffer": 0, "byteLength": len(blob)}],
+        "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                       "min": [0, 0, 0], "max": [1, 1, 0]}],
+        "materials": [{"name": "shiny", "pbrMetallicRoughness": {"roughnessFactor": 1.5}}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "material": 0}]}],
+        "nodes": [{"mesh": 0}], "scenes": [{"nodes": [0]}], "scene": 0}, indent=1) + "\n")
 
 if __name__ == "__main__":
     main()
