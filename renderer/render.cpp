@@ -13,6 +13,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include "sampler/diagnostics.h"
 #include "sampler/io/round_trip.h"
 #include "sampler/resources.h"
 
@@ -205,6 +206,11 @@ Image render(const Scene &scene, const RenderSettings &s, SamplerBackend &backen
   if (s.spp == 0) throw std::invalid_argument("render: spp must be at least 1");
   if (scene.materials.size() != scene.geometry.meshes().size())
     throw std::invalid_argument("render: every mesh needs a material");
+  if (s.integrator == IntegratorKind::Bsdf && !scene.lights.punctual.empty())
+    warning("render: the bsdf integrator cannot meet the scene's " +
+            std::to_string(scene.lights.punctual.size()) +
+            " point, spot or directional light(s): no BSDF sample reaches a light of no extent, "
+            "so they light nothing in this image");
   const auto setupStart = std::chrono::steady_clock::now();
   SamplingTargets targets;
   targets.width = std::uint32_t(s.width), targets.height = std::uint32_t(s.height);

@@ -150,11 +150,28 @@ def test_the_study_helper_writes_csv_and_refuses_bad_rows(tmp_path):
     lines = path.read_text().splitlines()
     assert lines[0].startswith("row,spp,repeats,mse") and len(lines) == 3
     refusal(lambda: nuld.study("default", rows={"x": 3}, resolution=(4, 4)), TypeError,
-            "study: rows")
+            "study: row 'x': expected a backend word")
     refusal(lambda: nuld.study("default", rows=["sobol"], baseline="halton", resolution=(4, 4)),
             ValueError, "study: baseline")
     refusal(lambda: nuld.study("default", repeats=0, resolution=(4, 4)), ValueError,
             "study: repeats")
+
+
+def test_a_plain_callable_and_a_long_label_are_rows(example_plugin):
+    # A sampler n -> (n, 2) is a row as it stands (no factory around it),
+    # labels are printed whole, and a row's failure names the study and the row.
+    rng = np.random.default_rng(5)
+    label = "my-own-plugin-with-a-label-longer-than-the-column"
+    rows = {"sobol": "sobol", "plain": lambda n: rng.random((n, 2)),
+            label: "plugin:" + example_plugin}
+    table = nuld.study("default", rows=rows, spp=2, repeats=2, reference_spp=16,
+                       resolution=(12, 8))
+    assert [r["row"] for r in table] == list(rows)
+    assert all(math.isfinite(r["mse"]) for r in table)
+    assert label in str(table)
+    refusal(lambda: nuld.study("default", rows={"bad": lambda n: np.zeros((n, 3))}, spp=2,
+                               repeats=1, reference_spp=16, resolution=(4, 4)),
+            ValueError, "study: row 'bad': ")
 
 
 def test_the_study_helpers_reference_spp_is_the_clis(nuld_bin):

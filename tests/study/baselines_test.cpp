@@ -124,6 +124,26 @@ TEST(Baselines, ClassicBackendsAreThoseWithoutLearnedSets) {
                            "optimized-both", "optimized:a.ptsb", "points:a.ptsb", "shifted:a.ptsb",
                            "neural", "neural:m.nuldnet", "no-such-word"})
     EXPECT_FALSE(isClassicBackend(word)) << word;
+  EXPECT_FALSE(isClassicBackend("plugin:/some/libmine.so"));
+  EXPECT_TRUE(isPluginBackend("plugin:/some/libmine.so:seed=3"));
+  for (const char *word : {"sobol", "optimized", "neural", "no-such-word"})
+    EXPECT_FALSE(isPluginBackend(word)) << word;
+}
+
+// A plugin row is scored against the best built-in classic row, never
+// becomes it (even with the lowest MSE), and has no break-even: no setup.
+TEST(Baselines, PluginRowsScoreAgainstTheBestClassicRow) {
+  const std::vector<TimedRow> rows{{"s", "sobol", 16, 2.0, 0.1, 1.0, 0.0},
+                                   {"s", "halton", 16, 3.0, 0.1, 1.0, 0.0},
+                                   {"s", "plugin:/x/libmine.so", 16, 1.0, 0.1, 1.0, 0.0},
+                                   {"s", "optimized", 16, 1.5, 0.1, 1.0, 2.0}};
+  const std::vector<ClassicBaseline> c = classicBaselines(rows);
+  for (const ClassicBaseline &b : c) EXPECT_EQ(b.backend, "sobol");
+  EXPECT_NEAR(c[2].ratio.value, 0.5, 1e-12);
+  EXPECT_TRUE(std::isnan(c[2].breakEven.value));
+  EXPECT_NEAR(c[3].ratio.value, 0.75, 1e-12);
+  EXPECT_FALSE(std::isnan(c[3].breakEven.value));
+  EXPECT_TRUE(std::isnan(c[0].ratio.value));
 }
 
 // One row of a hand-made render.csv of scene "s".

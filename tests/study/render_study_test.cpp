@@ -30,6 +30,7 @@
 #include "tools/study/csv_table.h"
 #include "tools/study/equal_time.h"
 #include "tools/study/report_script.h"
+#include "tools/study/statistics.h"
 
 namespace nuld::study {
 namespace {
@@ -70,7 +71,8 @@ TEST_F(TinyStudy, CsvHasItsColumnsAndUnits) {
             "rays_per_second,nonfinite_pixels,rejected_samples,image,error_map,"
             "mse_less_reference,relmse_less_reference,reference_too_noisy,best_classic,"
             "mse_ratio_best_classic,mse_ratio_best_classic_stderr,break_even_renders,"
-            "break_even_renders_stderr,screen_mse,screen_mse_stderr,screen_ratio_sobol,"
+            "break_even_renders_stderr,mse_ratio_sobol,mse_ratio_sobol_stderr,screen_mse,"
+            "screen_mse_stderr,screen_ratio_sobol,"
             "screen_ratio_sobol_stderr,best_classic_screen,screen_ratio_best_classic,"
             "screen_ratio_best_classic_stderr,mse_winsorized,mse_winsorized_stderr,top_share,"
             "winsorized_ratio_best_classic,winsorized_ratio_best_classic_stderr,"
@@ -192,6 +194,30 @@ TEST_F(TinyStudy, RerunResumesWithoutDuplicates) {
   }
   EXPECT_EQ(readTable(copy).rows(), again.rows());
   fs::remove_all(copy);
+}
+
+// mse_ratio_sobol (the table's mse/sobol) recomputed from the CSV's own MSE
+// columns: 1 and 0 on sobol's row, the ratio of means elsewhere.
+TEST_F(TinyStudy, MseRatioToSobolIsInTheCsv) {
+  const CsvTable t = readTable(*dir_);
+  std::map<std::string, std::pair<double, double>> sobol;  // by spp
+  for (const auto &row : t.rows()) {
+    auto r = asMap(t.columns(), row);
+    if (r["backend"] == "sobol")
+      sobol[r["spp"]] = {std::stod(r["mse"]), std::stod(r["mse_stderr"])};
+  }
+  ASSERT_EQ(sobol.size(), 2u);
+  for (const auto &row : t.rows()) {
+    auto r = asMap(t.columns(), row);
+    const auto [b, be] = sobol[r["spp"]];
+    const Ratio q = r["backend"] == "sobol"
+                        ? Ratio{1, 0}
+                        : ratioOfMeans(std::stod(r["mse"]), std::stod(r["mse_stderr"]), b, be);
+    EXPECT_NEAR(std::stod(r["mse_ratio_sobol"]), q.value, 1e-5 * q.value) << r["backend"];
+    EXPECT_NEAR(std::stod(r["mse_ratio_sobol_stderr"]), q.stderr_, 1e-5 * q.stderr_ + 1e-12)
+        << r["backend"];
+    if (r["backend"] == "sobol") EXPECT_EQ(std::stod(r["screen_ratio_sobol"]), 1.0);
+  }
 }
 
 // total_seconds and equal_time_ratio recomputed by hand from the CSV's own

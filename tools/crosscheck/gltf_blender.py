@@ -53,7 +53,10 @@ def emissive(name, colour, strength):
     return mat
 
 
-def checker_image(n=64, cells=8):
+# Cycles filters an 8-bit texture before decoding it from sRGB, nuld (and
+# GPUs' sRGB textures) after: they differ where texels change, so the cells
+# are 64 texels wide and their one-texel edges a small share of the floor.
+def checker_image(n=512, cells=8):
     img = bpy.data.images.new("checker", n, n, alpha=False)
     s = n // cells
     pixels = []

@@ -12,8 +12,8 @@ added to the page without measuring the others again).
 PAGE defaults to docs/results.md. Everything in the page between
 the markers below is replaced; the text around them is kept, so the page's
 prose ("which backend should I use") is written by hand beside numbers the
-script regenerates. A configuration (lobe choice) that no OUT holds keeps
-the tables the page has for it.
+script regenerates. A configuration (lobe choice), or an integrator of
+one, that no OUT holds keeps the tables the page has for it.
 """
 import math
 import os
@@ -53,6 +53,14 @@ LABELS = {"albedo": "the defaults (lobes by albedo, compensated map)",
           "paper": "the paper's configuration (uniform lobes, luminance map)"}
 
 
+def trimmed(lines):
+    """A kept table without the blank lines after it (each run adds its own)."""
+    lines = list(lines)
+    while lines and not lines[-1].strip():
+        lines.pop()
+    return lines
+
+
 def read_all(outs, *parts):
     """The rows of OUT/parts... over every OUT, in order; a scene that a later
     OUT also has takes that OUT's rows (e.g. a rerun with a finer reference)."""
@@ -73,14 +81,17 @@ def tables(outs, choice, kept, baseline="albedo"):
     lines = []
     for integrator in ("direct", "path"):
         rows = read_all(outs, choice, integrator, "render.csv")
+        heading = f"### `{integrator}`, {LABELS.get(choice, f'lobe choice `{choice}`')}"
         if not rows:
+            # An integrator no OUT measured keeps the page's table for it.
+            if heading in kept:
+                lines += [""] + trimmed(kept[heading])
             continue
         baseline_rows = {(r["scene"], int(r["spp"])): r
                          for r in read_all(outs, baseline, integrator, "render.csv")
                          if r["backend"] == "sobol"}
         refs = {r["scene"]: r for r in read_all(outs, choice, integrator, "references.csv")}
         spps = sorted({int(r["spp"]) for r in rows})
-        heading = f"### `{integrator}`, {LABELS.get(choice, f'lobe choice `{choice}`')}"
         lines.append(f"\n{heading}\n")
         head = ["scene", "backend"]
         for s in spps:
@@ -163,7 +174,7 @@ def main():
             label = LABELS.get(choice, f"lobe choice `{choice}`")
             for heading, lines in kept.items():
                 if heading.endswith(label):
-                    generated += [""] + lines
+                    generated += [""] + trimmed(lines)
     new = head + BEGIN + "\n" + "\n".join(generated) + "\n\n" + END + tail
     tmp = page + ".tmp"
     with open(tmp, "w") as f:

@@ -100,6 +100,12 @@ void printTable(const study::CsvTable &table, const study::CsvTable &references,
     return std::tuple(sceneOrder[rows[a].scene], backendOrder[rows[a].backend], rows[a].spp) <
            std::tuple(sceneOrder[rows[b].scene], backendOrder[rows[b].backend], rows[b].spp);
   });
+  // The backend column is as wide as the longest word or label: none is cut.
+  int width = 22, classicWidth = 15;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    width = std::max(width, int(rows[i].backend.size()));
+    classicWidth = std::max(classicWidth, int(table.rows()[i][classic].size()));
+  }
   std::string lastScene;
   for (const std::size_t i : order) {
     const study::TimedRow &r = rows[i];
@@ -115,12 +121,14 @@ void printTable(const study::CsvTable &table, const study::CsvTable &references,
             value("spp").c_str(), value("cache") == "found" ? ", found in the cache" : "",
             study::parseNumber(value("variance")), study::parseNumber(value("relvariance")));
       }
+      // mse*s/sobol: the MSE times the total seconds over sobol's, the
+      // equal-time comparison (equal_time_ratio in render.csv).
       std::printf(
-          "\n%-22s %5s %5s %-9s %11s %11s %13s %6s %13s %6s %-15s %8s %8s %8s %13s %6s %6s %11s "
+          "\n%-*s %5s %5s %-9s %11s %11s %13s %6s %13s %6s %-*s %8s %8s %8s %13s %6s %6s %11s "
           "%13s %6s %13s\n",
-          "backend", "spp", "reps", "stop", "mse", "relmse", "mse/sobol", "vs", "mse/classic", "vs",
-          "best_classic", "seconds", "setup_s", "total_s", "time/sobol", "vs", "pays@", "screen",
-          "scr/sobol", "vs", "scr/classic");
+          width, "backend", "spp", "reps", "stop", "mse", "relmse", "mse/sobol", "vs",
+          "mse/classic", "vs", classicWidth, "best_classic", "seconds", "setup_s", "total_s",
+          "mse*s/sobol", "vs", "pays@", "screen", "scr/sobol", "vs", "scr/classic");
       lastScene = r.scene;
     }
     const auto it = sobol.find({r.scene, r.spp});
@@ -139,7 +147,8 @@ void printTable(const study::CsvTable &table, const study::CsvTable &references,
       std::snprintf(ratio, sizeof ratio, "1");
       std::snprintf(timeRatio, sizeof timeRatio, "1");
     }
-    // Learned rows only (classic ones have no ratio to the best classic).
+    // Learned and plugin rows only (the built-in classic ones have no ratio
+    // to the best classic; a plugin's pays@ is "-": it has no setup).
     const double cq = study::parseNumber(csv[classicRatio]),
                  cse = study::parseNumber(csv[classicStderr]);
     if (std::isfinite(cq)) {
@@ -156,17 +165,17 @@ void printTable(const study::CsvTable &table, const study::CsvTable &references,
     const char *screenVerdict = "-";
     if (const double v = study::parseNumber(csv[screen]); std::isfinite(v))
       std::snprintf(screenText, sizeof screenText, "%.4e", v);
-    if (const double q = study::parseNumber(csv[screenSobol]); std::isfinite(q)) {
+    // sobol's own row reads 1, as its mse/sobol does.
+    if (r.backend == "sobol") {
+      std::snprintf(screenSobolText, sizeof screenSobolText, "1");
+    } else if (const double q = study::parseNumber(csv[screenSobol]); std::isfinite(q)) {
       const double se = study::parseNumber(csv[screenSobolStderr]);
       std::snprintf(screenSobolText, sizeof screenSobolText, "%.3f+-%.3f", q, se);
-      if (r.backend != "sobol") screenVerdict = verdictOf(q, se);
+      screenVerdict = verdictOf(q, se);
     }
     if (const double q = study::parseNumber(csv[screenClassic]); std::isfinite(q))
       std::snprintf(screenClassicText, sizeof screenClassicText, "%.3f+-%.3f", q,
                     study::parseNumber(csv[screenClassicStderr]));
-    const auto shortened = [](std::string name, std::size_t width) {
-      return name.size() > width ? "..." + name.substr(name.size() - (width - 3)) : name;
-    };
     // What the row's flags say, after its columns.
     std::string flags = csv[tooNoisy] == "1" ? "  reference too noisy for this row" : "";
     if (csv[table.column("ruled_by_outliers")] == "1")
@@ -177,11 +186,11 @@ void printTable(const study::CsvTable &table, const study::CsvTable &references,
     const std::string stop =
         csv[table.column("stopped_on")].empty() ? "-" : csv[table.column("stopped_on")];
     std::printf(
-        "%-22s %5zu %5s %-9s %11.4e %11.4e %13s %6s %13s %6s %-15s %8.3f %8.2f %8.3f %13s %6s %6s "
+        "%-*s %5zu %5s %-9s %11.4e %11.4e %13s %6s %13s %6s %-*s %8.3f %8.2f %8.3f %13s %6s %6s "
         "%11s %13s %6s %13s%s\n",
-        shortened(r.backend, 22).c_str(), r.spp, csv[table.column("repeats")].c_str(), stop.c_str(),
-        r.mse, study::parseNumber(csv[relmse]), ratio, verdict, classicText, classicVerdict,
-        csv[classic].empty() ? "-" : shortened(csv[classic], 15).c_str(), r.seconds, r.setupSeconds,
+        width, r.backend.c_str(), r.spp, csv[table.column("repeats")].c_str(), stop.c_str(), r.mse,
+        study::parseNumber(csv[relmse]), ratio, verdict, classicText, classicVerdict, classicWidth,
+        csv[classic].empty() ? "-" : csv[classic].c_str(), r.seconds, r.setupSeconds,
         times[i].totalSeconds, timeRatio, timeVerdict, paysAt, screenText, screenSobolText,
         screenVerdict, screenClassicText, flags.c_str());
   }

@@ -20,6 +20,14 @@ bool isClassicBackend(const std::string &word) {
   }
 }
 
+bool isPluginBackend(const std::string &word) {
+  try {
+    return parseBackendWord(word).spec.kind == BackendKind::Plugin;
+  } catch (const std::invalid_argument &) {
+    return false;
+  }
+}
+
 std::vector<ClassicBaseline> classicBaselines(const std::vector<TimedRow> &rows) {
   std::vector<bool> classic;
   std::map<std::pair<std::string, std::size_t>, const TimedRow *> best;
@@ -37,7 +45,7 @@ std::vector<ClassicBaseline> classicBaselines(const std::vector<TimedRow> &rows)
       c.backend = it->second->backend;
       if (!classic[i]) {
         c.ratio = ratioOfMeans(r.mse, r.mseStderr, it->second->mse, it->second->mseStderr);
-        c.breakEven = breakEvenRenders(r, *it->second);
+        if (!isPluginBackend(r.backend)) c.breakEven = breakEvenRenders(r, *it->second);
       }
     }
     out.push_back(c);
@@ -75,9 +83,10 @@ NoiseCorrected lessReferenceNoise(double mse, double relmse, const ReferenceNois
 
 const std::vector<std::string> &baselineColumns() {
   static const std::vector<std::string> names{
-      "mse_less_reference", "relmse_less_reference",    "reference_too_noisy",
-      "best_classic",       "mse_ratio_best_classic",   "mse_ratio_best_classic_stderr",
-      "break_even_renders", "break_even_renders_stderr"};
+      "mse_less_reference",    "relmse_less_reference",     "reference_too_noisy",
+      "best_classic",          "mse_ratio_best_classic",    "mse_ratio_best_classic_stderr",
+      "break_even_renders",    "break_even_renders_stderr", "mse_ratio_sobol",
+      "mse_ratio_sobol_stderr"};
   return names;
 }
 
@@ -168,7 +177,11 @@ void fillScreenRatios(CsvTable &table) {
                  ? Ratio{}
                  : ratioOfMeans(rows[i].mean, rows[i].stderr_, it->second.mean, it->second.stderr_);
     };
-    const Ratio toSobol = ratioTo(sobol), toBest = ratioTo(best);
+    // sobol's own row is 1 exactly, as the table prints it.
+    const Ratio toSobol = rows[i].backend == "sobol" && std::isfinite(rows[i].mean)
+                              ? Ratio{1.0, 0.0}
+                              : ratioTo(sobol),
+                toBest = ratioTo(best);
     const auto b = best.find(key);
     values[0].push_back(formatNumber(toSobol.value));
     values[1].push_back(formatNumber(toSobol.stderr_));
@@ -187,6 +200,9 @@ void fillBaselineColumns(CsvTable &table, const std::map<std::string, ReferenceN
   const std::vector<TimedRow> rows = timedRows(table);
   const std::vector<ClassicBaseline> classic = classicBaselines(rows);
   const std::size_t relmseColumn = table.column("relmse");
+  std::map<std::pair<std::string, std::size_t>, const TimedRow *> sobol;
+  for (const TimedRow &r : rows)
+    if (r.backend == "sobol" && std::isfinite(r.mse)) sobol[{r.scene, r.spp}] = &r;
   std::vector<std::vector<std::string>> values(baselineColumns().size());
   for (std::size_t i = 0; i < rows.size(); ++i) {
     NoiseCorrected c;
@@ -200,6 +216,14 @@ void fillBaselineColumns(CsvTable &table, const std::map<std::string, ReferenceN
     values[5].push_back(formatNumber(classic[i].ratio.stderr_));
     values[6].push_back(formatNumber(classic[i].breakEven.value));
     values[7].push_back(formatNumber(classic[i].breakEven.stderr_));
+    // The MSE over sobol's at the same scene and spp (1 on sobol's own row).
+    Ratio toSobol;
+    if (const auto it = sobol.find({rows[i].scene, rows[i].spp}); it != sobol.end())
+      toSobol = it->second == &rows[i] ? Ratio{1.0, 0.0}
+                                       : ratioOfMeans(rows[i].mse, rows[i].mseStderr,
+                                                      it->second->mse, it->second->mseStderr);
+    values[8].push_back(formatNumber(toSobol.value));
+    values[9].push_back(formatNumber(toSobol.stderr_));
   }
   for (std::size_t k = 0; k < values.size(); ++k) table.setColumn(baselineColumns()[k], values[k]);
   fillRobustRatios(table, rows, classic);

@@ -40,11 +40,17 @@ inline constexpr double kTooNoisyFactor = 10;
 // (optimized:, shifted:) and models (neural) are learned. A word that no
 // longer parses counts as learned.
 bool isClassicBackend(const std::string &word);
+// Whether a study backend word is a user's sampler plugin (plugin:PATH):
+// it makes no sets and has no setup, so it is classed with the classic
+// rows, but scored against the best built-in classic row, which it is not
+// part of (docs/studies.md, "How rows are classed").
+bool isPluginBackend(const std::string &word);
 
 // Per row: the best classic backend at its scene and spp ("" when there is
-// none) and, for a learned row, its MSE over that backend's and the renders
-// after which it has paid for its setup (breakEvenRenders); NaN for a
-// classic row, and when there is none.
+// none) and, for a learned or plugin row, its MSE over that backend's, and
+// for a learned row the renders after which it has paid for its setup
+// (breakEvenRenders); NaN for a built-in classic row, a plugin's break-even
+// (no setup), and when there is none.
 struct ClassicBaseline {
   std::string backend;
   Ratio ratio;

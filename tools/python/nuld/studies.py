@@ -28,7 +28,9 @@ class StudyTable:
         return len(self.rows)
 
     def __str__(self):
-        head = (f"{'row':<24} {'spp':>5} {'mse':>11} {'+-':>9} {'screen':>11} {'seconds':>8}"
+        # The row column is as wide as the longest label: no label is cut.
+        width = max([24] + [len(r["row"]) for r in self.rows])
+        head = (f"{'row':<{width}} {'spp':>5} {'mse':>11} {'+-':>9} {'screen':>11} {'seconds':>8}"
                 f"   {'mse/' + self.baseline[:10]:>16} {'vs':>6}   {'scr/base':>14} {'vs':>6}"
                 f"   {'time/base':>14} {'vs':>6}")
         lines = [f"(reference's own variance {self.reference_variance:.4e}; a row below 10x it "
@@ -39,9 +41,8 @@ class StudyTable:
             return "-" if math.isnan(value) else f"{value:.3f}+-{err:.3f}"
 
         for r in self.rows:
-            name = r["row"] if len(r["row"]) <= 24 else "..." + r["row"][-21:]
             lines.append(
-                f"{name:<24} {r['spp']:>5} {r['mse']:>11.4e} {r['mse_stderr']:>9.2e}"
+                f"{r['row']:<{width}} {r['spp']:>5} {r['mse']:>11.4e} {r['mse_stderr']:>9.2e}"
                 f" {r['screen']:>11.4e} {r['seconds']:>8.3f}   {ratio(r, 'mse_ratio'):>16}"
                 f" {r['verdict']:>6}   {ratio(r, 'screen_ratio'):>14} {r['screen_verdict']:>6}"
                 f"   {ratio(r, 'time_ratio'):>14} {r['time_verdict']:>6}")
@@ -56,15 +57,32 @@ class StudyTable:
                 w.writerow({k: r[k] for k in self.columns})
 
 
-def _render_row(scene, row, spp, seed, render_args):
-    """One render of a row: a backend word, or a factory seed -> sampler."""
+def _render_row(scene, label, row, spp, seed, render_args):
+    """One render of a row: a backend word; a factory seed -> sampler (a
+    scipy.stats.qmc engine or a callable n -> (n, 2)); or such a callable
+    itself, which the repeat's seed, passed as n, answers with an array."""
+    what = f"study: row {label!r}"
     if isinstance(row, str):
-        return _nuld.render(scene, backend=row, spp=spp, seed=seed, stats=True, **render_args)
-    if not callable(row):
-        raise TypeError(f"study: rows: expected a backend word or a callable seed -> sampler "
+        sampler = None
+    elif callable(row):
+        made = row(seed)
+        sampler = row if hasattr(made, "shape") and hasattr(made, "dtype") else made
+    else:
+        raise TypeError(f"{what}: expected a backend word or a callable seed -> sampler "
                         f"(a scipy.stats.qmc engine of d = 2 or a callable n -> (n, 2)), "
                         f"got {type(row).__name__}")
-    return _nuld.render(scene, sampler=row(seed), spp=spp, seed=seed, stats=True, **render_args)
+    try:
+        if sampler is None:
+            return _nuld.render(scene, backend=row, spp=spp, seed=seed, stats=True,
+                                **render_args)
+        return _nuld.render(scene, sampler=sampler, spp=spp, seed=seed, stats=True,
+                            **render_args)
+    except (TypeError, ValueError) as e:
+        # The render's own words, under the study's and the row's names.
+        message = str(e)
+        if message.startswith("render: "):
+            message = message[len("render: "):]
+        raise type(e)(f"{what}: {message}") from None
 
 
 def study(scene="default", rows=None, spp=(4, 16), repeats=8, seed=1, baseline=None,
@@ -73,9 +91,11 @@ def study(scene="default", rows=None, spp=(4, 16), repeats=8, seed=1, baseline=N
     ...) and compares each render with one reference.
 
     rows: a dict label -> row, or a list of backend words; a row is a
-    backend word ('sobol', 'plugin:./libmine.so') or a callable taking the
+    backend word ('sobol', 'plugin:./libmine.so'), a callable taking the
     repeat's seed and returning a sampler for nuld.render(sampler=...), e.g.
-    `lambda s: scipy.stats.qmc.Sobol(d=2, seed=s)` (a fresh engine a repeat).
+    `lambda s: scipy.stats.qmc.Sobol(d=2, seed=s)` (a fresh engine a repeat),
+    or a sampler callable n -> (n, 2) itself (told apart by what it returns
+    for the seed: an array). A row's error names it: "study: row 'mine': ...".
     baseline: the label the ratios are against (default 'sobol' if a row,
     else the first). reference: an image, else the scene's reference of
     reference_spp (4096, the CLI's --reference-spp default) with
@@ -117,7 +137,7 @@ def study(scene="default", rows=None, spp=(4, 16), repeats=8, seed=1, baseline=N
         for n in spps:
             mse, screen, seconds = [], [], []
             for r in range(repeats):
-                image, stats = _render_row(scene, row, n, seed + r, render_args)
+                image, stats = _render_row(scene, label, row, n, seed + r, render_args)
                 error = _nuld.compare(image, reference)
                 mse.append(error["mse"])
                 screen.append(error["screen"])
