@@ -114,7 +114,9 @@ TEST_F(TinyStudy, CsvHasItsColumnsAndUnits) {
     EXPECT_TRUE(std::isfinite(std::stod(r["screen_ratio_sobol"]))) << r["backend"];
     EXPECT_GE(std::stod(r["screen_ratio_best_classic"]), isClassicBackend(r["backend"]) ? 1.0 : 0.0)
         << r["backend"];
-    if (r["backend"] == "sobol") EXPECT_EQ(std::stod(r["screen_ratio_sobol"]), 1.0);
+    if (r["backend"] == "sobol") {
+      EXPECT_EQ(std::stod(r["screen_ratio_sobol"]), 1.0);
+    }
   }
   EXPECT_TRUE(fs::exists(*dir_ / "default" / "reference.exr"));
   // Entries named by target and N, ending in their content key.
@@ -216,7 +218,9 @@ TEST_F(TinyStudy, MseRatioToSobolIsInTheCsv) {
     EXPECT_NEAR(std::stod(r["mse_ratio_sobol"]), q.value, 1e-5 * q.value) << r["backend"];
     EXPECT_NEAR(std::stod(r["mse_ratio_sobol_stderr"]), q.stderr_, 1e-5 * q.stderr_ + 1e-12)
         << r["backend"];
-    if (r["backend"] == "sobol") EXPECT_EQ(std::stod(r["screen_ratio_sobol"]), 1.0);
+    if (r["backend"] == "sobol") {
+      EXPECT_EQ(std::stod(r["screen_ratio_sobol"]), 1.0);
+    }
   }
 }
 

@@ -20,6 +20,7 @@
 #include "tools/nuld/interrupt_note.h"
 #include "tools/nuld/progress.h"
 #include "tools/study/baselines.h"
+#include "tools/study/convergence.h"
 #include "tools/study/csv_table.h"
 #include "tools/study/equal_time.h"
 #include "tools/study/render_study.h"
@@ -193,6 +194,24 @@ void printTable(const study::CsvTable &table, const study::CsvTable &references,
         csv[classic].empty() ? "-" : csv[classic].c_str(), r.seconds, r.setupSeconds,
         times[i].totalSeconds, timeRatio, timeVerdict, paysAt, screenText, screenSobolText,
         screenVerdict, screenClassicText, flags.c_str());
+  }
+  // Convergence rates, where a row has three or more spp values.
+  if (const auto slopes = study::slopeRows(table); !slopes.empty()) {
+    std::printf(
+        "\nConvergence rates (slope of log error over log spp; Monte Carlo's MSE has -1):\n");
+    std::printf("    %-*s %-16s %16s %16s\n", width, "backend", "spp", "mse slope", "screen slope");
+    std::string scene;
+    for (const auto &r : slopes) {
+      if (r[0] != scene) std::printf("  %s\n", (scene = r[0]).c_str());
+      const auto slope = [](const std::string &v, const std::string &e) {
+        const double s = study::parseNumber(v), se = study::parseNumber(e);
+        char text[48] = "-";
+        if (std::isfinite(s)) std::snprintf(text, sizeof text, "%.3f+-%.3f", s, se);
+        return std::string(text);
+      };
+      std::printf("    %-*s %-16s %16s %16s\n", width, r[1].c_str(), r[2].c_str(),
+                  slope(r[3], r[4]).c_str(), slope(r[5], r[6]).c_str());
+    }
   }
   std::printf("\nLowest error for the time (MSE x total seconds, setup over %s render%s):\n",
               formatNumber(amortize).c_str(), amortize == 1 ? "" : "s");
@@ -382,13 +401,13 @@ Runner addStudyRender(CLI::App &app) {
     std::printf(
         "\n(MSE against the reference; mse/sobol < 1 beats Owen-Sobol at equal spp, +- its\n"
         " standard error over the repeats; vs: better or worse than sobol by more than two\n"
-        " standard errors, else tie; n/a with one repeat. mse/classic, vs: a learned row against "
-        "the classic\n"
-        " backend (best_classic) with the lowest MSE at that spp. A row whose MSE is below\n"
+        " standard errors, else tie; n/a with one repeat. mse/classic, vs: a learned or plugin\n"
+        " row against the built-in classic backend (best_classic) with the lowest MSE at that\n"
+        " spp. A row whose MSE is below\n"
         " %gx the reference's own variance is marked: there the reference's noise, part of\n"
         " every MSE, decides the comparison. seconds: one render incl. the backend's sample\n"
         " generation; setup_s: making this row's sets and lobe tables in this run (0 when\n"
-        " cached); total_s: seconds + setup_s / --amortize; time/sobol: MSE x total_s over\n"
+        " cached); total_s: seconds + setup_s / --amortize; mse*s/sobol: MSE x total_s over\n"
         " sobol's, below 1 reaching sobol's error sooner. pays@: a learned row's\n"
         " break_even_renders, the fewest renders sharing its setup after which it reaches\n"
         " the best classic row's error sooner (never: it is not ahead per render). screen:\n"

@@ -28,6 +28,7 @@
 #include "scenes/scene_file.h"
 #include "tools/study/adaptive_repeats.h"
 #include "tools/study/baselines.h"
+#include "tools/study/convergence.h"
 #include "tools/study/csv_table.h"
 #include "tools/study/equal_time.h"
 #include "tools/study/render_cells.h"
@@ -423,7 +424,15 @@ RenderStudyResult runRenderStudy(const RenderStudySettings &s, const StudyProgre
     ranks.barrier();
   }
   // Rows kept from an earlier run take this run's K and references too.
-  if (ranks.root() && !table.rows().empty()) fillDerivedColumns(table, refs, s.amortize);
+  if (ranks.root() && !table.rows().empty()) {
+    fillDerivedColumns(table, refs, s.amortize);
+    // The convergence rates of every row with three or more spp values,
+    // made again from the whole table.
+    if (const auto slopes = slopeRows(table); !slopes.empty()) {
+      CsvTable out(s.out / "slopes.csv", slopeColumns());
+      for (const auto &row : slopes) out.addRow(row);
+    }
+  }
   return result;
 }
 

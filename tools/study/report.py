@@ -9,7 +9,6 @@ STUDY_DIR/plots/*.png and STUDY_DIR/index.html. The page uses relative links
 only, so the directory can be copied and opened in a browser without a server.
 """
 
-import csv
 import datetime
 import html
 import math
@@ -26,38 +25,10 @@ import numpy as np  # noqa: E402
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import plot_integrate  # noqa: E402  (the integrate study's plots, drawn once)
 from atomic_output import save_figure, write_text  # noqa: E402
+from render_plots import backend_label, by, num, read_csv, render_plots  # noqa: E402,F401
 
 CROP_SCALE_PX = 192  # a zoomed crop is drawn this wide
 TOO_NOISY_FACTOR = 10  # baselines.h, kTooNoisyFactor: render.csv's reference_too_noisy
-
-
-def read_csv(path):
-    if not os.path.exists(path):
-        return []
-    with open(path, newline="") as f:
-        return list(csv.DictReader(f))
-
-
-def num(s):
-    try:
-        return float(s)
-    except (TypeError, ValueError):
-        return math.nan
-
-
-def by(rows, key):
-    out = {}
-    for r in rows:
-        out.setdefault(r[key], []).append(r)
-    return out
-
-
-def backend_label(name):
-    # neural:/long/path/model.nuldnet -> neural:model
-    if ":" in name:
-        kind, rest = name.split(":", 1)
-        return kind + ":" + os.path.splitext(os.path.basename(rest))[0]
-    return name
 
 
 def ratio_to_sobol(row, sobol_row):
@@ -72,79 +43,6 @@ def ratio_to_sobol(row, sobol_row):
     b = num(sobol_row["mse_stderr"]) / num(sobol_row["mse"])
     a = a if math.isfinite(a) else 0
     return q, q * math.sqrt(a * a + b * b)
-
-
-def loglog_panel(ax, series, xlabel, ylabel, guide=None):
-    for label, xs, ys, errs in series:
-        pts = [(x, y, e) for x, y, e in zip(xs, ys, errs) if x > 0 and y > 0]
-        if not pts:
-            continue
-        pts.sort()
-        x, y, e = (np.array(v) for v in zip(*pts))
-        ax.errorbar(x, y, yerr=np.where(np.isfinite(e), e, 0), marker="o", ms=3, capsize=2,
-                    label=label)
-    if guide and series:
-        xs = [x for _, sx, _, _ in series for x in sx if x > 0]
-        ys = [y for _, _, sy, _ in series for y in sy if y > 0]
-        if xs and ys:
-            x0, x1 = min(xs), max(xs)
-            y0 = max(ys)
-            for slope, style in guide:
-                ax.plot([x0, x1], [y0, y0 * (x1 / x0) ** slope], style, color="grey", lw=0.8,
-                        label=f"slope {slope:g}")
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    ax.set_xlabel(xlabel)
-    ax.set_ylabel(ylabel)
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=7)
-
-
-def render_plots(scene, rows, plots_dir):
-    """MSE and relMSE against spp, and MSE against seconds, one line per backend."""
-    groups = by(rows, "backend")
-
-    def series(xkey, ykey, ekey):
-        out = []
-        for b, rs in groups.items():
-            out.append((backend_label(b), [num(r[xkey]) for r in rs], [num(r[ykey]) for r in rs],
-                        [num(r[ekey]) if ekey else math.nan for r in rs]))
-        return out
-
-    fig, axes = plt.subplots(1, 3, figsize=(15, 4.2))
-    loglog_panel(axes[0], series("spp", "mse", "mse_stderr"), "samples per pixel", "MSE",
-                 guide=[(-1, "--"), (-1.5, ":")])
-    loglog_panel(axes[1], series("spp", "relmse", "relmse_stderr"), "samples per pixel",
-                 "relMSE", guide=[(-1, "--"), (-1.5, ":")])
-    # Error against time with setup on the axis: the line at the study's
-    # --amortize K (total_seconds), hollow markers where every render pays
-    # its whole setup (K = 1).
-    amortize = num(rows[0].get("amortize")) if rows else math.nan
-    has_total = all(math.isfinite(num(r.get("total_seconds"))) for r in rows)
-    xkey = "total_seconds" if has_total else "seconds"
-    loglog_panel(axes[2], series(xkey, "mse", "mse_stderr"),
-                 (f"seconds per render + setup / {amortize:g}" if has_total else
-                  "seconds per render (incl. sample generation)"), "MSE")
-    if has_total and amortize != 1:
-        for i, (b, rs) in enumerate(groups.items()):
-            xs = [num(r["seconds"]) + num(r["setup_seconds"]) for r in rs]
-            ys = [num(r["mse"]) for r in rs]
-            axes[2].plot(xs, ys, "o", mfc="none", ms=5, color=f"C{i % 10}",
-                         label="K = 1" if i == 0 else None)
-        axes[2].legend(fontsize=7)
-    # Each learned row's break-even renders against the best classic row.
-    for r in rows:
-        k = num(r.get("break_even_renders"))
-        if not math.isnan(k):
-            axes[2].annotate("never" if math.isinf(k) else f"pays@{k:.0f}",
-                             (num(r[xkey]), num(r["mse"])), fontsize=6,
-                             textcoords="offset points", xytext=(3, 3))
-    fig.suptitle(f"{scene}: error against a reference")
-    fig.tight_layout()
-    name = f"render_{scene}.png"
-    save_figure(fig, os.path.join(plots_dir, name), dpi=110)
-    plt.close(fig)
-    return "plots/" + name
 
 
 def crop_window(reference_png, size):
@@ -265,7 +163,9 @@ def render_section(root, scene, rows, ref, plots_dir, scale):
     out.append(f"<p class='{'bad' if nonfinite or rejected else 'note'}'>Stability: "
                f"{nonfinite} non-finite pixels and {rejected} non-finite samples (dropped by "
                f"the renderer) over all {len(rows)} renders.</p>")
-    plot = render_plots(scene, rows, plots_dir)
+    slopes = {(r["scene"], r["backend"]): r
+              for r in read_csv(os.path.join(root, "slopes.csv"))}
+    plot = render_plots(scene, rows, plots_dir, slopes)
     out.append(f'<p><img class="plot" src="{plot}" alt="error plots of {html.escape(scene)}"></p>')
     spectrum = spectrum_plots(root, scene, rows, plots_dir)
     if spectrum:
@@ -481,7 +381,7 @@ def main():
                      (['<a href="#integrate">integration</a>'] if integrate_rows else []))
     data = " · ".join(f'<a href="{name}">{name}</a>'
                       for name in ("render.csv", "verdicts.csv", "references.csv",
-                                   "integrate.csv")
+                                   "slopes.csv", "integrate.csv")
                       if os.path.exists(os.path.join(root, name)))
     # No absolute path on the page: it is meant to be copied and shared.
     page = (f"<!DOCTYPE html><html><head><meta charset='utf-8'>"
