@@ -222,7 +222,7 @@ Image toneMap(const Image &linear, double exposure) {
   Image out = linear;
   for (float &v : out.pixels) {
     const double x = std::isfinite(v) ? std::clamp(double(v) * exposure, 0.0, 1.0) : 0.0;
-    v = float(x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1 / 2.4) - 0.055);
+    v = float(linearToSrgb(x));
   }
   return out;
 }

@@ -6,10 +6,6 @@
 
 namespace nuld {
 
-double srgbToLinear(double v) {
-  return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
-}
-
 Texture::Texture(const Image &image, Encoding encoding, Wrap wrapU, Wrap wrapV)
     : width_(image.width), height_(image.height), wrapU_(wrapU), wrapV_(wrapV) {
   if (width_ <= 0 || height_ <= 0 || image.channels <= 0 ||

@@ -1,7 +1,8 @@
 #pragma once
 // An RGB image a material reads at a surface's texture coordinates (glTF
 // textures: scenes/gltf_scene.h). Texels are linear; an 8-bit colour
-// texture is decoded from sRGB once, when it is made. Lookups filter
+// texture is decoded from sRGB once, when it is made (srgbToLinear,
+// sampler/io/image_io.h). Lookups filter
 // bilinearly between texel centres with glTF's wrap modes; (0, 0) is the
 // image's top-left corner and v runs down its rows, as glTF's UVs do.
 
@@ -39,8 +40,5 @@ class Texture {
   Wrap wrapU_, wrapV_;
   std::vector<float> rgb_;  // row-major, 3 floats per texel
 };
-
-// The sRGB transfer function's inverse (IEC 61966-2-1), for values in [0, 1].
-double srgbToLinear(double v);
 
 }  // namespace nuld

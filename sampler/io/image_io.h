@@ -3,6 +3,7 @@
 // validates the pixels; writing goes through a temporary file and a rename,
 // so a reader never sees a half-written image.
 
+#include <cmath>
 #include <span>
 #include <string>
 #include <utility>
@@ -13,6 +14,15 @@ namespace nuld {
 // Rec. 709 luminance of linear RGB: the one place its weights live.
 inline double rec709Luminance(double r, double g, double b) {
   return 0.2126 * r + 0.7152 * g + 0.0722 * b;
+}
+
+// The sRGB transfer curve (IEC 61966-2-1) both ways, for values in [0, 1]:
+// the one place it lives (display images, textures, FLIP).
+inline double srgbToLinear(double v) {
+  return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
+}
+inline double linearToSrgb(double v) {
+  return v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1 / 2.4) - 0.055;
 }
 
 struct Image {

@@ -103,6 +103,28 @@ def test_compare_and_image_files(tmp_path):
         nuld.compare(img, ref[:4])
 
 
+def test_flip_is_the_clis(tmp_path, nuld_bin):
+    # HDR-FLIP of two renders: 0 against itself, the CLI's mean, a map in [0, 1].
+    ref = nuld.render("default", spp=16, resolution=(24, 16), seed=1)
+    img = nuld.render("default", spp=1, resolution=(24, 16), seed=2)
+    assert nuld.flip(ref, ref)["mean"] == 0
+    f = nuld.flip(img, ref)
+    assert f["map"].shape == (16, 24) and 0 <= f["map"].min() and f["map"].max() <= 1
+    assert f["mean"] == pytest.approx(float(f["map"].mean()), rel=1e-5) and f["mean"] > 0
+    assert len(f["exposures"]) == 3
+    a, b = str(tmp_path / "a.exr"), str(tmp_path / "b.exr")
+    nuld.write_image(a, img)
+    nuld.write_image(b, ref)
+    out = subprocess.run([nuld_bin, "compare", a, b], check=True, capture_output=True,
+                         text=True).stdout
+    cli = float(re.search(r"^flip (\S+)$", out, re.M).group(1))
+    assert cli == pytest.approx(f["mean"], rel=1e-7)
+    ldr = nuld.flip(np.clip(img, 0, 1), np.clip(ref, 0, 1), display=True)
+    assert 0 < ldr["mean"] < 1 and "exposures" not in ldr
+    with pytest.raises(ValueError, match="flip: monitor_distance"):
+        nuld.flip(img, ref, monitor_distance=float("nan"))
+
+
 def test_bad_render_arguments():
     with pytest.raises(ValueError, match="no_such_backend"):
         nuld.render("default", backend="no_such_backend", resolution=(4, 4))

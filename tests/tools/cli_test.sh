@@ -153,6 +153,14 @@ grep -q '^mse [0-9.e+-]*$' "$dir/out" && grep -q '^relmse [0-9.e+-]*$' "$dir/out
   grep -q '^mse_winsorized [0-9.e+-]*$' "$dir/out" && grep -q '^top_share [0-9.e+-]*$' "$dir/out" ||
   { echo "FAIL: compare output"; cat "$dir/out"; failures=$((failures + 1)); }
 [[ -s "$dir/err.png" ]] || { echo "FAIL: compare wrote no error map"; failures=$((failures + 1)); }
+# FLIP: HDR-FLIP with its exposures (EXRs), LDR-FLIP (PNGs), 0 against itself.
+grep -q "^flip 0\.[0-9]" "$dir/out" && grep -q "^flip_exposures " "$dir/out" && [[ -s "$dir/b_flip.png" ]] ||
+  { echo "FAIL: compare printed no HDR flip or map"; cat "$dir/out"; failures=$((failures + 1)); }
+"$nuld" compare "$dir/b.png" "$dir/a.png" --error-map "$dir/e2.png" --flip-map "$dir/f2.png" >"$dir/out2" 2>/dev/null
+grep -q "^flip 0\.[0-9]" "$dir/out2" && ! grep -q "^flip_exposures" "$dir/out2" && [[ -s "$dir/f2.png" ]] ||
+  { echo "FAIL: compare printed no LDR flip"; cat "$dir/out2"; failures=$((failures + 1)); }
+"$nuld" compare "$dir/a.exr" "$dir/a.exr" --error-map "$dir/e3.png" --flip-map "$dir/f3.png" >"$dir/out3"
+grep -qx "flip 0" "$dir/out3" || { echo "FAIL: FLIP of an image against itself"; failures=$((failures + 1)); }
 ok "generate disney target" "$nuld" generate --n 16 --target disney:roughness=0.3 -o "$dir/d.txt"
 "$nuld" generate --sequence sobol --n 4 --instances 2 -o "$dir/u4.txt" >/dev/null 2>&1
 ok "render optimized:FILE" "$nuld" render default --backend optimized:"$dir/u4.txt" --spp 4 --res 8 -q -o "$dir/c.exr"

@@ -10,6 +10,7 @@
 #include "backends/backend_registry.h"
 #include "backends/ready_backend.h"
 #include "backends/reference_cache.h"
+#include "renderer/flip.h"
 #include "renderer/image_metrics.h"
 #include "renderer/render.h"
 #include "sampler/diagnostics.h"
@@ -323,13 +324,28 @@ Runner addRender(CLI::App &app) {
 
 Runner addCompare(CLI::App &app) {
   struct Options {
-    std::string image, reference, errorMapPath;
+    std::string image, reference, errorMapPath, flipMapPath;
+    FlipViewing viewing;
   };
   auto o = std::make_shared<Options>();
   app.add_option("image", o->image, "rendered image (EXR)")->required();
   app.add_option("reference", o->reference, "reference image (EXR)")->required();
   app.add_option("--error-map", o->errorMapPath,
                  "false-colour relative-error PNG (default: IMAGE_error.png)");
+  app.add_option("--flip-map", o->flipMapPath,
+                 "the FLIP error map as a magma-coloured PNG (default: IMAGE_flip.png)");
+  app.add_option("--monitor-distance", o->viewing.monitorDistanceMeters,
+                 "FLIP's viewer: metres from the monitor")
+      ->capture_default_str()
+      ->check(positiveNumber());
+  app.add_option("--monitor-width", o->viewing.monitorWidthMeters,
+                 "FLIP's viewer: the monitor's width in metres")
+      ->capture_default_str()
+      ->check(positiveNumber());
+  app.add_option("--monitor-pixels", o->viewing.monitorWidthPixels,
+                 "FLIP's viewer: the monitor's width in pixels")
+      ->capture_default_str()
+      ->check(positiveNumber());
   app.footer(
       "Prints 'mse VALUE', 'relmse VALUE', 'screen_mse VALUE', 'mse_winsorized VALUE' and\n"
       "'top_share VALUE' over pixels and RGB channels; relmse divides each squared error by\n"
@@ -337,7 +353,10 @@ Runner addCompare(CLI::App &app) {
       "(truncated at 3) before squaring: the error a viewer sees, where blue-noise error\n"
       "fades; mse_winsorized clips the largest 0.1 % of pixel errors (at least one) to the\n"
       "next largest, and top_share is their share of the squared error: near 1, a few\n"
-      "fireflies are the MSE.");
+      "fireflies are the MSE. 'flip VALUE' is the mean of NVIDIA's FLIP (Andersson et al.\n"
+      "2020): HDR-FLIP (2021) for linear images, its exposures from the reference\n"
+      "('flip_exposures START STOP COUNT'), LDR-FLIP for a PNG/JPEG pair; at FLIP's\n"
+      "default viewer, 0.7 m from a 0.7 m wide 3840-pixel monitor (67 pixels per degree).");
   return [o] {
     // A PNG or JPEG holds tone-mapped display values (nuld render writes one
     // beside each EXR), an EXR, PFM or HDR linear radiance: their difference
@@ -363,10 +382,24 @@ Runner addCompare(CLI::App &app) {
     std::printf("mse %.9g\nrelmse %.9g\nscreen_mse %.9g\nmse_winsorized %.9g\ntop_share %.9g\n",
                 e.mse, e.relmse, e.screen, e.winsorized, e.topShare);
     if (e.nonFinitePixels) std::printf("nonfinite_pixels %zu\n", e.nonFinitePixels);
-    std::string path = o->errorMapPath;
-    if (path.empty())  // IMAGE.exr -> IMAGE_error.png, beside it
-      path = std::filesystem::path(o->image).replace_extension().string() + "_error.png";
-    writeImage(path, errorMap(img, ref));
+    const auto beside = [&](const std::string &given, const char *suffix) {
+      // IMAGE.exr -> IMAGE_error.png, beside it
+      return given.empty() ? std::filesystem::path(o->image).replace_extension().string() + suffix
+                           : given;
+    };
+    writeImage(beside(o->errorMapPath, "_error.png"), errorMap(img, ref));
+    // FLIP needs every pixel: it is left out where the image has
+    // non-finite ones (refused below).
+    if (!e.nonFinitePixels) {
+      const FlipResult flip =
+          display(o->image) ? ldrFlip(img, ref, o->viewing) : hdrFlip(img, ref, o->viewing);
+      std::printf("flip %.9g\n", flip.mean);
+      if (!display(o->image)) {
+        const FlipExposures x = hdrFlipExposures(ref);
+        std::printf("flip_exposures %.6g %.6g %d\n", x.start, x.stop, x.count);
+      }
+      writeImage(beside(o->flipMapPath, "_flip.png"), flipMapImage(flip));
+    }
     if (e.nonFinitePixels)
       throw std::runtime_error(o->image + ": " + std::to_string(e.nonFinitePixels) +
                                " pixels are not finite (the error above leaves them out)");

@@ -15,6 +15,7 @@
 #include "backends/backend_registry.h"
 #include "backends/ready_backend.h"
 #include "backends/reference_cache.h"
+#include "renderer/flip.h"
 #include "renderer/image_metrics.h"
 #include "renderer/render.h"
 #include "scenes/scene_file.h"
@@ -406,7 +407,44 @@ holds its own 'variance' and 'relvariance', 'cache' ('found' or
       "error a viewer sees), mse_winsorized (the largest 0.1 % of pixel errors clipped to the "
       "next largest) and top_share (their share of the squared error), as `nuld compare`, of "
       "an image against a finite reference of the same size and channels; nonfinite_pixels "
-      "counts the image's pixels left out");
+      "counts the image's pixels left out. nuld.flip gives FLIP");
+
+  defFunction(
+      m, "flip",
+      {"flip",
+       {Param("image"), Param("reference"), Param("display", false), Param("monitor_distance", 0.7),
+        Param("monitor_width", 0.7), Param("monitor_pixels", 3840)}},
+      [](py::object image, py::object reference, py::object display, py::object distance,
+         py::object width, py::object pixels) {
+        const Image img = imageOf(image, {"flip", "image"}, true),
+                    ref = imageOf(reference, {"flip", "reference"}, true);
+        FlipViewing v;
+        v.monitorDistanceMeters = number(distance, {"flip", "monitor_distance"});
+        v.monitorWidthMeters = number(width, {"flip", "monitor_width"});
+        v.monitorWidthPixels = number(pixels, {"flip", "monitor_pixels"});
+        const bool ldr = flag(display, {"flip", "display"});
+        FlipResult r;
+        try {
+          r = ldr ? ldrFlip(img, ref, v) : hdrFlip(img, ref, v);
+        } catch (const std::invalid_argument &e) {
+          throw py::value_error(std::string("flip: ") + e.what());
+        }
+        py::dict d;
+        d["mean"] = r.mean;
+        Image map{r.width, r.height, 1, r.map};
+        d["map"] = arrayOf(map);
+        if (!ldr) {
+          const FlipExposures x = hdrFlipExposures(ref);
+          d["exposures"] = py::make_tuple(x.start, x.stop, x.count);
+        }
+        return d;
+      },
+      "NVIDIA's FLIP of an image against a reference, as `nuld compare` prints it: HDR-FLIP "
+      "(Andersson et al. 2021) of linear images, its exposures (start, stop, count) from the "
+      "reference, or with display=True LDR-FLIP (2020) of sRGB-encoded ones in [0, 1]; "
+      "'mean' and the per-pixel 'map' (H, W) in [0, 1]. The viewer: monitor_distance and "
+      "monitor_width in metres, monitor_pixels across (FLIP's defaults, 67 pixels per "
+      "degree)");
 
   defFunction(
       m, "read_image", {"read_image", {Param("path")}},

@@ -17,6 +17,7 @@ from ._nuld import (  # noqa: F401 (re-exported)
     Target,
     compare,
     discrepancy,
+    flip,
     generate_neural,
     mean_and_error,
     optimize,
@@ -36,7 +37,7 @@ __version__ = _nuld.__version__
 
 __all__ = [
     "StudyTable", "Target", "TextProgress", "__version__", "compare", "discrepancy",
-    "generate_neural", "mean_and_error", "optimize", "qmc", "ratio_of_means", "read_image",
+    "flip", "generate_neural", "mean_and_error", "optimize", "qmc", "ratio_of_means", "read_image",
     "read_image_attributes", "read_points", "render", "sequence", "study", "write_image",
     "write_points",
 ]
