@@ -103,7 +103,7 @@ TEST(StudyRepeats, RowsStopOnPrecisionOrBudgetAndMatchFixedRepeats) {
   CsvTable records(tmp / "adaptive" / "default" / "repeats.csv",
                    {"backend", "spp", "repeat", "seed", "mse", "relmse", "screen_mse",
                     "mse_winsorized", "top_share", "seconds", "made_seconds", "setup_seconds",
-                    "rays_per_second", "nonfinite_pixels", "rejected_samples"});
+                    "rays_per_second", "nonfinite_pixels", "rejected_samples", "flip"});
   records.loadExisting();
   std::size_t total = 0;
   std::map<std::string, std::string> independent;

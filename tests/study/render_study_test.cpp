@@ -76,7 +76,9 @@ TEST_F(TinyStudy, CsvHasItsColumnsAndUnits) {
             "screen_ratio_sobol_stderr,best_classic_screen,screen_ratio_best_classic,"
             "screen_ratio_best_classic_stderr,mse_winsorized,mse_winsorized_stderr,top_share,"
             "winsorized_ratio_best_classic,winsorized_ratio_best_classic_stderr,"
-            "ruled_by_outliers,stopped_on,worst_relative_stderr");
+            "ruled_by_outliers,stopped_on,worst_relative_stderr,flip,flip_stderr,"
+            "flip_ratio_sobol,flip_ratio_sobol_stderr,best_classic_flip,flip_ratio_best_classic,"
+            "flip_ratio_best_classic_stderr");
   const CsvTable t = readTable(*dir_);
   ASSERT_EQ(t.rows().size(), 10u) << "5 backends x 2 spp";
   EXPECT_TRUE(result_->skipped.empty());
@@ -117,6 +119,13 @@ TEST_F(TinyStudy, CsvHasItsColumnsAndUnits) {
     if (r["backend"] == "sobol") {
       EXPECT_EQ(std::stod(r["screen_ratio_sobol"]), 1.0);
     }
+    // HDR-FLIP of every row, in (0, 1), with its ratios.
+    const double flip = std::stod(r["flip"]);
+    EXPECT_GT(flip, 0) << r["backend"];
+    EXPECT_LT(flip, 1) << r["backend"];
+    EXPECT_GT(std::stod(r["flip_stderr"]), 0) << r["backend"];
+    EXPECT_TRUE(std::isfinite(std::stod(r["flip_ratio_sobol"]))) << r["backend"];
+    EXPECT_FALSE(r["best_classic_flip"].empty());
   }
   EXPECT_TRUE(fs::exists(*dir_ / "default" / "reference.exr"));
   // Entries named by target and N, ending in their content key.

@@ -83,7 +83,9 @@ void printTable(const study::CsvTable &table, const study::CsvTable &references,
                     screenSobol = table.column("screen_ratio_sobol"),
                     screenSobolStderr = table.column("screen_ratio_sobol_stderr"),
                     screenClassic = table.column("screen_ratio_best_classic"),
-                    screenClassicStderr = table.column("screen_ratio_best_classic_stderr");
+                    screenClassicStderr = table.column("screen_ratio_best_classic_stderr"),
+                    flipMean = table.column("flip"), flipSobol = table.column("flip_ratio_sobol"),
+                    flipSobolStderr = table.column("flip_ratio_sobol_stderr");
   std::map<std::pair<std::string, std::size_t>, const study::TimedRow *> sobol;
   for (const auto &r : rows)
     if (r.backend == "sobol") sobol[{r.scene, r.spp}] = &r;
@@ -126,10 +128,11 @@ void printTable(const study::CsvTable &table, const study::CsvTable &references,
       // equal-time comparison (equal_time_ratio in render.csv).
       std::printf(
           "\n%-*s %5s %5s %-9s %11s %11s %13s %6s %13s %6s %-*s %8s %8s %8s %13s %6s %6s %11s "
-          "%13s %6s %13s\n",
+          "%13s %6s %13s %11s %13s %6s\n",
           width, "backend", "spp", "reps", "stop", "mse", "relmse", "mse/sobol", "vs",
           "mse/classic", "vs", classicWidth, "best_classic", "seconds", "setup_s", "total_s",
-          "mse*s/sobol", "vs", "pays@", "screen", "scr/sobol", "vs", "scr/classic");
+          "mse*s/sobol", "vs", "pays@", "screen", "scr/sobol", "vs", "scr/classic", "flip",
+          "flip/sobol", "vs");
       lastScene = r.scene;
     }
     const auto it = sobol.find({r.scene, r.spp});
@@ -177,6 +180,18 @@ void printTable(const study::CsvTable &table, const study::CsvTable &references,
     if (const double q = study::parseNumber(csv[screenClassic]); std::isfinite(q))
       std::snprintf(screenClassicText, sizeof screenClassicText, "%.3f+-%.3f", q,
                     study::parseNumber(csv[screenClassicStderr]));
+    // HDR-FLIP and its ratio to sobol's ("-" in an older file).
+    char flipText[24] = "-", flipSobolText[48] = "-";
+    const char *flipVerdict = "-";
+    if (const double v = study::parseNumber(csv[flipMean]); std::isfinite(v))
+      std::snprintf(flipText, sizeof flipText, "%.4e", v);
+    if (r.backend == "sobol" && std::isfinite(study::parseNumber(csv[flipMean]))) {
+      std::snprintf(flipSobolText, sizeof flipSobolText, "1");
+    } else if (const double q = study::parseNumber(csv[flipSobol]); std::isfinite(q)) {
+      const double se = study::parseNumber(csv[flipSobolStderr]);
+      std::snprintf(flipSobolText, sizeof flipSobolText, "%.3f+-%.3f", q, se);
+      flipVerdict = verdictOf(q, se);
+    }
     // What the row's flags say, after its columns.
     std::string flags = csv[tooNoisy] == "1" ? "  reference too noisy for this row" : "";
     if (csv[table.column("ruled_by_outliers")] == "1")
@@ -188,12 +203,12 @@ void printTable(const study::CsvTable &table, const study::CsvTable &references,
         csv[table.column("stopped_on")].empty() ? "-" : csv[table.column("stopped_on")];
     std::printf(
         "%-*s %5zu %5s %-9s %11.4e %11.4e %13s %6s %13s %6s %-*s %8.3f %8.2f %8.3f %13s %6s %6s "
-        "%11s %13s %6s %13s%s\n",
+        "%11s %13s %6s %13s %11s %13s %6s%s\n",
         width, r.backend.c_str(), r.spp, csv[table.column("repeats")].c_str(), stop.c_str(), r.mse,
         study::parseNumber(csv[relmse]), ratio, verdict, classicText, classicVerdict, classicWidth,
         csv[classic].empty() ? "-" : csv[classic].c_str(), r.seconds, r.setupSeconds,
         times[i].totalSeconds, timeRatio, timeVerdict, paysAt, screenText, screenSobolText,
-        screenVerdict, screenClassicText, flags.c_str());
+        screenVerdict, screenClassicText, flipText, flipSobolText, flipVerdict, flags.c_str());
   }
   // Convergence rates, where a row has three or more spp values.
   if (const auto slopes = study::slopeRows(table); !slopes.empty()) {
@@ -413,7 +428,8 @@ Runner addStudyRender(CLI::App &app) {
         " the best classic row's error sooner (never: it is not ahead per render). screen:\n"
         " the MSE of the error image low-passed by a Gaussian of 1 pixel, the error a viewer\n"
         " sees (blue-noise error fades); scr/sobol, vs: its ratio to sobol's; scr/classic: to\n"
-        " the classic row with the lowest screen error. reps: the row's repeats; stop: fixed\n"
+        " the classic row with the lowest screen error. flip, flip/sobol, vs: HDR-FLIP's mean\n"
+        " (nuld compare) and its ratio to sobol's. reps: the row's repeats; stop: fixed\n"
         " (--repeats), precision (the relative error of every MSE ratio within\n"
         " --target-stderr) or budget (not, when --max-repeats or --budget-seconds ran\n"
         " out). Ruled by outliers: the MSE ratio to the\n"

@@ -101,6 +101,17 @@ const std::vector<std::string> &screenColumns() {
   return names;
 }
 
+const std::vector<std::string> &flipColumns() {
+  static const std::vector<std::string> names{"flip",
+                                              "flip_stderr",
+                                              "flip_ratio_sobol",
+                                              "flip_ratio_sobol_stderr",
+                                              "best_classic_flip",
+                                              "flip_ratio_best_classic",
+                                              "flip_ratio_best_classic_stderr"};
+  return names;
+}
+
 const std::vector<std::string> &robustColumns() {
   static const std::vector<std::string> names{"mse_winsorized",
                                               "mse_winsorized_stderr",
@@ -146,12 +157,13 @@ void fillRobustRatios(CsvTable &table, const std::vector<TimedRow> &rows,
     table.setColumn(robustColumns()[3 + k], values[k]);
 }
 
-// The screen columns' ratios, from each row's screen_mse (rows without one,
-// from an older file, get none).
-void fillScreenRatios(CsvTable &table) {
+// The ratio columns of a measured error (the screen error, FLIP: `columns`
+// are its mean and standard error, then the five ratio columns), from each
+// row's mean (rows without one, from an older file, get none).
+void fillMetricRatios(CsvTable &table, const std::vector<std::string> &columns) {
   const std::size_t scene = table.column("scene"), backend = table.column("backend"),
-                    spp = table.column("spp"), mean = table.column(screenColumns()[0]),
-                    stderr_ = table.column(screenColumns()[1]);
+                    spp = table.column("spp"), mean = table.column(columns[0]),
+                    stderr_ = table.column(columns[1]);
   struct Screen {
     std::string backend;
     double mean = NAN, stderr_ = NAN;
@@ -189,14 +201,14 @@ void fillScreenRatios(CsvTable &table) {
     values[3].push_back(formatNumber(toBest.value));
     values[4].push_back(formatNumber(toBest.stderr_));
   }
-  for (std::size_t k = 0; k < values.size(); ++k)
-    table.setColumn(screenColumns()[2 + k], values[k]);
+  for (std::size_t k = 0; k < values.size(); ++k) table.setColumn(columns[2 + k], values[k]);
 }
 
 }  // namespace
 
 void fillBaselineColumns(CsvTable &table, const std::map<std::string, ReferenceNoise> &noise) {
-  fillScreenRatios(table);
+  fillMetricRatios(table, screenColumns());
+  fillMetricRatios(table, flipColumns());
   const std::vector<TimedRow> rows = timedRows(table);
   const std::vector<ClassicBaseline> classic = classicBaselines(rows);
   const std::size_t relmseColumn = table.column("relmse");

@@ -95,6 +95,11 @@ const std::vector<std::string> &screenColumns();
 // (adaptive_repeats.h). A file written before these existed lacks them all.
 const std::vector<std::string> &robustColumns();
 
+// HDR-FLIP (renderer/flip.h) as the screen error is: each row's mean over
+// its repeats with its standard error (measured), its ratio to sobol's,
+// the classic row with the lowest FLIP and the ratio to that one's.
+const std::vector<std::string> &flipColumns();
+
 // The names of render.csv's columns that fillBaselineColumns fills, beside
 // the screen columns' ratios (all of screenColumns but the first two).
 const std::vector<std::string> &baselineColumns();

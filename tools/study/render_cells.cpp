@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "backends/stopwatch.h"
+#include "renderer/flip.h"
 #include "renderer/image_metrics.h"
 #include "sampler/io/atomic_file.h"
 #include "sampler/io/image_io.h"
@@ -36,7 +37,14 @@ const std::vector<std::string> &repeatColumns() {
                                                 "setup_seconds",
                                                 "rays_per_second",
                                                 "nonfinite_pixels",
-                                                "rejected_samples"};
+                                                "rejected_samples",
+                                                "flip"};
+  return columns;
+}
+
+const std::vector<std::string> &repeatDerivedColumns() {
+  // Missing from a file written before FLIP; read as NaN.
+  static const std::vector<std::string> columns{"flip"};
   return columns;
 }
 
@@ -55,6 +63,7 @@ std::vector<RepeatRecord> cellRecords(const CsvTable &repeats, const std::string
     r.setupSeconds = num("setup_seconds"), r.raysPerSecond = num("rays_per_second");
     r.nonFinite = std::uint64_t(num("nonfinite_pixels"));
     r.rejected = std::uint64_t(num("rejected_samples"));
+    r.flip = num("flip");
     found.emplace_back(std::size_t(num("repeat")), r);
   }
   std::sort(found.begin(), found.end(),
@@ -96,6 +105,7 @@ CellOutcome renderCell(
     record.topShare = e.topShare;
     record.nonFinite = e.nonFinitePixels;
     record.rejected = stats.rejectedSamples;
+    if (e.nonFinitePixels == 0) record.flip = hdrFlip(img, c.reference).mean;
     out.records.push_back(record);
     if (first == 0) {
       const std::vector<double> spectrum = errorPowerSpectrum(img, c.reference);
@@ -116,7 +126,7 @@ CellOutcome renderCell(
 std::vector<std::string> composeRow(const std::string &sceneSlug, const std::string &backend,
                                     std::size_t spp, const std::vector<RepeatRecord> &records,
                                     const CellFiles &files, const fs::path &out) {
-  std::vector<double> mse, relmse, screen, winsorized, topShare, whole, made, raysPerSecond;
+  std::vector<double> mse, relmse, screen, winsorized, topShare, whole, made, raysPerSecond, flip;
   std::uint64_t nonFinite = 0, rejected = 0;
   double setupSeconds = 0;
   for (const RepeatRecord &r : records) {
@@ -129,6 +139,7 @@ std::vector<std::string> composeRow(const std::string &sceneSlug, const std::str
     whole.push_back(r.seconds);
     made.push_back(r.madeSeconds);
     raysPerSecond.push_back(r.raysPerSecond);
+    flip.push_back(r.flip);
     nonFinite += r.nonFinite;
     rejected += r.rejected;
   }
@@ -168,6 +179,9 @@ std::vector<std::string> composeRow(const std::string &sceneSlug, const std::str
   row[at("mse_winsorized")] = formatNumber(wm.mean);
   row[at("mse_winsorized_stderr")] = formatNumber(wm.stderr_);
   row[at("top_share")] = formatNumber(share.mean);
+  const MeanAndError fm = meanAndError(flip);
+  row[at(flipColumns()[0])] = formatNumber(fm.mean);
+  row[at(flipColumns()[1])] = formatNumber(fm.stderr_);
   return row;
 }
 

@@ -57,10 +57,15 @@ struct RepeatRecord {
   // (its sets optimized, its lobe tables).
   double seconds = 0, madeSeconds = 0, setupSeconds = 0, raysPerSecond = 0;
   std::uint64_t nonFinite = 0, rejected = 0;
+  // HDR-FLIP's mean against the reference (renderer/flip.h); NaN where the
+  // image has non-finite pixels, or in a record from before FLIP.
+  double flip = NAN;
 };
 
 // repeats.csv's columns: backend, spp, repeat, seed, then a record's fields.
 const std::vector<std::string> &repeatColumns();
+// Those a repeats.csv written before them lacks (read as empty).
+const std::vector<std::string> &repeatDerivedColumns();
 
 // The records of one cell (backend, spp) in repeat order.
 std::vector<RepeatRecord> cellRecords(const CsvTable &repeats, const std::string &backend,

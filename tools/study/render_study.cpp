@@ -267,7 +267,7 @@ double renderCells(const Ranks &ranks, const SceneStudy &scene, const ScenePlan 
                formatNumber(r.screen), formatNumber(r.winsorized), formatNumber(r.topShare),
                formatNumber(r.seconds), formatNumber(r.madeSeconds), formatNumber(r.setupSeconds),
                formatNumber(r.raysPerSecond), std::to_string(r.nonFinite),
-               std::to_string(r.rejected)},
+               std::to_string(r.rejected), formatNumber(r.flip)},
               3);
         }
         const std::vector<RepeatRecord> all = cellRecords(repeats, c.backend.word, c.spp);
@@ -416,7 +416,7 @@ RenderStudyResult runRenderStudy(const RenderStudySettings &s, const StudyProgre
     const ScenePlan plan = planScene(scene, missing, s);
     if (!plan.lobeNote.empty()) result.notes.push_back(plan.lobeNote);
     const std::set<fs::path> madeNow = makeSceneSets(ranks, scene, plan, progress);
-    CsvTable repeats(scene.dir / "repeats.csv", repeatColumns());
+    CsvTable repeats(scene.dir / "repeats.csv", repeatColumns(), repeatDerivedColumns());
     if (ranks.root()) repeats.loadExisting();
     renderCells(ranks, scene, plan, madeNow, ref.result.image, s, table, repeats, refs, result,
                 progress);

@@ -44,6 +44,7 @@ const std::vector<std::string> &renderStudyColumns() {
     c.insert(c.end(), baselineColumns().begin(), baselineColumns().end());
     c.insert(c.end(), screenColumns().begin(), screenColumns().end());
     c.insert(c.end(), robustColumns().begin(), robustColumns().end());
+    c.insert(c.end(), flipColumns().begin(), flipColumns().end());
     return c;
   }();
   return all;
@@ -57,6 +58,7 @@ const std::vector<std::string> &renderStudyDerivedColumns() {
     // before they existed.
     d.insert(d.end(), screenColumns().begin(), screenColumns().end());
     d.insert(d.end(), robustColumns().begin(), robustColumns().end());
+    d.insert(d.end(), flipColumns().begin(), flipColumns().end());
     return d;
   }();
   return derived;
