@@ -99,6 +99,9 @@ TEST_F(TinyStudy, CsvHasItsColumnsAndUnits) {
     EXPECT_EQ(std::stod(r["setup_seconds"]) > 0, optimized) << r["backend"];
     EXPECT_TRUE(fs::exists(*dir_ / r["image"])) << r["image"];
     EXPECT_TRUE(fs::exists(*dir_ / r["error_map"])) << r["error_map"];
+    // Beside it, repeat 0's FLIP map, which the report shows.
+    const std::string flipMap = r["error_map"].substr(0, r["error_map"].size() - 10) + "_flip.png";
+    EXPECT_TRUE(fs::exists(*dir_ / flipMap)) << flipMap;
     const fs::path spectrum =
         *dir_ / (fs::path(r["image"]).replace_extension().string() + "_spectrum.csv");
     std::ifstream in(spectrum);

@@ -21,11 +21,12 @@ namespace fs = std::filesystem;
 
 // Where a cell's first render and its error map go.
 struct CellFiles {
-  fs::path image, errorMap, spectrum;
+  fs::path image, errorMap, flipMap, spectrum;
   CellFiles(const fs::path &dir, const std::string &backend, std::size_t spp) {
     const std::string stem = slug(backend) + "_spp" + std::to_string(spp);
     image = dir / (stem + ".exr");
     errorMap = dir / (stem + "_error.png");
+    flipMap = dir / (stem + "_flip.png");
     spectrum = dir / (stem + "_spectrum.csv");
   }
 };

@@ -301,6 +301,12 @@ def render_section(root, scene, rows, ref, plots_dir, scale):
                 figs.append(f'<figure><img class="full" src="{err}" alt="error map">'
                             f"<figcaption>relative error, {html.escape(backend_label(b))}"
                             "</figcaption></figure>")
+            # Repeat 0's HDR-FLIP map (magma: black no difference, bright large).
+            flip = err[:-len("_error.png")] + "_flip.png" if err.endswith("_error.png") else ""
+            if flip and os.path.exists(os.path.join(root, flip)):
+                figs.append(f'<figure><img class="full" src="{flip}" alt="FLIP map">'
+                            f"<figcaption>ꟻLIP {fmt(r.get('flip'))}, "
+                            f"{html.escape(backend_label(b))}</figcaption></figure>")
         figs.append(f'<figure class="scale"><img class="scale" src="{scale}" '
                     'alt="error colour scale"><figcaption>error maps: (image − reference)² / '
                     "(reference² + 0.01), mean of the channels (relMSE per pixel)"
