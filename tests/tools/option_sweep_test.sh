@@ -42,7 +42,7 @@ declare -A base=(
 # Options whose value names a file or directory the command opens ("COMMAND
 # OPTION"): a missing one exits 1.
 declare -A paths=(
-  ["generate --model"]=1 ["compare --error-map"]=1 ["spectrum --csv"]=1
+  ["generate --model"]=1 ["compare --error-map"]=1 ["compare --flip-map"]=1 ["spectrum --csv"]=1
   ["study integrate --neural"]=1
 )
 # Options that take any value by design ("COMMAND OPTION"), with the reason.
