@@ -80,8 +80,8 @@ using Real = float;
 using Plane = std::vector<Real>;  // width x height, row-major
 
 // The convolutions work on blocks of kBlock neighbouring outputs held in a
-// small array, which compilers keep in vector registers (GCC 12: 32 suits
-// both -O2 and -O3 -march=native, 8 ran 4x slower at the latter), and fold
+// small array, which compilers keep in vector registers (the block size
+// is measured in tools/experiments/README.md, "FLIP"), and fold
 // each kernel's mirrored taps together: every kernel here is even
 // (w[-j] = w[j]) or odd (w[-j] = -w[j]).
 constexpr int kBlock = 32;

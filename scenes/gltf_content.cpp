@@ -248,11 +248,10 @@ void readMaterials(const std::string &path, const tinygltf::Model &model, GltfFi
     const tinygltf::Texture &t = model.textures[i];
     const std::string what = "texture " + std::to_string(i) + " ('" + t.name + "') ";
     GltfTexture tex;
-    tex.image = t.source;
-    if (t.source < 0 || std::size_t(t.source) >= model.images.size()) {
-      // Only a texture a drawn material reads needs its image (gltf_scene.cpp).
-      tex.image = -1;
-    }
+    // No image is -1: only a texture a drawn material reads needs one
+    // (gltf_scene.cpp refuses it there).
+    const bool hasImage = t.source >= 0 && std::size_t(t.source) < model.images.size();
+    tex.image = hasImage ? t.source : -1;
     if (t.sampler >= 0) {
       if (std::size_t(t.sampler) >= model.samplers.size())
         fail(path, what + "names sampler " + std::to_string(t.sampler) + ", which does not exist");

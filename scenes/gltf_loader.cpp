@@ -407,6 +407,10 @@ GltfFile load(const std::string &path, bool withImages) {
 
 }  // namespace
 
+bool isGltfPath(const std::string &path) {
+  return hasExtension(path, ".glb") || hasExtension(path, ".gltf");
+}
+
 GltfFile loadGltfFile(const std::string &path) { return load(path, true); }
 
 std::vector<TriangleMesh> loadGltf(const std::string &path) {

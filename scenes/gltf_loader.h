@@ -86,6 +86,10 @@ struct GltfFile {
   std::vector<std::string> unused;
 };
 
+// Whether `path` names a glTF file (.gltf or .glb, in any case), as the
+// loader reads it.
+bool isGltfPath(const std::string &path);
+
 // The whole file, images undecoded.
 GltfFile loadGltfFile(const std::string &path);
 // The meshes alone (a scene file's "meshes" entry), leaving images unread.

@@ -1,9 +1,7 @@
 #include "scenes/gltf_scene.h"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
-#include <filesystem>
 #include <map>
 #include <numbers>
 #include <stdexcept>
@@ -11,14 +9,9 @@
 #include "materials/disney.h"
 #include "sampler/diagnostics.h"
 #include "scenes/gltf_loader.h"
+#include "scenes/mesh_bounds.h"
 
 namespace nuld {
-
-bool isGltfPath(const std::string &path) {
-  std::string e = std::filesystem::path(path).extension().string();
-  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return std::tolower(c); });
-  return e == ".gltf" || e == ".glb";
-}
 
 namespace {
 
@@ -85,7 +78,7 @@ class TextureMaker {
 };
 
 // The film and camera of the file's camera, else the default view.
-void placeCamera(const GltfFile &file, const std::vector<TriangleMesh> &meshes, LoadedScene &out) {
+void placeCamera(const GltfFile &file, LoadedScene &out) {
   CameraSettings &cam = out.scene.camera;
   if (file.camera) {
     const GltfCamera &c = *file.camera;
@@ -101,11 +94,9 @@ void placeCamera(const GltfFile &file, const std::vector<TriangleMesh> &meshes, 
     cam.fovDegrees = fov * 180 / kPi;
     return;
   }
-  Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
-  for (const TriangleMesh &m : meshes)
-    for (const Vec3 p : m.positions) lo = min(lo, p), hi = max(hi, p);
-  const Vec3 centre = 0.5 * (lo + hi);
-  const double radius = std::max(0.5 * length(hi - lo), 1e-6);
+  const MeshBounds b = meshBounds(file.meshes);
+  const Vec3 centre = 0.5 * (b.lo + b.hi);
+  const double radius = std::max(0.5 * length(b.hi - b.lo), 1e-6);
   cam.fovDegrees = 40;
   cam.target = centre;
   cam.eye = centre + Vec3{0, 0, 1.1 * radius / std::sin(20 * kPi / 180)};
@@ -126,7 +117,7 @@ LoadedScene loadGltfScene(const std::string &path, const SceneChoices &choices) 
   std::vector<std::string> notes = file.unused;
   LoadedScene out{path, Scene{EmbreeScene({}), {}, std::nullopt, {}}};
   out.scene.lobeChoice = choices.lobes;
-  placeCamera(file, file.meshes, out);
+  placeCamera(file, out);
 
   // Each glTF material once (index -1: glTF's default material).
   const GltfMaterial fallback{};

@@ -31,12 +31,10 @@
 
 #include <string>
 
+#include "scenes/gltf_loader.h"  // isGltfPath
 #include "scenes/scene_file.h"
 
 namespace nuld {
-
-// Whether `path` names a glTF file (.gltf or .glb, in any case).
-bool isGltfPath(const std::string &path);
 
 // The scene of a glTF file: geometry, materials, camera, film size and
 // lights; no environment, and its light choice not yet built (the caller

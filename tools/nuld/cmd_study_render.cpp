@@ -164,34 +164,34 @@ void printTable(const study::CsvTable &table, const study::CsvTable &references,
       else if (std::isfinite(k))
         std::snprintf(paysAt, sizeof paysAt, "%.0f", k);
     }
-    // The screen-space error and its ratios (every row; "-" in an older file).
-    char screenText[24] = "-", screenSobolText[48] = "-", screenClassicText[48] = "-";
-    const char *screenVerdict = "-";
-    if (const double v = study::parseNumber(csv[screen]); std::isfinite(v))
-      std::snprintf(screenText, sizeof screenText, "%.4e", v);
-    // sobol's own row reads 1, as its mse/sobol does.
-    if (r.backend == "sobol") {
-      std::snprintf(screenSobolText, sizeof screenSobolText, "1");
-    } else if (const double q = study::parseNumber(csv[screenSobol]); std::isfinite(q)) {
-      const double se = study::parseNumber(csv[screenSobolStderr]);
-      std::snprintf(screenSobolText, sizeof screenSobolText, "%.3f+-%.3f", q, se);
-      screenVerdict = verdictOf(q, se);
-    }
+    // A measured error's mean and its ratio to sobol's with the verdict,
+    // for the screen error and HDR-FLIP ("-" where an older file lacks
+    // them; sobol's own row reads 1, as its mse/sobol does).
+    struct Measured {
+      char mean[24] = "-", toSobol[48] = "-";
+      const char *verdict = "-";
+    };
+    const auto measured = [&](std::size_t meanColumn, std::size_t ratioColumn,
+                              std::size_t stderrColumn) {
+      Measured m;
+      const double v = study::parseNumber(csv[meanColumn]);
+      if (!std::isfinite(v)) return m;
+      std::snprintf(m.mean, sizeof m.mean, "%.4e", v);
+      if (r.backend == "sobol") {
+        std::snprintf(m.toSobol, sizeof m.toSobol, "1");
+      } else if (const double q = study::parseNumber(csv[ratioColumn]); std::isfinite(q)) {
+        const double se = study::parseNumber(csv[stderrColumn]);
+        std::snprintf(m.toSobol, sizeof m.toSobol, "%.3f+-%.3f", q, se);
+        m.verdict = verdictOf(q, se);
+      }
+      return m;
+    };
+    const Measured screenError = measured(screen, screenSobol, screenSobolStderr),
+                   flip = measured(flipMean, flipSobol, flipSobolStderr);
+    char screenClassicText[48] = "-";
     if (const double q = study::parseNumber(csv[screenClassic]); std::isfinite(q))
       std::snprintf(screenClassicText, sizeof screenClassicText, "%.3f+-%.3f", q,
                     study::parseNumber(csv[screenClassicStderr]));
-    // HDR-FLIP and its ratio to sobol's ("-" in an older file).
-    char flipText[24] = "-", flipSobolText[48] = "-";
-    const char *flipVerdict = "-";
-    if (const double v = study::parseNumber(csv[flipMean]); std::isfinite(v))
-      std::snprintf(flipText, sizeof flipText, "%.4e", v);
-    if (r.backend == "sobol" && std::isfinite(study::parseNumber(csv[flipMean]))) {
-      std::snprintf(flipSobolText, sizeof flipSobolText, "1");
-    } else if (const double q = study::parseNumber(csv[flipSobol]); std::isfinite(q)) {
-      const double se = study::parseNumber(csv[flipSobolStderr]);
-      std::snprintf(flipSobolText, sizeof flipSobolText, "%.3f+-%.3f", q, se);
-      flipVerdict = verdictOf(q, se);
-    }
     // What the row's flags say, after its columns.
     std::string flags = csv[tooNoisy] == "1" ? "  reference too noisy for this row" : "";
     if (csv[table.column("ruled_by_outliers")] == "1")
@@ -207,8 +207,9 @@ void printTable(const study::CsvTable &table, const study::CsvTable &references,
         width, r.backend.c_str(), r.spp, csv[table.column("repeats")].c_str(), stop.c_str(), r.mse,
         study::parseNumber(csv[relmse]), ratio, verdict, classicText, classicVerdict, classicWidth,
         csv[classic].empty() ? "-" : csv[classic].c_str(), r.seconds, r.setupSeconds,
-        times[i].totalSeconds, timeRatio, timeVerdict, paysAt, screenText, screenSobolText,
-        screenVerdict, screenClassicText, flipText, flipSobolText, flipVerdict, flags.c_str());
+        times[i].totalSeconds, timeRatio, timeVerdict, paysAt, screenError.mean,
+        screenError.toSobol, screenError.verdict, screenClassicText, flip.mean, flip.toSobol,
+        flip.verdict, flags.c_str());
   }
   // Convergence rates, where a row has three or more spp values.
   if (const auto slopes = study::slopeRows(table); !slopes.empty()) {

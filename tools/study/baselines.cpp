@@ -164,14 +164,14 @@ void fillMetricRatios(CsvTable &table, const std::vector<std::string> &columns) 
   const std::size_t scene = table.column("scene"), backend = table.column("backend"),
                     spp = table.column("spp"), mean = table.column(columns[0]),
                     stderr_ = table.column(columns[1]);
-  struct Screen {
+  struct Metric {
     std::string backend;
     double mean = NAN, stderr_ = NAN;
   };
-  std::map<std::pair<std::string, std::string>, Screen> sobol, best;
-  std::vector<Screen> rows;
+  std::map<std::pair<std::string, std::string>, Metric> sobol, best;
+  std::vector<Metric> rows;
   for (const auto &r : table.rows()) {
-    const Screen s{r[backend], parseNumber(r[mean]), parseNumber(r[stderr_])};
+    const Metric s{r[backend], parseNumber(r[mean]), parseNumber(r[stderr_])};
     rows.push_back(s);
     if (!std::isfinite(s.mean)) continue;
     const auto key = std::pair(r[scene], r[spp]);
@@ -183,7 +183,7 @@ void fillMetricRatios(CsvTable &table, const std::vector<std::string> &columns) 
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const auto &r = table.rows()[i];
     const auto key = std::pair(r[scene], r[spp]);
-    const auto ratioTo = [&](const std::map<std::pair<std::string, std::string>, Screen> &to) {
+    const auto ratioTo = [&](const std::map<std::pair<std::string, std::string>, Metric> &to) {
       const auto it = to.find(key);
       return it == to.end()
                  ? Ratio{}

@@ -105,7 +105,11 @@ CellOutcome renderCell(
     record.topShare = e.topShare;
     record.nonFinite = e.nonFinitePixels;
     record.rejected = stats.rejectedSamples;
-    if (e.nonFinitePixels == 0) record.flip = hdrFlip(img, c.reference).mean;
+    if (e.nonFinitePixels == 0) {
+      FlipResult flip = hdrFlip(img, c.reference);
+      record.flip = flip.mean;
+      if (r == 0) out.flipMap = flipMapImage(flip);  // the one the report shows
+    }
     out.records.push_back(record);
     if (first == 0) {
       const std::vector<double> spectrum = errorPowerSpectrum(img, c.reference);

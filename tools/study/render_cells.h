@@ -75,13 +75,15 @@ std::vector<RepeatRecord> cellRecords(const CsvTable &repeats, const std::string
 // What a cell sends to rank 0: its repeats' records, or why it has none
 // (the backend's refusal, or the scene's lack of what the backend needs),
 // and, from the round holding repeat 0, its first render (written beside
-// the reference with its error map) and the error's spectrum.
+// the reference with its error map), that render's FLIP map and the
+// error's spectrum.
 struct CellOutcome {
   std::vector<RepeatRecord> records;  // empty when refused
   std::string refusal;
   std::string note;              // what the backend decided that a user should hear (its note())
   std::vector<double> spectrum;  // the round's mean errorPowerSpectrum (round of repeat 0)
   Image image;                   // repeat 0's, when in this round
+  Image flipMap;                 // repeat 0's FLIP map; empty where it has non-finite pixels
   ImageAttributes attributes;
 
   // A cell the scene cannot serve (no map, no Disney material): no row.
@@ -94,7 +96,7 @@ struct CellOutcome {
     ByteWriter w;
     w.put(std::uint64_t(records.size()));
     for (const RepeatRecord &r : records) w.put(r);
-    return w.put(refusal).put(note).put(spectrum).put(image).put(attributes).take();
+    return w.put(refusal).put(note).put(spectrum).put(image).put(flipMap).put(attributes).take();
   }
   static CellOutcome from(std::string_view bytes) {
     ByteReader r(bytes);
@@ -105,6 +107,7 @@ struct CellOutcome {
     r.get(c.note);
     r.get(c.spectrum);
     r.get(c.image);
+    r.get(c.flipMap);
     r.get(c.attributes);
     return c;
   }

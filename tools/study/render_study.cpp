@@ -17,7 +17,6 @@
 #include "backends/reference_cache.h"
 #include "backends/set_plans.h"
 #include "backends/stopwatch.h"
-#include "renderer/flip.h"
 #include "renderer/image_metrics.h"
 #include "renderer/lobe_tables.h"
 #include "renderer/sampler_backend.h"
@@ -257,8 +256,7 @@ double renderCells(const Ranks &ranks, const SceneStudy &scene, const ScenePlan 
           writeRender(files.image.string(), outcome.image, outcome.attributes);
           writeImage(files.errorMap.string(), errorMap(outcome.image, reference));
           // Repeat 0's HDR-FLIP map, which the report shows beside the error map.
-          if (nonFinitePixel(outcome.image).empty())
-            writeImage(files.flipMap.string(), flipMapImage(hdrFlip(outcome.image, reference)));
+          if (!outcome.flipMap.pixels.empty()) writeImage(files.flipMap.string(), outcome.flipMap);
           if (!outcome.spectrum.empty()) writeSpectrum(files.spectrum, outcome.spectrum);
         }
         for (std::size_t k = 0; k < outcome.records.size(); ++k) {
