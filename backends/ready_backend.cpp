@@ -16,9 +16,39 @@ void SetSettings::validate() const {
     throw std::invalid_argument("--opt-objective: expected soft or l2asd");
 }
 
+namespace {
+
+// Where "LABEL=WORD" splits (npos: no label). A '=' after a character no
+// label may hold (a plugin path's '/' or ':') is the word's own.
+std::size_t labelEnd(const std::string &word) {
+  const std::size_t eq = word.find('=');
+  if (eq == std::string::npos) return eq;
+  for (std::size_t i = 0; i < eq; ++i) {
+    const unsigned char c = static_cast<unsigned char>(word[i]);
+    if (!(std::isalnum(c) || c == '-' || c == '_' || c == '.' || c == '+'))
+      return std::string::npos;
+  }
+  return eq;
+}
+
+}  // namespace
+
+std::string rowLabel(const std::string &word) {
+  const std::size_t end = labelEnd(word);
+  return end == std::string::npos ? word : word.substr(0, end);
+}
+
+std::string unlabelled(const std::string &word) {
+  const std::size_t end = labelEnd(word);
+  return end == std::string::npos ? word : word.substr(end + 1);
+}
+
 BackendWord parseBackendWord(const std::string &word) {
-  const BackendSpec spec = parseBackend(word, kRenders);
-  return {word, spec, spec.setsToMake()};
+  if (labelEnd(word) == 0)
+    throw std::invalid_argument("backend '" + word +
+                                "': expected LABEL=WORD with a label of letters, digits, - _ . +");
+  const BackendSpec spec = parseBackend(unlabelled(word), kRenders);
+  return {word, rowLabel(word), spec, spec.setsToMake()};
 }
 
 bool BackendWord::samplesLobes() const {

@@ -65,8 +65,13 @@ using SetProgress =
 // backend), parsed once by the registry: what renders with it, and the sets
 // a command makes first (optimized, optimized-uniform, optimized-bsdf,
 // optimized-both, each maybe with +shift).
+//
+// A study's row may carry a label: "LABEL=WORD" (LABEL of letters, digits
+// and - _ . +), which names the row in tables, files and pages in place of
+// a long word (a plugin's path); the row is the word's in every other way.
 struct BackendWord {
-  std::string word;  // as given: a study's backend column
+  std::string word;   // as given, label included: a study's backend column
+  std::string label;  // the row's name: LABEL, or the word when unlabelled
   BackendSpec spec;
   BackendSets sets = BackendSets::None;  // spec.setsToMake(): None renders `spec` as it is
   bool makesSets() const { return sets != BackendSets::None; }
@@ -84,6 +89,10 @@ struct BackendWord {
 // The word parsed for renders; throws std::invalid_argument naming the word
 // and the choices.
 BackendWord parseBackendWord(const std::string &word);
+// The label of a backend column's value ("LABEL=WORD"), or the value when
+// it has none; the word after it. No backend is parsed.
+std::string rowLabel(const std::string &word);
+std::string unlabelled(const std::string &word);
 
 // A word's sets for one render (nuld render, nuld bank, the Python module):
 // made or found in the set cache exactly as a study would make them (the

@@ -10,6 +10,7 @@ packages=(
   libtinygltf-dev libtbb-dev libopenmpi-dev openmpi-bin googletest libgtest-dev libbenchmark-dev libcli11-dev
   nlohmann-json3-dev libtorch-dev libopenblas0-openmp python3-matplotlib
   pybind11-dev python3-dev python3-numpy python3-scipy python3-pytest
+  chromium chromium-driver python3-selenium
 )
 
 missing=()

@@ -11,8 +11,8 @@ namespace nuld::study {
 namespace {
 
 TimedRow row(const char *backend, double mse, double stderr_, double seconds, double setup,
-             std::size_t spp = 16) {
-  return {"s", backend, spp, mse, stderr_, seconds, setup};
+             std::size_t spp = 16, double secondsStderr = 0) {
+  return {"s", backend, spp, mse, stderr_, seconds, setup, secondsStderr};
 }
 
 TEST(EqualTime, RatioIsMseTimesTotalSecondsOverSobols) {
@@ -51,6 +51,30 @@ TEST(EqualTime, VerdictSeparatesByTwoStandardErrorsOrCallsATie) {
   EXPECT_EQ(timeVerdicts(costly, 1)[0].best[0], "sobol");
   EXPECT_EQ(timeVerdicts(costly, 100)[0].best[0], "learned");
   EXPECT_NE(describe(timeVerdicts(costly, 100)[0]).find("ahead of sobol"), std::string::npos);
+}
+
+// The times' error counts: an MSE ratio of 0.8 +- 0.02 at equal median
+// times is better at equal time when the times are steady, and a tie when
+// their errors (a machine whose load came and went) do not decide the
+// products; the relative errors add in quadrature.
+TEST(EqualTime, TheTimesErrorJoinsTheMses) {
+  const std::vector<TimedRow> steady{row("sobol", 1.0, 0, 1.0, 0, 16, 0.0),
+                                     row("a", 0.8, 0.016, 1.0, 0, 16, 0.0)};
+  const EqualTime s = equalTime(steady, 1)[1];
+  EXPECT_NEAR(s.ratioStderr, 0.8 * 0.02, 1e-12);
+  EXPECT_EQ(verdictOf(s.ratio, s.ratioStderr), Verdict::Better);
+
+  const std::vector<TimedRow> noisy{row("sobol", 1.0, 0, 1.0, 0, 16, 0.1),
+                                    row("a", 0.8, 0.016, 1.0, 0, 16, 0.1)};
+  const EqualTime n = equalTime(noisy, 1)[1];
+  EXPECT_NEAR(n.ratioStderr, 0.8 * std::sqrt(0.02 * 0.02 + 0.1 * 0.1 + 0.1 * 0.1), 1e-12);
+  EXPECT_EQ(verdictOf(n.ratio, n.ratioStderr), Verdict::Tie);
+  // The verdicts between rows see it too: a and sobol tie.
+  EXPECT_EQ(timeVerdicts(noisy, 1)[0].best, (std::vector<std::string>{"a", "sobol"}));
+  // Setup is exact: a time error is relative to the whole total.
+  const std::vector<TimedRow> setup{row("sobol", 1.0, 0, 1.0, 0, 16, 0.0),
+                                    row("a", 1.0, 0, 1.0, 9.0, 16, 0.1)};
+  EXPECT_NEAR(equalTime(setup, 1)[1].ratioStderr, 10.0 * 0.1 / 10.0, 1e-12);
 }
 
 }  // namespace

@@ -78,7 +78,7 @@ TEST_F(TinyStudy, CsvHasItsColumnsAndUnits) {
             "winsorized_ratio_best_classic,winsorized_ratio_best_classic_stderr,"
             "ruled_by_outliers,stopped_on,worst_relative_stderr,flip,flip_stderr,"
             "flip_ratio_sobol,flip_ratio_sobol_stderr,best_classic_flip,flip_ratio_best_classic,"
-            "flip_ratio_best_classic_stderr");
+            "flip_ratio_best_classic_stderr,seconds_mad,seconds_stderr,label");
   const CsvTable t = readTable(*dir_);
   ASSERT_EQ(t.rows().size(), 10u) << "5 backends x 2 spp";
   EXPECT_TRUE(result_->skipped.empty());

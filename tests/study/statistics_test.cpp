@@ -1,9 +1,11 @@
 // The studies' summaries of repeats (tools/study/statistics.h), by hand: a
-// render cell's repeats split into render seconds and one-time setup.
+// render cell's repeats split into render seconds and one-time setup, and
+// their median with its spread.
 #include "tools/study/statistics.h"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <vector>
 
 namespace nuld::study {
@@ -29,6 +31,29 @@ TEST(RepeatSeconds, NothingMadeMovesNothing) {
   EXPECT_EQ(s.render, whole);
   EXPECT_EQ(s.setup, 0);
   EXPECT_TRUE(splitRepeatSeconds({}, {}).render.empty());
+}
+
+// Median, median absolute deviation and the median's error worked by hand;
+// one repeat slowed threefold by other work moves the median by nothing
+// (odd count) where it moves the mean by 40 %.
+TEST(MedianAndSpread, ByHandAndUnmovedByOneSlowRepeat) {
+  const std::vector<double> odd{1.0, 1.2, 0.9, 3.0, 1.1};  // sorted: 0.9 1.0 1.1 1.2 3.0
+  const MedianAndSpread m = medianAndSpread(odd);
+  EXPECT_DOUBLE_EQ(m.median, 1.1);
+  // |x - 1.1|: 0.1 0.1 0.2 0.1 1.9, sorted 0.1 0.1 0.1 0.2 1.9.
+  EXPECT_NEAR(m.mad, 0.1, 1e-12);
+  EXPECT_NEAR(m.stderr_, 1.2533 * 1.4826 * 0.1 / std::sqrt(5.0), 1e-12);
+  EXPECT_NEAR(meanAndError(odd).mean, 1.44, 1e-12);
+
+  const std::vector<double> even{4.0, 1.0, 3.0, 2.0};
+  EXPECT_DOUBLE_EQ(medianAndSpread(even).median, 2.5);
+  EXPECT_DOUBLE_EQ(medianAndSpread(even).mad, 1.0);  // 1.5 0.5 0.5 1.5
+
+  const std::vector<double> one{0.7};
+  EXPECT_EQ(medianAndSpread(one).median, 0.7);
+  EXPECT_EQ(medianAndSpread(one).mad, 0);
+  EXPECT_EQ(medianAndSpread(one).stderr_, 0);
+  EXPECT_EQ(medianAndSpread({}).median, 0);
 }
 
 }  // namespace

@@ -114,9 +114,10 @@ free_space
 "$nuld" "${study[@]}" >"$dir/out" 2>"$dir/err" || { fail "the study after space is freed"; cat "$dir/err"; }
 [[ -s "$full/study/render.csv" ]] || fail "the study after space is freed wrote no render.csv"
 whole_images "the study after space is freed" "$full"
-# Its report onto the full disk: exit 1 naming the plot it could not write.
+# Its report onto the full disk: exit 1 naming the file it could not write
+# (the comparison page's, written first, or a plot's).
 fill
-refused_full "a study's report" "$full/study/plots/" "$nuld" study report "$full/study"
+refused_full "a study's report" "$full/study/" "$nuld" study report "$full/study"
 whole_images "a study's report" "$full"
 [[ -z $(find "$full/study" -name '.*.tmp*') ]] || fail "the report left temporaries"
 free_space

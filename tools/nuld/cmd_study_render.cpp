@@ -9,6 +9,7 @@
 #include <tuple>
 
 #include "backends/ranks.h"
+#include "backends/ready_backend.h"
 #include "backends/reference_cache.h"
 #include "renderer/image_metrics.h"
 #include "renderer/path_integrator.h"
@@ -20,6 +21,7 @@
 #include "tools/nuld/interrupt_note.h"
 #include "tools/nuld/progress.h"
 #include "tools/study/baselines.h"
+#include "tools/study/compare_page.h"
 #include "tools/study/convergence.h"
 #include "tools/study/csv_table.h"
 #include "tools/study/equal_time.h"
@@ -106,8 +108,8 @@ void printTable(const study::CsvTable &table, const study::CsvTable &references,
   // The backend column is as wide as the longest word or label: none is cut.
   int width = 22, classicWidth = 15;
   for (std::size_t i = 0; i < rows.size(); ++i) {
-    width = std::max(width, int(rows[i].backend.size()));
-    classicWidth = std::max(classicWidth, int(table.rows()[i][classic].size()));
+    width = std::max(width, int(rowLabel(rows[i].backend).size()));
+    classicWidth = std::max(classicWidth, int(rowLabel(table.rows()[i][classic]).size()));
   }
   std::string lastScene;
   for (const std::size_t i : order) {
@@ -127,10 +129,10 @@ void printTable(const study::CsvTable &table, const study::CsvTable &references,
       // mse*s/sobol: the MSE times the total seconds over sobol's, the
       // equal-time comparison (equal_time_ratio in render.csv).
       std::printf(
-          "\n%-*s %5s %5s %-9s %11s %11s %13s %6s %13s %6s %-*s %8s %8s %8s %13s %6s %6s %11s "
+          "\n%-*s %5s %5s %-9s %11s %11s %13s %6s %13s %6s %-*s %15s %8s %8s %13s %6s %6s %11s "
           "%13s %6s %13s %11s %13s %6s\n",
           width, "backend", "spp", "reps", "stop", "mse", "relmse", "mse/sobol", "vs",
-          "mse/classic", "vs", classicWidth, "best_classic", "seconds", "setup_s", "total_s",
+          "mse/classic", "vs", classicWidth, "best_classic", "median_s+-mad", "setup_s", "total_s",
           "mse*s/sobol", "vs", "pays@", "screen", "scr/sobol", "vs", "scr/classic", "flip",
           "flip/sobol", "vs");
       lastScene = r.scene;
@@ -201,15 +203,19 @@ void printTable(const study::CsvTable &table, const study::CsvTable &references,
                    study::parseNumber(csv[table.column("winsorized_ratio_best_classic_stderr")]));
     const std::string stop =
         csv[table.column("stopped_on")].empty() ? "-" : csv[table.column("stopped_on")];
+    char seconds[40];
+    const double mad = study::parseNumber(csv[table.column(study::timeSpreadColumns()[0])]);
+    std::snprintf(seconds, sizeof seconds, std::isfinite(mad) ? "%.3f+-%.3f" : "%.3f", r.seconds,
+                  mad);
     std::printf(
-        "%-*s %5zu %5s %-9s %11.4e %11.4e %13s %6s %13s %6s %-*s %8.3f %8.2f %8.3f %13s %6s %6s "
+        "%-*s %5zu %5s %-9s %11.4e %11.4e %13s %6s %13s %6s %-*s %15s %8.2f %8.3f %13s %6s %6s "
         "%11s %13s %6s %13s %11s %13s %6s%s\n",
-        width, r.backend.c_str(), r.spp, csv[table.column("repeats")].c_str(), stop.c_str(), r.mse,
-        study::parseNumber(csv[relmse]), ratio, verdict, classicText, classicVerdict, classicWidth,
-        csv[classic].empty() ? "-" : csv[classic].c_str(), r.seconds, r.setupSeconds,
-        times[i].totalSeconds, timeRatio, timeVerdict, paysAt, screenError.mean,
-        screenError.toSobol, screenError.verdict, screenClassicText, flip.mean, flip.toSobol,
-        flip.verdict, flags.c_str());
+        width, rowLabel(r.backend).c_str(), r.spp, csv[table.column("repeats")].c_str(),
+        stop.c_str(), r.mse, study::parseNumber(csv[relmse]), ratio, verdict, classicText,
+        classicVerdict, classicWidth, csv[classic].empty() ? "-" : rowLabel(csv[classic]).c_str(),
+        seconds, r.setupSeconds, times[i].totalSeconds, timeRatio, timeVerdict, paysAt,
+        screenError.mean, screenError.toSobol, screenError.verdict, screenClassicText, flip.mean,
+        flip.toSobol, flip.verdict, flags.c_str());
   }
   // Convergence rates, where a row has three or more spp values.
   if (const auto slopes = study::slopeRows(table); !slopes.empty()) {
@@ -237,6 +243,12 @@ void printTable(const study::CsvTable &table, const study::CsvTable &references,
 
 int runReport(const std::string &dir) {
   requireOwnedFolder(dir, study::kStudyFolder);
+  // The comparison page first: the report links to it.
+  if (const std::filesystem::path page =
+          study::writeComparisonPage(dir, study::toolsDir() / "study" / "compare");
+      !page.empty())
+    std::printf("comparison page: %s\n", page.string().c_str());
+  std::fflush(stdout);  // before the report script's own lines
   std::string why;
   const int status = study::runStudyScript("report.py", dir, &why);
   if (status < 0) {
@@ -264,7 +276,8 @@ Runner addStudyRender(CLI::App &app) {
                      " (optimized without PATHS: sets for the scene's environment map; "
                      "optimized-bsdf: lobe banks for the scene's Disney materials; each made once "
                      "into the set cache, and each also with the suffix +shift: sets randomized "
-                     "in primary space; nuld help backends)")
+                     "in primary space; LABEL=WORD names a row LABEL in tables and files; nuld "
+                     "help backends)")
       ->delimiter(',')
       ->check(studyBackendWord());
   app.add_option("--spp", o->s.spp, "comma-separated samples per pixel (default 4,16,64)")
@@ -421,10 +434,13 @@ Runner addStudyRender(CLI::App &app) {
         " row against the built-in classic backend (best_classic) with the lowest MSE at that\n"
         " spp. A row whose MSE is below\n"
         " %gx the reference's own variance is marked: there the reference's noise, part of\n"
-        " every MSE, decides the comparison. seconds: one render incl. the backend's sample\n"
-        " generation; setup_s: making this row's sets and lobe tables in this run (0 when\n"
-        " cached); total_s: seconds + setup_s / --amortize; mse*s/sobol: MSE x total_s over\n"
-        " sobol's, below 1 reaching sobol's error sooner. pays@: a learned row's\n"
+        " every MSE, decides the comparison. median_s+-mad: the median seconds of one render\n"
+        " incl. the backend's sample generation, and their median absolute deviation, over\n"
+        " repeats rendered interleaved across rows (every row's repeat 1, then every row's\n"
+        " repeat 2, ...); setup_s: making this row's sets and lobe tables in this run (0 when\n"
+        " cached); total_s: median_s + setup_s / --amortize; mse*s/sobol: MSE x total_s over\n"
+        " sobol's, below 1 reaching sobol's error sooner, its vs counting the times' error as\n"
+        " well as the MSEs' (a machine whose load varies gives a tie). pays@: a learned row's\n"
         " break_even_renders, the fewest renders sharing its setup after which it reaches\n"
         " the best classic row's error sooner (never: it is not ahead per render). screen:\n"
         " the MSE of the error image low-passed by a Gaussian of 1 pixel, the error a viewer\n"

@@ -132,13 +132,13 @@ void CsvTable::requireOptions(const std::string &options, bool write) {
   writeFileAtomically(file, options + "\n");
 }
 
-bool CsvTable::hasRow(const std::vector<std::string> &key) const {
+const std::vector<std::string> *CsvTable::findRow(const std::vector<std::string> &key) const {
   for (const auto &row : rows_) {
     bool same = key.size() <= row.size();
     for (std::size_t i = 0; same && i < key.size(); ++i) same = row[i] == key[i];
-    if (same) return true;
+    if (same) return &row;
   }
-  return false;
+  return nullptr;
 }
 
 void CsvTable::checkRow(const std::vector<std::string> &values) const {

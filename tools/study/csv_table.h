@@ -37,8 +37,9 @@ class CsvTable {
   // `write` false (MPI ranks but the root) checks without writing.
   void requireOptions(const std::string &options, bool write = true);
 
-  // True when a row has these values in the first key.size() columns.
-  bool hasRow(const std::vector<std::string> &key) const;
+  // The row that has these values in the first key.size() columns, or null.
+  const std::vector<std::string> *findRow(const std::vector<std::string> &key) const;
+  bool hasRow(const std::vector<std::string> &key) const { return findRow(key) != nullptr; }
 
   // Appends a row (as many values as columns, or throws) and rewrites the file.
   void addRow(std::vector<std::string> values);

@@ -6,6 +6,7 @@
 #include <map>
 #include <stdexcept>
 
+#include "backends/ready_backend.h"
 #include "tools/study/baselines.h"
 #include "tools/study/csv_table.h"
 
@@ -17,12 +18,24 @@ double product(const TimedRow &r, double amortize) {
   return r.mse * (r.seconds + r.setupSeconds / amortize);
 }
 
-// The ratio a / b of two rows' products, with its standard error: the
-// times are exact, so a product's relative error is its MSE's.
+// A row's product with its standard error: the relative errors of its MSE
+// and of its total time (the render seconds', setup exact) in quadrature.
+std::pair<double, double> productAndError(const TimedRow &r, double amortize) {
+  const double t = r.seconds + r.setupSeconds / amortize;
+  const auto relative = [](double e, double m) {
+    const double q = e / m;
+    return m > 0 && std::isfinite(q) ? q : 0.0;
+  };
+  const double rm = relative(r.mseStderr, r.mse), rt = relative(r.secondsStderr, t);
+  const double p = r.mse * t;
+  return {p, p * std::sqrt(rm * rm + rt * rt)};
+}
+
+// The ratio a / b of two rows' products, with its standard error.
 std::pair<double, double> ratioOf(const TimedRow &a, const TimedRow &b, double amortize) {
-  const double ta = a.seconds + a.setupSeconds / amortize,
-               tb = b.seconds + b.setupSeconds / amortize;
-  const Ratio q = ratioOfMeans(a.mse * ta, a.mseStderr * ta, b.mse * tb, b.mseStderr * tb);
+  const auto [pa, ea] = productAndError(a, amortize);
+  const auto [pb, eb] = productAndError(b, amortize);
+  const Ratio q = ratioOfMeans(pa, ea, pb, eb);
   return {q.value, q.stderr_};
 }
 
@@ -100,12 +113,12 @@ std::string describe(const TimeVerdict &v) {
   char buf[160];
   std::string s = v.scene + ", " + std::to_string(v.spp) + " spp: ";
   if (v.best.size() == 1) {
-    s += v.best[0];
+    s += rowLabel(v.best[0]);
   } else {
     s += "tie between";
     for (std::size_t i = 0; i < v.best.size(); ++i)
-      s += (i == 0 ? " " : i + 1 == v.best.size() ? " and " : ", ") + v.best[i];
-    s += " (within 2 standard errors; " + v.best[0] + " lowest)";
+      s += (i == 0 ? " " : i + 1 == v.best.size() ? " and " : ", ") + rowLabel(v.best[i]);
+    s += " (within 2 standard errors; " + rowLabel(v.best[0]) + " lowest)";
   }
   if (std::isfinite(v.bestTime.ratio) && v.bestTime.ratioStderr > 0) {
     std::snprintf(buf, sizeof buf, ", at %.3f+-%.3f of sobol's MSE x time", v.bestTime.ratio,
@@ -115,12 +128,12 @@ std::string describe(const TimeVerdict &v) {
   if (!v.runnerUp.empty()) {
     std::snprintf(buf, sizeof buf, " at %.3f+-%.3f of its MSE x time", v.separation,
                   v.separationStderr);
-    s += "; ahead of " + v.runnerUp + buf;
+    s += "; ahead of " + rowLabel(v.runnerUp) + buf;
   }
   if (std::isfinite(v.toBestClassic.value)) {
     std::snprintf(buf, sizeof buf, "; MSE %.3f+-%.3f of the best classic's", v.toBestClassic.value,
                   v.toBestClassic.stderr_);
-    s += buf + (" (" + v.bestClassic + ")");
+    s += buf + (" (" + rowLabel(v.bestClassic) + ")");
   }
   return s;
 }
@@ -129,12 +142,21 @@ std::vector<TimedRow> timedRows(const CsvTable &table) {
   const std::size_t scene = table.column("scene"), backend = table.column("backend"),
                     spp = table.column("spp"), mse = table.column("mse"),
                     mseErr = table.column("mse_stderr"), secs = table.column("seconds"),
-                    setup = table.column("setup_seconds");
+                    setup = table.column("setup_seconds"),
+                    secsErr = table.column(timeSpreadColumns()[1]);
   std::vector<TimedRow> out;
-  for (const auto &r : table.rows())
+  for (const auto &r : table.rows()) {
+    const double timeError = parseNumber(r[secsErr]);
     out.push_back({r[scene], r[backend], std::size_t(parseNumber(r[spp])), parseNumber(r[mse]),
-                   parseNumber(r[mseErr]), parseNumber(r[secs]), parseNumber(r[setup])});
+                   parseNumber(r[mseErr]), parseNumber(r[secs]), parseNumber(r[setup]),
+                   std::isfinite(timeError) ? timeError : 0.0});
+  }
   return out;
+}
+
+const std::vector<std::string> &timeSpreadColumns() {
+  static const std::vector<std::string> names{"seconds_mad", "seconds_stderr"};
+  return names;
 }
 
 const std::vector<std::string> &equalTimeColumns() {

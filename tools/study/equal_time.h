@@ -9,10 +9,18 @@
 // views, costs 1/K of its setup per render. A set fetched from the cache
 // costs nothing (setup 0).
 //
+// A row's render seconds are the median of its repeats, which a study
+// renders interleaved across rows (every row's repeat 1, then every row's
+// repeat 2, ...), so that work that comes and goes on the machine slows
+// every row alike; their spread (seconds_mad) and the median's standard
+// error (seconds_stderr, medianAndSpread in statistics.h) are kept beside
+// them.
+//
 // equal_time_ratio is a row's MSE x total seconds over sobol's on the same
 // scene and spp: below 1, the backend reaches sobol's error in less time.
-// Its standard error comes from the two MSEs' (the times are taken as exact;
-// ratioOfMeans, statistics.h).
+// Its standard error counts both rows' MSE errors and their render times'
+// (ratioOfMeans, statistics.h), so that a verdict needs the times decided as
+// well as the errors; setup seconds are taken as exact.
 
 #include <cstddef>
 #include <string>
@@ -29,6 +37,7 @@ struct TimedRow {
   std::size_t spp = 0;
   double mse = 0, mseStderr = 0;
   double seconds = 0, setupSeconds = 0;
+  double secondsStderr = 0;  // the median render time's; 0 in a file from before it
 };
 
 struct EqualTime {
@@ -65,6 +74,10 @@ std::string describe(const TimeVerdict &v);
 
 // A render study table's rows as TimedRows (the columns of render.csv).
 std::vector<TimedRow> timedRows(const CsvTable &table);
+
+// render.csv's columns of the render times' spread: seconds_mad,
+// seconds_stderr (missing from files written before them).
+const std::vector<std::string> &timeSpreadColumns();
 
 // The names of render.csv's columns that equalTime fills.
 const std::vector<std::string> &equalTimeColumns();

@@ -9,6 +9,7 @@
 #include "sampler/io/image_io.h"
 #include "sampler/io/round_trip.h"
 #include "tools/study/baselines.h"
+#include "tools/study/equal_time.h"
 #include "tools/study/statistics.h"
 
 namespace nuld::study {
@@ -73,55 +74,43 @@ std::vector<RepeatRecord> cellRecords(const CsvTable &repeats, const std::string
   return out;
 }
 
-// Repeats [first, last) of the cell; a refusal (BackendRefusal) is an
-// outcome, any other error propagates. `progress(r, d, n)` follows the
-// round's repeat r's render.
-CellOutcome renderCell(
-    const Cell &c, const RenderStudySettings &s, std::size_t first, std::size_t last,
-    const std::function<void(std::size_t r, std::size_t d, std::size_t n)> &progress) {
+CellOutcome renderRepeat(const Cell &c, const RenderStudySettings &s, std::size_t r,
+                         bool withSpectrum,
+                         const std::function<void(std::size_t d, std::size_t n)> &progress) {
   CellOutcome out;
-  for (std::size_t r = first; r < last; ++r) {
-    const auto start = Clock::now();
-    const auto b = makeBackend(c.spec, s.seed + r);
-    RenderStats stats;
-    Image img;
-    try {
-      img = render(c.scene, c.settings, *b, &stats,
-                   [&](std::size_t d, std::size_t n) { progress(r - first, d, n); });
-    } catch (const BackendRefusal &e) {
-      out = CellOutcome::skipped(e.what());
-      return out;
-    }
-    RepeatRecord record;
-    if (r == 0) record.setupSeconds = c.setupSeconds;  // the cell's, once
-    record.seconds = secondsSince(start);
-    record.madeSeconds = stats.setsMadeSeconds;
-    record.raysPerSecond = stats.raysPerSecond();
-    const ImageError e = compareImages(img, c.reference);
-    record.mse = e.mse;
-    record.relmse = e.relmse;
-    record.screen = e.screen;
-    record.winsorized = e.winsorized;
-    record.topShare = e.topShare;
-    record.nonFinite = e.nonFinitePixels;
-    record.rejected = stats.rejectedSamples;
-    if (e.nonFinitePixels == 0) {
-      FlipResult flip = hdrFlip(img, c.reference);
-      record.flip = flip.mean;
-      if (r == 0) out.flipMap = flipMapImage(flip);  // the one the report shows
-    }
-    out.records.push_back(record);
-    if (first == 0) {
-      const std::vector<double> spectrum = errorPowerSpectrum(img, c.reference);
-      out.spectrum.resize(spectrum.size());
-      for (std::size_t k = 0; k < spectrum.size(); ++k)
-        out.spectrum[k] += spectrum[k] / double(last - first);
-    }
-    if (r == 0) {
-      out.attributes = renderAttributes(c.sceneSlug, c.scene, c.settings, b->name(), s.seed, stats);
-      out.image = std::move(img);
-      out.note = b->report().note;
-    }
+  const auto start = Clock::now();
+  const auto b = makeBackend(c.spec, s.seed + r);
+  RenderStats stats;
+  Image img;
+  try {
+    img = render(c.scene, c.settings, *b, &stats, progress);
+  } catch (const BackendRefusal &e) {
+    return CellOutcome::skipped(e.what());
+  }
+  RepeatRecord record;
+  if (r == 0) record.setupSeconds = c.setupSeconds;  // the cell's, once
+  record.seconds = secondsSince(start);
+  record.madeSeconds = stats.setsMadeSeconds;
+  record.raysPerSecond = stats.raysPerSecond();
+  const ImageError e = compareImages(img, c.reference);
+  record.mse = e.mse;
+  record.relmse = e.relmse;
+  record.screen = e.screen;
+  record.winsorized = e.winsorized;
+  record.topShare = e.topShare;
+  record.nonFinite = e.nonFinitePixels;
+  record.rejected = stats.rejectedSamples;
+  if (e.nonFinitePixels == 0) {
+    FlipResult flip = hdrFlip(img, c.reference);
+    record.flip = flip.mean;
+    if (r == 0) out.flipMap = flipMapImage(flip);  // the one the report shows
+  }
+  out.records.push_back(record);
+  if (withSpectrum) out.spectrum = errorPowerSpectrum(img, c.reference);
+  if (r == 0) {
+    out.attributes = renderAttributes(c.sceneSlug, c.scene, c.settings, b->name(), s.seed, stats);
+    out.image = std::move(img);
+    out.note = b->report().note;
   }
   return out;
 }
@@ -151,7 +140,8 @@ std::vector<std::string> composeRow(const std::string &sceneSlug, const std::str
   // time (splitRepeatSeconds).
   const RepeatSeconds split = splitRepeatSeconds(whole, made);
   const MeanAndError m = meanAndError(mse), rm = meanAndError(relmse),
-                     t = meanAndError(split.render), rps = meanAndError(raysPerSecond);
+                     rps = meanAndError(raysPerSecond);
+  const MedianAndSpread t = medianAndSpread(split.render);
   std::vector<std::string> row = {sceneSlug,
                                   backend,
                                   std::to_string(spp),
@@ -160,7 +150,7 @@ std::vector<std::string> composeRow(const std::string &sceneSlug, const std::str
                                   formatNumber(m.stderr_),
                                   formatNumber(rm.mean),
                                   formatNumber(rm.stderr_),
-                                  formatNumber(t.mean),
+                                  formatNumber(t.median),
                                   formatNumber(setupSeconds + split.setup),
                                   "",  // total_seconds .. amortize: fillEqualTime
                                   "",
@@ -186,6 +176,9 @@ std::vector<std::string> composeRow(const std::string &sceneSlug, const std::str
   const MeanAndError fm = meanAndError(flip);
   row[at(flipColumns()[0])] = formatNumber(fm.mean);
   row[at(flipColumns()[1])] = formatNumber(fm.stderr_);
+  row[at(timeSpreadColumns()[0])] = formatNumber(t.mad);
+  row[at(timeSpreadColumns()[1])] = formatNumber(t.stderr_);
+  row[at("label")] = rowLabel(backend);
   return row;
 }
 

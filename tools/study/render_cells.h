@@ -23,7 +23,8 @@ namespace fs = std::filesystem;
 struct CellFiles {
   fs::path image, errorMap, flipMap, spectrum;
   CellFiles(const fs::path &dir, const std::string &backend, std::size_t spp) {
-    const std::string stem = slug(backend) + "_spp" + std::to_string(spp);
+    // A labelled row's files are named for its label (rowLabel).
+    const std::string stem = slug(rowLabel(backend)) + "_spp" + std::to_string(spp);
     image = dir / (stem + ".exr");
     errorMap = dir / (stem + "_error.png");
     flipMap = dir / (stem + "_flip.png");
@@ -72,17 +73,16 @@ const std::vector<std::string> &repeatDerivedColumns();
 std::vector<RepeatRecord> cellRecords(const CsvTable &repeats, const std::string &backend,
                                       std::size_t spp);
 
-// What a cell sends to rank 0: its repeats' records, or why it has none
+// What a repeat of a cell sends to rank 0: its record, or why it has none
 // (the backend's refusal, or the scene's lack of what the backend needs),
-// and, from the round holding repeat 0, its first render (written beside
-// the reference with its error map), that render's FLIP map and the
-// error's spectrum.
+// the error's spectrum when asked, and, from repeat 0, the render (written
+// beside the reference with its error map) and its FLIP map.
 struct CellOutcome {
   std::vector<RepeatRecord> records;  // empty when refused
   std::string refusal;
   std::string note;              // what the backend decided that a user should hear (its note())
-  std::vector<double> spectrum;  // the round's mean errorPowerSpectrum (round of repeat 0)
-  Image image;                   // repeat 0's, when in this round
+  std::vector<double> spectrum;  // errorPowerSpectrum, when asked
+  Image image;                   // repeat 0's
   Image flipMap;                 // repeat 0's FLIP map; empty where it has non-finite pixels
   ImageAttributes attributes;
 
@@ -113,12 +113,12 @@ struct CellOutcome {
   }
 };
 
-// Repeats [first, last) of the cell; a refusal (BackendRefusal) is an
-// outcome, any other error propagates. `progress(r, d, n)` follows the
-// round's repeat r's render.
-CellOutcome renderCell(
-    const Cell &c, const RenderStudySettings &s, std::size_t first, std::size_t last,
-    const std::function<void(std::size_t r, std::size_t d, std::size_t n)> &progress);
+// Repeat r of the cell (seed s.seed + r), and the error's spectrum when
+// asked; a refusal (BackendRefusal) is an outcome, any other error
+// propagates. `progress(d, n)` follows the render.
+CellOutcome renderRepeat(const Cell &c, const RenderStudySettings &s, std::size_t r,
+                         bool withSpectrum,
+                         const std::function<void(std::size_t d, std::size_t n)> &progress);
 
 // A cell's row from all of its repeats' records.
 std::vector<std::string> composeRow(const std::string &sceneSlug, const std::string &backend,

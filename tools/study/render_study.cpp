@@ -152,6 +152,23 @@ struct CellRequest {
   std::size_t spp = 0, first = 0, last = 0;
 };
 
+// Rank 0's requests, on every rank.
+std::vector<CellRequest> broadcastRequests(const Ranks &ranks, std::vector<CellRequest> requests) {
+  ByteWriter w;
+  w.put(std::uint64_t(requests.size()));
+  for (const CellRequest &r : requests) w.put(r.word).put(r.spp).put(r.first).put(r.last);
+  const std::string bytes = ranks.broadcast(ranks.root() ? w.take() : std::string());
+  ByteReader r(bytes);
+  requests.resize(r.get<std::uint64_t>());
+  for (CellRequest &c : requests) {
+    r.get(c.word);
+    r.get(c.spp);
+    r.get(c.first);
+    r.get(c.last);
+  }
+  return requests;
+}
+
 ScenePlan planScene(const SceneStudy &scene, const std::vector<CellRequest> &requests,
                     const RenderStudySettings &s) {
   ScenePlan plan;
@@ -204,21 +221,43 @@ std::set<fs::path> makeSceneSets(const Ranks &ranks, const SceneStudy &scene, co
   return made;
 }
 
-// The cells' repeats, rendered side by side; rank 0 keeps their records in
-// `repeats`, writes the images of the round holding repeat 0, and puts each
-// cell's row (made from all its records) into the table, or notes why a
-// cell was skipped. Returns the seconds the round's repeats took.
+// The cells' repeats, interleaved: every cell's first repeat of the round,
+// then every cell's second, ..., so that other work on the machine, which
+// comes and goes, falls on every row alike rather than on the rows rendered
+// while it ran. Rank 0 keeps the records in `repeats`, writes repeat 0's
+// images and the mean spectrum of the round holding it, and puts each
+// cell's row (made from all its records so far) into the table after each
+// of its repeats, or notes why a cell was skipped. Returns the seconds the
+// round's repeats took.
 double renderCells(const Ranks &ranks, const SceneStudy &scene, const ScenePlan &plan,
                    const std::set<fs::path> &madeNow, const Image &reference,
                    const RenderStudySettings &s, CsvTable &table, CsvTable &repeats,
                    const CsvTable &refs, RenderStudyResult &result, const StudyProgress &progress) {
+  struct Piece {
+    std::size_t cell, repeat;
+  };
+  std::vector<Piece> pieces;
+  std::size_t longest = 0;
   double totalWork = 0, work = 0, seconds = 0;
-  for (const PlannedCell &c : plan.cells) totalWork += double(c.spp) * double(c.last - c.first);
+  for (const PlannedCell &c : plan.cells) {
+    longest = std::max(longest, c.last - c.first);
+    totalWork += double(c.spp) * double(c.last - c.first);
+  }
+  for (std::size_t k = 0; k < longest; ++k)
+    for (std::size_t i = 0; i < plan.cells.size(); ++i)
+      if (plan.cells[i].first + k < plan.cells[i].last)
+        pieces.push_back({i, plan.cells[i].first + k});
+  // Per cell: refused (its later repeats are not tried), and the sum of its
+  // spectra in the round holding repeat 0.
+  std::vector<char> refused(plan.cells.size(), 0);
+  std::vector<std::vector<double>> spectrumSum(plan.cells.size());
+  std::vector<std::size_t> spectrumCount(plan.cells.size(), 0);
   runInRounds(
-      ranks, plan.cells.size(),
-      [&](std::size_t i) {
-        const PlannedCell &c = plan.cells[i];
+      ranks, pieces.size(),
+      [&](std::size_t p) {
+        const PlannedCell &c = plan.cells[pieces[p].cell];
         if (!c.plan.spec) return CellOutcome::skipped(c.plan.why).bytes();
+        if (refused[pieces[p].cell]) return CellOutcome::skipped("").bytes();
         double setupSeconds = c.samplesLobes ? plan.tableSeconds : 0;
         for (const SetsJob &job : c.plan.sets)
           if (madeNow.contains(job.file))
@@ -227,51 +266,62 @@ double renderCells(const Ranks &ranks, const SceneStudy &scene, const ScenePlan 
         settings.spp = c.spp;
         const Cell cell{scene.loaded.scene, settings,     scene.slug, c.backend.word,
                         *c.plan.spec,       setupSeconds, reference,  scene.dir};
-        CellOutcome outcome =
-            renderCell(cell, s, c.first, c.last, [&](std::size_t r, std::size_t d, std::size_t n) {
-              if (progress && ranks.root())
-                progress(scene.slug + ": renders",
-                         (work + double(ranks.size()) * double(c.spp) *
-                                     (double(r) + double(d) / double(n))) /
-                             totalWork,
-                         c.backend.word + " spp " + std::to_string(c.spp) + ", repeat " +
-                             std::to_string(c.first + r + 1));
-            });
-        return outcome.bytes();
+        const std::size_t r = pieces[p].repeat;
+        return renderRepeat(cell, s, r, c.first == 0,
+                            [&](std::size_t d, std::size_t n) {
+                              if (progress && ranks.root())
+                                progress(scene.slug + ": renders",
+                                         (work + double(ranks.size()) * double(c.spp) * double(d) /
+                                                     double(n)) /
+                                             totalWork,
+                                         c.backend.word + " spp " + std::to_string(c.spp) +
+                                             ", repeat " + std::to_string(r + 1));
+                            })
+            .bytes();
       },
-      [&](std::size_t i, const std::string &bytes) {
+      [&](std::size_t p, const std::string &bytes) {
+        const std::size_t i = pieces[p].cell, repeat = pieces[p].repeat;
         const PlannedCell &c = plan.cells[i];
-        work += double(c.spp) * double(c.last - c.first);
+        work += double(c.spp);
+        if (refused[i]) return;
         const CellOutcome outcome = CellOutcome::from(bytes);
         if (!outcome.note.empty() &&
             std::find(result.notes.begin(), result.notes.end(), outcome.note) == result.notes.end())
           result.notes.push_back(outcome.note);
         if (outcome.records.empty()) {
+          refused[i] = 1;
           result.skipped.push_back(scene.slug + " " + c.backend.word + " " + std::to_string(c.spp) +
                                    ": " + outcome.refusal);
           return;
         }
         const CellFiles files(scene.dir, c.backend.word, c.spp);
-        if (c.first == 0) {
+        if (repeat == 0) {
           writeRender(files.image.string(), outcome.image, outcome.attributes);
           writeImage(files.errorMap.string(), errorMap(outcome.image, reference));
           // Repeat 0's HDR-FLIP map, which the report shows beside the error map.
           if (!outcome.flipMap.pixels.empty()) writeImage(files.flipMap.string(), outcome.flipMap);
-          if (!outcome.spectrum.empty()) writeSpectrum(files.spectrum, outcome.spectrum);
         }
-        for (std::size_t k = 0; k < outcome.records.size(); ++k) {
-          const RepeatRecord &r = outcome.records[k];
-          const std::size_t repeat = c.first + k;
-          seconds += r.seconds;
-          repeats.putRow(
-              {c.backend.word, std::to_string(c.spp), std::to_string(repeat),
-               std::to_string(s.seed + repeat), formatNumber(r.mse), formatNumber(r.relmse),
-               formatNumber(r.screen), formatNumber(r.winsorized), formatNumber(r.topShare),
-               formatNumber(r.seconds), formatNumber(r.madeSeconds), formatNumber(r.setupSeconds),
-               formatNumber(r.raysPerSecond), std::to_string(r.nonFinite),
-               std::to_string(r.rejected), formatNumber(r.flip)},
-              3);
+        if (!outcome.spectrum.empty()) {
+          // The mean so far, written after each repeat (a run cut short
+          // leaves the mean of the repeats it rendered).
+          std::vector<double> &sum = spectrumSum[i];
+          sum.resize(outcome.spectrum.size());
+          for (std::size_t k = 0; k < sum.size(); ++k) sum[k] += outcome.spectrum[k];
+          const double n = double(++spectrumCount[i]);
+          std::vector<double> mean(sum.size());
+          for (std::size_t k = 0; k < sum.size(); ++k) mean[k] = sum[k] / n;
+          writeSpectrum(files.spectrum, mean);
         }
+        const RepeatRecord &r = outcome.records.front();
+        seconds += r.seconds;
+        repeats.putRow(
+            {c.backend.word, std::to_string(c.spp), std::to_string(repeat),
+             std::to_string(s.seed + repeat), formatNumber(r.mse), formatNumber(r.relmse),
+             formatNumber(r.screen), formatNumber(r.winsorized), formatNumber(r.topShare),
+             formatNumber(r.seconds), formatNumber(r.madeSeconds), formatNumber(r.setupSeconds),
+             formatNumber(r.raysPerSecond), std::to_string(r.nonFinite), std::to_string(r.rejected),
+             formatNumber(r.flip)},
+            3);
         const std::vector<RepeatRecord> all = cellRecords(repeats, c.backend.word, c.spp);
         table.putRow(composeRow(scene.slug, c.backend.word, c.spp, all, files, s.out), 3);
         fillDerivedColumns(table, refs, s.amortize);
@@ -345,18 +395,7 @@ void addRepeats(const Ranks &ranks, const SceneStudy &scene, const RenderStudySe
       markStops(table, adaptive ? &decision : nullptr, rows);
     }
     if (!adaptive) return;
-    ByteWriter w;
-    w.put(std::uint64_t(more.size()));
-    for (const CellRequest &r : more) w.put(r.word).put(r.spp).put(r.first).put(r.last);
-    const std::string bytes = ranks.broadcast(ranks.root() ? w.take() : std::string());
-    ByteReader r(bytes);
-    more.resize(r.get<std::uint64_t>());
-    for (CellRequest &c : more) {
-      r.get(c.word);
-      r.get(c.spp);
-      r.get(c.first);
-      r.get(c.last);
-    }
+    more = broadcastRequests(ranks, std::move(more));
     if (more.empty()) return;
     const ScenePlan plan = planScene(scene, more, s);
     const std::set<fs::path> madeNow = makeSceneSets(ranks, scene, plan, progress);
@@ -410,16 +449,27 @@ RenderStudyResult runRenderStudy(const RenderStudySettings &s, const StudyProgre
                       fs::relative(scene.dir / "reference.exr", s.out));
     }
 
+    CsvTable repeats(scene.dir / "repeats.csv", repeatColumns(), repeatDerivedColumns());
     std::vector<CellRequest> missing;
-    for (std::size_t spp : s.spp)
-      for (const std::string &word : s.backends)
-        if (!table.hasRow({scene.slug, word, std::to_string(spp)}))
-          missing.push_back({word, spp, 0, s.repeats});
+    if (ranks.root()) {
+      repeats.loadExisting();
+      for (std::size_t spp : s.spp)
+        for (const std::string &word : s.backends) missing.push_back({word, spp, 0, s.repeats});
+      // A row a run cut short left with fewer repeats than asked is topped
+      // up from its records (a row of an earlier version has none to add
+      // to, and is kept).
+      std::erase_if(missing, [&](CellRequest &r) {
+        const auto row = table.findRow({scene.slug, r.word, std::to_string(r.spp)});
+        if (!row) return false;
+        r.first = cellRecords(repeats, r.word, r.spp).size();
+        const auto count = std::size_t(parseNumber((*row)[table.column("repeats")]));
+        return r.first < count || r.first >= r.last;
+      });
+    }
+    missing = broadcastRequests(ranks, std::move(missing));
     const ScenePlan plan = planScene(scene, missing, s);
     if (!plan.lobeNote.empty()) result.notes.push_back(plan.lobeNote);
     const std::set<fs::path> madeNow = makeSceneSets(ranks, scene, plan, progress);
-    CsvTable repeats(scene.dir / "repeats.csv", repeatColumns(), repeatDerivedColumns());
-    if (ranks.root()) repeats.loadExisting();
     renderCells(ranks, scene, plan, madeNow, ref.result.image, s, table, repeats, refs, result,
                 progress);
     addRepeats(ranks, scene, s, table, repeats, ref.result.image, refs, result, progress);

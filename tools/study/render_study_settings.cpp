@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
@@ -45,6 +46,8 @@ const std::vector<std::string> &renderStudyColumns() {
     c.insert(c.end(), screenColumns().begin(), screenColumns().end());
     c.insert(c.end(), robustColumns().begin(), robustColumns().end());
     c.insert(c.end(), flipColumns().begin(), flipColumns().end());
+    c.insert(c.end(), timeSpreadColumns().begin(), timeSpreadColumns().end());
+    c.push_back("label");  // the row's name (rowLabel): its backend word, or LABEL of LABEL=WORD
     return c;
   }();
   return all;
@@ -59,6 +62,8 @@ const std::vector<std::string> &renderStudyDerivedColumns() {
     d.insert(d.end(), screenColumns().begin(), screenColumns().end());
     d.insert(d.end(), robustColumns().begin(), robustColumns().end());
     d.insert(d.end(), flipColumns().begin(), flipColumns().end());
+    d.insert(d.end(), timeSpreadColumns().begin(), timeSpreadColumns().end());
+    d.push_back("label");
     return d;
   }();
   return derived;
@@ -97,8 +102,14 @@ void RenderStudySettings::validate() const {
   sets.validate();
   render.check(OverrideNames::options());  // the render settings, as every render checks
   if (out.empty()) throw std::invalid_argument("study render: -o OUTDIR is required");
-  for (const auto &b : backends)    // fail now, not after an hour of reference
+  std::set<std::string> labels;
+  for (const auto &b : backends) {  // fail now, not after an hour of reference
     parseBackendWord(b);            // the word only: files are read per cell
+    // Rows are named by their labels in tables and files.
+    if (!labels.insert(slug(rowLabel(b))).second)
+      throw std::invalid_argument("--backends: two rows named '" + rowLabel(b) +
+                                  "' (label one of them: LABEL=WORD)");
+  }
   for (const auto &scene : scenes)  // every scene file, before the first reference
     if (!isBuiltInScene(scene)) requireInputFile(scene, "the scene file");
 }

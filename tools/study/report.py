@@ -164,7 +164,7 @@ def render_section(root, scene, rows, ref, plots_dir, scale):
                f"{nonfinite} non-finite pixels and {rejected} non-finite samples (dropped by "
                f"the renderer) over all {len(rows)} renders.</p>")
     slopes = {(r["scene"], r["backend"]): r
-              for r in read_csv(os.path.join(root, "slopes.csv"))}
+              for r in labelled(read_csv(os.path.join(root, "slopes.csv")), "backend")}
     plot = render_plots(scene, rows, plots_dir, slopes)
     out.append(f'<p><img class="plot" src="{plot}" alt="error plots of {html.escape(scene)}"></p>')
     spectrum = spectrum_plots(root, scene, rows, plots_dir)
@@ -237,7 +237,9 @@ def render_section(root, scene, rows, ref, plots_dir, scale):
                "the MSE's: a few pixels decide it. 'Pays for its setup after K renders': the fewest renders sharing "
                "its setup after which the learned row reaches the best classic row's error "
                "sooner (break_even_renders).</p>")
-    verdicts = [v for v in read_csv(os.path.join(root, "verdicts.csv")) if v["scene"] == scene]
+    verdicts = [v for v in labelled(read_csv(os.path.join(root, "verdicts.csv")),
+                                    "best", "tied", "runner_up", "best_classic")
+                if v["scene"] == scene]
     if verdicts:
         out.append("<p><b>Lowest error for the time</b> (MSE × total seconds, setup spread "
                    f"over {amortize:g} render(s)):</p><ul>")
@@ -364,11 +366,26 @@ img.plot-small { max-width: 900px; width: 100%; }
 """
 
 
+# A row's backend word -> its label (render.csv's label column: LABEL of
+# LABEL=WORD, else the word), which the page shows wherever it names a row.
+LABELS = {}
+
+
+def labelled(rows, *columns):
+    for r in rows:
+        for c in columns:
+            if r.get(c):
+                r[c] = " ".join(LABELS.get(w, w) for w in r[c].split(" "))
+    return rows
+
+
 def main():
     if len(sys.argv) != 2:
         sys.exit(__doc__)
     root = sys.argv[1]
     render_rows = read_csv(os.path.join(root, "render.csv"))
+    LABELS.update({r["backend"]: r.get("label") or r["backend"] for r in render_rows})
+    labelled(render_rows, "backend", "best_classic", "best_classic_screen", "best_classic_flip")
     refs = {r["scene"]: r for r in read_csv(os.path.join(root, "references.csv"))}
     integrate_rows = read_csv(os.path.join(root, "integrate.csv"))
     if not render_rows and not integrate_rows:
@@ -389,12 +406,16 @@ def main():
                       for name in ("render.csv", "verdicts.csv", "references.csv",
                                    "slopes.csv", "integrate.csv")
                       if os.path.exists(os.path.join(root, name)))
+    # The comparison page nuld writes beside it (tools/study/compare_page.h).
+    compare = ('<br><a href="compare.html">Compare the renders at full size</a> '
+               '(flip between rows, zoom, exposure, error and FLIP maps)'
+               if os.path.exists(os.path.join(root, "compare.html")) else "")
     # No absolute path on the page: it is meant to be copied and shared.
     page = (f"<!DOCTYPE html><html><head><meta charset='utf-8'>"
             f"<meta name='viewport' content='width=device-width, initial-scale=1'>"
             f"<title>nuld study</title><style>{STYLE}</style></head><body><h1>nuld study</h1>"
             f"<p class='note'>Generated {datetime.datetime.now():%Y-%m-%d %H:%M}. {toc}"
-            f"<br>Data: {data}</p>" + "\n".join(body) + "</body></html>\n")
+            f"<br>Data: {data}{compare}</p>" + "\n".join(body) + "</body></html>\n")
     write_text(os.path.join(root, "index.html"), page)
     print(f"report: {os.path.join(root, 'index.html')}")
 

@@ -5,6 +5,7 @@
 // the render study reports (to sobol, to the best classic backend, at equal
 // time).
 
+#include <algorithm>
 #include <cmath>
 #include <span>
 #include <vector>
@@ -26,6 +27,34 @@ inline MeanAndError meanAndError(std::span<const double> v) {
     s.std = std::sqrt(ss / (n - 1));
     s.stderr_ = std::sqrt(ss / (n - 1) / n);
   }
+  return s;
+}
+
+// Render times: the median (a repeat slowed by other work on the machine
+// moves it less than the mean), the median absolute deviation (the spread)
+// and the median's standard error, estimated from the deviation as for a
+// normal sample (sigma ~ 1.4826 MAD, error of the median ~ 1.2533 sigma /
+// sqrt n). Zero spread and error for fewer than two values.
+struct MedianAndSpread {
+  double median = 0, mad = 0, stderr_ = 0;
+};
+inline double medianOf(std::vector<double> v) {
+  if (v.empty()) return NAN;
+  const std::size_t h = v.size() / 2;
+  std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(h), v.end());
+  const double upper = v[h];
+  if (v.size() % 2) return upper;
+  return 0.5 * (upper + *std::max_element(v.begin(), v.begin() + std::ptrdiff_t(h)));
+}
+inline MedianAndSpread medianAndSpread(std::span<const double> v) {
+  MedianAndSpread s;
+  if (v.empty()) return s;
+  s.median = medianOf({v.begin(), v.end()});
+  if (v.size() < 2) return s;
+  std::vector<double> deviation;
+  for (double x : v) deviation.push_back(std::abs(x - s.median));
+  s.mad = medianOf(std::move(deviation));
+  s.stderr_ = 1.2533 * 1.4826 * s.mad / std::sqrt(double(v.size()));
   return s;
 }
 
