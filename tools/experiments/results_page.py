@@ -97,7 +97,9 @@ def tables(outs, choice, kept, baseline="albedo"):
         for s in spps:
             head += [f"MSE / sobol ({baseline}), {s} spp", f"MSE / best classic, {s} spp",
                      f"screen / sobol, {s} spp"]
-        head += ["time / sobol", "setup s", "pays for itself after (renders, 64 spp)"]
+        top = spps[-1]
+        head += [f"time / sobol, {top} spp", f"MSE × time / sobol, {top} spp", "setup s",
+                 f"pays for itself after (renders, {top} spp)"]
         lines.append("| " + " | ".join(head) + " |")
         lines.append("|" + "---|" * len(head))
         by = {(r["scene"], r["backend"], int(r["spp"])): r for r in rows}
@@ -111,7 +113,7 @@ def tables(outs, choice, kept, baseline="albedo"):
                 if not any((scene, b, s) in by for s in spps):
                     continue
                 out_row = [scene, f"`{b}`"]
-                times, setup = [], 0.0
+                setup = 0.0
                 for s in spps:
                     r, base = by.get((scene, b, s)), baseline_rows.get((scene, s))
                     own = by.get((scene, "sobol", s))
@@ -133,11 +135,21 @@ def tables(outs, choice, kept, baseline="albedo"):
                         r.get("screen_ratio_sobol_stderr"))
                     out_row.append("–" if math.isnan(sq) else "1" if b == "sobol" else
                                    cell(sq, sse))
-                    times.append(num(r["seconds"]) / num(own["seconds"]))
                     setup = max(setup, num(r["setup_seconds"]))
-                last = by.get((scene, b, spps[-1]), {})
-                out_row += [f"{sum(times) / len(times):.2f}" if times else "–", f"{setup:.1f}",
-                            pays(last)]
+                # At the largest spp: the median render time over its own
+                # study's sobol's, and the MSE x time ratio (render.csv's
+                # equal_time_ratio), each with its error (the times'
+                # included: interleaved repeats, docs/studies.md).
+                last, own = by.get((scene, b, top), {}), by.get((scene, "sobol", top), {})
+                if last and own and b != "sobol":
+                    tq, tse = ratio(num(last["seconds"]), num(last.get("seconds_stderr")),
+                                    num(own["seconds"]), num(own.get("seconds_stderr")))
+                    out_row += [f"{tq:.2f} ±{tse:.2f}" if not math.isnan(tse) else "–",
+                                cell(num(last["equal_time_ratio"]),
+                                     num(last["equal_time_ratio_stderr"]))]
+                else:
+                    out_row += ["1" if last else "–"] * 2
+                out_row += [f"{setup:.1f}", pays(last)]
                 lines.append("| " + " | ".join(out_row) + " |")
             if ref:
                 lines.append(f"| {scene} | *reference* ({ref['backend']}, {ref['spp']} spp) | "

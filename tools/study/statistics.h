@@ -31,10 +31,12 @@ inline MeanAndError meanAndError(std::span<const double> v) {
 }
 
 // Render times: the median (a repeat slowed by other work on the machine
-// moves it less than the mean), the median absolute deviation (the spread)
-// and the median's standard error, estimated from the deviation as for a
-// normal sample (sigma ~ 1.4826 MAD, error of the median ~ 1.2533 sigma /
-// sqrt n). Zero spread and error for fewer than two values.
+// moves it less than the mean), the median absolute deviation (the spread
+// printed beside it) and the median's standard error, 1.2533 s / sqrt n as
+// for a normal sample but with s the sample standard deviation rather than
+// one estimated from the MAD: load that comes and goes leaves the times in
+// two clusters, whose median may fall in either while their MAD stays
+// small, and s sees both. Zero spread and error for fewer than two values.
 struct MedianAndSpread {
   double median = 0, mad = 0, stderr_ = 0;
 };
@@ -54,7 +56,7 @@ inline MedianAndSpread medianAndSpread(std::span<const double> v) {
   std::vector<double> deviation;
   for (double x : v) deviation.push_back(std::abs(x - s.median));
   s.mad = medianOf(std::move(deviation));
-  s.stderr_ = 1.2533 * 1.4826 * s.mad / std::sqrt(double(v.size()));
+  s.stderr_ = 1.2533 * meanAndError(v).stderr_;
   return s;
 }
 
