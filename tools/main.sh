@@ -12,7 +12,7 @@
 # primary samples; their optimization is paid once (setup_s) and reused by
 # every render. The table ends with the equal-time verdict per spp: the
 # backend with the lowest MSE x (render seconds + setup), ties within two
-# standard errors named as ties. The study directory (CSV, images, plots, index.html) is left
+# standard errors named as ties. The study directory (CSV, images, plots, index.html, compare.html) is left
 # in BUILD/study-default; `nuld study render --help` lists the knobs of the
 # full studies (docs/studies.md).
 set -euo pipefail
