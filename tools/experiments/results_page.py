@@ -98,7 +98,7 @@ def tables(outs, choice, kept, baseline="albedo"):
             head += [f"MSE / sobol ({baseline}), {s} spp", f"MSE / best classic, {s} spp",
                      f"screen / sobol, {s} spp"]
         top = spps[-1]
-        head += [f"time / sobol, {top} spp", f"MSE × time / sobol, {top} spp", "setup s",
+        head += [f"time / sobol, {top} spp", f"MSE × (time + setup) / sobol, {top} spp", "setup s",
                  f"pays for itself after (renders, {top} spp)"]
         lines.append("| " + " | ".join(head) + " |")
         lines.append("|" + "---|" * len(head))
