@@ -189,6 +189,14 @@ def run(driver, out, page_path, screenshot):
     independent16 = nuld.read_image(os.path.join(out, "default", "independent_spp16.exr"))
     check(page, srgb8(2 * independent16[..., :3]), "independent, 16 spp")
 
+    # "z": the largest power-of-two zoom that fits, centred.
+    s = page.key("z")
+    w, h = page.pixels().shape[1], page.pixels().shape[0]
+    z = s["zoom"]
+    fits, largest = 48 * z <= w and 32 * z <= h, 96 * z > w or 64 * z > h
+    assert z >= 2 and fits and largest, s
+    check(page, srgb8(2 * independent16[..., :3]), "independent, 16 spp, fitted")
+
     # Nothing but files beside the page; no errors in the console.
     # (Chromium keeps no resource timings for file://: the elements that
     # load something say where from.)

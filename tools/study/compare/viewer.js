@@ -149,6 +149,17 @@ const nuldCompare = (() => {
     state.panX = Math.round((view.clientWidth - s.width) / 2);
     state.panY = Math.round((view.clientHeight - s.height) / 2);
   }
+  // The largest power-of-two zoom at which the image fits the view ("z"),
+  // centred: a small study's renders at a readable size.
+  function fit() {
+    const s = sceneOf(), view = canvas();
+    let zoom = 1;
+    while (zoom < 64 && s.width * zoom * 2 <= view.clientWidth &&
+           s.height * zoom * 2 <= view.clientHeight) zoom *= 2;
+    state.zoom = zoom;
+    state.panX = Math.round((view.clientWidth - zoom * s.width) / 2);
+    state.panY = Math.round((view.clientHeight - zoom * s.height) / 2);
+  }
   function zoomAbout(factor, cx, cy) {
     const zoom = Math.min(64, Math.max(1 / 8, state.zoom * factor));
     // The image point under (cx, cy) stays there.
@@ -226,6 +237,7 @@ const nuldCompare = (() => {
     else if (k === "+" || k === "=") zoomAbout(2, cx, cy);
     else if (k === "-") zoomAbout(0.5, cx, cy);
     else if (k === "h") { home(); draw(); }
+    else if (k === "z") { fit(); draw(); }
     else if (k === "]") setExposure(state.exposure + 0.5);
     else if (k === "[") setExposure(state.exposure - 0.5);
     else if (k === "PageDown") setSpp(state.spp + 1);
