@@ -43,11 +43,9 @@ std::string fileBytes(const fs::path &file) {
   return bytes;
 }
 
-// Ward's RGBE: the largest channel's exponent shared by all three, 8 bits
-// of mantissa each (about 0.4 % of the largest channel), a quarter of the
-// size of 32-bit floats. Negative and non-finite values are shown as 0 and
-// the largest RGBE value (a study's renders have none; compare reports them).
-std::string rgbe(const Image &img) {
+}  // namespace
+
+std::string encodeRgbe(const Image &img) {
   std::string out(4 * std::size_t(img.width) * std::size_t(img.height), '\0');
   for (std::size_t p = 0; p < std::size_t(img.width) * std::size_t(img.height); ++p) {
     float c[3];
@@ -67,6 +65,8 @@ std::string rgbe(const Image &img) {
   return out;
 }
 
+namespace {
+
 // One image's data file: made again only when older than a source.
 void writeImageData(const fs::path &file, const std::string &key, const fs::path &render,
                     const fs::path &errorMap, const fs::path &flipMap) {
@@ -80,7 +80,8 @@ void writeImageData(const fs::path &file, const std::string &key, const fs::path
     if (fresh) return;
   }
   const Image img = readImage(render.string(), false);
-  nlohmann::json data = {{"width", img.width}, {"height", img.height}, {"rgbe", base64(rgbe(img))}};
+  nlohmann::json data = {
+      {"width", img.width}, {"height", img.height}, {"rgbe", base64(encodeRgbe(img))}};
   for (const auto &[name, map] : {std::pair{"error", errorMap}, std::pair{"flip", flipMap}})
     if (!map.empty() && fs::exists(map, ec))
       data[name] = "data:image/png;base64," + base64(fileBytes(map));

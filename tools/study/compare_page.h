@@ -9,6 +9,9 @@
 // render as RGBE bytes, its maps as PNG data), loaded when first shown.
 
 #include <filesystem>
+#include <string>
+
+#include "sampler/io/image_io.h"
 
 namespace nuld::study {
 
@@ -19,5 +22,11 @@ namespace nuld::study {
 // std::runtime_error naming a file that cannot be read or written.
 std::filesystem::path writeComparisonPage(const std::filesystem::path &out,
                                           const std::filesystem::path &viewerDir);
+
+// An image's RGB as the page's RGBE bytes (Ward's shared exponent: channel
+// c = (byte + 0.5) 2^(e - 136), e = 0 black), four per pixel: within 0.4 %
+// of the pixel's largest channel. Negative and NaN values are 0, infinite
+// ones the largest RGBE value.
+std::string encodeRgbe(const Image &img);
 
 }  // namespace nuld::study
