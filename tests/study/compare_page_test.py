@@ -191,7 +191,7 @@ def run(driver, out, page_path, screenshot):
 
     # "z": the largest power-of-two zoom that fits, centred.
     s = page.key("z")
-    w, h = page.pixels().shape[1], page.pixels().shape[0]
+    h, w = page.pixels().shape[:2]
     z = s["zoom"]
     fits, largest = 48 * z <= w and 32 * z <= h, 96 * z > w or 64 * z > h
     assert z >= 2 and fits and largest, s

@@ -34,8 +34,8 @@ TEST(RepeatSeconds, NothingMadeMovesNothing) {
 }
 
 // Median, median absolute deviation and the median's error worked by hand;
-// one repeat slowed threefold by other work moves the median by nothing
-// (odd count) where it moves the mean by 40 %.
+// one repeat slowed threefold by other work moves the median by one rank
+// where it pulls the mean towards itself.
 TEST(MedianAndSpread, ByHandAndUnmovedByOneSlowRepeat) {
   const std::vector<double> odd{1.0, 1.2, 0.9, 3.0, 1.1};  // sorted: 0.9 1.0 1.1 1.2 3.0
   const MedianAndSpread m = medianAndSpread(odd);

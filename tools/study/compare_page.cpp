@@ -14,6 +14,7 @@
 #include "sampler/io/image_io.h"
 #include "tools/study/baselines.h"
 #include "tools/study/csv_table.h"
+#include "tools/study/render_cells.h"
 #include "tools/study/render_study.h"
 
 namespace nuld::study {
@@ -67,21 +68,25 @@ std::string encodeRgbe(const Image &img) {
 
 namespace {
 
-// One image's data file: made again only when older than a source.
-void writeImageData(const fs::path &file, const std::string &key, const fs::path &render,
-                    const fs::path &errorMap, const fs::path &flipMap) {
+// Whether an image's data file is there and no older than its sources.
+bool isFresh(const fs::path &file, std::initializer_list<fs::path> sources) {
   std::error_code ec;
-  if (fs::exists(file, ec)) {
-    const auto made = fs::last_write_time(file, ec);
-    bool fresh = !ec;
-    for (const fs::path &source : {render, errorMap, flipMap})
-      if (!source.empty() && fs::exists(source, ec) && fs::last_write_time(source, ec) > made)
-        fresh = false;
-    if (fresh) return;
-  }
-  const Image img = readImage(render.string(), false);
+  if (!fs::exists(file, ec)) return false;
+  const auto made = fs::last_write_time(file, ec);
+  if (ec) return false;
+  for (const fs::path &source : sources)
+    if (!source.empty() && fs::exists(source, ec) && fs::last_write_time(source, ec) > made)
+      return false;
+  return true;
+}
+
+// One image's data file: the render as RGBE, its maps (where they exist) as
+// PNG data.
+void writeImageData(const fs::path &file, const std::string &key, const Image &img,
+                    const fs::path &errorMap, const fs::path &flipMap) {
   nlohmann::json data = {
       {"width", img.width}, {"height", img.height}, {"rgbe", base64(encodeRgbe(img))}};
+  std::error_code ec;
   for (const auto &[name, map] : {std::pair{"error", errorMap}, std::pair{"flip", flipMap}})
     if (!map.empty() && fs::exists(map, ec))
       data[name] = "data:image/png;base64," + base64(fileBytes(map));
@@ -89,8 +94,6 @@ void writeImageData(const fs::path &file, const std::string &key, const fs::path
   writeFileAtomically(
       file, "nuldCompare.image(" + nlohmann::json(key).dump() + ", " + data.dump() + ");\n");
 }
-
-std::string stem(const std::string &relative) { return fs::path(relative).stem().string(); }
 
 }  // namespace
 
@@ -102,9 +105,8 @@ fs::path writeComparisonPage(const fs::path &out, const fs::path &viewerDir) {
   refs.loadExisting();
   const auto col = [&](const char *name) { return table.column(name); };
   const std::size_t scene = col("scene"), backend = col("backend"), spp = col("spp"),
-                    mse = col("mse"), mseErr = col("mse_stderr"), image = col("image"),
-                    error = col("error_map"), flip = table.column(flipColumns()[0]),
-                    flipErr = table.column(flipColumns()[1]);
+                    mse = col("mse"), mseErr = col("mse_stderr"),
+                    flip = table.column(flipColumns()[0]), flipErr = table.column(flipColumns()[1]);
   const auto number = [](const std::string &v) {
     const double x = parseNumber(v);
     return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
@@ -116,23 +118,20 @@ fs::path writeComparisonPage(const fs::path &out, const fs::path &viewerDir) {
   for (const auto &r : table.rows()) {
     if (std::find(scenes.begin(), scenes.end(), r[scene]) == scenes.end())
       scenes.push_back(r[scene]);
-    const fs::path render = out / r[image], errorMap = out / r[error];
-    std::string flipName = errorMap.filename().string();
-    const std::string suffix = "_error.png";
-    fs::path flipMap;
-    if (flipName.ends_with(suffix))
-      flipMap = errorMap.parent_path() /
-                (flipName.substr(0, flipName.size() - suffix.size()) + "_flip.png");
-    if (!fs::exists(render)) continue;  // a row whose image an older run did not keep
-    const std::string key = "data/" + r[scene] + "/" + stem(r[image]) + ".js";
-    writeImageData(out / "compare" / key, key, render, errorMap, flipMap);
-    rows[r[scene]][std::size_t(parseNumber(r[spp]))].push_back(
-        {{"label", rowLabel(r[backend])},
-         {"data", key},
-         {"mse", number(r[mse])},
-         {"mseStderr", number(r[mseErr])},
-         {"flip", number(r[flip])},
-         {"flipStderr", number(r[flipErr])}});
+    const std::size_t n = std::size_t(parseNumber(r[spp]));
+    const CellFiles files(out / r[scene], r[backend], n);  // the names the study wrote
+    if (!fs::exists(files.image)) continue;  // a row whose image an older run did not keep
+    const std::string key = "data/" + r[scene] + "/" + files.image.stem().string() + ".js";
+    if (const fs::path file = out / "compare" / key;
+        !isFresh(file, {files.image, files.errorMap, files.flipMap}))
+      writeImageData(file, key, readImage(files.image.string(), false), files.errorMap,
+                     files.flipMap);
+    rows[r[scene]][n].push_back({{"label", rowLabel(r[backend])},
+                                 {"data", key},
+                                 {"mse", number(r[mse])},
+                                 {"mseStderr", number(r[mseErr])},
+                                 {"flip", number(r[flip])},
+                                 {"flipStderr", number(r[flipErr])}});
   }
 
   nlohmann::json manifest = {{"title", "nuld study: " + out.filename().string()},
@@ -141,8 +140,9 @@ fs::path writeComparisonPage(const fs::path &out, const fs::path &viewerDir) {
     const fs::path reference = out / s / "reference.exr";
     if (!rows.contains(s) || !fs::exists(reference)) continue;
     const std::string key = "data/" + s + "/reference.js";
-    writeImageData(out / "compare" / key, key, reference, {}, {});
-    const Image header = readImage(reference.string(), false);
+    const Image header = readImage(reference.string(), false);  // its size is the scene's
+    if (const fs::path file = out / "compare" / key; !isFresh(file, {reference}))
+      writeImageData(file, key, header, {}, {});
     std::string integrator = "-";
     for (const auto &r : refs.rows())
       if (r[refs.column("scene")] == s) integrator = r[refs.column("integrator")];

@@ -22,11 +22,7 @@ double product(const TimedRow &r, double amortize) {
 // and of its total time (the render seconds', setup exact) in quadrature.
 std::pair<double, double> productAndError(const TimedRow &r, double amortize) {
   const double t = r.seconds + r.setupSeconds / amortize;
-  const auto relative = [](double e, double m) {
-    const double q = e / m;
-    return m > 0 && std::isfinite(q) ? q : 0.0;
-  };
-  const double rm = relative(r.mseStderr, r.mse), rt = relative(r.secondsStderr, t);
+  const double rm = relativeError(r.mseStderr, r.mse), rt = relativeError(r.secondsStderr, t);
   const double p = r.mse * t;
   return {p, p * std::sqrt(rm * rm + rt * rt)};
 }

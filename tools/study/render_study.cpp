@@ -248,10 +248,9 @@ double renderCells(const Ranks &ranks, const SceneStudy &scene, const ScenePlan 
       if (plan.cells[i].first + k < plan.cells[i].last)
         pieces.push_back({i, plan.cells[i].first + k});
   // Per cell: refused (its later repeats are not tried), and the sum of its
-  // spectra in the round holding repeat 0.
+  // spectra in the round holding repeat 0 (repeats 0 .. the latest).
   std::vector<char> refused(plan.cells.size(), 0);
   std::vector<std::vector<double>> spectrumSum(plan.cells.size());
-  std::vector<std::size_t> spectrumCount(plan.cells.size(), 0);
   runInRounds(
       ranks, pieces.size(),
       [&](std::size_t p) {
@@ -307,7 +306,7 @@ double renderCells(const Ranks &ranks, const SceneStudy &scene, const ScenePlan 
           std::vector<double> &sum = spectrumSum[i];
           sum.resize(outcome.spectrum.size());
           for (std::size_t k = 0; k < sum.size(); ++k) sum[k] += outcome.spectrum[k];
-          const double n = double(++spectrumCount[i]);
+          const double n = double(repeat + 1);
           std::vector<double> mean(sum.size());
           for (std::size_t k = 0; k < sum.size(); ++k) mean[k] = sum[k] / n;
           writeSpectrum(files.spectrum, mean);

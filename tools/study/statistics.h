@@ -67,13 +67,14 @@ inline MedianAndSpread medianAndSpread(std::span<const double> v) {
 struct Ratio {
   double value = NAN, stderr_ = NAN;
 };
+// e / m, or 0 where that is not a number or m is not positive.
+inline double relativeError(double e, double m) {
+  const double r = e / m;
+  return m > 0 && std::isfinite(r) ? r : 0.0;
+}
 inline Ratio ratioOfMeans(double a, double aStderr, double b, double bStderr) {
   if (!(b > 0)) return {};
-  const auto relative = [](double m, double e) {
-    const double r = e / m;
-    return m > 0 && std::isfinite(r) ? r : 0.0;
-  };
-  const double q = a / b, ra = relative(a, aStderr), rb = relative(b, bStderr);
+  const double q = a / b, ra = relativeError(aStderr, a), rb = relativeError(bStderr, b);
   return {q, q * std::sqrt(ra * ra + rb * rb)};
 }
 
