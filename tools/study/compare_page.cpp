@@ -90,7 +90,9 @@ void writeImageData(const fs::path &file, const std::string &key, const Image &i
   for (const auto &[name, map] : {std::pair{"error", errorMap}, std::pair{"flip", flipMap}})
     if (!map.empty() && fs::exists(map, ec))
       data[name] = "data:image/png;base64," + base64(fileBytes(map));
-  fs::create_directories(file.parent_path());
+  if (fs::create_directories(file.parent_path(), ec); ec)
+    throw std::runtime_error(file.parent_path().string() + ": cannot make the folder (" +
+                             ec.message() + ")");
   writeFileAtomically(
       file, "nuldCompare.image(" + nlohmann::json(key).dump() + ", " + data.dump() + ");\n");
 }
